@@ -1,0 +1,1 @@
+"""The tree engine core: parse, validate, build, render. Never imports ROS."""

@@ -1,0 +1,99 @@
+"""The validated tree: what a tree file means, before any behaviour exists.
+
+The loader turns a YAML document into a :class:`TreeSpec`; the builder turns a
+:class:`TreeSpec` into py_trees behaviours; the renderer draws a
+:class:`TreeSpec`. Nothing here imports py_trees or ROS.
+
+Node kinds fall in three categories::
+
+    composite   sequence, selector, parallel          -> children (>= 1)
+    decorator   one_shot, retry, timeout, inverter... -> exactly one child
+    leaf        a registered plugin name              -> params, references
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Any
+
+from sar_framework.engine.diagnostics import SourceLocation
+
+
+class Category(str, Enum):
+    """What kind of node a spec describes."""
+
+    COMPOSITE = "composite"
+    DECORATOR = "decorator"
+    LEAF = "leaf"
+
+
+@dataclass
+class NodeSpec:
+    """One node of a validated tree.
+
+    Attributes:
+        kind: ``sequence``, ``selector``, ``parallel``, a decorator key such as
+            ``one_shot``, or a plugin name such as ``NavigateToZone``.
+        category: Composite, decorator or leaf.
+        name: The behaviour's name (defaults filled in: a leaf defaults to its plugin name).
+        uid: Unique within the tree, stable for one file: the path of child indices from
+            the root, e.g. ``"0.1.3"`` (root is ``"0"``). Used to map behaviours and
+            statuses back to spec nodes.
+        location: Where the node's key stands in its file.
+        attrs: Composite/decorator settings (``memory``, ``policy``, ``num_failures``...)
+            or, for a leaf, its params with defaults filled in. A reference param's value
+            is the referenced ``id`` (string), see ``refs`` for the resolved node.
+        children: Child specs (composites: one or more; decorators: exactly one).
+        id: The leaf's ``id`` as written, or None.
+        refs: For a leaf: reference param name -> the referenced leaf's spec.
+        subtree: Name of the subtree this node was inserted from, on the subtree's top node.
+    """
+
+    kind: str
+    category: Category
+    name: str
+    uid: str
+    location: SourceLocation
+    attrs: dict[str, Any] = field(default_factory=dict)
+    children: list[NodeSpec] = field(default_factory=list)
+    id: str | None = None
+    refs: dict[str, NodeSpec] = field(default_factory=dict)
+    subtree: str | None = None
+
+    def walk(self) -> Iterator[NodeSpec]:
+        """Yield this node and every descendant, depth first, parents before children."""
+        stack = [self]
+        while stack:
+            node = stack.pop()
+            yield node
+            stack.extend(reversed(node.children))
+
+
+@dataclass
+class TreeSpec:
+    """A validated tree file.
+
+    Attributes:
+        name: The tree's ``name``.
+        description: The tree's ``description`` (may be empty).
+        root: The root node.
+        source: The file it came from, as given by the user.
+        format: The format version (1).
+        plugin_paths: Extra plugin modules/dirs the file named, resolved to absolute paths.
+    """
+
+    name: str
+    description: str
+    root: NodeSpec
+    source: str
+    format: int = 1
+    plugin_paths: list[str] = field(default_factory=list)
+
+    def nodes(self) -> Iterator[NodeSpec]:
+        """Yield every node of the tree, depth first."""
+        return self.root.walk()
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self.nodes())

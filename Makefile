@@ -1,0 +1,41 @@
+# sar_framework: every target sets up what it needs first (tools/bootstrap.py is fast when warm).
+PYTHON      ?= python3
+VENV        := .venv
+BIN         := $(VENV)/bin
+COMPAT_BIN  := .venv-compat/bin
+# Local ROS traffic only, on a domain of our own (tests allocate their own per run).
+export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
+export ROS_DOMAIN_ID ?= 42
+
+.PHONY: setup run test test-fast lint bench render clean help
+
+help:  ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
+
+setup:  ## create .venv (ROS 2 Jazzy wheels, interfaces, deps) — idempotent
+	@$(PYTHON) tools/bootstrap.py
+
+run: setup  ## the main job: the search-and-rescue mission in the embedded simulator
+	@mkdir -p reports/latest
+	@$(BIN)/sar-tree validate trees/*.yaml
+	@$(BIN)/sar-tree render trees/search_and_rescue.yaml -o reports/latest/tree.svg
+	@$(BIN)/sar-tree render trees/search_and_rescue.yaml --format unicode
+	@echo "tree diagram: reports/latest/tree.svg"
+
+test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
+	@$(BIN)/python -m pytest -q -p no:cacheprovider; rc=$$?; \
+	  [ $$rc -ne 5 ] || echo "make test: pytest collected no tests" >&2; exit $$rc
+	@$(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider tests/engine; rc=$$?; \
+	  [ $$rc -ne 5 ] || echo "make test: no engine tests collected" >&2; exit $$rc
+
+test-fast: setup  ## tests without the slow end-to-end runs
+	@$(BIN)/python -m pytest -q -p no:cacheprovider -m "not slow"
+
+lint: setup  ## ruff check
+	@$(BIN)/ruff check sar_framework plugins tests benchmarks tools launch
+
+bench: setup  ## every benchmark table
+	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
+
+clean:  ## remove the venvs and build output
+	rm -rf $(VENV) .venv-compat build .pytest_cache .ruff_cache

@@ -1,0 +1,61 @@
+"""Test-run set-up shared by every test.
+
+The whole run gets a ROS environment of its own before anything imports rclpy:
+loopback-only discovery and a ROS_DOMAIN_ID leased for the run (see sar_testing.ros_env).
+Child processes inherit it.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+_lease: DomainLease | None = None
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Lease a domain id and set the ROS environment for this run."""
+    global _lease  # noqa: PLW0603 - one lease per test process
+    _lease = lease_domain_id()
+    apply_local_ros_env(_lease.domain_id)
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    """Release the domain id."""
+    if _lease is not None:
+        _lease.release()
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    """Show which domain this run uses."""
+    return f"ROS: LOCALHOST discovery, ROS_DOMAIN_ID={_lease.domain_id if _lease else '?'}"
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Skip ROS tests, with a reason, in an environment without rclpy (the compat venv)."""
+    if importlib.util.find_spec("rclpy") is not None:
+        return
+    skip = pytest.mark.skip(reason="rclpy is not installed in this interpreter")
+    for item in items:
+        if "ros" in item.keywords:
+            item.add_marker(skip)
+
+
+@pytest.fixture
+def repo_root() -> Path:
+    """The repository's root folder."""
+    return REPO_ROOT
+
+
+@pytest.fixture
+def ros() -> Iterator[tuple[object, object]]:
+    """A node and a single-threaded executor on a fresh rclpy context."""
+    from sar_testing.spin import ros_node
+
+    with ros_node("sar_test") as pair:
+        yield pair

@@ -1,0 +1,37 @@
+"""A minimal DetectSurvivor server for the environment smoke test.
+
+Answers ``found=True`` at (1.5, -2.0) for ``zone_a`` and ``found=False`` otherwise, and
+logs ``ready`` once the service exists.
+"""
+
+import rclpy
+from rclpy.node import Node
+from sar_interfaces.srv import DetectSurvivor
+
+
+def main() -> None:
+    """Serve until SIGINT."""
+    rclpy.init()
+    node = Node("detect_echo_server")
+
+    def answer(request: DetectSurvivor.Request, response: DetectSurvivor.Response
+               ) -> DetectSurvivor.Response:
+        response.found = request.zone_id == "zone_a"
+        if response.found:
+            response.survivor_x, response.survivor_y = 1.5, -2.0
+        node.get_logger().info(f"asked about {request.zone_id}")
+        return response
+
+    node.create_service(DetectSurvivor, "/detect_survivor", answer)
+    node.get_logger().info("ready")
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,54 @@
+"""A minimal NavigateToPose server for the environment smoke test.
+
+Accepts every goal and cancel, publishes feedback every 50 ms with a shrinking
+``distance_remaining``, and never finishes by itself: the client must cancel.
+"""
+
+import time
+
+import rclpy
+from nav2_msgs.action import NavigateToPose
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+
+
+def main() -> None:
+    """Serve until SIGINT."""
+    rclpy.init()
+    node = Node("slow_navigate_server")
+
+    def execute(goal_handle):
+        feedback = NavigateToPose.Feedback()
+        distance = 10.0
+        while not goal_handle.is_cancel_requested:
+            feedback.distance_remaining = distance
+            feedback.current_pose.header.frame_id = "map"
+            goal_handle.publish_feedback(feedback)
+            distance = max(0.0, distance - 0.1)
+            time.sleep(0.05)
+        goal_handle.canceled()
+        node.get_logger().info("goal canceled")
+        return NavigateToPose.Result()
+
+    ActionServer(
+        node, NavigateToPose, "navigate_to_pose", execute_callback=execute,
+        goal_callback=lambda _goal: GoalResponse.ACCEPT,
+        cancel_callback=lambda _handle: CancelResponse.ACCEPT,
+        callback_group=ReentrantCallbackGroup(),
+    )
+    node.get_logger().info("ready")
+    executor = MultiThreadedExecutor(num_threads=2)
+    executor.add_node(node)
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

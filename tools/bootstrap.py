@@ -1,0 +1,331 @@
+#!/usr/bin/env python3
+"""Set up everything sar_framework needs, on a fresh machine or a warm one.
+
+Run by ``make`` before every target; it does real work only when an input changed::
+
+    1. system tools    cmake, a C/C++ compiler, Graphviz's dot, Python headers
+                       (apt-get install when missing and running as root)
+    2. .venv           CPython 3.11 venv with the pinned ROS 2 Jazzy wheels and
+                       Python dependencies from requirements/*.txt
+    3. cmake fix-up    the wheels' exported CMake files name the build container's
+                       include paths; rewrite them to this interpreter's
+    4. interfaces      build interfaces/sar_interfaces into the venv; build the
+                       stand-ins nav2_msgs / tf2_msgs only where the import fails
+    5. project         pip install -e . (console script sar-tree)
+    6. .venv-compat    py_trees 2.2.3 (ROS Jazzy's) for the engine's compatibility tests
+
+Each step records a stamp (a hash of its inputs) in ``.venv/.sar-stamps.json`` only after
+it succeeded, so a failed or interrupted run leaves the next run able to finish the job.
+Only the standard library is used here: this runs before any venv exists.
+Environment: ``SAR_VENV`` / ``SAR_COMPAT_VENV`` move the venvs; ``SAR_NO_APT=1`` reports
+missing system tools instead of installing them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+REQUIRED_PYTHON = (3, 11)  # the ROS 2 Jazzy wheels on PyPI are built for CPython 3.11 only
+STAND_INS = ("nav2_msgs", "tf2_msgs")
+# Command -> Debian package that provides it.
+SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz"}
+
+
+class SetupError(Exception):
+    """A set-up step failed in a way the user must act on; the message says how."""
+
+
+def log(message: str) -> None:
+    """Print one progress line."""
+    print(f"[bootstrap] {message}", flush=True)
+
+
+def run(cmd: Sequence[str | Path], *, what: str, env: dict[str, str] | None = None,
+        cwd: Path | None = None) -> str:
+    """Run a command, returning its output; raise SetupError with its tail on failure.
+
+    Args:
+        cmd: The command.
+        what: What the step is doing, for the error message.
+        env: Environment (defaults to the current one).
+        cwd: Working directory.
+
+    Returns:
+        The combined stdout and stderr.
+    """
+    proc = subprocess.run(
+        [str(c) for c in cmd], env=env, cwd=cwd, text=True,
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False,
+    )
+    if proc.returncode != 0:
+        tail = "\n".join(
+            line for line in proc.stdout.splitlines()[-40:]
+            if not line.startswith("WARNING: Location")
+        )
+        raise SetupError(f"{what} failed (exit {proc.returncode}):\n{tail}")
+    return proc.stdout
+
+
+def digest(paths: Iterable[Path], *extra: str) -> str:
+    """Hash file contents (and names) plus extra strings: a step's input fingerprint."""
+    h = hashlib.sha256()
+    for p in sorted(paths):
+        h.update(str(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p).encode())
+        h.update(p.read_bytes())
+    for e in extra:
+        h.update(e.encode())
+    return h.hexdigest()
+
+
+def files_under(folder: Path) -> list[Path]:
+    """Every file below a folder."""
+    return [p for p in folder.rglob("*") if p.is_file()]
+
+
+class Stamps:
+    """Per-venv record of which steps are done for which inputs."""
+
+    def __init__(self, venv: Path) -> None:
+        self.path = venv / ".sar-stamps.json"
+        try:
+            self.data: dict[str, str] = json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            self.data = {}
+
+    def done(self, step: str, key: str) -> bool:
+        """Whether the step already succeeded for these inputs."""
+        return self.data.get(step) == key
+
+    def mark(self, step: str, key: str) -> None:
+        """Record a step's success (written at once, so a later failure keeps it)."""
+        self.data[step] = key
+        self.path.write_text(json.dumps(self.data, indent=1, sort_keys=True))
+
+
+# ---------------------------------------------------------------- 1. system tools
+def find_python() -> str:
+    """Return a CPython 3.11 interpreter for the venv, or explain what to install."""
+    if sys.version_info[:2] < (3, 10):  # noqa: UP036 - this runs on any system Python
+        raise SetupError(
+            f"Python {sys.version.split()[0]} is too old: sar_framework needs Python 3.10+ "
+            "and the ROS 2 Jazzy wheels need CPython 3.11 (install python3.11)."
+        )
+    if sys.version_info[:2] == REQUIRED_PYTHON:
+        return sys.executable
+    found = shutil.which("python3.11")
+    if found:
+        return found
+    raise SetupError(
+        f"this is Python {sys.version.split()[0]}; the ROS 2 Jazzy wheels on PyPI are built "
+        "for CPython 3.11 only. Install python3.11 (with its venv module and headers) "
+        "and run again."
+    )
+
+
+def ensure_system_tools(python: str) -> None:
+    """Check cmake, compilers, dot and Python headers; apt-get install them as root."""
+    missing = [pkg for cmd, pkg in SYSTEM_TOOLS.items() if shutil.which(cmd) is None]
+    include = run([python, "-c", "import sysconfig;print(sysconfig.get_paths()['include'])"],
+                  what="asking Python for its include dir").strip()
+    if not (Path(include) / "Python.h").exists():
+        missing.append(f"python{REQUIRED_PYTHON[0]}.{REQUIRED_PYTHON[1]}-dev")
+    if not missing:
+        return
+    may_install = os.environ.get("SAR_NO_APT") != "1"  # tests force the message path
+    if may_install and os.geteuid() == 0 and shutil.which("apt-get"):
+        log(f"installing system packages: {' '.join(missing)}")
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        run(["apt-get", "update", "-qq"], what="apt-get update", env=env)
+        run(["apt-get", "install", "-y", "-qq", *missing], what="apt-get install", env=env)
+        return
+    raise SetupError(
+        "missing system tools: " + ", ".join(missing)
+        + ". Install them (Debian/Ubuntu: sudo apt-get install " + " ".join(missing)
+        + ") and run again."
+    )
+
+
+# ---------------------------------------------------------------- 2. venv + wheels
+def venv_python(venv: Path) -> Path:
+    """The venv's interpreter."""
+    return venv / "bin" / "python"
+
+
+def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequence[str] = ()
+                ) -> Stamps:
+    """Create the venv (removing a broken one) and install pinned requirements."""
+    vpy = venv_python(venv)
+    healthy = vpy.exists() and subprocess.run(
+        [str(vpy), "-c", "import sys; assert sys.version_info[:2] == (3, 11)"],
+        capture_output=True, check=False,
+    ).returncode == 0
+    if venv.exists() and not healthy:
+        log(f"removing broken virtual environment {venv}")
+        shutil.rmtree(venv)
+    if not venv.exists():
+        log(f"creating {venv.name} with {python}")
+        try:
+            run([python, "-m", "venv", venv], what="creating the virtual environment")
+        except SetupError:
+            shutil.rmtree(venv, ignore_errors=True)  # never leave a half-made venv behind
+            raise
+    stamps = Stamps(venv)
+    key = digest(requirements, *extra)
+    if stamps.done("requirements", key):
+        return stamps
+    log(f"installing pinned packages into {venv.name} ({', '.join(p.name for p in requirements)})")
+    args = [vpy, "-m", "pip", "install", "--disable-pip-version-check", "-q"]
+    for req in requirements:
+        args += ["-r", req]
+    try:
+        run([*args, *extra], what="pip install")
+    except SetupError as err:
+        text = str(err)
+        if any(s in text for s in ("NewConnectionError", "Could not fetch", "Temporary failure",
+                                   "No matching distribution", "ConnectTimeout")):
+            raise SetupError(
+                "could not download packages from the Python package index: check the "
+                "network or a proxy/mirror (PIP_INDEX_URL), then run again.\n" + text
+            ) from None
+        raise
+    stamps.mark("requirements", key)
+    return stamps
+
+
+# ---------------------------------------------------------------- 3. cmake fix-up
+def fix_wheel_cmake_paths(venv: Path, stamps: Stamps) -> None:
+    """Rewrite the build container's include paths baked into the wheels' CMake exports."""
+    key = stamps.data.get("requirements", "")
+    if stamps.done("cmake-paths", key):
+        return
+    out = run([venv_python(venv), "-c",
+               "import sysconfig, numpy; print(sysconfig.get_paths()['include']);"
+               " print(numpy.get_include())"], what="locating Python and NumPy headers")
+    py_include, np_include = out.strip().splitlines()[-2:]
+    replacements = {
+        "/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include": np_include,
+        "/opt/python/cp311-cp311/include/python3.11": py_include,
+    }
+    count = 0
+    for cmake_file in (venv / "share").rglob("*.cmake"):
+        text = cmake_file.read_text()
+        if "/opt/python/cp311-cp311" not in text:
+            continue
+        for old, new in replacements.items():
+            text = text.replace(old, new)
+        cmake_file.write_text(text)
+        count += 1
+    log(f"rewrote build-container include paths in {count} CMake files")
+    stamps.mark("cmake-paths", key)
+
+
+# ---------------------------------------------------------------- 4. interfaces
+def importable(venv: Path, module: str) -> bool:
+    """Whether the venv's interpreter can import a module."""
+    return subprocess.run([str(venv_python(venv)), "-c", f"import {module}"],
+                          capture_output=True, check=False).returncode == 0
+
+
+def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
+    """Configure, build and install one ament_cmake interface package into the venv."""
+    key = digest(files_under(source), stamps.data.get("requirements", ""))
+    step = f"interface:{source.name}"
+    if stamps.done(step, key) and importable(venv, source.name):
+        return
+    log(f"building interface package {source.name}")
+    build = venv / ".sar-build" / source.name
+    shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
+    env = dict(os.environ)
+    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
+    env["CMAKE_PREFIX_PATH"] = str(venv)
+    env["AMENT_PREFIX_PATH"] = str(venv)
+    started = time.monotonic()
+    run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
+         "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release"],
+        what=f"configuring {source.name}", env=env)
+    run(["cmake", "--build", build, "--parallel", str(os.cpu_count() or 2)],
+        what=f"building {source.name}", env=env)
+    run(["cmake", "--install", build], what=f"installing {source.name}", env=env)
+    if not importable(venv, source.name):
+        raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
+    log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
+    stamps.mark(step, key)
+
+
+def build_interfaces(venv: Path, stamps: Stamps) -> None:
+    """Build sar_interfaces, and the stand-ins only where the real packages are missing."""
+    for name in STAND_INS:
+        source = ROOT / "interfaces" / "stand_ins" / name
+        if stamps.data.get(f"interface:{name}") is None and importable(venv, name):
+            continue  # a real installation provides it: never shadow it
+        build_interface_package(venv, source, stamps)
+    build_interface_package(venv, ROOT / "interfaces" / "sar_interfaces", stamps)
+
+
+# ---------------------------------------------------------------- 5. project
+def install_project(venv: Path, stamps: Stamps) -> None:
+    """Install this project editable (console script ``sar-tree``)."""
+    key = digest([ROOT / "pyproject.toml"], str(ROOT))
+    if stamps.done("project", key) and (venv / "bin" / "sar-tree").exists():
+        return
+    log(f"installing sar_framework (editable) into {venv.name}")
+    run([venv_python(venv), "-m", "pip", "install", "--disable-pip-version-check", "-q",
+         "--no-deps", "--no-build-isolation", "-e", ROOT], what="pip install -e .")
+    stamps.mark("project", key)
+
+
+def timed(label: str, step: Callable[[], object]) -> None:
+    """Run a step, logging how long it took when it took long enough to notice."""
+    started = time.monotonic()
+    step()
+    elapsed = time.monotonic() - started
+    if elapsed > 1.0:
+        log(f"{label}: {elapsed:.1f} s")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run every set-up step; return the exit code."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--venv", type=Path,
+                        default=Path(os.environ.get("SAR_VENV", ROOT / ".venv")))
+    parser.add_argument("--compat-venv", type=Path,
+                        default=Path(os.environ.get("SAR_COMPAT_VENV", ROOT / ".venv-compat")))
+    parser.add_argument("--no-compat", action="store_true", help="skip the py_trees 2.2.3 venv")
+    args = parser.parse_args(argv)
+    started = time.monotonic()
+    try:
+        python = find_python()
+        ensure_system_tools(python)
+        req = ROOT / "requirements"
+        main_reqs = [req / "ros.txt", req / "python.txt", req / "dev.txt"]
+        venv = args.venv.resolve()
+        stamps = ensure_venv(python, venv, main_reqs)
+        fix_wheel_cmake_paths(venv, stamps)
+        timed("interfaces", lambda: build_interfaces(venv, stamps))
+        install_project(venv, stamps)
+        if not args.no_compat:
+            compat = args.compat_venv.resolve()
+            compat_stamps = ensure_venv(python, compat, [req / "compat.txt"])
+            install_project(compat, compat_stamps)
+    except SetupError as err:
+        print(f"[bootstrap] error: {err}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("[bootstrap] interrupted; run again to finish", file=sys.stderr)
+        return 130
+    log(f"environment ready ({time.monotonic() - started:.1f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,419 @@
+"""Occupancy grids: rasterise a world, write/read nav2 map_server files, inflate obstacles.
+
+Grid convention (as ``nav_msgs/OccupancyGrid``): ``data[row, col]`` with row 0 at the
+map's *minimum* y, values ``FREE`` (0), ``OCCUPIED`` (100) and ``UNKNOWN`` (-1). The PGM
+image is stored the other way up (row 0 = maximum y), as map_server expects.
+
+Generate the committed map::
+
+    python -m sar_framework.sim.occupancy [--world maps/final_project_world.yaml]
+                                          [--out maps/final_project_map]
+
+Note on loading: with map_saver's ``free_thresh: 0.25`` map_server reads the unknown
+shade 205 (occupancy 50/255 = 0.196) as *free*; :func:`load_map` follows map_server, so
+cells outside the arena come back free. They are sealed off by the outer walls, so no
+plan can reach them either way.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+from PIL import Image
+
+from sar_framework.sim.world import DEFAULT_WORLD_PATH, Box, Cylinder, World, WorldError, load_world
+
+FREE = 0
+OCCUPIED = 100
+UNKNOWN = -1
+
+PGM_FREE = 254
+PGM_OCCUPIED = 0
+PGM_UNKNOWN = 205
+
+DEFAULT_RESOLUTION = 0.05
+DEFAULT_MARGIN = 0.3
+DEFAULT_MAP_PREFIX = DEFAULT_WORLD_PATH.parent / "final_project_map"
+OCCUPIED_THRESH = 0.65
+FREE_THRESH = 0.25
+
+# An obstacle must overlap a cell by more than this (metres) to occupy it, so a wall face
+# lying exactly on a cell edge does not spill into the neighbouring cell.
+_OVERLAP_EPS = 1e-9
+
+
+class MapError(ValueError):
+    """A map yaml/image pair is missing or malformed; the message names file and key."""
+
+
+@dataclass
+class OccupancyGrid:
+    """A 2-D occupancy grid in the ``map`` frame.
+
+    Attributes:
+        data: ``int8`` array ``(height, width)``; row 0 is the minimum y.
+        resolution: Cell size, metres.
+        origin_x: x of the lower-left corner of cell (0, 0), metres.
+        origin_y: y of the lower-left corner of cell (0, 0), metres.
+    """
+
+    data: np.ndarray
+    resolution: float
+    origin_x: float
+    origin_y: float
+
+    @property
+    def height(self) -> int:
+        """Number of rows (cells along y)."""
+        return int(self.data.shape[0])
+
+    @property
+    def width(self) -> int:
+        """Number of columns (cells along x)."""
+        return int(self.data.shape[1])
+
+    def world_to_cell(self, x: float, y: float) -> tuple[int, int]:
+        """Return the ``(row, col)`` containing point ``(x, y)``; may be out of bounds."""
+        col = math.floor((x - self.origin_x) / self.resolution)
+        row = math.floor((y - self.origin_y) / self.resolution)
+        return row, col
+
+    def cell_to_world(self, row: int, col: int) -> tuple[float, float]:
+        """Return the ``(x, y)`` centre of cell ``(row, col)``."""
+        return (
+            self.origin_x + (col + 0.5) * self.resolution,
+            self.origin_y + (row + 0.5) * self.resolution,
+        )
+
+    def in_bounds(self, row: int, col: int) -> bool:
+        """Return True if ``(row, col)`` is a cell of the grid."""
+        return 0 <= row < self.height and 0 <= col < self.width
+
+    def value_at(self, x: float, y: float) -> int:
+        """Return the cell value at ``(x, y)``, or ``UNKNOWN`` outside the grid."""
+        row, col = self.world_to_cell(x, y)
+        return int(self.data[row, col]) if self.in_bounds(row, col) else UNKNOWN
+
+    def cell_centres(self) -> tuple[np.ndarray, np.ndarray]:
+        """Return ``(xs, ys)``: 1-D arrays of the column and row centre coordinates."""
+        xs = self.origin_x + (np.arange(self.width) + 0.5) * self.resolution
+        ys = self.origin_y + (np.arange(self.height) + 0.5) * self.resolution
+        return xs, ys
+
+
+def _cell_window(
+    grid: OccupancyGrid, bounds: tuple[float, float, float, float]
+) -> tuple[slice, slice]:
+    """Return the row/col slices of every cell that can touch the ``bounds`` rectangle."""
+    min_x, min_y, max_x, max_y = bounds
+    r0, c0 = grid.world_to_cell(min_x, min_y)
+    r1, c1 = grid.world_to_cell(max_x, max_y)
+    return (
+        slice(max(r0, 0), min(r1 + 1, grid.height)),
+        slice(max(c0, 0), min(c1 + 1, grid.width)),
+    )
+
+
+def _overlap_mask(
+    obstacle: Box | Cylinder, xs: np.ndarray, ys: np.ndarray, half: float
+) -> np.ndarray:
+    """Return which square cells (centres ``xs`` x ``ys``, half-size ``half``) overlap ``obstacle``.
+
+    Boxes use the separating axis theorem (two map axes, two box axes); cylinders compare
+    the distance from the centre to the nearest point of each cell with the radius.
+    """
+    dx = xs[np.newaxis, :] - obstacle.x
+    dy = ys[:, np.newaxis] - obstacle.y
+    if isinstance(obstacle, Cylinder):
+        nx = np.maximum(np.abs(dx) - half, 0.0)
+        ny = np.maximum(np.abs(dy) - half, 0.0)
+        return nx * nx + ny * ny < (obstacle.radius - _OVERLAP_EPS) ** 2
+    c, s = abs(math.cos(obstacle.yaw)), abs(math.sin(obstacle.yaw))
+    hl, hw = obstacle.length / 2.0, obstacle.width / 2.0
+    u = dx * math.cos(obstacle.yaw) + dy * math.sin(obstacle.yaw)
+    v = -dx * math.sin(obstacle.yaw) + dy * math.cos(obstacle.yaw)
+    return (
+        (np.abs(dx) < half + hl * c + hw * s - _OVERLAP_EPS)
+        & (np.abs(dy) < half + hl * s + hw * c - _OVERLAP_EPS)
+        & (np.abs(u) < hl + half * (c + s) - _OVERLAP_EPS)
+        & (np.abs(v) < hw + half * (c + s) - _OVERLAP_EPS)
+    )
+
+
+def _reachable(passable: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
+    """Return the cells 4-connected to ``seed`` through ``passable`` cells (numpy flood fill)."""
+    reached = np.zeros_like(passable)
+    if not passable[seed]:
+        return reached
+    reached[seed] = True
+    while True:
+        grown = reached.copy()
+        grown[1:, :] |= reached[:-1, :]
+        grown[:-1, :] |= reached[1:, :]
+        grown[:, 1:] |= reached[:, :-1]
+        grown[:, :-1] |= reached[:, 1:]
+        grown &= passable
+        if np.array_equal(grown, reached):
+            return reached
+        reached = grown
+
+
+def rasterize(
+    world: World, resolution: float = DEFAULT_RESOLUTION, margin: float = DEFAULT_MARGIN
+) -> OccupancyGrid:
+    """Rasterise a world's obstacles into an occupancy grid, as a SLAM run would map it.
+
+    A cell is ``OCCUPIED`` if any obstacle overlaps it, ``FREE`` if it is reachable from
+    the robot's spawn cell (4-connected) without crossing an obstacle, and ``UNKNOWN``
+    otherwise (outside the arena walls, pockets nobody could drive into).
+
+    Args:
+        world: The world.
+        resolution: Cell size, metres.
+        margin: Space added around the obstacles' bounding box, metres. The origin is
+            snapped to a multiple of ``resolution`` so cell edges fall on round coordinates.
+
+    Returns:
+        The grid.
+    """
+    min_x, min_y, max_x, max_y = world.bounds()
+    # round() before floor/ceil absorbs float noise such as -6.375 / 0.05 = -127.49999...
+    col0 = math.floor(round((min_x - margin) / resolution, 6))
+    row0 = math.floor(round((min_y - margin) / resolution, 6))
+    width = math.ceil(round((max_x + margin) / resolution, 6)) - col0
+    height = math.ceil(round((max_y + margin) / resolution, 6)) - row0
+    grid = OccupancyGrid(
+        data=np.full((height, width), UNKNOWN, dtype=np.int8),
+        resolution=resolution,
+        origin_x=round(col0 * resolution, 9),
+        origin_y=round(row0 * resolution, 9),
+    )
+    xs, ys = grid.cell_centres()
+    occupied = np.zeros((height, width), dtype=bool)
+    for obstacle in world.obstacles:
+        rows, cols = _cell_window(grid, obstacle.bounds())
+        occupied[rows, cols] |= _overlap_mask(obstacle, xs[cols], ys[rows], resolution / 2.0)
+    spawn = grid.world_to_cell(world.robot.spawn.x, world.robot.spawn.y)
+    if grid.in_bounds(*spawn):
+        grid.data[_reachable(~occupied, spawn)] = FREE
+    grid.data[occupied] = OCCUPIED
+    return grid
+
+
+def obstacle_distance(occupied: np.ndarray, resolution: float, max_distance: float) -> np.ndarray:
+    """Distance from each cell centre to the nearest occupied cell centre, capped.
+
+    Exact Euclidean distance up to ``max_distance``: each disk offset is applied as one
+    shifted ``np.minimum`` over the whole grid, so the cost is (offsets x cells) in numpy.
+
+    Args:
+        occupied: Boolean mask of obstacle cells.
+        resolution: Cell size, metres.
+        max_distance: Cap, metres; farther cells get ``max_distance``.
+
+    Returns:
+        ``float32`` array of metres, 0 on occupied cells.
+    """
+    reach = math.floor(max_distance / resolution)
+    # 0 on obstacles, +inf elsewhere: shifting it and adding the offset length gives the
+    # distance via that offset, and a running minimum over all offsets gives the answer.
+    seed = np.where(occupied, np.float32(0.0), np.float32(np.inf))
+    dist = seed.copy()
+    height, width = occupied.shape
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            d = math.hypot(dr, dc) * resolution
+            if (dr == 0 and dc == 0) or d > max_distance or abs(dr) >= height or abs(dc) >= width:
+                continue
+            # Cell (r, c) is within d of an obstacle at (r - dr, c - dc).
+            src = seed[max(-dr, 0) : height - max(dr, 0), max(-dc, 0) : width - max(dc, 0)]
+            dst = dist[max(dr, 0) : height + min(dr, 0), max(dc, 0) : width + min(dc, 0)]
+            np.minimum(dst, src + np.float32(d), out=dst)
+    np.minimum(dist, np.float32(max_distance), out=dist)
+    return dist
+
+
+def inflate(grid: OccupancyGrid, radius: float) -> np.ndarray:
+    """Return the mask of cells whose centre lies within ``radius`` of an occupied cell centre.
+
+    The mask includes the occupied cells themselves. With ``radius`` the robot's footprint
+    radius, a robot centred on a cell outside the mask clears every obstacle cell centre.
+
+    Args:
+        grid: The grid (``OCCUPIED`` cells are the obstacles; unknown cells are not inflated).
+        radius: Inflation radius, metres (e.g. 0.22 for the ROSbot).
+
+    Returns:
+        Boolean array shaped like ``grid.data``.
+    """
+    occupied = grid.data == OCCUPIED
+    if radius <= 0.0:
+        return occupied
+    # Cap one cell beyond the radius (capped cells are then clearly outside), and compare
+    # with a hair over the radius so a cell at exactly ``radius`` counts despite rounding.
+    distance = obstacle_distance(occupied, grid.resolution, radius + grid.resolution)
+    return distance <= radius + 1e-6
+
+
+def _format_number(value: float) -> str:
+    """Shortest decimal text of ``value`` after rounding away float noise (``-6.4``, ``0.05``)."""
+    text = repr(round(float(value), 9))
+    return "0.0" if text == "-0.0" else text
+
+
+def write_map(grid: OccupancyGrid, prefix: str | Path) -> tuple[Path, Path]:
+    """Write ``<prefix>.pgm`` and ``<prefix>.yaml`` as nav2 map_saver does (trinary mode).
+
+    Output bytes depend only on the grid, so regenerating an unchanged world is a no-op.
+
+    Args:
+        grid: The grid to save.
+        prefix: Output path without extension.
+
+    Returns:
+        ``(pgm_path, yaml_path)``.
+    """
+    prefix = Path(prefix)
+    prefix.parent.mkdir(parents=True, exist_ok=True)
+    pgm_path = prefix.with_name(prefix.name + ".pgm")
+    yaml_path = prefix.with_name(prefix.name + ".yaml")
+    pixels = np.full(grid.data.shape, PGM_UNKNOWN, dtype=np.uint8)
+    pixels[grid.data == FREE] = PGM_FREE
+    pixels[grid.data == OCCUPIED] = PGM_OCCUPIED
+    header = (
+        f"P5\n# CREATOR: sar_framework.sim.occupancy {grid.resolution:.3f} m/pix\n"
+        f"{grid.width} {grid.height}\n255\n"
+    )
+    pgm_path.write_bytes(header.encode("ascii") + np.flipud(pixels).tobytes())
+    yaml_path.write_text(
+        f"image: {pgm_path.name}\n"
+        "mode: trinary\n"
+        f"resolution: {_format_number(grid.resolution)}\n"
+        f"origin: [{_format_number(grid.origin_x)}, {_format_number(grid.origin_y)}, 0.0]\n"
+        "negate: 0\n"
+        f"occupied_thresh: {OCCUPIED_THRESH}\n"
+        f"free_thresh: {FREE_THRESH}\n",
+        encoding="utf-8",
+    )
+    return pgm_path, yaml_path
+
+
+def _yaml_number(doc: dict, key: str, source: str) -> float:
+    value = doc.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise MapError(f"{source}: {key}: expected a finite number, got {value!r}")
+    return float(value)
+
+
+def load_map(yaml_path: str | Path) -> OccupancyGrid:
+    """Read a map_server yaml + image pair into a grid, interpreting pixels as map_server does.
+
+    Supports ``mode`` trinary (default), scale and raw, and ``negate``. Occupancy of a pixel
+    is ``1 - shade/255`` (``shade/255`` when negated); above ``occupied_thresh`` is
+    ``OCCUPIED``, below ``free_thresh`` is ``FREE``.
+
+    Args:
+        yaml_path: The map's yaml file; ``image`` is resolved relative to it.
+
+    Returns:
+        The grid, row 0 at the minimum y.
+
+    Raises:
+        MapError: If a file is missing or a key is missing or malformed.
+    """
+    source = str(yaml_path)
+    try:
+        doc = yaml.safe_load(Path(yaml_path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise MapError(f"{source}: cannot read map yaml: {exc.strerror or exc}") from exc
+    except yaml.YAMLError as exc:
+        raise MapError(f"{source}: invalid YAML: {exc}") from exc
+    if not isinstance(doc, dict):
+        raise MapError(f"{source}: expected a mapping at the top level")
+    for key in ("image", "resolution", "origin"):
+        if key not in doc:
+            raise MapError(f"{source}: {key}: missing key")
+    if not isinstance(doc["image"], str) or not doc["image"]:
+        raise MapError(f"{source}: image: expected a file name, got {doc['image']!r}")
+    resolution = _yaml_number(doc, "resolution", source)
+    if resolution <= 0.0:
+        raise MapError(f"{source}: resolution: expected a positive number, got {resolution!r}")
+    origin = doc["origin"]
+    if (
+        not isinstance(origin, list)
+        or len(origin) != 3
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in origin)
+    ):
+        raise MapError(f"{source}: origin: expected [x, y, yaw] numbers, got {origin!r}")
+    mode = doc.get("mode", "trinary")
+    if mode not in ("trinary", "scale", "raw"):
+        raise MapError(f"{source}: mode: expected trinary, scale or raw, got {mode!r}")
+    occupied_thresh = _yaml_number({"occupied_thresh": 0.65, **doc}, "occupied_thresh", source)
+    free_thresh = _yaml_number({"free_thresh": 0.25, **doc}, "free_thresh", source)
+    negate = doc.get("negate", 0)
+    if negate not in (0, 1):
+        raise MapError(f"{source}: negate: expected 0 or 1, got {negate!r}")
+
+    image_path = Path(yaml_path).parent / doc["image"]
+    try:
+        with Image.open(image_path) as image:
+            shade = np.asarray(image.convert("L"), dtype=np.float64)
+    except (OSError, ValueError) as exc:
+        raise MapError(f"{source}: image: cannot read {image_path}: {exc}") from exc
+
+    shade = np.flipud(shade)
+    data = np.full(shade.shape, UNKNOWN, dtype=np.int8)
+    if mode == "raw":
+        in_range = shade <= OCCUPIED
+        data[in_range] = shade[in_range].astype(np.int8)
+    else:
+        occ = shade / 255.0 if negate else 1.0 - shade / 255.0
+        if mode == "scale":
+            ratio = (occ - free_thresh) / (occupied_thresh - free_thresh)
+            data[:] = np.rint(np.clip(ratio, 0.0, 1.0) * 100.0).astype(np.int8)
+        data[occ > occupied_thresh] = OCCUPIED
+        data[occ < free_thresh] = FREE
+    return OccupancyGrid(
+        data=data, resolution=resolution, origin_x=float(origin[0]), origin_y=float(origin[1])
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: rasterise a world file and write the map_server pair.
+
+    Args:
+        argv: Arguments (default: ``sys.argv[1:]``).
+
+    Returns:
+        Exit status: 0 on success, 1 when the world file is bad.
+    """
+    parser = argparse.ArgumentParser(
+        prog="python -m sar_framework.sim.occupancy",
+        description="Rasterise a world file into a nav2 map_server map (PGM + YAML).",
+    )
+    parser.add_argument("--world", type=Path, default=DEFAULT_WORLD_PATH, help="world YAML")
+    parser.add_argument(
+        "--out", type=Path, default=DEFAULT_MAP_PREFIX, help="output path without extension"
+    )
+    parser.add_argument("--resolution", type=float, default=DEFAULT_RESOLUTION, help="m/cell")
+    args = parser.parse_args(argv)
+    try:
+        world = load_world(args.world)
+    except WorldError as exc:
+        sys.stderr.write(f"error: {exc}\n")
+        return 1
+    grid = rasterize(world, resolution=args.resolution)
+    pgm, yaml_file = write_map(grid, args.out)
+    sys.stdout.write(f"wrote {pgm} and {yaml_file} ({grid.width}x{grid.height} cells)\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

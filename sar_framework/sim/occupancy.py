@@ -147,8 +147,16 @@ def _overlap_mask(
     )
 
 
-def _reachable(passable: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
-    """Return the cells 4-connected to ``seed`` through ``passable`` cells (numpy flood fill)."""
+def reachable(passable: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
+    """Return the cells 4-connected to ``seed`` through ``passable`` cells (numpy flood fill).
+
+    Args:
+        passable: Boolean mask of cells that may be crossed.
+        seed: ``(row, col)`` to start from (must be in bounds).
+
+    Returns:
+        Boolean mask of the reached cells (all False when the seed is not passable).
+    """
     reached = np.zeros_like(passable)
     if not passable[seed]:
         return reached
@@ -202,7 +210,7 @@ def rasterize(
         occupied[rows, cols] |= _overlap_mask(obstacle, xs[cols], ys[rows], resolution / 2.0)
     spawn = grid.world_to_cell(world.robot.spawn.x, world.robot.spawn.y)
     if grid.in_bounds(*spawn):
-        grid.data[_reachable(~occupied, spawn)] = FREE
+        grid.data[reachable(~occupied, spawn)] = FREE
     grid.data[occupied] = OCCUPIED
     return grid
 

@@ -1,0 +1,78 @@
+"""``/detect_survivor``: answers whether a zone hides a survivor, from a table.
+
+Parameters:
+    survivors_file (str): YAML survivor table (see :mod:`.survivors`); empty for the
+        repository's ``config/survivors.yaml``, or the spec's table when that is absent.
+    service_name (str): Default ``/detect_survivor``.
+    answer_delay_s (float): Fault injection for tests: wait this long before answering.
+
+Logs ``Detection request for zone_a: FOUND at (-2.50, 3.20)`` or
+``Detection request for zone_b: no survivor`` per request, and ``ready: ...`` once serving.
+
+Run: ``sar-detect-survivor-server`` or ``python -m sar_framework.servers.detect_survivor_server``
+(``--ros-args -p survivors_file:=my_table.yaml``).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Sequence
+
+from rclpy.node import Node
+from sar_interfaces.srv import DetectSurvivor
+
+from sar_framework.servers.serve import ServerConfigError, serve
+from sar_framework.servers.survivors import default_survivors_source, load_survivors
+
+NODE_NAME = "detect_survivor_server"
+
+
+class DetectSurvivorServer(Node):
+    """Serves ``sar_interfaces/srv/DetectSurvivor`` from a survivor table.
+
+    Raises:
+        ServerConfigError: The survivor table is malformed or a parameter is invalid.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(NODE_NAME)
+        file = str(self.declare_parameter("survivors_file", "").value)
+        service = str(self.declare_parameter("service_name", "/detect_survivor").value)
+        self._delay_s = float(self.declare_parameter("answer_delay_s", 0.0).value)
+        if self._delay_s < 0.0:
+            raise ServerConfigError(f"answer_delay_s: must be >= 0, got {self._delay_s}")
+        if file:
+            self._table, source = load_survivors(file), file
+        else:
+            self._table, source = default_survivors_source()
+        self._service = self.create_service(DetectSurvivor, service, self._answer)
+        zones = ", ".join(sorted(self._table)) or "none"
+        self.get_logger().info(
+            f"ready: serving {service} with {len(self._table)} survivors ({zones}) from {source}"
+        )
+
+    def _answer(self, request: DetectSurvivor.Request,
+                response: DetectSurvivor.Response) -> DetectSurvivor.Response:
+        if self._delay_s:
+            time.sleep(self._delay_s)
+        position = self._table.get(request.zone_id)
+        response.found = position is not None
+        if position is None:
+            self.get_logger().info(f"Detection request for {request.zone_id}: no survivor")
+        else:
+            response.survivor_x, response.survivor_y = position
+            self.get_logger().info(
+                f"Detection request for {request.zone_id}: "
+                f"FOUND at ({position[0]:.2f}, {position[1]:.2f})"
+            )
+        return response
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Console entry point: serve until SIGINT (exit 0), or exit 2 on a bad table."""
+    sys.exit(serve(DetectSurvivorServer, NODE_NAME, argv))
+
+
+if __name__ == "__main__":
+    main()

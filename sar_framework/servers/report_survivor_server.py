@@ -1,0 +1,166 @@
+"""``/report_survivor``: validates survivor reports and records each one durably.
+
+A report is refused (``acknowledged=False``, with a warning) when its frame is not the
+global frame (``map``), a coordinate is not finite, or the survivor id is empty, longer
+than 64 characters or holds control characters. An accepted report is appended to a
+JSON Lines file and fsync-ed *before* the answer leaves, so nothing acknowledged is lost;
+a survivor id reported again is acknowledged again but not written twice (ids already in
+the file count too, so this holds across restarts).
+
+Parameters:
+    report_file (str): The JSON Lines file; default ``$ROS_HOME/sar_reports.jsonl``
+        (``~/.ros/sar_reports.jsonl``).
+    service_name (str): Default ``/report_survivor``.
+    global_frame (str): The frame reports must use; default ``map``.
+    refuse_all (bool): Fault injection for tests: refuse every report.
+    answer_delay_s (float): Fault injection for tests: wait this long before answering.
+
+Logs ``Report received: survivor_1 at (-2.50, 3.20). Acknowledged.`` per new report and
+``ready: ...`` once serving.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from rclpy.node import Node
+from sar_interfaces.srv import ReportSurvivor
+
+from sar_framework.servers.report_log import ReportLog
+from sar_framework.servers.serve import ServerConfigError, serve
+
+NODE_NAME = "report_survivor_server"
+#: Longest survivor id accepted.
+MAX_ID_LENGTH = 64
+
+
+def default_report_file() -> Path:
+    """Return ``$ROS_HOME/sar_reports.jsonl`` (``~/.ros`` when ROS_HOME is unset)."""
+    home = os.environ.get("ROS_HOME") or os.path.join(os.path.expanduser("~"), ".ros")
+    return Path(home) / "sar_reports.jsonl"
+
+
+def check_report(request: ReportSurvivor.Request, global_frame: str) -> str | None:
+    """Return why a report must be refused, or None when it is acceptable.
+
+    Args:
+        request: The service request.
+        global_frame: The frame the location must be expressed in.
+    """
+    survivor_id = request.survivor_id
+    if not survivor_id:
+        return "empty survivor id"
+    if len(survivor_id) > MAX_ID_LENGTH:
+        return f"survivor id is {len(survivor_id)} characters long (at most {MAX_ID_LENGTH})"
+    if not survivor_id.isprintable():
+        return f"survivor id {survivor_id!r} holds control characters"
+    frame = request.location.header.frame_id
+    if frame != global_frame:
+        return f"location frame is {frame!r}, expected {global_frame!r}"
+    point = request.location.point
+    if not all(math.isfinite(v) for v in (point.x, point.y, point.z)):
+        return f"location is not finite: ({point.x}, {point.y}, {point.z})"
+    return None
+
+
+class ReportSurvivorServer(Node):
+    """Serves ``sar_interfaces/srv/ReportSurvivor`` and records acknowledged reports.
+
+    Raises:
+        ServerConfigError: The report file cannot be opened or a parameter is invalid.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(NODE_NAME)
+        file = str(self.declare_parameter("report_file", "").value) or str(default_report_file())
+        service = str(self.declare_parameter("service_name", "/report_survivor").value)
+        self._frame = str(self.declare_parameter("global_frame", "map").value)
+        self._refuse_all = bool(self.declare_parameter("refuse_all", False).value)
+        self._delay_s = float(self.declare_parameter("answer_delay_s", 0.0).value)
+        if self._delay_s < 0.0:
+            raise ServerConfigError(f"answer_delay_s: must be >= 0, got {self._delay_s}")
+        self._log = ReportLog(file)
+        try:
+            opened = self._log.open()
+        except OSError as err:
+            raise ServerConfigError(f"report_file: cannot open {file}: {err}") from None
+        if opened.unreadable_lines:
+            lines = ", ".join(str(n) for n in opened.unreadable_lines)
+            self.get_logger().warning(f"{file}: skipped unreadable line(s) {lines}")
+        self._service = self.create_service(ReportSurvivor, service, self._answer)
+        extra = " (refusing every report: refuse_all is set)" if self._refuse_all else ""
+        self.get_logger().info(
+            f"ready: serving {service}, recording to {file} "
+            f"({opened.loaded} survivors already on record){extra}"
+        )
+
+    def _answer(self, request: ReportSurvivor.Request,
+                response: ReportSurvivor.Response) -> ReportSurvivor.Response:
+        if self._delay_s:
+            time.sleep(self._delay_s)
+        response.acknowledged = False
+        point = request.location.point
+        where = f"({point.x:.2f}, {point.y:.2f})"
+        if self._refuse_all:
+            self.get_logger().warning(
+                f"Report refused: {request.survivor_id!r} at {where}: refuse_all is set")
+            return response
+        reason = check_report(request, self._frame)
+        if reason is not None:
+            self.get_logger().warning(
+                f"Report refused: {request.survivor_id[:80]!r} at {where}: {reason}")
+            return response
+        survivor_id = request.survivor_id
+        known = self._log.get(survivor_id)
+        if known is not None:
+            moved = not (math.isclose(known.get("x", math.nan), point.x, abs_tol=1e-6)
+                         and math.isclose(known.get("y", math.nan), point.y, abs_tol=1e-6))
+            note = (f"; it differs from the recorded ({known.get('x')}, {known.get('y')}),"
+                    " which is kept") if moved else ""
+            self.get_logger().info(
+                f"Repeated report: {survivor_id} at {where}. Acknowledged; already on record{note}."
+            )
+            response.acknowledged = True
+            return response
+        try:
+            self._log.append(self._record(request))
+        except OSError as err:
+            self.get_logger().error(f"Report refused: cannot record {survivor_id}: {err}")
+            return response
+        self.get_logger().info(f"Report received: {survivor_id} at {where}. Acknowledged.")
+        response.acknowledged = True
+        return response
+
+    def _record(self, request: ReportSurvivor.Request) -> dict[str, Any]:
+        stamp = request.location.header.stamp
+        point = request.location.point
+        return {
+            "survivor_id": request.survivor_id,
+            "frame_id": request.location.header.frame_id,
+            "x": point.x,
+            "y": point.y,
+            "z": point.z,
+            "stamp": stamp.sec + stamp.nanosec * 1e-9,
+            "received_at": datetime.now(timezone.utc).isoformat(timespec="milliseconds"),
+        }
+
+    def destroy_node(self) -> None:
+        """Close the report file, then destroy the node."""
+        self._log.close()
+        super().destroy_node()
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Console entry point: serve until SIGINT (exit 0), or exit 2 on a bad configuration."""
+    sys.exit(serve(ReportSurvivorServer, NODE_NAME, argv))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,52 @@
+"""Run one server node until SIGINT: the shared ``main`` of the mission's servers."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+#: Exit code for a configuration the server cannot start with.
+EXIT_CONFIG = 2
+
+
+class ServerConfigError(ValueError):
+    """Raised by a server's constructor for a configuration it cannot serve with."""
+
+
+def serve(make_node: Callable[[], Node], logger_name: str,
+          argv: Sequence[str] | None = None) -> int:
+    """Initialise rclpy, build the node, spin it until SIGINT and shut down cleanly.
+
+    Args:
+        make_node: Builds the server node (after ``rclpy.init``); may raise
+            :class:`ServerConfigError` or ``ValueError`` for a bad configuration.
+        logger_name: Logger for a start-up error (the node may not exist yet).
+        argv: Command line (``sys.argv`` when None); ROS arguments are honoured.
+
+    Returns:
+        The process exit code: 0 after SIGINT, 2 for a bad configuration.
+    """
+    import sys
+
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+
+    rclpy.init(args=list(sys.argv if argv is None else argv))
+    node = None
+    try:
+        try:
+            node = make_node()
+        except ValueError as err:  # ServerConfigError, and rclpy's bad-parameter errors
+            rclpy.logging.get_logger(logger_name).error(str(err))
+            return EXIT_CONFIG
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0

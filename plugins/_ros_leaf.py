@@ -1,0 +1,93 @@
+"""RosLeaf: the base of leaves that talk to ROS and latch their verdict.
+
+It holds the two things every such leaf shares:
+
+* the ROS node, which arrives the py_trees_ros way, ``setup(node=...)``;
+* the ``_done`` / ``_success`` terminal latch of the implementation guide: reset in
+  ``initialise()``, written together exactly once per active period by :meth:`_latch`,
+  read first in ``update()`` through :meth:`_verdict`.
+
+Not a plugin itself (it carries no ``@leaf`` mark), and it imports no ROS package.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import py_trees
+from py_trees.common import Status
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+
+class RosLeaf(py_trees.behaviour.Behaviour):
+    """A behaviour with a ROS node and a terminal latch.
+
+    Args:
+        name: The behaviour's name.
+    """
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name=name)
+        self._node: Node | None = None
+        self._done = False
+        self._success = False
+
+    def setup(self, **kwargs: Any) -> None:
+        """Take the ROS node from ``kwargs["node"]``.
+
+        Args:
+            **kwargs: Must hold ``node``, an ``rclpy.node.Node``.
+
+        Raises:
+            KeyError: Without a node.
+        """
+        node = kwargs.get("node")
+        if node is None:
+            raise KeyError(
+                f"{type(self).__name__} '{self.name}' needs a ROS node: call setup(node=...)"
+            )
+        self._node = node
+
+    @property
+    def node(self) -> Node:
+        """The ROS node given to ``setup()``.
+
+        Raises:
+            RuntimeError: Before ``setup()``.
+        """
+        if self._node is None:
+            raise RuntimeError(f"{type(self).__name__} '{self.name}' used before setup(node=...)")
+        return self._node
+
+    def _reset_latch(self) -> None:
+        """Forget the previous verdict; call first in ``initialise()``."""
+        self._done = False
+        self._success = False
+
+    def _latch(self, success: bool, message: str, *, log: bool = True) -> Status:
+        """Record the verdict of this active period and return it.
+
+        Args:
+            success: Whether the leaf succeeded.
+            message: Why; becomes ``feedback_message``.
+            log: Whether to log ``message`` on the node's logger (info on success,
+                warning on failure).
+
+        Returns:
+            SUCCESS or FAILURE.
+        """
+        self._done = True
+        self._success = success
+        self.feedback_message = message
+        if log and self._node is not None:
+            logger = self._node.get_logger()
+            (logger.info if success else logger.warning)(message)
+        return self._verdict()
+
+    def _verdict(self) -> Status:
+        """Return the latched status: SUCCESS or FAILURE once done, RUNNING before."""
+        if not self._done:
+            return Status.RUNNING
+        return Status.SUCCESS if self._success else Status.FAILURE

@@ -1,0 +1,109 @@
+"""PolledServiceCall: one bounded, non-blocking ROS service request, polled by tick.
+
+The guide's async-poll pattern (``service_is_ready``, ``call_async`` once, poll the
+future) with two bounds so nothing waits forever: the server must be ready within
+``server_timeout_s`` of :meth:`PolledServiceCall.start` and must answer within
+``response_timeout_s`` of the request. Bounds are wall-clock (``time.monotonic``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+    from rclpy.task import Future
+
+
+@dataclass(frozen=True)
+class CallResult:
+    """The end of one request: a response or the reason there is none.
+
+    Attributes:
+        response: The service's response (None on error).
+        error: Why there is no response (None on success).
+    """
+
+    response: Any = None
+    error: str | None = None
+
+
+class PolledServiceCall:
+    """A service client that makes one request per :meth:`start` and never blocks.
+
+    Args:
+        node: The node that owns the client.
+        srv_type: The service type (e.g. ``sar_interfaces.srv.DetectSurvivor``).
+        service_name: The service to call.
+        server_timeout_s: Seconds the server may take to become ready.
+        response_timeout_s: Seconds the server may take to answer a request.
+    """
+
+    def __init__(self, node: Node, srv_type: Any, service_name: str, *,
+                 server_timeout_s: float, response_timeout_s: float) -> None:
+        self.service_name = service_name
+        self._node = node
+        self._client = node.create_client(srv_type, service_name)
+        self._server_timeout_s = server_timeout_s
+        self._response_timeout_s = response_timeout_s
+        self._future: Future | None = None
+        self._started = time.monotonic()
+        self._sent = 0.0
+
+    def start(self) -> None:
+        """Begin a new request period: drop any unanswered request, restart the server bound."""
+        self.abandon()
+        self._started = time.monotonic()
+
+    def poll(self, make_request: Callable[[], Any]) -> CallResult | None:
+        """Advance the request by one tick.
+
+        Args:
+            make_request: Builds the request; called once, when the server is ready.
+
+        Returns:
+            None while waiting (for the server or its answer), else the :class:`CallResult`.
+        """
+        now = time.monotonic()
+        if self._future is None:
+            if not self._client.service_is_ready():
+                if now - self._started > self._server_timeout_s:
+                    return CallResult(error=f"{self.service_name} service not available "
+                                            f"after {self._server_timeout_s:.1f} s")
+                return None
+            self._future = self._client.call_async(make_request())
+            self._sent = now
+            return None
+        if not self._future.done():
+            if now - self._sent > self._response_timeout_s:
+                self.abandon()
+                return CallResult(error=f"no response from {self.service_name} "
+                                        f"within {self._response_timeout_s:.1f} s")
+            return None
+        future, self._future = self._future, None
+        exception = future.exception()
+        if exception is not None:
+            return CallResult(error=f"{self.service_name} call failed: {exception}")
+        response = future.result()
+        if response is None:
+            return CallResult(error=f"{self.service_name} returned no response")
+        return CallResult(response=response)
+
+    def waiting_for_server(self) -> bool:
+        """Whether the request has not been sent yet because the server is not ready."""
+        return self._future is None
+
+    def abandon(self) -> None:
+        """Forget a request still waiting for its answer (a late answer is dropped)."""
+        if self._future is not None and not self._future.done():
+            self._client.remove_pending_request(self._future)
+            self._future.cancel()
+        self._future = None
+
+    def destroy(self) -> None:
+        """Abandon any request and destroy the client."""
+        self.abandon()
+        self._node.destroy_client(self._client)

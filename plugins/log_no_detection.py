@@ -1,0 +1,54 @@
+"""LogNoDetection: say that the current zone held no survivor."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework.engine.plugin import leaf
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+    from sar_framework.mission.zone_manager import ZoneManager
+
+
+@leaf(context=["zone_manager"])
+class LogNoDetection(py_trees.behaviour.Behaviour):
+    """Log ``No survivor found at <zone>.`` for the current zone; SUCCESS.
+
+    The line goes to the ROS node's logger when ``setup(node=...)`` gave one, otherwise to
+    the py_trees logger. FAILURE only when every zone has already been visited (there is no
+    current zone to speak of).
+
+    Args:
+        name: The behaviour's name.
+        zone_manager: The mission's shared zone state.
+    """
+
+    def __init__(self, name: str, *, zone_manager: ZoneManager) -> None:
+        super().__init__(name=name)
+        self.zone_manager = zone_manager
+        self._node: Node | None = None
+
+    def setup(self, **kwargs: Any) -> None:
+        """Keep the ROS node, if any, for logging.
+
+        Args:
+            **kwargs: May hold ``node``.
+        """
+        self._node = kwargs.get("node")
+
+    def update(self) -> Status:
+        """Log the line and return SUCCESS."""
+        try:
+            zone_id = self.zone_manager.current_zone()["id"]
+        except IndexError:
+            self.feedback_message = "no current zone: every zone has been visited"
+            return Status.FAILURE
+        self.feedback_message = f"No survivor found at {zone_id}."
+        logger = self._node.get_logger() if self._node is not None else self.logger
+        logger.info(self.feedback_message)
+        return Status.SUCCESS

@@ -1,0 +1,33 @@
+"""NavigateToBase: drive back to the base station with Nav2."""
+
+from __future__ import annotations
+
+from sar_framework.engine.plugin import leaf
+
+from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
+
+
+@leaf(params=NAVIGATION_PARAMS, context=["zone_manager"])
+class NavigateToBase(NavigateToPoseLeaf):
+    """Send a Nav2 NavigateToPose goal to the base station and wait for the result.
+
+    Same behaviour and bounds as NavigateToZone, with the ZoneManager's base pose as the
+    goal. Logs ``All zones visited. Returning to base.`` when it sends the goal (or how many
+    zones are left unvisited, when used mid-mission) and ``Reached base station.`` on
+    success. Wrap it in a OneShot (ON_COMPLETION) under a reactive Selector so the goal is
+    sent only once.
+    """
+
+    def _target(self) -> NavigationTarget:
+        base = self.zone_manager.base_pose()
+        remaining = self.zone_manager.total_zones() - self.zone_manager.current_index()
+        announce = ("All zones visited. Returning to base." if remaining == 0
+                    else f"Returning to base with {remaining} zone(s) unvisited.")
+        return NavigationTarget(
+            label="base station",
+            x=base["x"],
+            y=base["y"],
+            yaw=base["yaw"],
+            announce=announce,
+            reached="Reached base station.",
+        )

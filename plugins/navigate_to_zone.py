@@ -1,0 +1,32 @@
+"""NavigateToZone: drive to the ZoneManager's current zone with Nav2."""
+
+from __future__ import annotations
+
+from sar_framework.engine.plugin import leaf
+
+from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
+
+
+@leaf(params=NAVIGATION_PARAMS, context=["zone_manager"])
+class NavigateToZone(NavigateToPoseLeaf):
+    """Send a Nav2 NavigateToPose goal to the current zone and wait for the result.
+
+    RUNNING while Nav2 drives, SUCCESS when the goal succeeds, FAILURE when it is rejected,
+    aborted or cancelled, when the action server is not ready within ``server_timeout_s`` or
+    the goal does not finish within ``navigation_timeout_s``. The goal is sent when the leaf
+    starts (logging ``--- Zone 1/4: zone_a (-3.00, 3.00) ---``) and cancelled if the leaf is
+    halted first. Logs ``Reached zone_a.`` on success. Fails when no zone is left.
+    """
+
+    def _target(self) -> NavigationTarget:
+        zone = self.zone_manager.current_zone()  # IndexError (a LookupError) when exhausted
+        index, total = self.zone_manager.current_index() + 1, self.zone_manager.total_zones()
+        where = f"({zone['x']:.2f}, {zone['y']:.2f})"
+        return NavigationTarget(
+            label=zone["id"],
+            x=zone["x"],
+            y=zone["y"],
+            yaw=zone["yaw"],
+            announce=f"--- Zone {index}/{total}: {zone['id']} {where} ---",
+            reached=f"Reached {zone['id']}.",
+        )

@@ -1,6 +1,287 @@
-"""The ``sar-tree`` command line (placeholder until the engine lands)."""
+"""The ``sar-tree`` command line: validate | render | plugins | schema.
+
+Each subcommand is a :class:`Command` (its arguments and a function returning the
+exit code) registered in :data:`_COMMANDS`; a later subcommand (``run``) adds one
+entry and imports its module lazily inside its function, like ``render`` does.
+
+Exit codes: 0 clean, 1 errors in the input (printed GCC style), 2 usage errors.
+No traceback is ever printed unless ``--debug`` is given.
+"""
 
 from __future__ import annotations
+
+import argparse
+import json
+import sys
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TextIO
+
+EXIT_OK = 0
+EXIT_ERRORS = 1
+EXIT_USAGE = 2
+
+
+class UsageError(Exception):
+    """A bad command line: printed with the usage hint, exit code 2."""
+
+
+@dataclass(frozen=True)
+class Command:
+    """One subcommand.
+
+    Attributes:
+        name: The subcommand's name.
+        help: One line for ``sar-tree --help``.
+        configure: Adds the subcommand's arguments to its parser.
+        run: Does the work; returns the exit code.
+    """
+
+    name: str
+    help: str
+    configure: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+def _say(text: str, stream: TextIO | None = None) -> None:
+    """Write one line to stdout (or ``stream``)."""
+    (stream if stream is not None else sys.stdout).write(f"{text}\n")
+
+
+def _complain(text: str) -> None:
+    """Write one line to stderr."""
+    sys.stderr.write(f"{text}\n")
+
+
+def _print_diagnostics(diagnostics: Sequence[Any]) -> int:
+    """Print diagnostics GCC style to stderr; return how many are errors."""
+    for d in diagnostics:
+        _complain(str(d))
+    return sum(1 for d in diagnostics if d.severity == "error")
+
+
+def _add_plugin_path(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--plugin-path",
+        action="append",
+        default=[],
+        metavar="P",
+        help="extra plugin .py file, directory or module name (repeatable)",
+    )
+
+
+def _check_tree_paths(paths: Sequence[str]) -> None:
+    for path in paths:
+        p = Path(path)
+        if not p.exists():
+            raise UsageError(f"no such file: '{path}'")
+        if not p.is_file():
+            raise UsageError(f"not a file: '{path}'")
+
+
+# -- validate ---------------------------------------------------------------------------
+def _configure_validate(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("trees", nargs="+", metavar="TREE", help="tree files to check")
+    _add_plugin_path(parser)
+    parser.add_argument("-q", "--quiet", action="store_true", help="print only problems")
+
+
+def _run_validate(args: argparse.Namespace) -> int:
+    from sar_framework.engine.api import validate
+
+    _check_tree_paths(args.trees)
+    errors = 0
+    for tree in args.trees:
+        result = validate(tree, plugin_paths=args.plugin_path)
+        count = _print_diagnostics(result.diagnostics)
+        errors += count
+        if result.spec is not None and not args.quiet:
+            _say(f"{tree}: ok ({len(result.spec)} nodes)")
+    if errors:
+        _complain(f"{errors} error{'s' if errors != 1 else ''}")
+    return EXIT_ERRORS if errors else EXIT_OK
+
+
+# -- render -----------------------------------------------------------------------------
+def _configure_render(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("tree", metavar="TREE", help="the tree file")
+    target = parser.add_mutually_exclusive_group()
+    target.add_argument(
+        "-o", "--output", metavar="OUT", help="write an image; format from the extension "
+        "(.svg, .png, .pdf, .dot)"
+    )
+    target.add_argument(
+        "--format", choices=("ascii", "unicode"), help="print the tree as text (default: unicode)"
+    )
+    _add_plugin_path(parser)
+
+
+def _run_render(args: argparse.Namespace) -> int:
+    from sar_framework.engine.api import validate
+
+    _check_tree_paths([args.tree])
+    result = validate(args.tree, plugin_paths=args.plugin_path)
+    if result.spec is None:
+        _print_diagnostics(result.diagnostics)
+        return EXIT_ERRORS
+    from sar_framework.engine import render  # lazy: graphviz only when rendering
+
+    if args.output is None:
+        sys.stdout.write(render.render_text(result.spec, unicode=args.format != "ascii"))
+        return EXIT_OK
+    try:
+        written = render.render_to_file(result.spec, Path(args.output))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from exc
+    except Exception as exc:  # graphviz missing, unwritable path, ...
+        _complain(f"sar-tree: error: cannot render '{args.output}': {exc}")
+        return EXIT_ERRORS
+    _say(f"wrote {written}")
+    return EXIT_OK
+
+
+# -- plugins ----------------------------------------------------------------------------
+def _configure_plugins(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_plugin_path(parser)
+
+
+def _param_text(param: Any) -> str:
+    from sar_framework.engine.plugin import REQUIRED
+
+    kind = f"ref {param.ref}" if param.ref is not None else param.type.__name__
+    parts = [f"{param.name}: {kind}"]
+    parts.append("(required)" if param.default is REQUIRED else f"= {param.default!r}")
+    bounds = []
+    if param.minimum is not None:
+        bounds.append(f">= {param.minimum}")
+    if param.exclusive_minimum is not None:
+        bounds.append(f"> {param.exclusive_minimum}")
+    if param.maximum is not None:
+        bounds.append(f"<= {param.maximum}")
+    if param.enum is not None:
+        bounds.append("one of " + ", ".join(str(v) for v in param.enum))
+    if bounds:
+        parts.append(f"[{'; '.join(bounds)}]")
+    if param.description:
+        parts.append(f"  {param.description}")
+    return " ".join(parts)
+
+
+def plugin_info(plugin: Any) -> dict[str, Any]:
+    """Describe a plugin as JSON-ready data (``sar-tree plugins --json``).
+
+    Args:
+        plugin: A :class:`~sar_framework.engine.plugin.PluginSpec`.
+
+    Returns:
+        Name, source, description, params and context keys.
+    """
+    from sar_framework.engine.plugin import REQUIRED
+
+    params = []
+    for p in plugin.params:
+        entry: dict[str, Any] = {
+            "name": p.name,
+            "type": "reference" if p.ref is not None else p.type.__name__,
+            "required": p.default is REQUIRED,
+            "description": p.description,
+        }
+        if p.default is not REQUIRED:
+            entry["default"] = p.default
+        for key in ("minimum", "maximum", "exclusive_minimum", "ref"):
+            if getattr(p, key) is not None:
+                entry[key] = getattr(p, key)
+        if p.enum is not None:
+            entry["enum"] = list(p.enum)
+        params.append(entry)
+    return {
+        "name": plugin.name,
+        "source": plugin.source,
+        "class": f"{plugin.cls.__module__}.{plugin.cls.__qualname__}",
+        "description": plugin.description,
+        "params": params,
+        "context": list(plugin.context),
+    }
+
+
+def _run_plugins(args: argparse.Namespace) -> int:
+    from sar_framework.engine.registry import default_registry, extend
+
+    registry = extend(default_registry().copy(), args.plugin_path)
+    errors = _print_diagnostics(registry.diagnostics)
+    if args.json:
+        json.dump([plugin_info(p) for p in registry], sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        for plugin in registry:
+            _say(f"{plugin.name}  [{plugin.source}]")
+            if plugin.description:
+                _say(f"    {plugin.description}")
+            for param in plugin.params:
+                _say(f"    - {_param_text(param)}")
+            if plugin.context:
+                _say(f"    context: {', '.join(plugin.context)}")
+        if not len(registry):
+            _say("no plugins registered")
+    return EXIT_ERRORS if errors else EXIT_OK
+
+
+# -- schema -----------------------------------------------------------------------------
+def _configure_schema(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", metavar="FILE", help="write to FILE, not stdout")
+    _add_plugin_path(parser)
+
+
+def _run_schema(args: argparse.Namespace) -> int:
+    from sar_framework.engine.registry import default_registry, extend
+    from sar_framework.engine.schema import schema_text
+
+    registry = extend(default_registry().copy(), args.plugin_path)
+    if _print_diagnostics(registry.diagnostics):
+        return EXIT_ERRORS
+    text = schema_text(registry)
+    if args.output is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    try:
+        Path(args.output).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        _complain(f"sar-tree: error: cannot write '{args.output}': {exc.strerror}")
+        return EXIT_ERRORS
+    return EXIT_OK
+
+
+_COMMANDS: dict[str, Command] = {
+    c.name: c
+    for c in (
+        Command("validate", "check tree files; print problems as FILE:LINE:COL",
+                _configure_validate, _run_validate),
+        Command("render", "draw a tree (svg, png, pdf, dot) or print it as text",
+                _configure_render, _run_render),
+        Command("plugins", "list the registered leaf plugins and their params",
+                _configure_plugins, _run_plugins),
+        Command("schema", "print the JSON Schema of the tree format", _configure_schema,
+                _run_schema),
+    )
+}  # fmt: skip
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the ``sar-tree`` argument parser with every registered subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="sar-tree", description="Schema-checked YAML behaviour trees (py_trees)."
+    )
+    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for command in _COMMANDS.values():
+        sub_parser = sub.add_parser(command.name, help=command.help, description=command.help)
+        command.configure(sub_parser)
+        sub_parser.set_defaults(_command=command)
+    return parser
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -10,6 +291,27 @@ def main(argv: list[str] | None = None) -> int:
         argv: Arguments without the program name; defaults to ``sys.argv[1:]``.
 
     Returns:
-        The process exit code.
+        The process exit code: 0 clean, 1 errors, 2 usage errors.
     """
-    return 0
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help (0) or a usage error (2)
+        return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+    try:
+        return args._command.run(args)
+    except UsageError as exc:
+        _complain(f"sar-tree: error: {exc}")
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:  # `sar-tree plugins | head`
+        return EXIT_OK
+    except Exception as exc:
+        if args.debug:
+            traceback.print_exc()
+        _complain(
+            f"sar-tree: internal error: {type(exc).__name__}: {exc}"
+            + ("" if args.debug else " (run with --debug for a traceback)")
+        )
+        return EXIT_ERRORS

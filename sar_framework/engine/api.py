@@ -1,0 +1,117 @@
+"""The engine's Python API: ``load_spec`` and ``load_tree``.
+
+::
+
+    from sar_framework import load_tree
+    tree = load_tree("trees/search_and_rescue.yaml", context={"zone_manager": zm})
+    tree.root          # the py_trees root behaviour
+    tree.spec          # the validated TreeSpec
+    tree.behaviours    # NodeSpec.uid -> behaviour
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import py_trees
+
+from sar_framework.engine.build import build
+from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.registry import Registry
+from sar_framework.engine.spec import TreeSpec
+from sar_framework.engine.validate import ValidationResult, validate_file
+
+__all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
+
+
+@dataclass
+class LoadedTree:
+    """A tree file turned into py_trees behaviours.
+
+    Attributes:
+        root: The root behaviour (plain py_trees objects all the way down).
+        spec: The validated tree the behaviours were built from.
+        behaviours: ``NodeSpec.uid -> behaviour``, for every node.
+        registry: The plugins the tree was checked against.
+    """
+
+    root: py_trees.behaviour.Behaviour
+    spec: TreeSpec
+    behaviours: dict[str, py_trees.behaviour.Behaviour] = field(default_factory=dict)
+    registry: Registry | None = None
+
+
+def validate(
+    path: str | Path,
+    *,
+    registry: Registry | None = None,
+    plugin_paths: Sequence[str | Path] = (),
+) -> ValidationResult:
+    """Validate a tree file without raising.
+
+    Args:
+        path: The tree file.
+        registry: The plugins to check against; default: built-ins and entry points.
+        plugin_paths: Extra plugin files, dirs or modules.
+
+    Returns:
+        The spec (None on errors) and every diagnostic.
+    """
+    return validate_file(path, registry=registry, plugin_paths=plugin_paths)
+
+
+def load_spec(
+    path: str | Path,
+    *,
+    registry: Registry | None = None,
+    plugin_paths: Sequence[str | Path] = (),
+) -> TreeSpec:
+    """Read and validate a tree file.
+
+    Args:
+        path: The tree file.
+        registry: The plugins to check against; default: built-ins and entry points.
+        plugin_paths: Extra plugin files, dirs or modules.
+
+    Returns:
+        The validated tree.
+
+    Raises:
+        TreeLoadError: With every problem found.
+    """
+    result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+    if result.spec is None:
+        raise TreeLoadError(result.diagnostics)
+    return result.spec
+
+
+def load_tree(
+    path: str | Path,
+    context: Mapping[str, Any] | None = None,
+    *,
+    registry: Registry | None = None,
+    plugin_paths: Sequence[str | Path] = (),
+) -> LoadedTree:
+    """Read, validate and build a tree file.
+
+    Args:
+        path: The tree file.
+        context: Shared objects plugins declared they need (e.g. ``zone_manager``).
+        registry: The plugins to check against; default: built-ins and entry points.
+        plugin_paths: Extra plugin files, dirs or modules.
+
+    Returns:
+        The built tree.
+
+    Raises:
+        TreeLoadError: With every problem found (validation, a missing context
+            object, a plugin constructor that raised).
+    """
+    result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+    if result.spec is None:
+        raise TreeLoadError(result.diagnostics)
+    root, behaviours = build(result.spec, result.registry, context)
+    return LoadedTree(root, result.spec, behaviours, result.registry)

@@ -1,0 +1,427 @@
+"""Plugin discovery: built-ins, installed entry points and local modules or dirs.
+
+Three sources feed one :class:`Registry`:
+
+* built-ins: every module of the ``sar_plugins`` package (``plugins/``);
+* installed packages: the entry-point group ``sar_framework.plugins``; an entry
+  point names a module (or package) to scan, or one plugin class;
+* local paths: a ``.py`` file, a directory of ``.py`` files or a dotted module
+  name, given with ``--plugin-path`` or in a tree's ``plugins:`` key.
+
+Only a class whose own ``__dict__`` holds the :func:`~.plugin.leaf` mark is a
+plugin (a subclass of a plugin is not silently the same plugin). A module that
+fails to import becomes a diagnostic naming it and the exception, never a
+traceback; two plugins with one name is an error naming both sources.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import importlib
+import importlib.metadata
+import importlib.util
+import inspect
+import pkgutil
+import sys
+import threading
+import traceback
+from collections.abc import Iterable, Iterator, Sequence
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
+from sar_framework.engine.node_kinds import RESERVED_KINDS
+from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
+
+#: The entry-point group third-party packages register plugins under.
+ENTRY_POINT_GROUP = "sar_framework.plugins"
+#: The import name of the built-in plugin package.
+BUILTIN_PACKAGE = "sar_plugins"
+#: Package name under which local plugin files are imported.
+_LOCAL_PREFIX = "sar_local_plugins"
+
+_lock = threading.RLock()
+# Local plugin files already imported: resolved path -> module or the import failure.
+_path_modules: dict[Path, ModuleType | BaseException] = {}
+# The shared built-in + entry-point registry, discovered once per process.
+_default: dict[str, Registry] = {}
+
+
+def _where(location: SourceLocation | None, file: str) -> SourceLocation:
+    return location if location is not None else SourceLocation(file, 1, 1)
+
+
+def _failure_location(
+    exc: BaseException, file: str | None, fallback: SourceLocation
+) -> SourceLocation:
+    """Point at the line of ``file`` that raised, or at ``fallback``."""
+    if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
+        return SourceLocation(display_path(exc.filename), exc.lineno, max(exc.offset or 1, 1))
+    if file:
+        target = str(Path(file).resolve())
+        for frame in reversed(traceback.extract_tb(exc.__traceback__)):
+            if frame.filename and str(Path(frame.filename).resolve()) == target and frame.lineno:
+                return SourceLocation(display_path(file), frame.lineno, 1)
+    return fallback
+
+
+def _exc_text(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    first = text[0] if text else ""
+    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
+
+
+def _class_location(cls: type) -> SourceLocation | None:
+    try:
+        file = inspect.getsourcefile(cls)
+        line = inspect.getsourcelines(cls)[1]
+    except (OSError, TypeError):
+        return None
+    return SourceLocation(display_path(file), line, 1) if file else None
+
+
+class Registry:
+    """The known leaf plugins, by name, plus the problems met while finding them.
+
+    Attributes:
+        diagnostics: Import failures, duplicate names and bad declarations.
+    """
+
+    def __init__(self) -> None:
+        self._plugins: dict[str, PluginSpec] = {}
+        self.diagnostics: list[Diagnostic] = []
+
+    def copy(self) -> Registry:
+        """Return an independent copy (to extend with a tree's local plugins)."""
+        other = Registry()
+        other._plugins = dict(self._plugins)
+        other.diagnostics = list(self.diagnostics)
+        return other
+
+    def get(self, name: str) -> PluginSpec | None:
+        """Return the plugin called ``name``, or None."""
+        return self._plugins.get(name)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._plugins
+
+    def __iter__(self) -> Iterator[PluginSpec]:
+        """Iterate over the plugins, sorted by name."""
+        return iter(sorted(self._plugins.values(), key=lambda p: p.name))
+
+    def __len__(self) -> int:
+        return len(self._plugins)
+
+    def names(self) -> list[str]:
+        """Return the plugin names, sorted."""
+        return sorted(self._plugins)
+
+    def add(self, cls: type, source: str, location: SourceLocation | None = None) -> None:
+        """Register one plugin class.
+
+        Args:
+            cls: A class marked with :func:`~.plugin.leaf`.
+            source: Where it came from, for messages and ``sar-tree plugins``.
+            location: Where to report a problem when the class's source is unknown.
+        """
+        spec: PluginSpec = cls.__dict__[PLUGIN_ATTRIBUTE]
+        known = self._plugins.get(spec.name)
+        if known is not None and known.cls is cls:
+            return  # the same class reached twice (re-export, diamond include)
+        where = _class_location(cls) or _where(location, source)
+        if spec.name in RESERVED_KINDS:
+            self.diagnostics.append(
+                Diagnostic(where, f"plugin name '{spec.name}' is reserved (from {source})")
+            )
+            return
+        if known is not None:
+            self.diagnostics.append(
+                Diagnostic(
+                    where,
+                    f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}",
+                )
+            )
+            return
+        self._plugins[spec.name] = dataclasses.replace(spec, source=source)
+
+    def add_module(self, module: ModuleType, source: str | None = None) -> int:
+        """Register every plugin class defined in (or re-exported by) a module.
+
+        Args:
+            module: An imported module.
+            source: The source to record; defaults to the module name and file.
+
+        Returns:
+            How many plugin classes the module holds.
+        """
+        if source is None:
+            file = getattr(module, "__file__", None)
+            source = f"{module.__name__} ({display_path(file)})" if file else module.__name__
+        count = 0
+        for value in list(vars(module).values()):
+            if isinstance(value, type) and PLUGIN_ATTRIBUTE in value.__dict__:
+                self.add(value, source)
+                count += 1
+        return count
+
+    def import_module(
+        self, name: str, *, location: SourceLocation | None = None, submodules: bool = True
+    ) -> bool:
+        """Import a module by name (and, for a package, its modules) and register its plugins.
+
+        Args:
+            name: A dotted module name.
+            location: Where to report a failure when it has no better place.
+            submodules: Whether to import every module of a package.
+
+        Returns:
+            True when the module imported.
+        """
+        module = self._import(name, location)
+        if module is None:
+            return False
+        self.add_module(module)
+        path = getattr(module, "__path__", None)
+        if submodules and path is not None:
+            for info in sorted(pkgutil.iter_modules(path), key=lambda i: i.name):
+                sub = self._import(f"{name}.{info.name}", location)
+                if sub is not None:
+                    self.add_module(sub)
+        return True
+
+    def _import(self, name: str, location: SourceLocation | None) -> ModuleType | None:
+        try:
+            return importlib.import_module(name)
+        except KeyboardInterrupt:
+            raise
+        except BaseException as exc:  # SystemExit too: a plugin must not end the process
+            file = None
+            try:
+                found = importlib.util.find_spec(name)
+                file = found.origin if found is not None else None
+            except (ImportError, ValueError, AttributeError):
+                pass
+            fallback = _where(location, display_path(file) if file else name)
+            self.diagnostics.append(
+                Diagnostic(
+                    _failure_location(exc, file, fallback) if location is None else location,
+                    f"cannot import plugin module '{name}': {_exc_text(exc)}",
+                )
+            )
+            return None
+
+    def import_file(self, path: Path, *, location: SourceLocation | None = None) -> bool:
+        """Import one ``.py`` file as a standalone module and register its plugins.
+
+        Args:
+            path: The file.
+            location: Where to report a failure (e.g. the tree's ``plugins:`` entry);
+                by default, the failing line of the file.
+
+        Returns:
+            True when the file imported.
+        """
+        resolved = path.resolve()
+        shown = display_path(path)
+        with _lock:
+            module = _path_modules.get(resolved)
+            if module is None:
+                module = _exec_file(resolved)
+                _path_modules[resolved] = module
+        if isinstance(module, BaseException):
+            fallback = _where(None, shown)
+            here = _failure_location(module, str(resolved), fallback)
+            message = f"cannot import plugin file '{shown}': {_exc_text(module)}"
+            if location is not None:
+                message += f" (at {here})"
+                here = location
+            self.diagnostics.append(Diagnostic(here, message))
+            return False
+        self.add_module(module, shown)
+        return True
+
+    def import_path(
+        self, entry: str, base: Path, *, location: SourceLocation | None = None
+    ) -> None:
+        """Import a plugin path: a ``.py`` file, a directory of them, or a module name.
+
+        Args:
+            entry: As written (relative paths are relative to ``base``).
+            base: The directory relative paths start from.
+            location: Where the entry was written, for diagnostics.
+        """
+        path = Path(entry).expanduser()
+        if not path.is_absolute():
+            path = base / path
+        if path.is_dir():
+            files = sorted(p for p in path.glob("*.py") if not p.name.startswith("_"))
+            for file in files:
+                self.import_file(file, location=location)
+            if not files:
+                self.diagnostics.append(
+                    Diagnostic(
+                        _where(location, display_path(path)),
+                        f"plugin directory '{entry}' holds no .py files",
+                    )
+                )
+            return
+        if path.is_file():
+            self.import_file(path, location=location)
+            return
+        if entry.endswith(".py") or "/" in entry or "\\" in entry or not _is_module_name(entry):
+            self.diagnostics.append(
+                Diagnostic(_where(location, entry), f"plugin path '{entry}' does not exist")
+            )
+            return
+        self.import_module(entry, location=location)
+
+    def import_entry_points(self) -> None:
+        """Register the plugins of every installed ``sar_framework.plugins`` entry point."""
+        try:
+            points = importlib.metadata.entry_points(group=ENTRY_POINT_GROUP)
+        except Exception as exc:  # broken metadata of some installed distribution
+            self.diagnostics.append(
+                Diagnostic(
+                    SourceLocation(f"<entry points {ENTRY_POINT_GROUP}>", 1, 1),
+                    f"cannot list entry points: {_exc_text(exc)}",
+                )
+            )
+            return
+        for point in sorted(points, key=lambda p: p.name):
+            dist = getattr(point, "dist", None)
+            label = f"entry point '{point.name} = {point.value}'"
+            if dist is not None:
+                label += f" ({dist.metadata['Name']})"
+            here = SourceLocation(f"<{label}>", 1, 1)
+            if point.attr:
+                try:
+                    obj: Any = point.load()
+                except Exception as exc:
+                    module_file = _module_file(point.module)
+                    self.diagnostics.append(
+                        Diagnostic(
+                            _failure_location(exc, module_file, here),
+                            f"cannot load {label}: {_exc_text(exc)}",
+                        )
+                    )
+                    continue
+                if isinstance(obj, type) and PLUGIN_ATTRIBUTE in obj.__dict__:
+                    self.add(obj, label, here)
+                else:
+                    self.diagnostics.append(
+                        Diagnostic(here, f"{label} does not name a plugin class or module")
+                    )
+            else:
+                self.import_module(point.value, location=None)
+
+    def check_declarations(self) -> None:
+        """Report reference params naming plugins that are not registered."""
+        for spec in self._plugins.values():
+            for param in spec.params:
+                if param.ref is not None and param.ref not in self._plugins:
+                    where = _class_location(spec.cls) or SourceLocation(spec.source, 1, 1)
+                    self.diagnostics.append(
+                        Diagnostic(
+                            where,
+                            f"param '{param.name}' of plugin '{spec.name}' refers to unknown "
+                            f"plugin '{param.ref}'",
+                        )
+                    )
+
+
+def _module_file(name: str) -> str | None:
+    try:
+        found = importlib.util.find_spec(name)
+    except (ImportError, ValueError, AttributeError):
+        return None
+    return found.origin if found is not None else None
+
+
+def _is_module_name(text: str) -> bool:
+    return all(part.isidentifier() for part in text.split("."))
+
+
+def _exec_file(path: Path) -> ModuleType | BaseException:
+    """Import ``path`` under a unique private module name; return it or the failure."""
+    digest = hashlib.sha1(str(path).encode()).hexdigest()[:10]
+    stem = "".join(c if c.isalnum() else "_" for c in path.stem)
+    name = f"{_LOCAL_PREFIX}.{stem}_{digest}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        return ImportError(f"not a Python module: {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except (KeyboardInterrupt, GeneratorExit):
+        sys.modules.pop(name, None)
+        raise
+    except BaseException as exc:  # SystemExit too: a plugin must not end the process
+        sys.modules.pop(name, None)
+        return exc
+    return module
+
+
+def discover(
+    plugin_paths: Sequence[str | Path] = (),
+    *,
+    builtins: bool = True,
+    entry_points: bool = True,
+    base: Path | None = None,
+) -> Registry:
+    """Build a registry from scratch.
+
+    Args:
+        plugin_paths: Extra ``.py`` files, directories or module names.
+        builtins: Whether to import the built-in ``sar_plugins`` package.
+        entry_points: Whether to load installed ``sar_framework.plugins`` entry points.
+        base: The directory relative ``plugin_paths`` start from (default: cwd).
+
+    Returns:
+        The registry; problems are in its ``diagnostics``.
+    """
+    registry = Registry()
+    if builtins:
+        registry.import_module(BUILTIN_PACKAGE)
+    if entry_points:
+        registry.import_entry_points()
+    extend(registry, plugin_paths, base=base)
+    return registry
+
+
+def extend(
+    registry: Registry, plugin_paths: Iterable[str | Path], *, base: Path | None = None
+) -> Registry:
+    """Import extra plugin paths into ``registry`` (in place) and check declarations.
+
+    Args:
+        registry: The registry to extend.
+        plugin_paths: ``.py`` files, directories or module names.
+        base: The directory relative paths start from (default: cwd).
+
+    Returns:
+        ``registry``.
+    """
+    start = base if base is not None else Path.cwd()
+    for entry in plugin_paths:
+        registry.import_path(str(entry), start)
+    registry.check_declarations()
+    return registry
+
+
+def default_registry(*, refresh: bool = False) -> Registry:
+    """Return the built-in + entry-point registry, discovered once per process.
+
+    Args:
+        refresh: Discover again (after installing a package, in tests).
+
+    Returns:
+        The shared registry; copy it before extending it.
+    """
+    with _lock:
+        registry = _default.get("registry")
+        if registry is None or refresh:
+            registry = _default["registry"] = discover()
+        return registry

@@ -1,0 +1,347 @@
+"""Safe YAML in, composed nodes with positions out; YAML-level problems as diagnostics.
+
+A tree file is composed (not constructed) with PyYAML's safe loader, using the
+libyaml C composer when available: the result is a graph of
+:class:`yaml.nodes.Node` that keeps every value's line and column. Nothing is
+ever constructed from a tag other than the core JSON-like ones, so no Python
+object can come out of a file.
+
+YAML-level problems become diagnostics here: syntax errors (worded by PyYAML's
+pure-Python parser, the reference), duplicate mapping keys, non-string keys,
+merge keys, aliases and unsupported tags.
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import yaml
+from yaml.constructor import SafeConstructor
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from sar_framework.engine.diagnostics import Diagnostic, SourceLocation
+
+_TAG = "tag:yaml.org,2002:"
+STR_TAG = _TAG + "str"
+MAP_TAG = _TAG + "map"
+SEQ_TAG = _TAG + "seq"
+MERGE_TAG = _TAG + "merge"
+
+#: Largest file the engine reads; a tree of 100,000 nodes stays well below.
+MAX_FILE_BYTES = 8 * 1024 * 1024
+
+#: Texts longer than this are composed in a thread with a stack sized for the text:
+#: libyaml's C composer recurses once per nesting level, and a pathological file
+#: (``[[[[...``) would otherwise overflow the C stack. Nesting depth <= text length.
+_INLINE_COMPOSE_CHARS = 8000
+_STACK_BYTES_PER_CHAR = 320
+_stack_lock = threading.Lock()
+
+_FastLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+# Tag resolution is a pure function of (kind, value, implicit) when no path
+# resolvers are registered (the safe loader has none), so it is memoised: the
+# composer calls it once per scalar and this is the hottest Python code it runs.
+_resolve_memo: dict[tuple[Any, str, Any], str] = {}
+_base_resolve = _FastLoader.resolve
+
+
+class _Loader(_FastLoader):  # type: ignore[misc,valid-type]
+    """The safe loader with memoised tag resolution (same tags, less time)."""
+
+    def resolve(self, kind: type, value: str, implicit: Any) -> str:
+        key = (kind, value, implicit)
+        tag = _resolve_memo.get(key)
+        if tag is None:
+            tag = _base_resolve(self, kind, value, implicit)
+            if len(_resolve_memo) < 65536:
+                _resolve_memo[key] = tag
+        return tag
+
+
+_constructor = SafeConstructor()
+_SCALAR_BUILDERS: dict[str, Callable[[ScalarNode], Any]] = {
+    _TAG + "null": _constructor.construct_yaml_null,
+    _TAG + "bool": _constructor.construct_yaml_bool,
+    _TAG + "int": _constructor.construct_yaml_int,
+    _TAG + "float": _constructor.construct_yaml_float,
+    _TAG + "timestamp": _constructor.construct_yaml_timestamp,
+}
+_scalar_memo: dict[tuple[str, str], Any] = {}
+
+
+def location(node: Node, file: str) -> SourceLocation:
+    """Return where ``node`` starts, 1-based.
+
+    Args:
+        node: A composed YAML node.
+        file: The file name to print.
+
+    Returns:
+        The node's location.
+    """
+    mark = node.start_mark
+    return SourceLocation(file, mark.line + 1, mark.column + 1)
+
+
+def _syntax_diagnostic(exc: yaml.YAMLError, text: str, file: str) -> Diagnostic:
+    mark = getattr(exc, "problem_mark", None)
+    if isinstance(exc, yaml.reader.ReaderError):
+        line = text.count("\n", 0, exc.position) + 1
+        col = exc.position - (text.rfind("\n", 0, exc.position) + 1) + 1
+        code = exc.character if isinstance(exc.character, int) else ord(exc.character)
+        return Diagnostic(
+            SourceLocation(file, line, col),
+            f"YAML: unacceptable character #x{code:04x}: {exc.reason}",
+        )
+    if mark is None:
+        return Diagnostic(SourceLocation(file, 1, 1), f"YAML: {exc}")
+    parts = [p for p in (getattr(exc, "context", None), getattr(exc, "problem", None)) if p]
+    return Diagnostic(
+        SourceLocation(file, mark.line + 1, mark.column + 1), "YAML: " + ", ".join(parts)
+    )
+
+
+def _compose_with(loader_cls: type, text: str) -> Node | None:
+    loader = loader_cls(text)
+    try:
+        return loader.get_single_node()
+    finally:
+        loader.dispose()
+
+
+def _compose_big(text: str) -> Node | None:
+    """Compose ``text`` in a thread whose stack fits any nesting the text can hold."""
+    result: list[Any] = [None, None]
+
+    def work() -> None:
+        try:
+            result[0] = _compose_with(_Loader, text)
+        except BaseException as exc:  # re-raised in the caller's thread
+            result[1] = exc
+
+    size = 1024 * 1024 + _STACK_BYTES_PER_CHAR * len(text)
+    with _stack_lock:
+        previous = threading.stack_size(size)
+        try:
+            worker = threading.Thread(target=work, name="sar-yaml-compose")
+            worker.start()
+        finally:
+            threading.stack_size(previous)
+    worker.join()
+    if result[1] is not None:
+        raise result[1]
+    return result[0]
+
+
+def compose(text: str, file: str) -> tuple[Node | None, list[Diagnostic]]:
+    """Compose one YAML document, safely.
+
+    Args:
+        text: The YAML text.
+        file: The file name to print in diagnostics.
+
+    Returns:
+        The root node (None for an empty document or on error) and the diagnostics.
+    """
+    try:
+        if len(text) <= _INLINE_COMPOSE_CHARS:
+            root = _compose_with(_Loader, text)
+        else:
+            root = _compose_big(text)
+    except yaml.YAMLError as fast_error:
+        # Word the error the way PyYAML's reference (pure-Python) parser does.
+        try:
+            _compose_with(yaml.SafeLoader, text)
+        except yaml.YAMLError as exc:
+            return None, [_syntax_diagnostic(exc, text, file)]
+        except RecursionError:
+            pass
+        return None, [_syntax_diagnostic(fast_error, text, file)]
+    except RecursionError:  # only without libyaml: the pure composer recurses
+        return None, [Diagnostic(SourceLocation(file, 1, 1), "YAML: nested too deeply")]
+    if root is None:
+        return None, []
+    diagnostics: list[Diagnostic] = []
+    if "&" in text and "*" in text:
+        diagnostics = _alias_diagnostics(text, file)
+    return (None if diagnostics else root), diagnostics
+
+
+def _alias_diagnostics(text: str, file: str) -> list[Diagnostic]:
+    """Report every alias (``*name``); only run when the text may contain one."""
+    out = []
+    for event in yaml.parse(text, Loader=_FastLoader):
+        if isinstance(event, yaml.AliasEvent):
+            mark = event.start_mark
+            out.append(
+                Diagnostic(
+                    SourceLocation(file, mark.line + 1, mark.column + 1),
+                    f"YAML aliases (*{event.anchor}) are not supported; "
+                    "reuse part of a tree with a subtree",
+                )
+            )
+    return out
+
+
+def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
+    """Read and compose a YAML file.
+
+    Args:
+        path: The file to read.
+        file: Its name as printed in diagnostics.
+
+    Returns:
+        The root node (None on error or for an empty file) and the diagnostics.
+    """
+    here = SourceLocation(file, 1, 1)
+    try:
+        data = path.read_bytes()
+    except IsADirectoryError:
+        return None, [Diagnostic(here, "is a directory, not a tree file")]
+    except FileNotFoundError:
+        return None, [Diagnostic(here, "no such file")]
+    except OSError as exc:
+        return None, [Diagnostic(here, f"cannot read: {exc.strerror or exc}")]
+    if len(data) > MAX_FILE_BYTES:
+        message = f"file too large ({len(data)} bytes, limit {MAX_FILE_BYTES})"
+        return None, [Diagnostic(here, message)]
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        return None, [Diagnostic(SourceLocation(file, line, col), "file is not valid UTF-8")]
+    return compose(text, file)
+
+
+_KIND_WORDS = {MappingNode: "a mapping", SequenceNode: "a list"}
+_PYTHON_TAG = re.compile(r"^tag:yaml\.org,2002:python/")
+
+
+class Reader:
+    """Reads composed nodes of one file, reporting YAML-level problems.
+
+    Args:
+        file: The file name to print.
+        diagnostics: Where problems are appended.
+    """
+
+    __slots__ = ("diagnostics", "file")
+
+    def __init__(self, file: str, diagnostics: list[Diagnostic]) -> None:
+        self.file = file
+        self.diagnostics = diagnostics
+
+    def error(self, node: Node, message: str) -> None:
+        """Record a problem at ``node``."""
+        self.diagnostics.append(Diagnostic(location(node, self.file), message))
+
+    def _tag_problem(self, node: Node) -> str:
+        tag = node.tag
+        short = "!!" + tag[len(_TAG) :] if tag.startswith(_TAG) else tag
+        if _PYTHON_TAG.match(tag):
+            return f"YAML tag '{short}' is not allowed (safe YAML only)"
+        return f"unsupported YAML tag '{short}'"
+
+    def scalar(self, node: ScalarNode) -> tuple[bool, Any]:
+        """Return ``(ok, value)`` for a scalar node, with PyYAML's safe semantics.
+
+        Args:
+            node: A scalar node.
+
+        Returns:
+            ``(True, value)``, or ``(False, None)`` after reporting an unsupported tag.
+        """
+        tag = node.tag
+        if tag == STR_TAG:
+            return True, node.value
+        key = (tag, node.value)
+        try:
+            return True, _scalar_memo[key]
+        except KeyError:
+            pass
+        builder = _SCALAR_BUILDERS.get(tag)
+        if builder is None:
+            self.error(node, self._tag_problem(node))
+            return False, None
+        try:
+            value = builder(node)
+        except (ValueError, OverflowError, yaml.YAMLError) as exc:
+            self.error(node, f"YAML: cannot read {node.value!r} as {tag[len(_TAG):]}: {exc}")
+            return False, None
+        if len(_scalar_memo) < 65536:
+            _scalar_memo[key] = value
+        return True, value
+
+    def items(self, node: MappingNode) -> list[tuple[str, Node, Node]] | None:
+        """Return a mapping's ``(key, key_node, value_node)`` entries.
+
+        Duplicate keys (the later one wins, as in PyYAML), non-string keys, merge
+        keys and tagged mappings are reported; bad entries are left out.
+
+        Args:
+            node: A mapping node.
+
+        Returns:
+            The entries, or None when the mapping itself carries an unsupported tag.
+        """
+        if node.tag != MAP_TAG:
+            self.error(node, self._tag_problem(node))
+            return None
+        out: dict[str, tuple[str, Node, Node]] = {}
+        for key_node, value_node in node.value:
+            if type(key_node) is ScalarNode and key_node.tag == STR_TAG:
+                key = key_node.value
+            elif key_node.tag == MERGE_TAG:
+                self.error(key_node, "YAML merge keys (<<) are not supported")
+                continue
+            else:
+                if type(key_node) is ScalarNode:
+                    ok, value = self.scalar(key_node)
+                    if not ok:
+                        continue
+                    what = f"{type(value).__name__} {key_node.value!r}"
+                else:
+                    what = _KIND_WORDS.get(type(key_node), "a node")
+                self.error(key_node, f"a mapping key must be a string, got {what}")
+                continue
+            first = out.get(key)
+            if first is not None:
+                line = first[1].start_mark.line + 1
+                self.error(key_node, f"duplicate key '{key}' (first defined on line {line})")
+            out[key] = (key, key_node, value_node)
+        return list(out.values())
+
+    def sequence(self, node: SequenceNode) -> list[Node] | None:
+        """Return a sequence's items, or None (reported) when it carries a bad tag."""
+        if node.tag != SEQ_TAG:
+            self.error(node, self._tag_problem(node))
+            return None
+        return node.value
+
+    def to_python(self, node: Node) -> Any:
+        """Convert a node to plain Python values (dict, list, str, int, ...).
+
+        Problems are reported and the offending entries left out (None for a bad
+        scalar). With no problems, the result equals ``yaml.safe_load`` of the text.
+
+        Args:
+            node: A composed node.
+
+        Returns:
+            The plain value.
+        """
+        if type(node) is ScalarNode:
+            return self.scalar(node)[1]
+        if type(node) is SequenceNode:
+            items = self.sequence(node)
+            return None if items is None else [self.to_python(n) for n in items]
+        entries = self.items(node)
+        if entries is None:
+            return None
+        return {key: self.to_python(value) for key, _, value in entries}

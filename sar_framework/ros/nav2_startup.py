@@ -1,0 +1,288 @@
+"""Seed AMCL with the spawn pose and wait until Nav2 is ACTIVE, before the tree ticks.
+
+AMCL publishes ``map -> odom`` only once it has an initial pose, and the first
+``navigate_to_pose`` goal fails unless ``bt_navigator`` is ACTIVE. This runs once at
+start-up, so it may block, but always within a wall-clock bound::
+
+    seed_amcl_and_wait_for_nav2(pose=InitialPose(0.0, 0.0, 0.0), timeout_s=30.0,
+                                use_sim_time=True, logger=node.get_logger())
+
+With ``nav2_simple_commander`` importable (a real ROS install) it is the course's recipe:
+``BasicNavigator.setInitialPose`` + ``waitUntilNav2Active``, run in a helper thread so the
+bound holds. Otherwise the same steps in plain rclpy on a temporary node and executor:
+
+1. wait until ``/amcl/get_state`` reports ACTIVE (``lifecycle_msgs/srv/GetState``, id 3);
+2. publish ``/initialpose`` (PoseWithCovarianceStamped, frame ``map``) every 0.5 s until
+   ``/amcl_pose`` answers;
+3. wait until ``/bt_navigator/get_state`` reports ACTIVE.
+
+A step that does not finish in time raises :class:`Nav2StartupError` naming it, e.g.
+``bt_navigator never reported ACTIVE within 30 s: is Nav2 (or the simulator) running?``.
+No ``spin_until_future_complete``: futures are polled in a bounded ``spin_once`` loop.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rclpy.context import Context
+    from rclpy.executors import Executor
+    from rclpy.node import Node
+
+#: ``lifecycle_msgs/msg/State.PRIMARY_STATE_ACTIVE``.
+ACTIVE_STATE_ID = 3
+_HINT = "is Nav2 (or the simulator) running?"
+_SEED_PERIOD_S = 0.5
+_STATE_RETRY_S = 0.5
+_SPIN_STEP_S = 0.05
+
+
+class Nav2StartupError(RuntimeError):
+    """Nav2 did not come up in time; the message names the step that never completed."""
+
+
+class StartupInterrupted(Exception):  # noqa: N818 - an interruption, not an error
+    """The caller asked to stop (e.g. SIGINT) while waiting for Nav2."""
+
+
+@dataclass(frozen=True)
+class InitialPose:
+    """The pose AMCL is seeded with (the robot's spawn pose).
+
+    Attributes:
+        x: Metres in ``frame_id``.
+        y: Metres in ``frame_id``.
+        yaw: Radians about z.
+        frame_id: The global frame.
+    """
+
+    x: float = 0.0
+    y: float = 0.0
+    yaw: float = 0.0
+    frame_id: str = "map"
+
+
+def _never() -> bool:
+    return False
+
+
+def _log(logger: Any, message: str) -> None:
+    if logger is not None:
+        logger.info(message)
+
+
+def basic_navigator_class() -> type | None:
+    """Return ``nav2_simple_commander``'s BasicNavigator, or None when not importable."""
+    try:
+        from nav2_simple_commander.robot_navigator import BasicNavigator
+    except ImportError:
+        return None
+    return BasicNavigator
+
+
+def seed_amcl_and_wait_for_nav2(
+    *,
+    pose: InitialPose | None = None,
+    timeout_s: float = 30.0,
+    use_sim_time: bool = False,
+    context: Context | None = None,
+    localizer: str = "amcl",
+    navigator: str = "bt_navigator",
+    should_stop: Callable[[], bool] = _never,
+    logger: Any = None,
+    prefer_basic_navigator: bool = True,
+) -> None:
+    """Seed AMCL and block (bounded) until the localizer and navigator are ACTIVE.
+
+    Args:
+        pose: The seed pose; the origin with yaw 0 by default.
+        timeout_s: Wall-clock seconds for all steps together.
+        use_sim_time: Stamp the seed with ``/clock`` time (as the rest of the stack).
+        context: The rclpy context (the default one when None). BasicNavigator is only
+            used on the default context.
+        localizer: The localizer's node name (its ``get_state`` is polled).
+        navigator: The navigator's node name.
+        should_stop: Polled while waiting; True raises :class:`StartupInterrupted`.
+        logger: An rclpy logger for progress lines (optional).
+        prefer_basic_navigator: Use BasicNavigator when it is importable.
+
+    Raises:
+        Nav2StartupError: A step did not complete within ``timeout_s``.
+        StartupInterrupted: ``should_stop()`` became true.
+    """
+    pose = pose or InitialPose()
+    navigator_cls = basic_navigator_class() if prefer_basic_navigator else None
+    if navigator_cls is not None and context is None:
+        _with_basic_navigator(navigator_cls, pose=pose, timeout_s=timeout_s,
+                              use_sim_time=use_sim_time, localizer=localizer,
+                              navigator=navigator, should_stop=should_stop, logger=logger)
+    else:
+        waiter = _Nav2Waiter(pose=pose, timeout_s=timeout_s, use_sim_time=use_sim_time,
+                             context=context, should_stop=should_stop, logger=logger)
+        waiter.run(localizer, navigator)
+
+
+def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: float,
+                          use_sim_time: bool, localizer: str, navigator: str,
+                          should_stop: Callable[[], bool], logger: Any) -> None:
+    """The guide's recipe, with the blocking wait in a thread so the bound holds."""
+    from geometry_msgs.msg import PoseStamped
+    from rclpy.parameter import Parameter
+
+    nav = navigator_cls(node_name="sar_nav2_startup")
+    nav.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
+    seed = PoseStamped()
+    seed.header.frame_id = pose.frame_id
+    seed.header.stamp = nav.get_clock().now().to_msg()
+    seed.pose.position.x, seed.pose.position.y = pose.x, pose.y
+    seed.pose.orientation.z = math.sin(pose.yaw / 2.0)
+    seed.pose.orientation.w = math.cos(pose.yaw / 2.0)
+    _log(logger, f"Seeding AMCL at ({pose.x:.2f}, {pose.y:.2f}, yaw {pose.yaw:.2f}) with "
+                 "BasicNavigator; waiting for Nav2 to become ACTIVE")
+    nav.setInitialPose(seed)
+    waiter = threading.Thread(target=nav.waitUntilNav2Active, daemon=True,
+                              kwargs={"navigator": navigator, "localizer": localizer})
+    waiter.start()
+    deadline = time.monotonic() + timeout_s
+    while waiter.is_alive():
+        if should_stop():
+            raise StartupInterrupted("stopped while waiting for Nav2")
+        if time.monotonic() > deadline:
+            # The thread keeps the node; the process is about to give up anyway.
+            if not getattr(nav, "initial_pose_received", False):
+                raise Nav2StartupError(
+                    f"{localizer} never answered /initialpose on /amcl_pose (or never became "
+                    f"ACTIVE) within {timeout_s:g} s: {_HINT}")
+            raise Nav2StartupError(
+                f"{navigator} never reported ACTIVE within {timeout_s:g} s: {_HINT}")
+        waiter.join(timeout=_SPIN_STEP_S)
+    nav.destroy_node()
+    _log(logger, "Nav2 is ACTIVE and AMCL has its initial pose")
+
+
+class _Nav2Waiter:
+    """The rclpy equivalent of BasicNavigator's seed-and-wait, on a temporary node."""
+
+    def __init__(self, *, pose: InitialPose, timeout_s: float, use_sim_time: bool,
+                 context: Context | None, should_stop: Callable[[], bool], logger: Any) -> None:
+        self._pose = pose
+        self._timeout_s = timeout_s
+        self._use_sim_time = use_sim_time
+        self._context = context
+        self._should_stop = should_stop
+        self._logger = logger
+        self._deadline = 0.0
+        self._amcl_answered = False
+
+    def run(self, localizer: str, navigator: str) -> None:
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.node import Node
+        from rclpy.parameter import Parameter
+
+        node = Node(
+            "sar_nav2_startup", context=self._context,
+            parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL,
+                                           self._use_sim_time)],
+        )
+        executor = SingleThreadedExecutor(context=self._context)
+        executor.add_node(node)
+        self._deadline = time.monotonic() + self._timeout_s
+        try:
+            self._wait_active(node, executor, localizer)
+            self._seed(node, executor, localizer)
+            self._wait_active(node, executor, navigator)
+            _log(self._logger, f"{navigator} is ACTIVE: Nav2 is ready")
+        finally:
+            executor.remove_node(node)
+            executor.shutdown(timeout_sec=0.0)
+            node.destroy_node()
+
+    def _spin_until(self, executor: Executor, done: Callable[[], bool], until: float) -> bool:
+        """Spin until ``done()``, the step time ``until`` or the overall deadline."""
+        while not done():
+            if self._should_stop():
+                raise StartupInterrupted("stopped while waiting for Nav2")
+            now = time.monotonic()
+            if now >= min(until, self._deadline):
+                return False
+            executor.spin_once(timeout_sec=min(_SPIN_STEP_S, max(0.0, until - now)))
+        return True
+
+    def _timed_out(self, what: str) -> Nav2StartupError:
+        return Nav2StartupError(f"{what} within {self._timeout_s:g} s: {_HINT}")
+
+    def _wait_active(self, node: Node, executor: Executor, name: str) -> None:
+        from lifecycle_msgs.srv import GetState
+
+        _log(self._logger, f"Waiting for {name} to become ACTIVE")
+        client = node.create_client(GetState, f"/{name}/get_state")
+        last_label = ""
+        try:
+            while True:
+                if not self._spin_until(executor, client.service_is_ready, self._deadline):
+                    raise self._timed_out(f"{name} never reported ACTIVE (/{name}/get_state "
+                                          "never appeared)")
+                future = client.call_async(GetState.Request())
+                if not self._spin_until(executor, future.done, self._deadline):
+                    client.remove_pending_request(future)
+                    raise self._timed_out(f"{name} never reported ACTIVE (no answer from "
+                                          f"/{name}/get_state)")
+                state = future.result().current_state if future.result() else None
+                if state is not None and state.id == ACTIVE_STATE_ID:
+                    _log(self._logger, f"{name} is ACTIVE")
+                    return
+                last_label = state.label if state is not None else "no response"
+                self._spin_until(executor, _never, time.monotonic() + _STATE_RETRY_S)
+                if time.monotonic() >= self._deadline:
+                    raise self._timed_out(f"{name} never reported ACTIVE (last state: "
+                                          f"{last_label})")
+        finally:
+            node.destroy_client(client)
+
+    def _seed(self, node: Node, executor: Executor, localizer: str) -> None:
+        from geometry_msgs.msg import PoseWithCovarianceStamped
+
+        from sar_framework.ros.qos import latched_qos
+
+        pose = self._pose
+        publisher = node.create_publisher(PoseWithCovarianceStamped, "/initialpose", 10)
+        subscription = node.create_subscription(
+            PoseWithCovarianceStamped, "/amcl_pose", self._on_amcl_pose, latched_qos())
+        _log(self._logger, f"Seeding {localizer}: /initialpose ({pose.x:.2f}, {pose.y:.2f}, "
+                           f"yaw {pose.yaw:.2f}) in {pose.frame_id}; waiting for /amcl_pose")
+        try:
+            while not self._amcl_answered:
+                publisher.publish(self._initial_pose_msg(node))
+                resend = time.monotonic() + _SEED_PERIOD_S
+                self._spin_until(executor, lambda: self._amcl_answered, resend)
+                if not self._amcl_answered and time.monotonic() >= self._deadline:
+                    raise self._timed_out(f"{localizer} never answered /initialpose on "
+                                          "/amcl_pose")
+        finally:
+            node.destroy_subscription(subscription)
+            node.destroy_publisher(publisher)
+        _log(self._logger, f"{localizer} answered on /amcl_pose: initial pose accepted")
+
+    def _on_amcl_pose(self, _msg: Any) -> None:
+        self._amcl_answered = True
+
+    def _initial_pose_msg(self, node: Node) -> Any:
+        from geometry_msgs.msg import PoseWithCovarianceStamped
+
+        pose = self._pose
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = pose.frame_id
+        msg.header.stamp = node.get_clock().now().to_msg()
+        msg.pose.pose.position.x, msg.pose.pose.position.y = pose.x, pose.y
+        msg.pose.pose.orientation.z = math.sin(pose.yaw / 2.0)
+        msg.pose.pose.orientation.w = math.cos(pose.yaw / 2.0)
+        # RViz's "2D Pose Estimate" spread: 0.5 m in x and y, ~15 degrees in yaw.
+        msg.pose.covariance[0] = msg.pose.covariance[7] = 0.25
+        msg.pose.covariance[35] = 0.06853891945200942
+        return msg

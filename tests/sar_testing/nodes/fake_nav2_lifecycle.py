@@ -1,0 +1,83 @@
+"""A fake Nav2 start-up surface: lifecycle ``get_state`` for amcl and bt_navigator, and an
+AMCL that answers ``/initialpose`` on ``/amcl_pose``.
+
+Options (argv):
+    --bt-active-after S   bt_navigator reports "inactive" for S seconds, then ACTIVE
+    --bt-never-active     bt_navigator always reports "inactive"
+    --ignore-initialpose  never publish /amcl_pose
+
+Logs ``ready`` once serving and ``initialpose x=.. y=.. yaw=.. frame=..`` per seed.
+"""
+
+import argparse
+import math
+import time
+
+import rclpy
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from lifecycle_msgs.msg import State
+from lifecycle_msgs.srv import GetState
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+
+def main() -> None:
+    """Serve until SIGINT."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--bt-active-after", type=float, default=0.0)
+    parser.add_argument("--bt-never-active", action="store_true")
+    parser.add_argument("--ignore-initialpose", action="store_true")
+    options, ros_args = parser.parse_known_args()
+    rclpy.init(args=ros_args)
+    amcl = Node("amcl")
+    bt = Node("bt_navigator")
+    started = time.monotonic()
+
+    def state(active: bool) -> GetState.Response:
+        response = GetState.Response()
+        if active:
+            response.current_state = State(id=State.PRIMARY_STATE_ACTIVE, label="active")
+        else:
+            response.current_state = State(id=State.PRIMARY_STATE_INACTIVE, label="inactive")
+        return response
+
+    def amcl_state(_req: GetState.Request, _resp: GetState.Response) -> GetState.Response:
+        return state(True)
+
+    def bt_state(_req: GetState.Request, _resp: GetState.Response) -> GetState.Response:
+        active = not options.bt_never_active and (
+            time.monotonic() - started >= options.bt_active_after)
+        return state(active)
+
+    latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    pose_pub = amcl.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", latched)
+
+    def on_initial_pose(msg: PoseWithCovarianceStamped) -> None:
+        q = msg.pose.pose.orientation
+        yaw = 2.0 * math.atan2(q.z, q.w)
+        p = msg.pose.pose.position
+        amcl.get_logger().info(
+            f"initialpose x={p.x:.2f} y={p.y:.2f} yaw={yaw:.2f} frame={msg.header.frame_id}")
+        if not options.ignore_initialpose:
+            pose_pub.publish(msg)
+
+    amcl.create_subscription(PoseWithCovarianceStamped, "/initialpose", on_initial_pose, 10)
+    amcl.create_service(GetState, "/amcl/get_state", amcl_state)
+    bt.create_service(GetState, "/bt_navigator/get_state", bt_state)
+    executor = rclpy.executors.SingleThreadedExecutor()
+    executor.add_node(amcl)
+    executor.add_node(bt)
+    amcl.get_logger().info("ready")
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        amcl.destroy_node()
+        bt.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

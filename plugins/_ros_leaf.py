@@ -82,8 +82,11 @@ class RosLeaf(py_trees.behaviour.Behaviour):
         self._success = success
         self.feedback_message = message
         if log and self._node is not None:
-            logger = self._node.get_logger()
-            (logger.info if success else logger.warning)(message)
+            # Two call sites: rclpy pins one severity to each (file, function, line).
+            if success:
+                self._node.get_logger().info(message)
+            else:
+                self._node.get_logger().warning(message)
         return self._verdict()
 
     def _verdict(self) -> Status:

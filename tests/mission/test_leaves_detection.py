@@ -1,0 +1,72 @@
+"""DetectSurvivor against a real DetectSurvivor service in another process, and without one."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+
+import pytest
+from py_trees.common import Status
+from sar_plugins.detect_survivor import DetectSurvivor
+from sar_testing.leaf_harness import (
+    NODES,
+    spec_zone_manager,
+    tick_until_done,
+    tree_on,
+    wait_for_service,
+)
+from sar_testing.processes import NodeProcess
+
+pytestmark = pytest.mark.ros
+
+
+@pytest.fixture
+def detect_server(tmp_path) -> Iterator[NodeProcess]:
+    """The echo server: a survivor at (1.5, -2.0) in zone_a, none elsewhere."""
+    with NodeProcess([str(NODES / "detect_echo_server.py")], "detect", log_dir=tmp_path) as srv:
+        srv.wait_for_output("ready")
+        yield srv
+
+
+def test_missing_service_keeps_running_then_fails_after_its_bound(ros: tuple) -> None:
+    node, executor = ros
+    leaf = DetectSurvivor("DetectSurvivor", zone_manager=spec_zone_manager(),
+                          service_name="/no_such_detect", server_timeout_s=1.0)
+    tree = tree_on(node, leaf)
+
+    start = time.monotonic()
+    for _ in range(5):
+        executor.spin_once(timeout_sec=0.02)
+        tree.tick()
+        assert leaf.status == Status.RUNNING
+    assert leaf.feedback_message == "waiting for /no_such_detect"
+    assert tick_until_done(executor, tree, 5.0) == Status.FAILURE
+    assert time.monotonic() - start >= 1.0
+    assert leaf.feedback_message == "/no_such_detect service not available after 1.0 s"
+    assert not leaf.was_found()
+    assert leaf.survivor_pose() is None
+
+
+def test_success_with_and_without_a_survivor(ros: tuple, detect_server: NodeProcess) -> None:
+    from sar_interfaces.srv import DetectSurvivor as DetectSurvivorSrv
+
+    node, executor = ros
+    zones = spec_zone_manager()
+    leaf = DetectSurvivor("DetectSurvivor", zone_manager=zones)
+    tree = tree_on(node, leaf)
+    wait_for_service(node, executor, DetectSurvivorSrv, "/detect_survivor")
+
+    tree.tick()
+    assert leaf.status == Status.RUNNING  # the request is out; the answer comes with a spin
+    assert tick_until_done(executor, tree, 5.0) == Status.SUCCESS
+    assert leaf.was_found()
+    assert leaf.survivor_pose() == (1.5, -2.0)
+    assert leaf.zone_id() == "zone_a"
+
+    zones.advance()
+    assert tick_until_done(executor, tree, 5.0) == Status.SUCCESS
+    assert not leaf.was_found()
+    assert leaf.survivor_pose() is None
+    assert leaf.feedback_message == "zone_b: no survivor"
+    detect_server.wait_for_output("asked about zone_b")
+    assert detect_server.output.count("asked about") == 2

@@ -1,0 +1,197 @@
+"""NavigateToZone / NavigateToBase against a real NavigateToPose server in another process.
+
+The fake server (tests/sar_testing/nodes/scripted_navigate_server.py) lets each goal pick
+its outcome through the goal's ``behavior_tree`` field, which the leaves pass through
+from their ``behavior_tree`` param: succeed, abort, reject or hang.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Iterator
+
+import py_trees
+import pytest
+from py_trees.common import OneShotPolicy, Status
+from sar_plugins.navigate_to_base import NavigateToBase
+from sar_plugins.navigate_to_zone import NavigateToZone
+from sar_testing.leaf_harness import (
+    BASE,
+    NODES,
+    OutputMark,
+    TreeMaker,
+    spec_zone_manager,
+    tick_until_done,
+    tree_on,
+    wait_for_action_server,
+)
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import ros_node, spin_until
+
+pytestmark = pytest.mark.ros
+GOAL = re.compile(r"goal \d+: x=(\S+) y=(\S+) qz=(\S+) qw=(\S+) frame=(\S+) script=(\S+)")
+
+
+@pytest.fixture(scope="module")
+def nav_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
+    """One scripted NavigateToPose server for the whole module (goals pick their outcome)."""
+    log_dir = tmp_path_factory.mktemp("nav")
+    with NodeProcess([str(NODES / "scripted_navigate_server.py"), "--delay", "0.3"], "nav",
+                     log_dir=log_dir) as server:
+        server.wait_for_output("ready")
+        yield server
+
+
+@pytest.fixture(scope="module")
+def module_ros() -> Iterator[tuple]:
+    """One node for the module, so the server is discovered once."""
+    with ros_node("sar_test") as pair:
+        yield pair
+
+
+@pytest.fixture
+def nav(module_ros: tuple, nav_server: NodeProcess) -> Iterator[tuple]:
+    """``(make_tree, executor, mark)``: the server discovered, its output marked."""
+    node, executor = module_ros
+    wait_for_action_server(node, executor)
+    make_tree = TreeMaker(node)
+    yield make_tree, executor, OutputMark(nav_server)
+    make_tree.shutdown()
+
+
+def goals(text: str) -> list[tuple[str, ...]]:
+    return GOAL.findall(text)
+
+
+def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
+                                                             capfd: pytest.CaptureFixture) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager())
+    tree = make_tree(leaf)
+
+    assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+    assert leaf.feedback_message == "Reached zone_a."
+    assert goals(mark.text) == [("-3.00", "3.00", "0.000", "1.000", "map", "succeed")]
+    err = capfd.readouterr().err
+    assert "--- Zone 1/4: zone_a (-3.00, 3.00) ---" in err
+    assert "Reached zone_a." in err
+
+    # A finished goal is not cancelled when the leaf is reset afterwards.
+    leaf.stop(Status.INVALID)
+    spin_until(executor, lambda: False, 0.5)
+    assert "cancel requested" not in mark.text
+
+
+def test_aborted_goal_fails_with_the_error_msg(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="abort")
+    tree = make_tree(leaf)
+
+    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
+    assert leaf.feedback_message == "goal to zone_a aborted: robot stuck"
+    assert "goal aborted" in mark.text
+
+
+def test_rejected_goal_fails(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="reject")
+    tree = make_tree(leaf)
+
+    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
+    assert leaf.feedback_message == "goal to zone_a rejected by navigate_to_pose"
+    assert len(goals(mark.text)) == 1
+
+
+def test_goal_that_never_finishes_fails_after_its_bound_and_is_cancelled(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="hang", navigation_timeout_s=1.0)
+    tree = make_tree(leaf)
+
+    start = time.monotonic()
+    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
+    assert time.monotonic() - start >= 1.0
+    assert leaf.feedback_message == ("navigation to zone_a not finished within 1.0 s; "
+                                     "goal cancelled")
+    assert spin_until(executor, lambda: "goal canceled" in mark.text, 5.0), mark.text
+
+
+def test_missing_server_keeps_running_then_fails_after_its_bound(ros: tuple) -> None:
+    node, executor = ros
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          action_name="no_such_navigate", server_timeout_s=1.0)
+    tree = tree_on(node, leaf)
+
+    start = time.monotonic()
+    tree.tick()
+    assert leaf.status == Status.RUNNING
+    assert tick_until_done(executor, tree, 5.0) == Status.FAILURE
+    assert time.monotonic() - start >= 1.0
+    assert leaf.feedback_message == "no_such_navigate server not available after 1.0 s"
+
+
+def test_second_zone_sends_a_fresh_goal(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    zones = spec_zone_manager()
+    leaf = NavigateToZone("NavigateToZone", zone_manager=zones)
+    tree = make_tree(leaf)
+    assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+
+    zones.advance()
+    tree.tick()
+    assert leaf.status == Status.RUNNING, "the previous verdict leaked into the new goal"
+    assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+    assert leaf.feedback_message == "Reached zone_b."
+    sent = goals(mark.text)
+    assert len(sent) == 2
+    assert sent[1][:4] == ("3.50", "3.00", "0.707", "0.707")  # yaw 1.57 about z
+
+
+def test_halting_the_tree_mid_goal_cancels_it(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="hang")
+    root = py_trees.composites.Sequence("Patrol", memory=True, children=[leaf])
+    tree = make_tree(root)
+    tree.tick()
+    assert spin_until(executor, lambda: "accepted" in leaf.feedback_message
+                      or "navigating" in leaf.feedback_message, 5.0, step=tree.tick)
+    assert root.status == Status.RUNNING
+
+    tree.root.stop(Status.INVALID)
+    assert spin_until(executor, lambda: "goal canceled" in mark.text, 5.0), mark.text
+    assert "cancel requested" in mark.text
+    assert leaf.feedback_message == "navigation to zone_a interrupted; goal cancelled"
+
+
+def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
+                                                          capfd: pytest.CaptureFixture) -> None:
+    make_tree, executor, mark = nav
+    zones = spec_zone_manager()
+    while zones.has_remaining():
+        zones.advance()
+    from sar_plugins.zones_remaining import ZonesRemaining
+
+    patrol = py_trees.composites.Sequence("Patrol", memory=True,
+                                          children=[ZonesRemaining("ZonesRemaining?",
+                                                                   zone_manager=zones)])
+    base = NavigateToBase("NavigateToBase", zone_manager=zones)
+    oneshot = py_trees.decorators.OneShot(name="NavigateToBaseOneShot", child=base,
+                                          policy=OneShotPolicy.ON_COMPLETION)
+    root = py_trees.composites.Selector("MissionOrReturnToBase", memory=False,
+                                        children=[patrol, oneshot])
+    tree = make_tree(root)
+
+    assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+    for _ in range(50):
+        executor.spin_once(timeout_sec=0.02)
+        tree.tick()
+        assert root.status == Status.SUCCESS
+    assert goals(mark.text) == [(f"{BASE['x']:.2f}", f"{BASE['y']:.2f}", "0.000", "1.000",
+                                 "map", "succeed")]
+    err = capfd.readouterr().err
+    assert err.count("All zones visited. Returning to base.") == 1
+    assert err.count("Reached base station.") == 1

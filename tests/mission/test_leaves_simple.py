@@ -1,0 +1,85 @@
+"""The leaves without a ROS client: conditions never RUNNING, AdvanceZone, LogNoDetection."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import pytest
+from py_trees.common import Status
+from sar_plugins.advance_zone import AdvanceZone
+from sar_plugins.is_survivor_detected import IsSurvivorDetected
+from sar_plugins.log_no_detection import LogNoDetection
+from sar_plugins.zones_remaining import ZonesRemaining
+from sar_testing.leaf_harness import spec_zone_manager
+
+
+@dataclass
+class FixedDetector:
+    """Stands in for DetectSurvivor: a settable detection result."""
+
+    pose: tuple[float, float] | None = None
+
+    def was_found(self) -> bool:
+        return self.pose is not None
+
+    def survivor_pose(self) -> tuple[float, float] | None:
+        return self.pose
+
+
+def test_zones_remaining_follows_the_zone_manager() -> None:
+    zones = spec_zone_manager()
+    leaf = ZonesRemaining("ZonesRemaining?", zone_manager=zones)
+    for _ in range(zones.total_zones()):
+        leaf.tick_once()
+        assert leaf.status == Status.SUCCESS
+        zones.advance()
+    leaf.tick_once()
+    assert leaf.status == Status.FAILURE
+    assert leaf.feedback_message == "all 4 zones visited"
+
+
+def test_is_survivor_detected_reads_the_detector() -> None:
+    detector = FixedDetector()
+    leaf = IsSurvivorDetected("IsSurvivorDetected?", detector=detector)
+    leaf.tick_once()
+    assert leaf.status == Status.FAILURE
+    detector.pose = (-2.5, 3.2)
+    leaf.tick_once()
+    assert leaf.status == Status.SUCCESS
+    assert leaf.feedback_message == "survivor at (-2.50, 3.20)"
+
+
+def test_advance_zone_always_succeeds() -> None:
+    zones = spec_zone_manager()
+    leaf = AdvanceZone("AdvanceZone", zone_manager=zones)
+    for expected in (1, 2, 3, 4, 4):
+        leaf.tick_once()
+        assert leaf.status == Status.SUCCESS
+        assert zones.current_index() == expected
+
+
+def test_log_no_detection_without_a_node_uses_the_py_trees_logger() -> None:
+    zones = spec_zone_manager()
+    zones.advance()
+    leaf = LogNoDetection("LogNoDetection", zone_manager=zones)
+    leaf.setup()
+    leaf.tick_once()
+    assert leaf.status == Status.SUCCESS
+    assert leaf.feedback_message == "No survivor found at zone_b."
+
+
+@pytest.mark.ros
+def test_log_no_detection_logs_the_spec_line_on_the_node(ros: tuple,
+                                                         capfd: pytest.CaptureFixture) -> None:
+    node, _executor = ros
+    zones = spec_zone_manager()
+    zones.advance()
+    leaf = LogNoDetection("LogNoDetection", zone_manager=zones)
+    leaf.setup(node=node)
+    leaf.tick_once()
+    assert leaf.status == Status.SUCCESS
+    assert "[sar_test]: No survivor found at zone_b." in capfd.readouterr().err
+    while zones.has_remaining():
+        zones.advance()
+    leaf.tick_once()
+    assert leaf.status == Status.FAILURE

@@ -1,0 +1,163 @@
+"""The SurvivorFound branch: one survivor id per detection, and why its Sequence needs memory.
+
+Tree under test (hand-built; the report server answers 1 s late so NotifyBase stays RUNNING
+for many ticks)::
+
+    Sequence "Branch" memory=True
+    ├── DetectSurvivor
+    └── Sequence "SurvivorFound" memory=<True|False>
+        ├── IsSurvivorDetected?
+        ├── BroadcastSurvivorTF
+        └── NotifyBase
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import py_trees
+import pytest
+from py_trees.common import Status
+from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
+from sar_plugins.detect_survivor import DetectSurvivor
+from sar_plugins.is_survivor_detected import IsSurvivorDetected
+from sar_plugins.notify_base import NotifyBase
+from sar_testing.leaf_harness import (
+    NODES,
+    OutputMark,
+    TfStaticRecorder,
+    TreeMaker,
+    spec_zone_manager,
+    tick_until_done,
+    tree_on,
+    wait_for_service,
+)
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import ros_node, spin_until
+
+from sar_framework.mission.zone_manager import ZoneManager
+
+pytestmark = pytest.mark.ros
+REPORT_DELAY_S = 1.0
+
+
+@pytest.fixture(scope="module")
+def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[NodeProcess, NodeProcess]]:
+    """The detect echo server (survivor at (1.5, -2.0) in zone_a) and a slow report server."""
+    log_dir = tmp_path_factory.mktemp("branch")
+    with (NodeProcess([str(NODES / "detect_echo_server.py")], "detect", log_dir=log_dir) as det,
+          NodeProcess([str(NODES / "delayed_report_server.py"), "--delay", str(REPORT_DELAY_S)],
+                      "report", log_dir=log_dir) as rep):
+        det.wait_for_output("ready")
+        rep.wait_for_output("ready")
+        yield det, rep
+
+
+@pytest.fixture(scope="module")
+def module_ros() -> Iterator[tuple]:
+    """One node for the module, so the servers are discovered once."""
+    with ros_node("sar_test") as pair:
+        yield pair
+
+
+@pytest.fixture
+def branch_env(module_ros: tuple, servers: tuple) -> Iterator[tuple]:
+    """``(node, make_tree, executor, report_mark)`` with both services discovered."""
+    from sar_interfaces.srv import DetectSurvivor as DetectSurvivorSrv
+    from sar_interfaces.srv import ReportSurvivor
+
+    node, executor = module_ros
+    wait_for_service(node, executor, DetectSurvivorSrv, "/detect_survivor")
+    wait_for_service(node, executor, ReportSurvivor, "/report_survivor")
+    make_tree = TreeMaker(node)
+    yield node, make_tree, executor, OutputMark(servers[1])
+    make_tree.shutdown()
+
+
+def build_branch(zones: ZoneManager, *, memory: bool,
+                 response_timeout_s: float = 10.0) -> tuple[py_trees.composites.Sequence,
+                                                            NotifyBase]:
+    detect = DetectSurvivor("DetectSurvivor", zone_manager=zones)
+    broadcast = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones, detector=detect)
+    notify = NotifyBase("NotifyBase", detector=detect, broadcaster=broadcast,
+                        response_timeout_s=response_timeout_s)
+    found = py_trees.composites.Sequence("SurvivorFound", memory=memory, children=[
+        IsSurvivorDetected("IsSurvivorDetected?", detector=detect), broadcast, notify,
+    ])
+    return py_trees.composites.Sequence("Branch", memory=True, children=[detect, found]), notify
+
+
+def run_counting_notify_ticks(executor, tree, notify: NotifyBase, timeout: float) -> int:
+    running_ticks = 0
+
+    def step() -> None:
+        nonlocal running_ticks
+        tree.tick()
+        running_ticks += notify.status == Status.RUNNING
+
+    tree.tick()
+    spin_until(executor, lambda: tree.root.status in (Status.SUCCESS, Status.FAILURE), timeout,
+               step=step)
+    return running_ticks
+
+
+def test_memory_true_allocates_one_id_and_reports_it(branch_env: tuple) -> None:
+    node, make_tree, executor, report = branch_env
+    zones = spec_zone_manager()
+    root, notify = build_branch(zones, memory=True)
+    tree = make_tree(root)
+    frames = TfStaticRecorder(node)
+
+    running_ticks = run_counting_notify_ticks(executor, tree, notify, 10.0)
+    assert root.status == Status.SUCCESS
+    assert running_ticks >= 10, "the report server should keep NotifyBase RUNNING for a while"
+    assert notify.feedback_message == "Reported survivor_1 at (1.50, -2.00): acknowledged."
+    assert spin_until(executor, lambda: frames.child_frames() == {"survivor_1"}, 5.0)
+    assert zones.next_survivor_id() == "survivor_2", "exactly one id was allocated"
+    assert report.text.count("report: ") == 1
+    assert "report: survivor_1 at (1.50, -2.00) frame=map" in report.text
+
+
+def test_memory_false_reallocates_ids_while_notify_is_running(branch_env: tuple) -> None:
+    """Why SurvivorFound is memory=True: without memory each RUNNING tick re-ticks the earlier
+    siblings, and every re-tick of BroadcastSurvivorTF allocates (and broadcasts) a new id."""
+    node, make_tree, executor, report = branch_env
+    zones = spec_zone_manager()
+    root, notify = build_branch(zones, memory=False)
+    tree = make_tree(root)
+    frames = TfStaticRecorder(node)
+
+    running_ticks = run_counting_notify_ticks(executor, tree, notify, 10.0)
+    assert root.status == Status.SUCCESS
+    assert running_ticks >= 10
+    duplicates = int(zones.next_survivor_id().removeprefix("survivor_")) - 1
+    assert duplicates > running_ticks // 2, "each RUNNING tick should allocate another id"
+    assert spin_until(executor, lambda: len(frames.child_frames()) > 1, 5.0)
+    # NotifyBase itself stayed RUNNING (not re-initialised): one report, with the first id.
+    assert report.text.count("report: ") == 1
+    assert "report: survivor_1 " in report.text
+
+
+def test_unanswered_report_fails_after_its_bound(branch_env: tuple) -> None:
+    _node, make_tree, executor, _report = branch_env
+    root, notify = build_branch(spec_zone_manager(), memory=True, response_timeout_s=0.5)
+    tree = make_tree(root)
+
+    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
+    assert notify.feedback_message == "no response from /report_survivor within 0.5 s"
+
+
+def test_nothing_to_report_without_a_detection(ros: tuple) -> None:
+    node, _executor = ros
+    zones = spec_zone_manager()
+    detect = DetectSurvivor("DetectSurvivor", zone_manager=zones)
+    broadcast = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones, detector=detect)
+    notify = NotifyBase("NotifyBase", detector=detect, broadcaster=broadcast)
+    tree = tree_on(node, py_trees.composites.Sequence("S", memory=True,
+                                                      children=[broadcast, notify]))
+    tree.tick()
+    assert broadcast.status == Status.FAILURE
+    assert broadcast.feedback_message == "no survivor detected to broadcast"
+    notify.tick_once()
+    assert notify.status == Status.FAILURE
+    assert notify.feedback_message == "no survivor detected to report"

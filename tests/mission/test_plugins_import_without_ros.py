@@ -1,0 +1,60 @@
+"""Built-in plugin modules import no ROS, and each plugin's declaration matches its class."""
+
+from __future__ import annotations
+
+import inspect
+import pkgutil
+import subprocess
+import sys
+
+import pytest
+import sar_plugins
+
+from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, REQUIRED
+from sar_framework.engine.registry import BUILTIN_PACKAGE, Registry
+
+MODULES = sorted(info.name for info in pkgutil.iter_modules(sar_plugins.__path__))
+MISSION_LEAVES = {
+    "ZonesRemaining", "IsSurvivorDetected", "NavigateToZone", "NavigateToBase",
+    "DetectSurvivor", "BroadcastSurvivorTF", "NotifyBase", "AdvanceZone", "LogNoDetection",
+}
+
+
+def builtin_registry() -> Registry:
+    registry = Registry()
+    assert registry.import_module(BUILTIN_PACKAGE), registry.diagnostics
+    assert not registry.diagnostics
+    return registry
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_importing_a_plugin_module_does_not_import_rclpy(module: str) -> None:
+    code = (f"import sys, sar_plugins.{module}\n"
+            "ros = sorted(m for m in sys.modules if m.split('.')[0] in "
+            "{'rclpy', 'rosidl_runtime_py', 'nav2_msgs', 'sar_interfaces', 'geometry_msgs'})\n"
+            "assert not ros, ros")
+    done = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+
+
+def test_all_nine_mission_leaves_are_built_in() -> None:
+    assert set(builtin_registry().names()) >= MISSION_LEAVES
+
+
+@pytest.mark.parametrize("name", sorted(MISSION_LEAVES))
+def test_declaration_matches_the_constructor(name: str) -> None:
+    spec = builtin_registry().get(name)
+    assert spec is not None
+    assert PLUGIN_ATTRIBUTE in spec.cls.__dict__
+    assert spec.description and not spec.description.startswith("Args")
+    signature = inspect.signature(spec.cls.__init__)
+    kwargs = {k: p for k, p in signature.parameters.items() if k not in ("self", "name")}
+    assert set(kwargs) == {p.name for p in spec.params} | set(spec.context)
+    for param in spec.params:
+        assert param.description, f"{name}.{param.name} has no description"
+        default = kwargs[param.name].default
+        if param.default is REQUIRED:
+            assert default is inspect.Parameter.empty, f"{name}.{param.name}"
+        else:
+            assert default == param.default, f"{name}.{param.name}: {default!r}"

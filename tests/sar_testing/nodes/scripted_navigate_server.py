@@ -1,0 +1,88 @@
+"""A NavigateToPose server whose outcome each goal chooses, for the navigation leaf tests.
+
+The goal's ``behavior_tree`` field is the script (the leaf passes it through from its
+``behavior_tree`` param):
+
+* ``""`` or ``succeed``: feedback for ``--delay`` seconds, then SUCCEEDED;
+* ``abort``: ABORTED after ``--delay`` seconds with ``error_msg="robot stuck"``;
+* ``reject``: the goal is rejected;
+* ``hang``: accepted, then never finishes by itself (only a cancel ends it).
+
+Logs ``ready``, then one line per event: ``goal 1: x=-3.00 y=3.00 qz=0.000 qw=1.000
+frame=map script=succeed``, ``cancel requested``, ``goal canceled``, ``goal succeeded``,
+``goal aborted``.
+"""
+
+import argparse
+import itertools
+import time
+
+import rclpy
+from nav2_msgs.action import NavigateToPose
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+
+
+def main() -> None:
+    """Serve until SIGINT."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--delay", type=float, default=0.3)
+    args = parser.parse_args()
+    rclpy.init()
+    node = Node("scripted_navigate_server")
+    log = node.get_logger()
+    counter = itertools.count(1)
+
+    def on_goal(goal: NavigateToPose.Goal) -> GoalResponse:
+        pose = goal.pose.pose
+        script = goal.behavior_tree or "succeed"
+        log.info(f"goal {next(counter)}: x={pose.position.x:.2f} y={pose.position.y:.2f} "
+                 f"qz={pose.orientation.z:.3f} qw={pose.orientation.w:.3f} "
+                 f"frame={goal.pose.header.frame_id} script={script}")
+        return GoalResponse.REJECT if script == "reject" else GoalResponse.ACCEPT
+
+    def on_cancel(_handle: object) -> CancelResponse:
+        log.info("cancel requested")
+        return CancelResponse.ACCEPT
+
+    def execute(goal_handle):
+        script = goal_handle.request.behavior_tree or "succeed"
+        feedback = NavigateToPose.Feedback()
+        deadline = time.monotonic() + args.delay
+        while script == "hang" or time.monotonic() < deadline:
+            if goal_handle.is_cancel_requested:
+                goal_handle.canceled()
+                log.info("goal canceled")
+                return NavigateToPose.Result()
+            feedback.distance_remaining = max(0.0, deadline - time.monotonic())
+            goal_handle.publish_feedback(feedback)
+            time.sleep(0.05)
+        if script == "abort":
+            goal_handle.abort()
+            log.info("goal aborted")
+            return NavigateToPose.Result(error_code=1, error_msg="robot stuck")
+        goal_handle.succeed()
+        log.info("goal succeeded")
+        return NavigateToPose.Result()
+
+    ActionServer(
+        node, NavigateToPose, "navigate_to_pose", execute_callback=execute,
+        goal_callback=on_goal, cancel_callback=on_cancel,
+        callback_group=ReentrantCallbackGroup(),
+    )
+    log.info("ready")
+    executor = MultiThreadedExecutor(num_threads=4)
+    executor.add_node(node)
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

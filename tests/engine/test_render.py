@@ -6,7 +6,6 @@ import re
 import shutil
 import subprocess
 import sys
-import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -504,17 +503,13 @@ def test_deep_tree_needs_no_recursion() -> None:
     assert render_dot(spec).count(" -> ") == len(spec) - 1
 
 
-# --------------------------------------------------------------------------- speed
+# --------------------------------------------------------------------------- size
+# (how fast is measured in benchmarks/bench_render.py, never in a test)
 
 
 @needs_dot
-def test_thousand_nodes_to_svg_within_two_seconds(tmp_path: Path) -> None:
+def test_thousand_node_tree_renders_every_node_to_svg(tmp_path: Path) -> None:
     spec = big_tree(1000)
     assert len(spec) >= 1000
-    best = float("inf")
-    for _ in range(2):  # best of two: tolerate one hiccup on a busy machine
-        start = time.perf_counter()
-        out = render_to_file(spec, tmp_path / "big.svg")
-        best = min(best, time.perf_counter() - start)
-    assert best <= 2.0, f"{best:.2f}s"
+    out = render_to_file(spec, tmp_path / "big.svg")
     assert len(svg_nodes(out)) == len(spec)

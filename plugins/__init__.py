@@ -2,4 +2,13 @@
 
 One module per leaf. Modules import ROS packages lazily, inside ``setup()``,
 so validating or rendering a tree never needs ROS.
+
+Modules whose names start with ``_`` are shared helpers and hold no plugin:
+``_ros_leaf`` (the ROS node and the ``_done``/``_success`` verdict latch),
+``_service_call`` (one bounded, polled service request) and ``_navigation``
+(the NavigateToPose client behind NavigateToZone and NavigateToBase).
+Leaves share state by reference, never through a blackboard: IsSurvivorDetected,
+BroadcastSurvivorTF and NotifyBase name a DetectSurvivor leaf in ``detector``, and
+NotifyBase names the BroadcastSurvivorTF leaf in ``broadcaster`` to report the
+survivor id that leaf allocated for its TF frame.
 """

@@ -195,3 +195,15 @@ def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
     err = capfd.readouterr().err
     assert err.count("All zones visited. Returning to base.") == 1
     assert err.count("Reached base station.") == 1
+
+
+def test_halting_before_the_goal_is_accepted_still_cancels_it(nav: tuple) -> None:
+    make_tree, executor, mark = nav
+    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="hang")
+    tree = make_tree(leaf)
+    tree.tick()  # the goal is sent; its acceptance has not been spun in yet
+    assert leaf.status == Status.RUNNING
+    leaf.stop(Status.INVALID)
+    assert spin_until(executor, lambda: "goal canceled" in mark.text, 5.0), mark.text
+    assert len(goals(mark.text)) == 1

@@ -41,6 +41,13 @@ _INLINE_COMPOSE_CHARS = 8000
 _STACK_BYTES_PER_CHAR = 320
 _stack_lock = threading.Lock()
 
+#: Deepest flow nesting (``[`` / ``{``) accepted. libyaml's time grows with the square
+#: of the flow depth (100,000 levels take minutes), and no valid tree comes close.
+MAX_FLOW_DEPTH = 1000
+# Flow brackets, skipping one-line quoted scalars and comments (a conservative lexer:
+# it may over-count, which only matters beyond MAX_FLOW_DEPTH).
+_FLOW_TOKENS = re.compile(r""""(?:[^"\\\n]|\\.)*"|'(?:[^'\n]|'')*'|(?<!\S)#[^\n]*|[\[\]{}]""")
+
 _FastLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 # Tag resolution is a pure function of (kind, value, implicit) when no path
@@ -106,6 +113,28 @@ def _syntax_diagnostic(exc: yaml.YAMLError, text: str, file: str) -> Diagnostic:
     )
 
 
+def _too_deep(text: str, file: str) -> Diagnostic | None:
+    """Report flow nesting deeper than :data:`MAX_FLOW_DEPTH`, before composing."""
+    if text.count("[") + text.count("{") <= MAX_FLOW_DEPTH:
+        return None  # the quick bound: cannot nest deeper than there are openers
+    depth = 0
+    for match in _FLOW_TOKENS.finditer(text):
+        char = match.group()
+        if char == "[" or char == "{":
+            depth += 1
+            if depth > MAX_FLOW_DEPTH:
+                pos = match.start()
+                line = text.count("\n", 0, pos) + 1
+                col = pos - (text.rfind("\n", 0, pos) + 1) + 1
+                return Diagnostic(
+                    SourceLocation(file, line, col),
+                    f"YAML: nested deeper than {MAX_FLOW_DEPTH} levels of [ ] or {{ }}",
+                )
+        elif (char == "]" or char == "}") and depth:
+            depth -= 1
+    return None
+
+
 def _compose_with(loader_cls: type, text: str) -> Node | None:
     loader = loader_cls(text)
     try:
@@ -148,6 +177,9 @@ def compose(text: str, file: str) -> tuple[Node | None, list[Diagnostic]]:
     Returns:
         The root node (None for an empty document or on error) and the diagnostics.
     """
+    deep = _too_deep(text, file)
+    if deep is not None:
+        return None, [deep]
     try:
         if len(text) <= _INLINE_COMPOSE_CHARS:
             root = _compose_with(_Loader, text)

@@ -219,3 +219,22 @@ def test_declared_keys_are_not_redeclared(tmp_path):
         first = read_mission_params(node, source=str(path))
         second = read_mission_params(node, source=str(path))
     assert first.tick_rate_hz == second.tick_rate_hz == 2.0
+
+
+@pytest.mark.ros
+def test_runner_stops_on_a_malformed_mission_with_one_line_and_no_traceback(tmp_path,
+                                                                              monkeypatch):
+    from sar_testing.processes import NodeProcess
+
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, GOOD.replace('["zone_a", "zone_b"]', '["zone_a", "zone_e"]'),
+          "mission_params.yaml")
+    runner = NodeProcess(["-m", "sar_framework.ros.runner", "--ros-args", "--params-file",
+                          "mission_params.yaml", "-p", "seed_amcl:=false"], "runner",
+                         log_dir=tmp_path).start()
+    assert runner.wait(timeout=30) == 2
+    errors = [line for line in runner.output.splitlines() if "ERROR" in line]
+    assert len(errors) == 1, runner.output
+    assert errors[0].endswith(
+        "mission_params.yaml: zones.zone_e.x: missing (zone_e is in zone_order)")
+    assert "Traceback" not in runner.output

@@ -1,0 +1,351 @@
+"""``sar-mission-runner``: load a tree file and tick it on ROS 2 until done or Ctrl-C.
+
+::
+
+    sar-mission-runner --ros-args --params-file config/mission_params.yaml
+        -p tree:=trees/search_and_rescue.yaml -p use_sim_time:=true   (one line)
+
+Start-up, in order; each step is bounded and fails with one clear message:
+
+1. every ``--params-file`` is checked in pure Python (file:line:col messages) before rcl
+   parses it (:mod:`sar_framework.mission.params_file`);
+2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
+   parameters (:mod:`.runner_settings`) and the mission's (zones, ``tick_rate_hz``) are read;
+3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
+4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
+5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
+   ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
+
+Exit codes: 0 the root ended SUCCESS, 1 it ended FAILURE, 2 a parameter or tree error,
+3 a start-up failure (Nav2 never ready, tree setup failed or timed out), 130 interrupted
+(SIGINT/SIGTERM) before the root reached SUCCESS or FAILURE. With ``exit_on_completion``
+the runner ends on its own once the root is terminal; otherwise it keeps ticking (the
+reference tree then idles at SUCCESS) until SIGINT, and exits with the root's verdict.
+
+On SIGINT the timer stops, running leaves are terminated (``root.stop(INVALID)``, which
+cancels Nav2 goals in flight), the executor spins briefly so the cancel requests leave the
+process, and only then are the node and the context shut down. A second SIGINT ends the
+process at once.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+from collections.abc import Sequence
+from types import FrameType
+from typing import TYPE_CHECKING
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework.mission.params import (
+    MissionParams,
+    ParamsError,
+    create_params_node,
+    read_mission_params,
+)
+from sar_framework.mission.params_file import (
+    KeyLocation,
+    check_params_file,
+    params_files_from_args,
+)
+from sar_framework.ros.runner_settings import RunnerSettings, read_runner_settings
+from sar_framework.ros.status_file import (
+    StatusRecorder,
+    startup_failure_document,
+    write_json_atomically,
+)
+
+if TYPE_CHECKING:
+    from rclpy.executors import Executor
+    from rclpy.node import Node
+
+    from sar_framework.engine.api import LoadedTree
+
+NODE_NAME = "sar_mission_runner"
+EXIT_SUCCESS = 0
+EXIT_FAILURE = 1
+EXIT_CONFIG = 2
+EXIT_STARTUP = 3
+EXIT_INTERRUPTED = 130
+#: How long the executor keeps spinning after running leaves were stopped.
+CANCEL_GRACE_S = 0.5
+#: Warn when ``use_sim_time`` is set and no tick came within this many wall seconds.
+NO_CLOCK_WARNING_S = 5.0
+
+
+class StopRequest:
+    """SIGINT/SIGTERM set a flag the loops poll; a second signal exits at once."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self.signal_name = ""
+
+    def install(self) -> None:
+        """Install the handlers (main thread only)."""
+        signal.signal(signal.SIGINT, self._handle)
+        signal.signal(signal.SIGTERM, self._handle)
+
+    def __call__(self) -> bool:
+        """Return whether a stop was requested."""
+        return self.requested
+
+    def _handle(self, signum: int, _frame: FrameType | None) -> None:
+        if self.requested:
+            raise KeyboardInterrupt  # second Ctrl-C: stop waiting for a clean shutdown
+        self.requested = True
+        self.signal_name = signal.Signals(signum).name
+
+
+class MissionRunner:
+    """Ticks a loaded tree on a node and reports its progress.
+
+    Args:
+        node: The runner node (also given to every behaviour's ``setup``).
+        settings: The runner's parameters.
+        mission: The mission parameters (tick rate).
+        loaded: The loaded tree.
+        stop: The stop flag set by signals.
+        wall_start: ``time.monotonic()`` when the process started.
+    """
+
+    def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
+                 loaded: LoadedTree, *, stop: StopRequest, wall_start: float) -> None:
+        from sar_framework.ros.tree_ticker import create_behaviour_tree
+
+        self.node = node
+        self.settings = settings
+        self.mission = mission
+        self.loaded = loaded
+        self.stop = stop
+        self.logger = node.get_logger()
+        self.finished = False
+        self._announced: set[Status] = set()
+        self.tree = create_behaviour_tree(loaded.root)
+        self.recorder = StatusRecorder(
+            settings.tree, loaded.spec, loaded.behaviours,
+            lambda: node.get_clock().now().nanoseconds / 1e9,
+            path=settings.status_file or None, wall_start=wall_start,
+        )
+        self.tree.visitors.append(self.recorder)
+        self.tree.add_post_tick_handler(self._after_tick)
+
+    def setup(self) -> None:
+        """Set up every behaviour with the node (bounded).
+
+        Raises:
+            RuntimeError: Setup failed or timed out; the message says which behaviour.
+        """
+        try:
+            self.tree.setup(node=self.node, timeout=self.settings.setup_timeout_s)
+        except Exception as err:
+            raise RuntimeError(f"tree setup failed: {type(err).__name__}: {err}") from err
+
+    def run(self, executor: Executor) -> int:
+        """Tick until the tree finishes (with ``exit_on_completion``) or a stop request.
+
+        Args:
+            executor: An executor the node is added to.
+
+        Returns:
+            The exit code.
+        """
+        from sar_framework.ros.tree_ticker import implementation_name
+
+        period_ms = 1000.0 / self.mission.tick_rate_hz
+        self.tree.tick_tock(period_ms=period_ms)
+        self.logger.info(
+            f"Ticking {self.settings.tree} at {self.mission.tick_rate_hz:g} Hz "
+            f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} nodes)"
+        )
+        started = time.monotonic()
+        warned = False
+        while not self.stop() and not self.finished:
+            executor.spin_once(timeout_sec=0.1)
+            if (not warned and self.recorder.ticks == 0 and self.settings.use_sim_time
+                    and time.monotonic() - started > NO_CLOCK_WARNING_S):
+                warned = True
+                self.logger.warning(f"no tick within {NO_CLOCK_WARNING_S:g} s: use_sim_time is "
+                                    "true; is /clock being published?")
+        if self.stop():
+            self.logger.info(f"{self.stop.signal_name}: stopping the tree")
+        self._halt(executor)
+        return self.exit_code()
+
+    def exit_code(self) -> int:
+        """Return the exit code for the root's last status."""
+        if self.recorder.status == Status.SUCCESS:
+            return EXIT_SUCCESS
+        if self.recorder.status == Status.FAILURE:
+            return EXIT_FAILURE
+        return EXIT_INTERRUPTED
+
+    def shutdown(self) -> None:
+        """Shut the behaviours down and destroy the node (the tree owns it now)."""
+        try:
+            self.tree.shutdown()
+        except Exception as err:  # a behaviour's shutdown must not hide the exit code
+            self.logger.error(f"tree shutdown: {type(err).__name__}: {err}")
+
+    def _after_tick(self, tree: py_trees.trees.BehaviourTree) -> None:
+        changed = self.recorder.after_tick(tree)
+        if changed and self.settings.print_tree:
+            self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
+        status = tree.root.status
+        if status in (Status.SUCCESS, Status.FAILURE) and status not in self._announced:
+            self._announced.add(status)
+            if status == Status.SUCCESS:
+                self.logger.info("Mission complete.")
+            else:
+                reasons = "; ".join(f"{f['name']}: {f['message']}"
+                                    for f in self.recorder.failures[-3:]) or "no reason given"
+                self.logger.error(f"Mission failed ({reasons}).")
+        if self.settings.exit_on_completion and status in (Status.SUCCESS, Status.FAILURE):
+            self.finished = True
+
+    def _halt(self, executor: Executor) -> None:
+        """Stop ticking, terminate running leaves, and let their cancel requests out."""
+        timer = getattr(self.tree, "timer", None)
+        if timer is not None:
+            timer.cancel()
+        root = self.loaded.root
+        running = [b.name for b in root.iterate() if b.status == Status.RUNNING and not b.children]
+        if root.status != Status.INVALID:
+            root.stop(Status.INVALID)  # terminate(): running leaves cancel their goals
+        if running:
+            self.logger.info(f"stopped running leaves: {', '.join(running)}")
+            deadline = time.monotonic() + CANCEL_GRACE_S
+            while time.monotonic() < deadline:
+                executor.spin_once(timeout_sec=0.05)
+        self.recorder.write()
+
+
+def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLocation]]:
+    """Check every ``--params-file`` in pure Python; merge where keys are set."""
+    files = params_files_from_args(argv)
+    locations: dict[str, KeyLocation] = {}
+    for file in files:
+        locations.update(check_params_file(file))
+    return files, locations
+
+
+def _load(settings: RunnerSettings, mission: MissionParams) -> LoadedTree:
+    """Load the tree; raise ``TreeLoadError`` or a wrapped constructor error."""
+    from sar_framework import load_tree
+
+    return load_tree(settings.tree, context={"zone_manager": mission.zone_manager},
+                     plugin_paths=settings.plugin_paths)
+
+
+def run(argv: Sequence[str] | None = None) -> int:
+    """Run the mission runner.
+
+    Args:
+        argv: The command line (``sys.argv`` when None), ROS arguments included.
+
+    Returns:
+        The exit code (see the module docstring).
+    """
+    import rclpy
+    import rclpy.logging
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
+
+    from sar_framework.engine.diagnostics import TreeLoadError
+    from sar_framework.ros.nav2_startup import (
+        Nav2StartupError,
+        StartupInterrupted,
+        seed_amcl_and_wait_for_nav2,
+    )
+
+    wall_start = time.monotonic()
+    args = list(sys.argv if argv is None else argv)
+    early_logger = rclpy.logging.get_logger(NODE_NAME)
+    try:
+        files, locations = _check_params_files(args)
+    except ParamsError as err:
+        early_logger.error(str(err))
+        return EXIT_CONFIG
+
+    stop = StopRequest()
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop.install()
+    node: Node | None = None
+    runner: MissionRunner | None = None
+    settings: RunnerSettings | None = None
+
+    def fail(code: int, step: str, message: str) -> int:
+        (node.get_logger() if node is not None else early_logger).error(message)
+        if settings is not None and settings.status_file:
+            write_json_atomically(settings.status_file, startup_failure_document(
+                settings.tree, step, message, time.monotonic() - wall_start))
+        return code
+
+    try:
+        source = files[-1] if files else "parameters"
+        try:
+            node = create_params_node(NODE_NAME)
+        except ValueError as err:  # e.g. -p zone_order:=[] (an untyped empty list)
+            return fail(EXIT_CONFIG, "parameters", f"{source}: {err}")
+        try:
+            # A runner setting missing from the files came from a -p override or a default.
+            settings = read_runner_settings(node, source="parameters", locations=locations)
+            mission = read_mission_params(node, source=source, locations=locations)
+        except ParamsError as err:
+            return fail(EXIT_CONFIG, "parameters", str(err))
+        logger = node.get_logger()
+        for zone_id in mission.unused_zones:
+            logger.warning(f"{source}: zones.{zone_id} is defined but not in zone_order "
+                           "(it will not be visited)")
+        try:
+            loaded = _load(settings, mission)
+        except TreeLoadError as err:
+            lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
+            return fail(EXIT_CONFIG, "tree", f"cannot load {settings.tree}:\n{lines}")
+        except Exception as err:  # a plugin that raised outside the loader's wrapping
+            return fail(EXIT_CONFIG, "tree",
+                        f"cannot build {settings.tree}: {type(err).__name__}: {err}")
+        if settings.seed_amcl:
+            seed_amcl_and_wait_for_nav2(
+                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_s,
+                use_sim_time=settings.use_sim_time, should_stop=stop, logger=logger)
+        runner = MissionRunner(node, settings, mission, loaded, stop=stop,
+                               wall_start=wall_start)
+        try:
+            runner.setup()
+        except RuntimeError as err:
+            return fail(EXIT_STARTUP, "setup", str(err))
+        if stop():
+            return EXIT_INTERRUPTED
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        try:
+            return runner.run(executor)
+        finally:
+            executor.remove_node(node)
+            executor.shutdown(timeout_sec=0.0)
+    except Nav2StartupError as err:
+        return fail(EXIT_STARTUP, "nav2", str(err))
+    except StartupInterrupted:
+        (node.get_logger() if node is not None else early_logger).info(
+            "stopped while waiting for Nav2")
+        return EXIT_INTERRUPTED
+    except KeyboardInterrupt:  # a second SIGINT
+        return EXIT_INTERRUPTED
+    finally:
+        if runner is not None and runner.tree.node is not None:
+            runner.shutdown()  # destroys the node
+        elif node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Console entry point (``sar-mission-runner``)."""
+    sys.exit(run(argv))
+
+
+if __name__ == "__main__":
+    main()

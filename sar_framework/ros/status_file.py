@@ -1,0 +1,213 @@
+"""The runner's status file: node statuses, leaf verdicts and failures, kept current.
+
+Format (docs/mission-contracts.md, "Runner status file")::
+
+    {"tree": "trees/search_and_rescue.yaml", "status": "SUCCESS", "ticks": 412,
+     "wall_first_tick_s": 0.8, "sim_start_s": 0.0, "sim_end_s": 151.2, "wall_duration_s": 9.1,
+     "nodes": {"0": "SUCCESS", "0.0": "FAILURE", ...},
+     "events": [{"sim_s": 21.4, "wall_s": 2.1, "uid": "0.0.1", "name": "NavigateToZone",
+                 "kind": "NavigateToZone", "status": "SUCCESS", "message": "Reached zone_a."}],
+     "failures": [{"uid": "...", "name": "...", "message": "..."}]}
+
+Definitions used here:
+
+- ``sim_*`` are readings of the runner node's ROS clock in seconds (``/clock`` time with
+  ``use_sim_time``); ``wall_*`` are wall-clock seconds since the runner started.
+- ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status.
+- ``events`` holds every tick on which a leaf ended SUCCESS or FAILURE, with its
+  ``feedback_message``. A leaf repeating the same verdict and message on consecutive ticks
+  (a reactive root re-checking a condition while the tree idles) is recorded once.
+- ``failures`` holds the leaf FAILURE events that are failures rather than decisions: the
+  leaf had been RUNNING before it failed (conditions never run, so a condition saying "no"
+  is not listed), or its FAILURE came on the tick the root itself failed.
+
+The file is written atomically (temporary file + rename) whenever something changed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework.engine.spec import Category, TreeSpec
+
+_TERMINAL = (Status.SUCCESS, Status.FAILURE)
+
+
+def write_json_atomically(path: str | Path, document: dict[str, Any]) -> None:
+    """Write ``document`` as JSON to ``path`` via a temporary file and a rename.
+
+    Args:
+        path: The target file; its folder is created if missing.
+        document: A JSON-serialisable mapping.
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, temp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            json.dump(document, handle, indent=1)
+            handle.write("\n")
+        os.replace(temp, target)
+    except BaseException:
+        Path(temp).unlink(missing_ok=True)
+        raise
+
+
+def startup_failure_document(tree: str, step: str, message: str,
+                             wall_duration_s: float) -> dict[str, Any]:
+    """Return a status document for a runner that stopped before its first tick.
+
+    Args:
+        tree: The tree file as given.
+        step: What failed (``parameters``, ``tree``, ``nav2``, ``setup``).
+        message: Why.
+        wall_duration_s: Seconds since the runner started.
+    """
+    return {
+        "tree": tree, "status": Status.INVALID.name, "ticks": 0,
+        "wall_first_tick_s": None, "sim_start_s": None, "sim_end_s": None,
+        "wall_duration_s": round(wall_duration_s, 3),
+        "nodes": {}, "events": [],
+        "failures": [{"uid": "", "name": step, "message": message}],
+    }
+
+
+class StatusRecorder(py_trees.visitors.VisitorBase):
+    """Watches a ticking tree and keeps the status document (and file) current.
+
+    Add it to ``tree.visitors`` (it sees every behaviour ticked) and call
+    :meth:`after_tick` from a post-tick handler.
+
+    Args:
+        tree_file: The tree file as given (goes into the document).
+        spec: The validated tree (uids, leaf kinds).
+        behaviours: ``NodeSpec.uid -> behaviour`` from ``load_tree``.
+        sim_now: Returns the ROS clock in seconds.
+        path: The status file; None keeps the document in memory only.
+        wall_start: ``time.monotonic()`` when the runner started.
+    """
+
+    def __init__(self, tree_file: str, spec: TreeSpec,
+                 behaviours: dict[str, py_trees.behaviour.Behaviour],
+                 sim_now: Callable[[], float], *, path: str | Path | None = None,
+                 wall_start: float | None = None) -> None:
+        super().__init__(full=False)
+        self._tree_file = tree_file
+        self._path = Path(path) if path else None
+        self._sim_now = sim_now
+        self._wall_start = time.monotonic() if wall_start is None else wall_start
+        self._behaviours = behaviours
+        self._uid_of = {id(b): uid for uid, b in behaviours.items()}
+        self._spec_of = {node.uid: node for node in spec.nodes()}
+        self._leaves = {node.uid for node in spec.nodes() if node.category == Category.LEAF}
+        self.root_uid = spec.root.uid
+        self.nodes: dict[str, str] = {}
+        self.events: list[dict[str, Any]] = []
+        self.failures: list[dict[str, Any]] = []
+        self.ticks = 0
+        self.status = Status.INVALID
+        self.wall_first_tick_s: float | None = None
+        self.sim_start_s: float | None = None
+        self._last_event: dict[str, tuple[int, str, str]] = {}
+        self._running: set[str] = set()
+        self._tick_failures: list[dict[str, Any]] = []
+        self._changed = False
+
+    # -- visitor: every behaviour ticked this tick --------------------------------------------
+    def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
+        """Record a leaf's verdict (py_trees calls this for each ticked behaviour)."""
+        uid = self._uid_of.get(id(behaviour))
+        if uid is None or uid not in self._leaves:
+            return
+        status = behaviour.status
+        if status == Status.RUNNING:
+            self._running.add(uid)
+            return
+        if status not in _TERMINAL:
+            return
+        was_running = uid in self._running
+        self._running.discard(uid)
+        message = str(behaviour.feedback_message or "")
+        key = (status.name, message)
+        previous = self._last_event.get(uid)
+        self._last_event[uid] = (self.ticks, *key)
+        if previous is not None and previous[0] == self.ticks - 1 and previous[1:] == key:
+            return  # the same verdict again on the next tick: the tree is idling
+        if self.sim_start_s is None:
+            self._start()
+        event = {
+            "sim_s": round(self._sim_now(), 3),
+            "wall_s": round(time.monotonic() - self._wall_start, 3),
+            "uid": uid, "name": behaviour.name, "kind": self._spec_of[uid].kind,
+            "status": status.name, "message": message,
+        }
+        self.events.append(event)
+        self._changed = True
+        if status == Status.FAILURE:
+            failure = {"uid": uid, "name": behaviour.name, "message": message}
+            if was_running:
+                self.failures.append(failure)
+            else:
+                self._tick_failures.append(failure)
+
+    # -- after each tick -----------------------------------------------------------------------
+    def after_tick(self, tree: py_trees.trees.BehaviourTree) -> bool:
+        """Update node statuses after a tick; write the file when anything changed.
+
+        Args:
+            tree: The tree just ticked.
+
+        Returns:
+            Whether any node's status or the events changed on this tick.
+        """
+        if self.sim_start_s is None:
+            self._start()
+        self.ticks += 1
+        for uid, behaviour in self._behaviours.items():
+            status = behaviour.status
+            if status != Status.INVALID and self.nodes.get(uid) != status.name:
+                self.nodes[uid] = status.name
+                self._changed = True
+        self._running = {u for u in self._running
+                         if self._behaviours[u].status == Status.RUNNING}
+        self.status = tree.root.status
+        if self.status == Status.FAILURE:
+            self.failures.extend(f for f in self._tick_failures if f not in self.failures)
+        self._tick_failures = []
+        changed, self._changed = self._changed, False
+        if changed:
+            self.write()
+        return changed
+
+    def _start(self) -> None:
+        self.wall_first_tick_s = round(time.monotonic() - self._wall_start, 3)
+        self.sim_start_s = round(self._sim_now(), 3)
+
+    def document(self) -> dict[str, Any]:
+        """Return the status document as it stands."""
+        return {
+            "tree": self._tree_file,
+            "status": self.status.name,
+            "ticks": self.ticks,
+            "wall_first_tick_s": self.wall_first_tick_s,
+            "sim_start_s": self.sim_start_s,
+            "sim_end_s": round(self._sim_now(), 3),
+            "wall_duration_s": round(time.monotonic() - self._wall_start, 3),
+            "nodes": dict(self.nodes),
+            "events": list(self.events),
+            "failures": list(self.failures),
+        }
+
+    def write(self) -> None:
+        """Write the document to the status file (no-op without one)."""
+        if self._path is not None:
+            write_json_atomically(self._path, self.document())

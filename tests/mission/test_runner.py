@@ -1,0 +1,290 @@
+"""The tree runner as a child process: rate, exit codes, status file, SIGINT, bad input."""
+
+from __future__ import annotations
+
+import json
+import signal
+import time
+from pathlib import Path
+
+import py_trees
+import pytest
+from sar_testing.processes import NodeProcess
+
+from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.ros.status_file import StatusRecorder
+
+pytestmark = pytest.mark.ros
+REPO = Path(__file__).resolve().parents[2]
+PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
+NODES = REPO / "tests" / "sar_testing" / "nodes"
+MISSION_PARAMS = REPO / "config" / "mission_params.yaml"
+RUNNER = ["-m", "sar_framework.ros.runner"]
+
+OK_TREE = """\
+format: 1
+name: runner_ok
+root:
+  sequence:
+    name: Steps
+    memory: true
+    children:
+      - selector:
+          name: Choose
+          memory: false
+          children:
+            - Countdown: {name: "Check?", ticks: 0, succeed: false, message: "not this way"}
+            - Countdown: {name: Work, ticks: 20}
+      - Countdown: {name: Last, ticks: 0}
+"""
+
+FAIL_TREE = """\
+format: 1
+name: runner_fail
+root:
+  sequence:
+    name: Steps
+    memory: true
+    children:
+      - Countdown: {name: Prepare, ticks: 1}
+      - Countdown: {name: Broken, ticks: 2, succeed: false, message: "boom: no luck"}
+"""
+
+
+def runner_args(tree: Path, status: Path | None = None, *extra: str,
+                params: Path = MISSION_PARAMS) -> list[str]:
+    args = [*RUNNER, "--ros-args", "--params-file", str(params), "-p", f"tree:={tree}",
+            "-p", f"plugin_path:={PLUGINS}", "-p", "seed_amcl:=false"]
+    if status is not None:
+        args += ["-p", f"status_file:={status}"]
+    for item in extra:
+        args += ["-p", item]
+    return args
+
+
+def write_tree(tmp_path: Path, text: str, name: str = "tree.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def run_to_end(args: list[str], tmp_path: Path, label: str = "runner",
+               timeout: float = 30.0) -> tuple[int, str]:
+    process = NodeProcess(args, label, log_dir=tmp_path).start()
+    try:
+        code = process.wait(timeout=timeout)
+    finally:
+        process.stop()
+    return code, process.output
+
+
+def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
+    status = tmp_path / "out" / "status.json"
+    tree = write_tree(tmp_path, OK_TREE)
+    code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
+                                          "tick_rate_hz:=20.0", "print_tree:=true"), tmp_path)
+    assert code == 0, output
+    assert "Mission complete." in output
+    assert "Ticking" in output and "at 20 Hz" in output
+    assert "--> Work [✓] -- done after 20 ticks (4 zones)" in output  # print_tree
+    assert "Traceback" not in output
+
+    doc = json.loads(status.read_text())
+    assert doc["tree"] == str(tree)
+    assert doc["status"] == "SUCCESS"
+    assert doc["ticks"] == 21  # 20 RUNNING ticks, then the verdict
+    assert doc["nodes"] == {"0": "SUCCESS", "0.0": "SUCCESS", "0.0.0": "FAILURE",
+                            "0.0.1": "SUCCESS", "0.1": "SUCCESS"}
+    events = [(e["uid"], e["name"], e["kind"], e["status"], e["message"]) for e in doc["events"]]
+    assert events == [  # the reactive selector re-checks "Check?" every tick: recorded once
+        ("0.0.0", "Check?", "Countdown", "FAILURE", "not this way"),
+        ("0.0.1", "Work", "Countdown", "SUCCESS", "done after 20 ticks (4 zones)"),
+        ("0.1", "Last", "Countdown", "SUCCESS", "done after 0 ticks (4 zones)"),
+    ]
+    assert doc["failures"] == []  # a condition saying "no" is a decision, not a failure
+    # 20 periods of 50 ms between the first tick and Work's verdict, on the ROS clock
+    took = doc["events"][1]["sim_s"] - doc["sim_start_s"]
+    assert 0.85 <= took <= 1.6, took
+    assert doc["sim_end_s"] >= doc["events"][-1]["sim_s"]
+    assert 0 < doc["wall_first_tick_s"] <= doc["events"][1]["wall_s"] <= doc["wall_duration_s"]
+
+
+def test_failure_exits_1_and_lists_the_failure(tmp_path):
+    status = tmp_path / "status.json"
+    tree = write_tree(tmp_path, FAIL_TREE)
+    code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
+                                          "tick_rate_hz:=20.0"), tmp_path)
+    assert code == 1, output
+    assert "Mission failed (Broken: boom: no luck)." in output
+    doc = json.loads(status.read_text())
+    assert doc["status"] == "FAILURE"
+    assert doc["failures"] == [{"uid": "0.1", "name": "Broken", "message": "boom: no luck"}]
+    assert doc["nodes"]["0"] == "FAILURE"
+
+
+def test_sigint_mid_run_cancels_the_nav2_goal_and_exits_promptly(tmp_path):
+    tree = write_tree(tmp_path, """\
+format: 1
+name: one_zone
+root:
+  sequence:
+    name: Go
+    memory: true
+    children:
+      - NavigateToZone: {}
+""")
+    status = tmp_path / "status.json"
+    with NodeProcess([str(NODES / "slow_navigate_server.py")], "nav", log_dir=tmp_path) as nav:
+        nav.wait_for_output("ready")
+        runner = NodeProcess(runner_args(tree, status, "tick_rate_hz:=10.0"), "runner",
+                             log_dir=tmp_path).start()
+        try:
+            runner.wait_for_output(r"--- Zone 1/4: zone_a \(-3\.00, 3\.00\) ---", timeout=30)
+            time.sleep(0.5)  # the goal is in flight
+            runner.send_signal(signal.SIGINT)
+            start = time.monotonic()
+            code = runner.wait(timeout=10)
+            took = time.monotonic() - start
+        finally:
+            runner.stop()
+        nav.wait_for_output("goal canceled", timeout=5)
+    assert code == 130, runner.output
+    assert took < 3.0, took
+    assert "SIGINT: stopping the tree" in runner.output
+    assert "stopped running leaves: NavigateToZone" in runner.output
+    assert "Traceback" not in runner.output
+    doc = json.loads(status.read_text())
+    assert doc["status"] == "RUNNING"
+    assert doc["nodes"]["0.0"] == "RUNNING"
+
+
+def test_sigint_after_completion_exits_with_the_verdict(tmp_path):
+    tree = write_tree(tmp_path, """\
+format: 1
+name: rests_at_success
+root:
+  one_shot:
+    name: Once
+    policy: on_completion
+    child:
+      Countdown: {name: Work, ticks: 1}
+""")
+    runner = NodeProcess(runner_args(tree, None, "tick_rate_hz:=20.0"), "runner",
+                         log_dir=tmp_path).start()
+    try:
+        runner.wait_for_output("Mission complete.")
+        time.sleep(0.3)  # still ticking: the tree idles at SUCCESS
+        runner.send_signal(signal.SIGINT)
+        code = runner.wait(timeout=10)
+    finally:
+        runner.stop()
+    assert code == 0, runner.output
+    assert runner.output.count("Mission complete.") == 1
+
+
+def test_sigint_terminates_a_running_leaf(tmp_path):
+    tree = write_tree(tmp_path, "format: 1\nname: forever\nroot:\n  Forever: {name: Wait}\n")
+    runner = NodeProcess(runner_args(tree, None, "tick_rate_hz:=10.0"), "runner",
+                         log_dir=tmp_path).start()
+    try:
+        runner.wait_for_output("Ticking")
+        time.sleep(0.5)
+        runner.send_signal(signal.SIGINT)
+        code = runner.wait(timeout=10)
+    finally:
+        runner.stop()
+    assert code == 130
+    assert "Wait terminated (INVALID)" in runner.output
+
+
+def test_bad_tree_exits_2_with_the_diagnostic(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    write_tree(tmp_path, OK_TREE.replace("Countdown: {name: Last", "Countdwn: {name: Last"),
+               "bad.yaml")
+    status = tmp_path / "status.json"
+    code, output = run_to_end(runner_args(Path("bad.yaml"), status), tmp_path)
+    assert code == 2, output
+    assert "cannot load bad.yaml:" in output
+    assert "bad.yaml:14:9: error: unknown plugin 'Countdwn' (did you mean 'Countdown'?)" in output
+    assert "Traceback" not in output
+    doc = json.loads(status.read_text())
+    assert (doc["status"], doc["ticks"], doc["failures"][0]["name"]) == ("INVALID", 0, "tree")
+
+
+def test_missing_tree_file_exits_2(tmp_path):
+    code, output = run_to_end(runner_args(tmp_path / "nope.yaml"), tmp_path)
+    assert code == 2, output
+    assert "nope.yaml" in output
+    assert "Traceback" not in output
+
+
+def test_bad_params_file_is_caught_before_rcl(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text("/**:\n  ros__parameters:\n    zone_order: [\"zone_a\"\n")
+    code, output = run_to_end(runner_args(tmp_path / "t.yaml", params=params), tmp_path)
+    assert code == 2, output
+    assert f"{params}:4:1: YAML syntax error" in output
+    assert "rcl" not in output.replace("[sar_mission_runner]", "")
+    assert "Traceback" not in output
+
+
+def test_bad_runner_parameter(tmp_path):
+    tree = write_tree(tmp_path, OK_TREE)
+    code, output = run_to_end(runner_args(tree, None, "exit_on_completion:=1"), tmp_path)
+    assert code == 2, output
+    assert "parameters: exit_on_completion: must be true or false, got 1" in output
+
+
+def test_setup_timeout_exits_3(tmp_path):
+    tree = write_tree(tmp_path, "format: 1\nname: slow\nroot:\n  SlowSetup: {seconds: 10.0}\n")
+    start = time.monotonic()
+    code, output = run_to_end(runner_args(tree, None, "setup_timeout_s:=1.0"), tmp_path)
+    assert code == 3, output
+    assert time.monotonic() - start < 8.0
+    assert "tree setup failed" in output and "SlowSetup" in output
+    assert "Traceback" not in output
+
+
+def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
+    tree = write_tree(tmp_path, OK_TREE)
+    status = tmp_path / "status.json"
+    args = [a if a != "seed_amcl:=false" else "seed_amcl:=true"
+            for a in runner_args(tree, status, "nav2_timeout_s:=2.0")]
+    code, output = run_to_end(args, tmp_path)
+    assert code == 3, output
+    assert ("amcl never reported ACTIVE (/amcl/get_state never appeared) within 2 s: "
+            "is Nav2 (or the simulator) running?") in output
+    doc = json.loads(status.read_text())
+    (failure,) = doc["failures"]
+    assert (failure["uid"], failure["name"]) == ("", "nav2")
+    assert failure["message"].startswith("amcl never reported ACTIVE")
+
+
+# --- the recorder alone (no ROS) -----------------------------------------------------------
+
+def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
+    from sar_framework.engine.diagnostics import SourceLocation
+
+    where = SourceLocation("t.yaml", 1, 1)
+    leaf_spec = NodeSpec("Check", Category.LEAF, "Check?", "0.0", where)
+    root_spec = NodeSpec("selector", Category.COMPOSITE, "Root", "0", where, children=[leaf_spec])
+    spec = TreeSpec("t", "", root_spec, "t.yaml")
+    verdicts = iter([py_trees.common.Status.FAILURE] * 3 + [py_trees.common.Status.SUCCESS]
+                    + [py_trees.common.Status.FAILURE])
+
+    class Check(py_trees.behaviour.Behaviour):
+        def update(self):
+            return next(verdicts)
+
+    leaf = Check("Check?")
+    root = py_trees.composites.Selector("Root", memory=False, children=[leaf])
+    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    tree = py_trees.trees.BehaviourTree(root)
+    tree.visitors.append(recorder)
+    tree.add_post_tick_handler(recorder.after_tick)
+    for _ in range(5):
+        tree.tick()
+    assert [e["status"] for e in recorder.events] == ["FAILURE", "SUCCESS", "FAILURE"]
+    assert recorder.ticks == 5
+    # the root failed on the ticks its only child failed instantly: those are failures
+    assert [f["uid"] for f in recorder.failures] == ["0.0"]

@@ -165,9 +165,8 @@ def _param_text(param: Any) -> str:
         bounds.append("one of " + ", ".join(str(v) for v in param.enum))
     if bounds:
         parts.append(f"[{'; '.join(bounds)}]")
-    if param.description:
-        parts.append(f"  {param.description}")
-    return " ".join(parts)
+    text = " ".join(parts)
+    return f"{text}  {param.description}" if param.description else text
 
 
 def plugin_info(plugin: Any) -> dict[str, Any]:

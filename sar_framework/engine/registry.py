@@ -68,7 +68,8 @@ def _failure_location(
 
 
 def _exc_text(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
+    # A SyntaxError's str() repeats the file and line the location already gives.
+    text = (exc.msg if isinstance(exc, SyntaxError) else str(exc)).strip().splitlines()
     first = text[0] if text else ""
     return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
 

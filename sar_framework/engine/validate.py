@@ -784,7 +784,8 @@ def validate_file(
             target = Path(_normalise(target))
             where = yaml_source.location(node, file_shown)
             if target in stack or target == file_path:
-                names = [display_path(p) for p in (*stack[stack.index(target):], file_path)]
+                loop = stack[stack.index(target) :] if target in stack else ()
+                names = [display_path(p) for p in (*loop, file_path)]
                 cycle = " -> ".join((*names, display_path(target)))
                 checker.semantic_error(where, f"include cycle: {cycle}")
                 continue

@@ -120,7 +120,7 @@ def _too_deep(text: str, file: str) -> Diagnostic | None:
     depth = 0
     for match in _FLOW_TOKENS.finditer(text):
         char = match.group()
-        if char == "[" or char == "{":
+        if char in "[{":
             depth += 1
             if depth > MAX_FLOW_DEPTH:
                 pos = match.start()
@@ -130,7 +130,7 @@ def _too_deep(text: str, file: str) -> Diagnostic | None:
                     SourceLocation(file, line, col),
                     f"YAML: nested deeper than {MAX_FLOW_DEPTH} levels of [ ] or {{ }}",
                 )
-        elif (char == "]" or char == "}") and depth:
+        elif char in "]}" and depth:
             depth -= 1
     return None
 

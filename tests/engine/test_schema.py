@@ -21,7 +21,9 @@ from .strategies import documents
 from .test_errors import CASES
 
 COMMITTED = REPO / "sar_framework" / "schema" / "tree.schema.json"
-YAML_LEVEL = ("YAML", "unsupported YAML tag", "duplicate key", "a mapping key must be", "empty file")
+YAML_LEVEL = (
+    "YAML", "unsupported YAML tag", "duplicate key", "a mapping key must be", "empty file"
+)
 
 
 def test_schema_is_valid_draft_2020_12(registry: Registry) -> None:

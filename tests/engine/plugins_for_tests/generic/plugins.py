@@ -55,6 +55,9 @@ class Linked(py_trees.behaviour.Behaviour):
         super().__init__(name)
         self.other = other
 
+    def update(self) -> Status:
+        return Status.SUCCESS
+
 
 @leaf()
 class Exploding(py_trees.behaviour.Behaviour):
@@ -62,6 +65,9 @@ class Exploding(py_trees.behaviour.Behaviour):
 
     def __init__(self, name: str) -> None:
         raise RuntimeError("boom")
+
+    def update(self) -> Status:
+        return Status.SUCCESS
 
 
 @leaf()

@@ -1,0 +1,162 @@
+"""Plugin discovery: local files and dirs, module names, entry points, and its diagnostics."""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from sar_framework.engine.registry import discover
+
+from .conftest import GENERIC_PLUGINS, write
+
+PLUGIN = """
+import py_trees
+from sar_framework.engine.plugin import Param, leaf
+
+@leaf(params=[Param("speed", float, default=1.0)])
+class {name}(py_trees.behaviour.Behaviour):
+    \"\"\"A test leaf.\"\"\"
+"""
+
+
+def messages(registry: object) -> list[str]:
+    return [str(d) for d in registry.diagnostics]  # type: ignore[attr-defined]
+
+
+def test_directory_of_plugins() -> None:
+    reg = discover([GENERIC_PLUGINS], builtins=False, entry_points=False)
+    assert reg.names() == ["Exploding", "Fixed", "Linked", "Tick", "Typed"]
+    assert reg.get("Typed").source.endswith("generic/plugins.py")  # type: ignore[union-attr]
+    assert messages(reg) == []
+
+
+def test_single_file_and_relative_base(tmp_path: Path) -> None:
+    write(tmp_path, "one.py", PLUGIN.format(name="One"))
+    reg = discover(["one.py"], builtins=False, entry_points=False, base=tmp_path)
+    assert reg.names() == ["One"]
+
+
+def test_syntax_error_points_into_the_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "p/bad.py", "x = (\n")
+    reg = discover(["p/bad.py"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "p/bad.py:1:5: error: cannot import plugin file 'p/bad.py': SyntaxError: '(' was never "
+        "closed"
+    ]
+
+
+def test_runtime_error_points_at_the_raising_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "p/bad.py", "import os\n\nraise RuntimeError('no ROS here')\n")
+    reg = discover(["p"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "p/bad.py:3:1: error: cannot import plugin file 'p/bad.py': RuntimeError: no ROS here"
+    ]
+
+
+def test_sys_exit_in_a_plugin_is_a_diagnostic(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "quits.py", "import sys\nsys.exit(3)\n")
+    reg = discover(["quits.py"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "quits.py:2:1: error: cannot import plugin file 'quits.py': SystemExit: 3"
+    ]
+
+
+def test_two_plugins_with_one_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "a/one.py", PLUGIN.format(name="Same"))
+    write(tmp_path, "b/two.py", PLUGIN.format(name="Same"))
+    reg = discover(["a", "b"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "b/two.py:4:1: error: plugin 'Same' is defined twice: in a/one.py and in b/two.py"
+    ]
+    assert reg.get("Same").source == "a/one.py"  # type: ignore[union-attr]
+
+
+def test_reserved_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "r.py", PLUGIN.format(name="sequence"))
+    reg = discover(["r.py"], builtins=False, entry_points=False)
+    assert messages(reg) == ["r.py:4:1: error: plugin name 'sequence' is reserved (from r.py)"]
+
+
+def test_subclass_is_not_the_same_plugin(tmp_path: Path) -> None:
+    write(tmp_path, "sub.py", PLUGIN.format(name="Base") + textwrap.dedent("""
+        class Derived(Base):
+            pass
+    """))
+    reg = discover([tmp_path / "sub.py"], builtins=False, entry_points=False)
+    assert reg.names() == ["Base"]
+
+
+def test_unknown_reference_type(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "refs.py", textwrap.dedent("""
+        import py_trees
+        from sar_framework.engine.plugin import Param, leaf
+
+        @leaf(params=[Param("target", ref="Nowhere")])
+        class Refers(py_trees.behaviour.Behaviour):
+            pass
+    """))
+    reg = discover(["refs.py"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "refs.py:4:1: error: param 'target' of plugin 'Refers' refers to unknown plugin 'Nowhere'"
+    ]
+
+
+def test_missing_path(tmp_path: Path) -> None:
+    reg = discover(["nowhere/x.py"], builtins=False, entry_points=False, base=tmp_path)
+    assert messages(reg) == ["nowhere/x.py:1:1: error: plugin path 'nowhere/x.py' does not exist"]
+
+
+def test_module_name_and_package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    write(tmp_path, "sar_test_pkg_a/__init__.py", "")
+    write(tmp_path, "sar_test_pkg_a/leaf_one.py", PLUGIN.format(name="PkgOne"))
+    write(tmp_path, "sar_test_pkg_a/leaf_two.py", PLUGIN.format(name="PkgTwo"))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    reg = discover(["sar_test_pkg_a"], builtins=False, entry_points=False, base=tmp_path / "x")
+    assert reg.names() == ["PkgOne", "PkgTwo"]
+    assert reg.get("PkgOne").source.startswith("sar_test_pkg_a.leaf_one (")  # type: ignore
+
+
+def test_missing_module_name(tmp_path: Path) -> None:
+    reg = discover(["sar_no_such_module_xyz"], builtins=False, entry_points=False, base=tmp_path)
+    assert messages(reg) == [
+        "sar_no_such_module_xyz:1:1: error: cannot import plugin module 'sar_no_such_module_xyz':"
+        " ModuleNotFoundError: No module named 'sar_no_such_module_xyz'"
+    ]
+
+
+def test_entry_points(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    write(tmp_path, "sar_ep_plugins.py", PLUGIN.format(name="FromEntryPoint"))
+    write(tmp_path, "sar_ep_single.py", PLUGIN.format(name="SingleClass"))
+    dist = tmp_path / "sar_ep_demo-1.0.dist-info"
+    write(dist, "METADATA", "Metadata-Version: 2.1\nName: sar-ep-demo\nVersion: 1.0\n")
+    write(dist, "entry_points.txt", "[sar_framework.plugins]\nmodule = sar_ep_plugins\n"
+          "single = sar_ep_single:SingleClass\nbroken = sar_ep_missing_mod\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    reg = discover(builtins=False, entry_points=True)
+    assert {"FromEntryPoint", "SingleClass"} <= set(reg.names())
+    assert reg.get("SingleClass").source == (  # type: ignore[union-attr]
+        "entry point 'single = sar_ep_single:SingleClass' (sar-ep-demo)"
+    )
+    assert [m for m in messages(reg) if "sar_ep_missing_mod" in m] == [
+        "sar_ep_missing_mod:1:1: error: cannot import plugin module 'sar_ep_missing_mod': "
+        "ModuleNotFoundError: No module named 'sar_ep_missing_mod'"
+    ]
+
+
+def test_builtins_import_without_errors() -> None:
+    reg = discover(entry_points=False)
+    assert messages(reg) == []
+    assert "sar_plugins" in sys.modules

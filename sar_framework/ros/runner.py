@@ -16,11 +16,17 @@ Start-up, in order; each step is bounded and fails with one clear message:
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
 
-Exit codes: 0 the root ended SUCCESS, 1 it ended FAILURE, 2 a parameter or tree error,
+The mission is *complete* when the tree comes to rest: the root keeps the same terminal
+status over two ticks and nothing changes (``completion: rest``, the default). A root that
+is SUCCESS for one tick is not the end: the reference tree's root succeeds after every
+zone. ``completion: terminal`` takes the first SUCCESS/FAILURE instead (trees that run
+once). On completion the runner logs ``Mission complete.`` (SUCCESS) or
+``Mission failed (...)`` (FAILURE), once; with ``exit_on_completion`` it then ends,
+otherwise it keeps ticking (the reference tree idles at SUCCESS) until SIGINT.
+
+Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
 3 a start-up failure (Nav2 never ready, tree setup failed or timed out), 130 interrupted
-(SIGINT/SIGTERM) before the root reached SUCCESS or FAILURE. With ``exit_on_completion``
-the runner ends on its own once the root is terminal; otherwise it keeps ticking (the
-reference tree then idles at SUCCESS) until SIGINT, and exits with the root's verdict.
+(SIGINT/SIGTERM) before the mission was complete.
 
 On SIGINT the timer stops, running leaves are terminated (``root.stop(INVALID)``, which
 cancels Nav2 goals in flight), the executor spins briefly so the cancel requests leave the
@@ -122,12 +128,13 @@ class MissionRunner:
         self.stop = stop
         self.logger = node.get_logger()
         self.finished = False
-        self._announced: set[Status] = set()
+        self._announced = False
         self.tree = create_behaviour_tree(loaded.root)
         self.recorder = StatusRecorder(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
+            completion=settings.completion,
         )
         self.tree.visitors.append(self.recorder)
         self.tree.add_post_tick_handler(self._after_tick)
@@ -175,12 +182,10 @@ class MissionRunner:
         return self.exit_code()
 
     def exit_code(self) -> int:
-        """Return the exit code for the root's last status."""
-        if self.recorder.status == Status.SUCCESS:
-            return EXIT_SUCCESS
-        if self.recorder.status == Status.FAILURE:
-            return EXIT_FAILURE
-        return EXIT_INTERRUPTED
+        """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 130 (interrupted)."""
+        if not self.recorder.complete:
+            return EXIT_INTERRUPTED
+        return EXIT_SUCCESS if self.recorder.status == Status.SUCCESS else EXIT_FAILURE
 
     def shutdown(self) -> None:
         """Shut the behaviours down and destroy the node (the tree owns it now)."""
@@ -193,16 +198,17 @@ class MissionRunner:
         changed = self.recorder.after_tick(tree)
         if changed and self.settings.print_tree:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
-        status = tree.root.status
-        if status in (Status.SUCCESS, Status.FAILURE) and status not in self._announced:
-            self._announced.add(status)
-            if status == Status.SUCCESS:
+        if not self.recorder.complete:
+            return
+        if not self._announced:
+            self._announced = True
+            if tree.root.status == Status.SUCCESS:
                 self.logger.info("Mission complete.")
             else:
                 reasons = "; ".join(f"{f['name']}: {f['message']}"
                                     for f in self.recorder.failures[-3:]) or "no reason given"
                 self.logger.error(f"Mission failed ({reasons}).")
-        if self.settings.exit_on_completion and status in (Status.SUCCESS, Status.FAILURE):
+        if self.settings.exit_on_completion:
             self.finished = True
 
     def _halt(self, executor: Executor) -> None:

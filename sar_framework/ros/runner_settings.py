@@ -4,13 +4,18 @@
 | --- | --- | --- | --- |
 | ``tree`` | str | ``trees/search_and_rescue.yaml`` | the tree file |
 | ``plugin_path`` | str | ``""`` | extra plugin files/dirs/modules, ``os.pathsep``-separated |
-| ``exit_on_completion`` | bool | false | end once the root is SUCCESS (0) or FAILURE (1) |
+| ``exit_on_completion`` | bool | false | end once the mission is complete: 0 SUCCESS, 1 FAILURE |
+| ``completion`` | str | ``rest`` | ``rest`` or ``terminal`` (below) |
 | ``print_tree`` | bool | false | log the unicode tree whenever a status changes |
 | ``status_file`` | str | ``""`` | JSON status file (off when empty) |
 | ``seed_amcl`` | bool | true | seed AMCL and wait for Nav2 before ticking |
 | ``nav2_timeout_s`` | float | 30.0 | bound of the Nav2 start-up |
 | ``setup_timeout_s`` | float | 15.0 | bound of the tree's ``setup()`` |
 | ``initial_pose.{x,y,yaw}`` | float | 0.0 | the AMCL seed (spawn pose), frame ``map`` |
+
+``completion``: ``rest`` means the mission is complete when the tree is at rest (the root
+keeps one terminal status over two ticks and nothing changes); ``terminal`` means the first
+tick the root is SUCCESS or FAILURE.
 
 ``tick_rate_hz`` and the zones come from the mission parameters
 (:mod:`sar_framework.mission.params`); ``use_sim_time`` is ROS's own.
@@ -28,6 +33,7 @@ from typing import TYPE_CHECKING
 from sar_framework.mission.params import declare_default
 from sar_framework.mission.params_file import KeyLocation, ParamsError
 from sar_framework.ros.nav2_startup import InitialPose
+from sar_framework.ros.status_file import COMPLETION_MODES
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -43,7 +49,8 @@ class RunnerSettings:
     Attributes:
         tree: The tree file, as given.
         plugin_paths: Extra plugin locations.
-        exit_on_completion: End once the root is terminal.
+        exit_on_completion: End once the mission is complete.
+        completion: ``rest`` or ``terminal``: how completion is recognised.
         print_tree: Log the tree on every status change.
         status_file: The status file path, or "" for none.
         seed_amcl: Seed AMCL and wait for Nav2 first.
@@ -56,6 +63,7 @@ class RunnerSettings:
     tree: str
     plugin_paths: tuple[str, ...]
     exit_on_completion: bool
+    completion: str
     print_tree: bool
     status_file: str
     seed_amcl: bool
@@ -137,10 +145,15 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
     tree = read.text("tree", default_tree())
     if not tree:
         raise read.error("tree", "empty: name a tree file")
+    completion = read.text("completion", "rest")
+    if completion not in COMPLETION_MODES:
+        raise read.error("completion", f"must be one of {', '.join(COMPLETION_MODES)}, "
+                                       f"got {completion!r}")
     return RunnerSettings(
         tree=tree,
         plugin_paths=read.paths("plugin_path"),
         exit_on_completion=read.flag("exit_on_completion", False),
+        completion=completion,
         print_tree=read.flag("print_tree", False),
         status_file=read.text("status_file", ""),
         seed_amcl=read.flag("seed_amcl", True),

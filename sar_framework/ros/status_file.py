@@ -20,6 +20,13 @@ Definitions used here:
 - ``failures`` holds the leaf FAILURE events that are failures rather than decisions: the
   leaf had been RUNNING before it failed (conditions never run, so a condition saying "no"
   is not listed), or its FAILURE came on the tick the root itself failed.
+- ``complete`` (an addition to the contract's keys) says the mission is over. With
+  ``completion="rest"`` (the default) that is once the tree is *at rest*: the root had the
+  same terminal status on two consecutive ticks and the second tick changed nothing (every
+  status the same, no new leaf verdict). A root that is SUCCESS for one tick is not enough:
+  the reference tree's root succeeds after every zone, when Patrol completes, and starts
+  the next zone on the following tick. With ``completion="terminal"`` it is the first tick
+  the root is SUCCESS or FAILURE (for trees that run once and stop).
 
 The file is written atomically (temporary file + rename) whenever something changed.
 """
@@ -40,6 +47,8 @@ from py_trees.common import Status
 from sar_framework.engine.spec import Category, TreeSpec
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
+#: How the end of a mission is recognised (see the module docstring).
+COMPLETION_MODES = ("rest", "terminal")
 
 
 def write_json_atomically(path: str | Path, document: dict[str, Any]) -> None:
@@ -78,6 +87,7 @@ def startup_failure_document(tree: str, step: str, message: str,
         "wall_duration_s": round(wall_duration_s, 3),
         "nodes": {}, "events": [],
         "failures": [{"uid": "", "name": step, "message": message}],
+        "complete": False,
     }
 
 
@@ -94,13 +104,20 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         sim_now: Returns the ROS clock in seconds.
         path: The status file; None keeps the document in memory only.
         wall_start: ``time.monotonic()`` when the runner started.
+        completion: ``"rest"`` or ``"terminal"`` (see the module docstring).
+
+    Raises:
+        ValueError: An unknown ``completion``.
     """
 
     def __init__(self, tree_file: str, spec: TreeSpec,
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
-                 wall_start: float | None = None) -> None:
+                 wall_start: float | None = None, completion: str = "rest") -> None:
         super().__init__(full=False)
+        if completion not in COMPLETION_MODES:
+            raise ValueError(f"completion must be one of {COMPLETION_MODES}, got {completion!r}")
+        self._completion = completion
         self._tree_file = tree_file
         self._path = Path(path) if path else None
         self._sim_now = sim_now
@@ -121,6 +138,8 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         self._running: set[str] = set()
         self._tick_failures: list[dict[str, Any]] = []
         self._changed = False
+        self._snapshot: tuple[Status, ...] = ()
+        self.complete = False
 
     # -- visitor: every behaviour ticked this tick --------------------------------------------
     def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
@@ -179,7 +198,18 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
                 self._changed = True
         self._running = {u for u in self._running
                          if self._behaviours[u].status == Status.RUNNING}
-        self.status = tree.root.status
+        snapshot = tuple(b.status for b in self._behaviours.values())
+        root_status = tree.root.status
+        if self._completion == "terminal":
+            complete = root_status in _TERMINAL
+        else:
+            complete = (root_status in _TERMINAL and root_status == self.status
+                        and snapshot == self._snapshot and not self._changed)
+        if complete != self.complete:
+            self.complete = complete
+            self._changed = True
+        self._snapshot = snapshot
+        self.status = root_status
         if self.status == Status.FAILURE:
             self.failures.extend(f for f in self._tick_failures if f not in self.failures)
         self._tick_failures = []
@@ -205,6 +235,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             "nodes": dict(self.nodes),
             "events": list(self.events),
             "failures": list(self.failures),
+            "complete": self.complete,
         }
 
     def write(self) -> None:

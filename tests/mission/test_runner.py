@@ -82,7 +82,8 @@ def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
     status = tmp_path / "out" / "status.json"
     tree = write_tree(tmp_path, OK_TREE)
     code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
-                                          "tick_rate_hz:=20.0", "print_tree:=true"), tmp_path)
+                                          "completion:=terminal", "tick_rate_hz:=20.0",
+                                          "print_tree:=true"), tmp_path)
     assert code == 0, output
     assert "Mission complete." in output
     assert "Ticking" in output and "at 20 Hz" in output
@@ -91,7 +92,7 @@ def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
 
     doc = json.loads(status.read_text())
     assert doc["tree"] == str(tree)
-    assert doc["status"] == "SUCCESS"
+    assert (doc["status"], doc["complete"]) == ("SUCCESS", True)
     assert doc["ticks"] == 21  # 20 RUNNING ticks, then the verdict
     assert doc["nodes"] == {"0": "SUCCESS", "0.0": "SUCCESS", "0.0.0": "FAILURE",
                             "0.0.1": "SUCCESS", "0.1": "SUCCESS"}
@@ -113,7 +114,8 @@ def test_failure_exits_1_and_lists_the_failure(tmp_path):
     status = tmp_path / "status.json"
     tree = write_tree(tmp_path, FAIL_TREE)
     code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
-                                          "tick_rate_hz:=20.0"), tmp_path)
+                                          "completion:=terminal", "tick_rate_hz:=20.0"),
+                              tmp_path)
     assert code == 1, output
     assert "Mission failed (Broken: boom: no luck)." in output
     doc = json.loads(status.read_text())
@@ -180,6 +182,24 @@ root:
         runner.stop()
     assert code == 0, runner.output
     assert runner.output.count("Mission complete.") == 1
+
+
+def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
+    """The reference tree's root succeeds after every zone; only rest means the end."""
+    status = tmp_path / "status.json"
+    tree = write_tree(tmp_path, OK_TREE.replace("ticks: 20", "ticks: 2"))
+    runner = NodeProcess(runner_args(tree, status, "exit_on_completion:=true",
+                                     "tick_rate_hz:=20.0"), "runner", log_dir=tmp_path).start()
+    try:
+        time.sleep(3.0)  # dozens of ticks, the root SUCCESS every fourth one
+        assert runner.returncode() is None, runner.output
+        runner.send_signal(signal.SIGINT)
+        code = runner.wait(timeout=10)
+    finally:
+        runner.stop()
+    assert code == 130
+    assert "Mission complete." not in runner.output
+    assert json.loads(status.read_text())["complete"] is False
 
 
 def test_sigint_terminates_a_running_leaf(tmp_path):
@@ -288,3 +308,81 @@ def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
     assert recorder.ticks == 5
     # the root failed on the ticks its only child failed instantly: those are failures
     assert [f["uid"] for f in recorder.failures] == ["0.0"]
+    assert recorder.complete is False  # the last tick's verdict was new
+
+
+def test_recorder_rest_detection():
+    from sar_framework.engine.diagnostics import SourceLocation
+
+    where = SourceLocation("t.yaml", 1, 1)
+    leaf_spec = NodeSpec("Step", Category.LEAF, "Step", "0.0", where)
+    root_spec = NodeSpec("one_shot", Category.DECORATOR, "Once", "0", where, children=[leaf_spec])
+    spec = TreeSpec("t", "", root_spec, "t.yaml")
+
+    class Step(py_trees.behaviour.Behaviour):
+        def __init__(self):
+            super().__init__("Step")
+            self.calls = 0
+
+        def update(self):
+            self.calls += 1
+            done = self.calls >= 2
+            return py_trees.common.Status.SUCCESS if done else py_trees.common.Status.RUNNING
+
+    leaf = Step()
+    root = py_trees.decorators.OneShot("Once", leaf, py_trees.common.OneShotPolicy.ON_COMPLETION)
+    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    tree = py_trees.trees.BehaviourTree(root)
+    tree.visitors.append(recorder)
+    tree.add_post_tick_handler(recorder.after_tick)
+    states = []
+    for _ in range(4):
+        tree.tick()
+        states.append((recorder.status.name, recorder.complete))
+    assert states == [("RUNNING", False), ("SUCCESS", False), ("SUCCESS", True), ("SUCCESS", True)]
+    assert recorder.document()["complete"] is True
+    with pytest.raises(ValueError, match="completion"):
+        StatusRecorder("t.yaml", spec, {}, lambda: 0.0, completion="sometimes")
+
+
+def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
+    """trees/search_and_rescue.yaml with the real servers and a quick fake Nav2."""
+    reports = tmp_path / "reports.jsonl"
+    status = tmp_path / "status.json"
+    nav = NodeProcess([str(NODES / "quick_navigate_server.py")], "nav", log_dir=tmp_path)
+    detect = NodeProcess(["-m", "sar_framework.servers.detect_survivor_server"], "detect",
+                         log_dir=tmp_path)
+    report = NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+                          "-p", f"report_file:={reports}"], "report", log_dir=tmp_path)
+    with nav, detect, report:
+        for server in (nav, detect, report):
+            server.wait_for_output("ready")
+        args = [*RUNNER, "--ros-args", "--params-file", str(MISSION_PARAMS),
+                "-p", f"tree:={REPO / 'trees' / 'search_and_rescue.yaml'}",
+                "-p", "seed_amcl:=false", "-p", "exit_on_completion:=true",
+                "-p", "tick_rate_hz:=10.0", "-p", f"status_file:={status}"]
+        code, output = run_to_end(args, tmp_path, timeout=90)
+    assert code == 0, output
+    expected = [
+        "--- Zone 1/4: zone_a (-3.00, 3.00) ---", "Reached zone_a.",
+        "--- Zone 2/4: zone_b (3.50, 3.00) ---", "No survivor found at zone_b.",
+        "--- Zone 3/4: zone_c (4.00, -3.00) ---", "Reached zone_c.",
+        "--- Zone 4/4: zone_d (-3.50, -3.00) ---", "No survivor found at zone_d.",
+        "All zones visited. Returning to base.", "Reached base station.", "Mission complete.",
+    ]
+    positions = [output.find(line) for line in expected]
+    assert all(p >= 0 for p in positions), output
+    assert positions == sorted(positions), output
+    assert "Detection request for zone_a: FOUND at (-2.50, 3.20)" in detect.output
+    assert "Detection request for zone_b: no survivor" in detect.output
+    assert "Report received: survivor_1 at (-2.50, 3.20). Acknowledged." in report.output
+    assert "Report received: survivor_2 at (4.10, -2.50). Acknowledged." in report.output
+    assert nav.output.count("goal x=") == 5, "four zones and one base goal, never re-sent"
+    assert [json.loads(line)["survivor_id"] for line in reports.read_text().splitlines()] == [
+        "survivor_1", "survivor_2"]
+    doc = json.loads(status.read_text())
+    assert doc["status"] == "SUCCESS"
+    assert doc["nodes"]["0"] == "SUCCESS"
+    assert [e["message"] for e in doc["events"] if e["name"] == "LogNoDetection"] == [
+        "No survivor found at zone_b.", "No survivor found at zone_d."]
+    assert doc["failures"] == []

@@ -1,0 +1,58 @@
+"""A NavigateToPose server that reaches every goal after a short drive.
+
+Each goal succeeds after ``--drive-s`` seconds (default 0.3) unless cancelled. Logs
+``ready`` once serving and ``goal x=.. y=.. frame=..`` per accepted goal.
+"""
+
+import argparse
+import time
+
+import rclpy
+from nav2_msgs.action import NavigateToPose
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+
+
+def main() -> None:
+    """Serve until SIGINT."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--drive-s", type=float, default=0.3)
+    options, ros_args = parser.parse_known_args()
+    rclpy.init(args=ros_args)
+    node = Node("quick_navigate_server")
+
+    def execute(goal_handle):
+        pose = goal_handle.request.pose
+        node.get_logger().info(f"goal x={pose.pose.position.x:.2f} y={pose.pose.position.y:.2f} "
+                               f"frame={pose.header.frame_id}")
+        end = time.monotonic() + options.drive_s
+        while time.monotonic() < end:
+            if goal_handle.is_cancel_requested:
+                goal_handle.canceled()
+                return NavigateToPose.Result()
+            time.sleep(0.02)
+        goal_handle.succeed()
+        return NavigateToPose.Result()
+
+    ActionServer(
+        node, NavigateToPose, "navigate_to_pose", execute_callback=execute,
+        goal_callback=lambda _goal: GoalResponse.ACCEPT,
+        cancel_callback=lambda _handle: CancelResponse.ACCEPT,
+        callback_group=ReentrantCallbackGroup(),
+    )
+    node.get_logger().info("ready")
+    executor = MultiThreadedExecutor(num_threads=2)
+    executor.add_node(node)
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

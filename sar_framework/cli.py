@@ -1,4 +1,4 @@
-"""The ``sar-tree`` command line: validate | render | plugins | schema.
+"""The ``sar-tree`` command line: validate | render | plugins | schema | run.
 
 Each subcommand is a :class:`Command` (its arguments and a function returning the
 exit code) registered in :data:`_COMMANDS`; a later subcommand (``run``) adds one
@@ -253,6 +253,19 @@ def _run_schema(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# -- run --------------------------------------------------------------------------------
+def _configure_run(parser: argparse.ArgumentParser) -> None:
+    from sar_framework.run import configure  # lazy: nothing of ROS is imported here
+
+    configure(parser)
+
+
+def _run_run(args: argparse.Namespace) -> int:
+    from sar_framework.run import run_command
+
+    return run_command(args)
+
+
 _COMMANDS: dict[str, Command] = {
     c.name: c
     for c in (
@@ -264,6 +277,8 @@ _COMMANDS: dict[str, Command] = {
                 _configure_plugins, _run_plugins),
         Command("schema", "print the JSON Schema of the tree format", _configure_schema,
                 _run_schema),
+        Command("run", "run a mission: simulator, servers and runner; print progress, "
+                "write a report", _configure_run, _run_run),
     )
 }  # fmt: skip
 

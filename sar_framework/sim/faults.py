@@ -1,0 +1,213 @@
+"""Fault injection for tests: rejected, aborted and late goals, blocked areas of the map.
+
+Plain Python (no ROS). The simulator node reads these settings from its parameters:
+
+- ``reject_goals``: every ``navigate_to_pose`` goal is rejected.
+- ``abort_goal_numbers``: the N-th accepted goals (1-based) abort ``abort_delay_s``
+  simulated seconds after they start, as a failing controller would.
+- ``accept_delay_s``: the server answers a goal request only after this many *wall*
+  seconds (client time-outs are wall-clock bounds, so the delay is too).
+- ``blocked_zones``: circles added to the map as obstacles before planning. Each entry is
+  ``"x:y:radius"`` (``,`` or spaces also separate), or the name of a world marker with an
+  optional radius: ``"zone_b"`` or ``"zone_b:0.8"``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sar_framework.sim.occupancy import OCCUPIED, OccupancyGrid
+
+DEFAULT_NAMED_RADIUS = 0.6
+"""Radius, metres, of a blocked zone given only by a marker name."""
+
+_SEPARATORS = re.compile(r"[:,\s]+")
+
+
+class FaultConfigError(ValueError):
+    """A fault-injection setting is malformed; the message names the setting."""
+
+
+@dataclass(frozen=True)
+class BlockedZone:
+    """A circular area the planner must treat as an obstacle.
+
+    Attributes:
+        x: Centre x, metres (map frame).
+        y: Centre y, metres (map frame).
+        radius: Metres.
+        label: The text it was parsed from, for log messages.
+    """
+
+    x: float
+    y: float
+    radius: float
+    label: str = ""
+
+
+def _number(text: str, entry: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise FaultConfigError(
+            f"blocked_zones: {entry!r}: {text!r} is not a number (expected 'x:y:radius' "
+            "or 'marker[:radius]')"
+        ) from None
+    if not math.isfinite(value):
+        raise FaultConfigError(f"blocked_zones: {entry!r}: {text!r} is not finite")
+    return value
+
+
+def parse_blocked_zone(entry: str, markers: Mapping[str, tuple[float, float]]) -> BlockedZone:
+    """Parse one ``blocked_zones`` entry.
+
+    Args:
+        entry: ``"x:y:radius"`` or ``"marker"`` / ``"marker:radius"``.
+        markers: Known marker names and their ``(x, y)`` centres.
+
+    Returns:
+        The zone.
+
+    Raises:
+        FaultConfigError: Unknown marker, wrong number of fields, or a bad number.
+    """
+    parts = [p for p in _SEPARATORS.split(entry.strip()) if p]
+    if not parts:
+        raise FaultConfigError("blocked_zones: empty entry")
+    if parts[0] in markers:
+        if len(parts) > 2:
+            raise FaultConfigError(f"blocked_zones: {entry!r}: expected 'marker[:radius]'")
+        x, y = markers[parts[0]]
+        radius = _number(parts[1], entry) if len(parts) == 2 else DEFAULT_NAMED_RADIUS
+    elif len(parts) == 3:
+        x, y, radius = (_number(p, entry) for p in parts)
+    else:
+        known = ", ".join(sorted(markers)) or "none"
+        raise FaultConfigError(
+            f"blocked_zones: {entry!r}: expected 'x:y:radius' or a marker name "
+            f"(known markers: {known})"
+        )
+    if radius <= 0.0:
+        raise FaultConfigError(f"blocked_zones: {entry!r}: radius must be positive")
+    return BlockedZone(x=x, y=y, radius=radius, label=entry)
+
+
+@dataclass(frozen=True)
+class Faults:
+    """The fault-injection settings of one simulator run.
+
+    Attributes:
+        reject_goals: Reject every goal.
+        abort_goal_numbers: 1-based numbers of the accepted goals that abort.
+        abort_delay_s: Simulated seconds an injected abort waits after the goal starts.
+        accept_delay_s: Wall seconds before a goal request is answered.
+        blocked_zones: Extra circular obstacles.
+    """
+
+    reject_goals: bool = False
+    abort_goal_numbers: frozenset[int] = field(default_factory=frozenset)
+    abort_delay_s: float = 1.0
+    accept_delay_s: float = 0.0
+    blocked_zones: tuple[BlockedZone, ...] = ()
+
+    def aborts(self, goal_number: int) -> bool:
+        """Return True if the ``goal_number``-th accepted goal (1-based) must abort."""
+        return goal_number in self.abort_goal_numbers
+
+    @property
+    def any(self) -> bool:
+        """Whether any fault is configured (for a start-up log line)."""
+        return bool(
+            self.reject_goals
+            or self.abort_goal_numbers
+            or self.accept_delay_s > 0.0
+            or self.blocked_zones
+        )
+
+    def describe(self) -> str:
+        """Return the configured faults in one line, e.g. for the start-up log."""
+        parts = []
+        if self.reject_goals:
+            parts.append("reject_goals")
+        if self.abort_goal_numbers:
+            numbers = ", ".join(str(n) for n in sorted(self.abort_goal_numbers))
+            parts.append(f"abort goals [{numbers}] after {self.abort_delay_s:g} s")
+        if self.accept_delay_s > 0.0:
+            parts.append(f"accept after {self.accept_delay_s:g} s wall")
+        if self.blocked_zones:
+            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.blocked_zones)
+            parts.append(f"blocked zones {zones}")
+        return "; ".join(parts) or "none"
+
+
+def make_faults(
+    *,
+    reject_goals: bool = False,
+    abort_goal_numbers: Iterable[int] = (),
+    abort_delay_s: float = 1.0,
+    accept_delay_s: float = 0.0,
+    blocked_zones: Iterable[str] = (),
+    markers: Mapping[str, tuple[float, float]] | None = None,
+) -> Faults:
+    """Validate raw settings (as read from ROS parameters) into :class:`Faults`.
+
+    Empty strings in ``blocked_zones`` and zeros in ``abort_goal_numbers`` are ignored:
+    ROS parameters cannot hold an empty typed list, so ``['']`` and ``[0]`` mean "none".
+
+    Args:
+        reject_goals: Reject every goal.
+        abort_goal_numbers: 1-based accepted-goal numbers to abort.
+        abort_delay_s: Simulated seconds before an injected abort.
+        accept_delay_s: Wall seconds before a goal request is answered.
+        blocked_zones: Entries for :func:`parse_blocked_zone`.
+        markers: Marker names for named blocked zones.
+
+    Returns:
+        The settings.
+
+    Raises:
+        FaultConfigError: A setting is out of range or malformed.
+    """
+    numbers = frozenset(int(n) for n in abort_goal_numbers if int(n) != 0)
+    if any(n < 0 for n in numbers):
+        raise FaultConfigError(
+            f"abort_goal_numbers: goal numbers are 1-based, got {sorted(numbers)}"
+        )
+    for name, value in (("abort_delay_s", abort_delay_s), ("accept_delay_s", accept_delay_s)):
+        if not (math.isfinite(value) and value >= 0.0):
+            raise FaultConfigError(f"{name}: expected a number >= 0, got {value!r}")
+    zones = tuple(
+        parse_blocked_zone(entry, markers or {}) for entry in blocked_zones if entry.strip()
+    )
+    return Faults(
+        reject_goals=bool(reject_goals),
+        abort_goal_numbers=numbers,
+        abort_delay_s=float(abort_delay_s),
+        accept_delay_s=float(accept_delay_s),
+        blocked_zones=zones,
+    )
+
+
+def with_blocked_zones(grid: OccupancyGrid, zones: Iterable[BlockedZone]) -> OccupancyGrid:
+    """Return a copy of ``grid`` with every cell whose centre lies in a zone made occupied.
+
+    Args:
+        grid: The map.
+        zones: Circles to add.
+
+    Returns:
+        A new grid (``grid`` is left unchanged).
+    """
+    data = grid.data.copy()
+    xs, ys = grid.cell_centres()
+    for zone in zones:
+        inside = (xs[np.newaxis, :] - zone.x) ** 2 + (ys[:, np.newaxis] - zone.y) ** 2
+        data[inside <= zone.radius**2] = OCCUPIED
+    return OccupancyGrid(
+        data=data, resolution=grid.resolution, origin_x=grid.origin_x, origin_y=grid.origin_y
+    )

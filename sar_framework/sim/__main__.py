@@ -1,0 +1,106 @@
+"""``sar-sim`` / ``python -m sar_framework.sim``: run the embedded Nav2 simulator.
+
+Parameters are ROS parameters::
+
+    sar-sim --ros-args -p speed:=20.0 -p trace_file:=reports/latest/trace.jsonl
+
+``sar-sim --help`` lists them. The simulator logs ``ready: ...`` once it serves, and
+exits within a second on SIGINT/SIGTERM, aborting a goal in flight first.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from types import FrameType
+
+RESULT_FLUSH_S = 0.15
+"""Wall seconds the executor keeps spinning after a goal was aborted at shutdown."""
+
+
+def usage() -> str:
+    """Return the ``--help`` text: the command line and the parameter table."""
+    from sar_framework.sim.sim_node import PARAMETERS
+
+    lines = [
+        "usage: sar-sim [--ros-args -p NAME:=VALUE ...]",
+        "",
+        "Embedded Nav2 stand-in: navigate_to_pose, /clock, /tf, /odom, /map, AMCL and",
+        "lifecycle answers, on simulated time. Parameters:",
+        "",
+    ]
+    for p in PARAMETERS:
+        default = "(world file)" if p.default is None and p.kind == "float" else p.default
+        default = "[]" if default is None else default
+        lines.append(f"  {p.name:<20} {p.kind:<6} {default!s:<12} {p.doc}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the simulator until SIGINT/SIGTERM.
+
+    Args:
+        argv: Command line including the program name (default: ``sys.argv``).
+
+    Returns:
+        0 after a clean stop, 1 if the physics loop or the executor died, 2 on invalid
+        parameters, map, world or trace file.
+    """
+    args = list(sys.argv if argv is None else argv)
+    ros_start = args.index("--ros-args") if "--ros-args" in args else len(args)
+    if any(a in ("-h", "--help") for a in args[1:ros_start]):
+        sys.stdout.write(usage())
+        return 0
+
+    import rclpy
+    from rclpy.executors import MultiThreadedExecutor
+    from rclpy.logging import get_logger
+    from rclpy.signals import SignalHandlerOptions
+
+    from sar_framework.sim.sim_node import SimConfigError, Simulator
+
+    # Our own handlers: rclpy's would shut the context down before a goal in flight
+    # could be aborted and its result sent.
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop = threading.Event()
+
+    def request_stop(_signum: int, _frame: FrameType | None) -> None:
+        stop.set()
+
+    signal.signal(signal.SIGINT, request_stop)
+    signal.signal(signal.SIGTERM, request_stop)
+    try:
+        sim = Simulator()
+    except SimConfigError as exc:
+        get_logger("sar_sim").error(f"cannot start: {exc}")
+        rclpy.try_shutdown()
+        return 2
+
+    executor = MultiThreadedExecutor(num_threads=6)
+    for node in sim.nodes:
+        executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, name="sim-executor", daemon=True)
+    spinner.start()
+    sim.start()
+    sim.node.get_logger().info(sim.ready_message())
+    crashed = False
+    try:
+        while not stop.wait(0.1):
+            if not (spinner.is_alive() and sim.alive):
+                crashed = True
+                break
+    finally:
+        if sim.stop():
+            time.sleep(RESULT_FLUSH_S)
+        executor.shutdown(timeout_sec=0.5)
+        spinner.join(timeout=0.5)
+        sim.destroy()
+        rclpy.try_shutdown()
+    return 1 if crashed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -290,7 +290,9 @@ def run(argv: Sequence[str] | None = None) -> int:
         return code
 
     try:
-        source = files[-1] if files else "parameters"
+        # Name the mission's file in messages (launch adds temporary files of its own).
+        mission_file = locations.get("zone_order")
+        source = mission_file.file if mission_file else (files[0] if files else "parameters")
         try:
             node = create_params_node(NODE_NAME)
         except ValueError as err:  # e.g. -p zone_order:=[] (an untyped empty list)

@@ -583,7 +583,8 @@ class Mission:
         failures = status.get("failures") or []
         if failures:
             last = failures[-1]
-            return f"{last.get('name')} failed: {last.get('message') or 'no reason given'}"
+            return (f"{last.get('name')} [{last.get('uid')}] failed: "
+                    f"{last.get('message') or 'no reason given'}")
         if status.get("error"):
             return str(status.get("error"))
         return self.verdict_line or "no reason given"
@@ -613,12 +614,15 @@ class Mission:
     def _timeout_outcome(self) -> Outcome:
         status = self.status_document()
         running = [uid for uid, s in (status.get("nodes") or {}).items() if s == "RUNNING"]
-        names = {n.uid: n.name for n in self.spec} if self.spec is not None else {}
+        names = {n.uid: n.name for n in self.spec.nodes()} if self.spec is not None else {}
         leaves = [u for u in running if not any(o != u and o.startswith(u + ".")
                                                 for o in running)]
         where = ", ".join(f"{names.get(u, u)} [{u}]" for u in leaves) or "no node RUNNING"
+        failures = status.get("failures") or []
+        last = (f"; last failure: {failures[-1].get('name')} [{failures[-1].get('uid')}]: "
+                f"{failures[-1].get('message')}") if failures else ""
         return Outcome("TIMEOUT", EXIT_FAILURE,
-                       f"timeout after {self.config.timeout_s:g} s; still running: {where}")
+                       f"timeout after {self.config.timeout_s:g} s; still running: {where}{last}")
 
     def _last_error(self, label: str) -> str:
         errors = self._child_errors.get(label)
@@ -691,7 +695,7 @@ def _summarise(mission: Mission, outcome: Outcome, written: Sequence[Path]) -> N
     mission_json = mission.report_dir / "mission.json"
     if mission_json in written:
         summary = json.loads(mission_json.read_text(encoding="utf-8"))
-    zones = [z["id"] for z in summary.get("zones_visited", [])]
+    zones = list(dict.fromkeys(z["id"] for z in summary.get("zones_visited", [])))
     survivors = [s["id"] for s in summary.get("survivors", []) if s.get("acknowledged")]
     parts = [f"Mission {outcome.status}"]
     if summary:

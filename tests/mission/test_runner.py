@@ -14,7 +14,7 @@ from sar_testing.processes import NodeProcess
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.ros.status_file import StatusRecorder
 
-pytestmark = pytest.mark.ros
+ros = pytest.mark.ros
 REPO = Path(__file__).resolve().parents[2]
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
 NODES = REPO / "tests" / "sar_testing" / "nodes"
@@ -78,6 +78,7 @@ def run_to_end(args: list[str], tmp_path: Path, label: str = "runner",
     return code, process.output
 
 
+@ros
 def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
     status = tmp_path / "out" / "status.json"
     tree = write_tree(tmp_path, OK_TREE)
@@ -110,6 +111,7 @@ def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
     assert 0 < doc["wall_first_tick_s"] <= doc["events"][1]["wall_s"] <= doc["wall_duration_s"]
 
 
+@ros
 def test_failure_exits_1_and_lists_the_failure(tmp_path):
     status = tmp_path / "status.json"
     tree = write_tree(tmp_path, FAIL_TREE)
@@ -124,6 +126,7 @@ def test_failure_exits_1_and_lists_the_failure(tmp_path):
     assert doc["nodes"]["0"] == "FAILURE"
 
 
+@ros
 def test_sigint_mid_run_cancels_the_nav2_goal_and_exits_promptly(tmp_path):
     tree = write_tree(tmp_path, """\
 format: 1
@@ -160,6 +163,7 @@ root:
     assert doc["nodes"]["0.0"] == "RUNNING"
 
 
+@ros
 def test_sigint_after_completion_exits_with_the_verdict(tmp_path):
     tree = write_tree(tmp_path, """\
 format: 1
@@ -184,6 +188,7 @@ root:
     assert runner.output.count("Mission complete.") == 1
 
 
+@ros
 def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
     """The reference tree's root succeeds after every zone; only rest means the end."""
     status = tmp_path / "status.json"
@@ -202,6 +207,7 @@ def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
     assert json.loads(status.read_text())["complete"] is False
 
 
+@ros
 def test_sigint_terminates_a_running_leaf(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: forever\nroot:\n  Forever: {name: Wait}\n")
     runner = NodeProcess(runner_args(tree, None, "tick_rate_hz:=10.0"), "runner",
@@ -217,6 +223,7 @@ def test_sigint_terminates_a_running_leaf(tmp_path):
     assert "Wait terminated (INVALID)" in runner.output
 
 
+@ros
 def test_bad_tree_exits_2_with_the_diagnostic(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     write_tree(tmp_path, OK_TREE.replace("Countdown: {name: Last", "Countdwn: {name: Last"),
@@ -231,6 +238,7 @@ def test_bad_tree_exits_2_with_the_diagnostic(tmp_path, monkeypatch):
     assert (doc["status"], doc["ticks"], doc["failures"][0]["name"]) == ("INVALID", 0, "tree")
 
 
+@ros
 def test_missing_tree_file_exits_2(tmp_path):
     code, output = run_to_end(runner_args(tmp_path / "nope.yaml"), tmp_path)
     assert code == 2, output
@@ -238,6 +246,7 @@ def test_missing_tree_file_exits_2(tmp_path):
     assert "Traceback" not in output
 
 
+@ros
 def test_bad_params_file_is_caught_before_rcl(tmp_path):
     params = tmp_path / "params.yaml"
     params.write_text("/**:\n  ros__parameters:\n    zone_order: [\"zone_a\"\n")
@@ -248,6 +257,7 @@ def test_bad_params_file_is_caught_before_rcl(tmp_path):
     assert "Traceback" not in output
 
 
+@ros
 def test_bad_runner_parameter(tmp_path):
     tree = write_tree(tmp_path, OK_TREE)
     code, output = run_to_end(runner_args(tree, None, "exit_on_completion:=1"), tmp_path)
@@ -255,6 +265,7 @@ def test_bad_runner_parameter(tmp_path):
     assert "parameters: exit_on_completion: must be true or false, got 1" in output
 
 
+@ros
 def test_setup_timeout_exits_3(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: slow\nroot:\n  SlowSetup: {seconds: 10.0}\n")
     start = time.monotonic()
@@ -265,6 +276,7 @@ def test_setup_timeout_exits_3(tmp_path):
     assert "Traceback" not in output
 
 
+@ros
 def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
     tree = write_tree(tmp_path, OK_TREE)
     status = tmp_path / "status.json"
@@ -345,6 +357,7 @@ def test_recorder_rest_detection():
         StatusRecorder("t.yaml", spec, {}, lambda: 0.0, completion="sometimes")
 
 
+@ros
 def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     """trees/search_and_rescue.yaml with the real servers and a quick fake Nav2."""
     reports = tmp_path / "reports.jsonl"

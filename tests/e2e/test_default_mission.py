@@ -1,0 +1,160 @@
+"""The reference mission through ``sar-tree run``: the spec's expected run, exactly."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+import signal
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from sar_testing.leaf_harness import TfStaticRecorder
+from sar_testing.spin import ros_node, spin_until
+
+from .helpers import (
+    DEFAULT_TREE,
+    child_pids,
+    no_traceback,
+    read_json,
+    read_jsonl,
+    sar_tree_run,
+    wait_gone,
+)
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+
+SPEC_LINES = [
+    "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
+    "Reached zone_a.",
+    "Detection request for zone_a: FOUND at (-2.50, 3.20)",
+    "Report received: survivor_1 at (-2.50, 3.20). Acknowledged.",
+    "--- Zone 2/4: zone_b (3.50, 3.00) ---",
+    "Reached zone_b.",
+    "No survivor found at zone_b.",
+    "--- Zone 3/4: zone_c (4.00, -3.00) ---",
+    "Reached zone_c.",
+    "Detection request for zone_c: FOUND at (4.10, -2.50)",
+    "Report received: survivor_2 at (4.10, -2.50). Acknowledged.",
+    "--- Zone 4/4: zone_d (-3.50, -3.00) ---",
+    "Reached zone_d.",
+    "No survivor found at zone_d.",
+    "All zones visited. Returning to base.",
+    "Reached base station.",
+    "Mission complete.",
+]
+
+
+def _in_order(text: str, lines: list[str]) -> None:
+    position = 0
+    for line in lines:
+        found = text.find(line, position)
+        assert found >= 0, f"missing (or out of order): {line!r}\n{text}"
+        position = found + len(line)
+
+
+@pytest.fixture(scope="module")
+def default_run(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """Run the default mission once with --keep-alive, probe /tf_static, then Ctrl-C."""
+    report = tmp_path_factory.mktemp("default") / "report"
+    process = sar_tree_run([str(DEFAULT_TREE), "--keep-alive"], report)
+    try:
+        process.wait_for_output(r"Staying up \(--keep-alive\)", timeout=90)
+        children = child_pids(process.pid)
+        with ros_node("e2e_tf_static_probe") as (node, executor):
+            recorder = TfStaticRecorder(node)
+            spin_until(executor, lambda: {"survivor_1", "survivor_2"} <= recorder.child_frames(),
+                       timeout=15)
+            transforms = {t.child_frame_id: t for m in recorder.messages for t in m.transforms}
+        process.send_signal(signal.SIGINT)
+        code = process.wait(timeout=10)
+    finally:
+        process.stop()
+    return {"code": code, "output": process.output, "report": report, "children": children,
+            "transforms": transforms}
+
+
+def test_exits_zero_and_prints_the_spec_lines_in_order(default_run: dict) -> None:
+    out = default_run["output"]
+    assert default_run["code"] == 0, out
+    _in_order(out, SPEC_LINES)
+    assert out.count("Mission complete.") == 1
+    assert out.count("All zones visited. Returning to base.") == 1
+    assert "Detection request for zone_b: no survivor" in out
+    assert f"report in {default_run['report']}/" in out
+    assert no_traceback(out)
+
+
+def test_a_late_tf_static_subscriber_sees_both_survivor_frames(default_run: dict) -> None:
+    transforms = default_run["transforms"]
+    assert set(transforms) >= {"survivor_1", "survivor_2"}
+    for frame, (x, y) in {"survivor_1": (-2.5, 3.2), "survivor_2": (4.1, -2.5)}.items():
+        t = transforms[frame]
+        assert t.header.frame_id == "map"
+        assert (t.transform.translation.x, t.transform.translation.y) == pytest.approx((x, y))
+        assert t.transform.rotation.w == pytest.approx(1.0)
+
+
+def test_no_child_process_outlives_the_run(default_run: dict) -> None:
+    assert len(default_run["children"]) == 4  # simulator, detect, report, runner
+    assert wait_gone(default_run["children"]) == []
+
+
+def test_report_file_holds_exactly_the_two_survivors(default_run: dict) -> None:
+    records = read_jsonl(default_run["report"] / "reports.jsonl")
+    assert [(r["survivor_id"], r["x"], r["y"], r["frame_id"]) for r in records] == [
+        ("survivor_1", -2.5, 3.2, "map"), ("survivor_2", 4.1, -2.5, "map")]
+
+
+def test_one_goal_per_zone_and_one_base_goal(default_run: dict) -> None:
+    goals = [r for r in read_jsonl(default_run["report"] / "trace.jsonl")
+             if r.get("event") == "accepted"]
+    assert [(g["x"], g["y"]) for g in goals] == [
+        (-3.0, 3.0), (3.5, 3.0), (4.0, -3.0), (-3.5, -3.0), (0.0, 0.0)]
+    sim_log = (default_run["report"] / "sim.log").read_text()
+    assert len(re.findall(r"Goal \d+: navigating to \(0\.00, 0\.00", sim_log)) == 1
+
+
+def test_mission_json(default_run: dict) -> None:
+    mission = read_json(default_run["report"] / "mission.json")
+    assert mission["outcome"] == "SUCCESS"
+    assert [z["id"] for z in mission["zones_visited"]] == ["zone_a", "zone_b", "zone_c", "zone_d"]
+    arrivals = [z["arrival_sim_s"] for z in mission["zones_visited"]]
+    assert arrivals == sorted(arrivals) and arrivals[0] > 0
+    assert mission["zones_skipped"] == []
+    assert mission["base_reached"]["arrival_sim_s"] > arrivals[-1]
+    assert [(s["id"], s["x"], s["y"], s["acknowledged"]) for s in mission["survivors"]] == [
+        ("survivor_1", -2.5, 3.2, True), ("survivor_2", 4.1, -2.5, True)]
+    # out via (-3, 3), (3.5, 3), (4, -3), (-3.5, -3) and home: at least the straight lines
+    corners = [(0, 0), (-3, 3), (3.5, 3), (4, -3), (-3.5, -3), (0, 0)]
+    straight = sum(math.dist(a, b) for a, b in itertools.pairwise(corners))
+    assert straight <= mission["path_length_m"] < 1.5 * straight
+    assert mission["navigation_goals"] == 5
+    assert mission["sim_duration_s"] > 60
+    assert mission["wall_duration_s"] > 0 and mission["ticks"] > 50
+    assert mission["failures"] == []
+
+
+def test_mission_png_and_tree_svg(default_run: dict) -> None:
+    png = (default_run["report"] / "mission.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+    assert width >= 600 and height >= 400
+    from PIL import Image
+
+    image = Image.open(default_run["report"] / "mission.png").convert("RGB")
+    colours = {c for _, c in image.getcolors(1 << 24)}
+    assert (30, 110, 220) in colours  # the path was drawn
+    assert (230, 120, 0) in colours  # survivors were drawn
+    svg = ET.parse(default_run["report"] / "tree.svg").getroot()
+    assert svg.tag.endswith("svg")
+    text = "".join(svg.itertext())
+    assert "NavigateToBase" in text and "MissionOrReturnToBase" in text
+
+
+def test_child_logs_are_in_the_report_dir(default_run: dict) -> None:
+    report: Path = default_run["report"]
+    for name in ("sim", "detect", "report", "runner"):
+        assert (report / f"{name}.log").stat().st_size > 0
+    assert "Mission complete." in (report / "runner.log").read_text()

@@ -1,0 +1,92 @@
+"""Other mission shapes and injected faults: each run ends as its tree says, never hangs."""
+
+from __future__ import annotations
+
+import pytest
+
+from .helpers import (
+    DEFAULT_TREE,
+    FAST,
+    SIX_SURVIVORS,
+    SIX_ZONES,
+    SKIP_TREE,
+    no_traceback,
+    read_json,
+    read_jsonl,
+    run_to_end,
+)
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+
+NE_CORNER_BLOCKED = "blocked_zones:=['5.0:4.2:0.5']"
+
+
+def test_six_zones_with_retry_skip_an_unreachable_zone_and_finish(tmp_path) -> None:
+    report = tmp_path / "report"
+    code, out = run_to_end([str(SKIP_TREE), "--params", str(SIX_ZONES),
+                            "--survivors", str(SIX_SURVIVORS), "--speed", FAST,
+                            "--sim-param", NE_CORNER_BLOCKED], report)
+    assert code == 0, out
+    mission = read_json(report / "mission.json")
+    assert [z["id"] for z in mission["zones_visited"]] == [
+        "nw_corner", "nw_door", "se_centre", "sw_centre", "sw_corner"]
+    assert mission["zones_skipped"] == ["ne_corner"]
+    assert mission["base_reached"] is not None
+    assert [(s["id"], s["x"], s["y"]) for s in mission["survivors"]] == [
+        ("survivor_1", -4.8, 4.0), ("survivor_2", 2.7, -1.8), ("survivor_3", -4.7, -4.0)]
+    assert len(read_jsonl(report / "reports.jsonl")) == 3
+    # retry(num_failures=2): exactly two goals to the blocked zone, then it is skipped
+    goals = [(g["x"], g["y"]) for g in read_jsonl(report / "trace.jsonl")
+             if g.get("event") == "accepted"]
+    assert goals.count((5.0, 4.2)) == 2
+    assert goals[-1] == (0.0, 0.0) and goals.count((0.0, 0.0)) == 1
+    assert "--- Zone 6/6: sw_corner (-5.00, -4.20) ---" in out
+    assert "NavigateToZone" in out and "ne_corner" in out and "inside an obstacle" in out
+    assert "Mission complete." in out and no_traceback(out)
+
+
+def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_path) -> None:
+    """The reference tree re-sends a failing zone goal on every tick: the bound stops it."""
+    report = tmp_path / "report"
+    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "8",
+                            "--sim-param", "blocked_zones:=['zone_b']"], report)
+    assert code == 1, out
+    assert "Mission TIMEOUT" in out
+    assert "timeout after 8 s" in out
+    assert "last failure: NavigateToZone [0.0.1]: goal to zone_b aborted" in out
+    assert read_json(report / "mission.json")["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
+    assert no_traceback(out)
+
+
+def test_missing_detect_server_fails_the_tree_naming_detect_survivor(tmp_path) -> None:
+    tree = tmp_path / "detect_once.yaml"
+    tree.write_text(
+        "format: 1\nname: detect_once\nroot:\n  sequence:\n    name: Once\n    memory: true\n"
+        "    children:\n      - NavigateToZone: {}\n"
+        "      - DetectSurvivor: {server_timeout_s: 1.5}\n")
+    report = tmp_path / "report"
+    # a tree that runs once: the runner's first terminal root status completes it
+    code, out = run_to_end([str(tree), "--speed", FAST, "--no-detect-server",
+                            "--runner-param", "completion:=terminal", "--timeout", "60"], report)
+    assert code == 1, out
+    assert "Mission FAILURE" in out
+    assert "DetectSurvivor [0.1] failed: /detect_survivor service not available" in out
+    assert "Mission failed" in out  # the runner's own verdict line
+    assert read_json(report / "mission.json")["outcome"] == "FAILURE"
+    assert no_traceback(out)
+
+
+def test_refusing_report_server_the_mission_goes_on_and_says_why(tmp_path) -> None:
+    """The reference tree falls back to LogNoDetection when NotifyBase fails."""
+    report = tmp_path / "report"
+    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST,
+                            "--report-param", "refuse_all:=true"], report)
+    assert code == 0, out
+    assert "Report refused: 'survivor_1'" in out
+    assert "NotifyBase [0.0.3.0.2] failed on the way: report of survivor_1" in out
+    mission = read_json(report / "mission.json")
+    assert [(s["id"], s["acknowledged"]) for s in mission["survivors"]] == [
+        ("survivor_1", False), ("survivor_2", False)]
+    assert not (report / "reports.jsonl").exists() or \
+        read_jsonl(report / "reports.jsonl") == []
+    assert no_traceback(out)

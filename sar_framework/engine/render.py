@@ -135,9 +135,11 @@ def _html(text: str) -> str:
     r"""Escape text for a Graphviz HTML-like label.
 
     Graphviz expands ``\N``, ``\G``... in HTML labels too (after entity
-    decoding), so backslashes are doubled as well as XML-escaped.
+    decoding), so backslashes are doubled as well as XML-escaped. ``]`` becomes a
+    character reference: Graphviz 2.43's HTML lexer rejects a bare ``]`` before a tag.
     """
-    return html.escape(_clean(text).replace("\\", "\\\\"), quote=True)
+    escaped = html.escape(_clean(text).replace("\\", "\\\\"), quote=True)
+    return escaped.replace("]", "&#93;")
 
 
 def _plain(text: str) -> str:

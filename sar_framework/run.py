@@ -60,6 +60,7 @@ _PROGRESS = re.compile(
     r"Report refused: |No survivor found at |All zones visited|Mission complete\.|"
     r"Mission failed|Broadcast static TF )"
 )
+_GOAL_ENDED = re.compile(r"^Goal \d+ (canceled|aborted|succeeded)")
 _NAME_VALUE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]*:=.*$")
 
 
@@ -396,31 +397,42 @@ class Child:
         self._reader.join(timeout=timeout)
 
 
-def stop_children(children: Sequence[Child], *, first: str = "runner") -> float:
-    """Stop children in order: ``first`` (SIGINT), then the others, SIGKILL after bounds.
+def stop_children(children: Sequence[Child], *, first: str = "runner", last: str = "sim",
+                  released: threading.Event | None = None) -> float:
+    """Stop children in order, SIGKILL after bounds; return the wall seconds it took.
+
+    ``first`` (the runner) and every other child but ``last`` get SIGINT at once; ``last``
+    (the simulator, which must still serve while the runner cancels its goal) gets it when
+    ``first`` has exited or ``released`` is set (the cancel went through), whichever comes
+    first, at the latest after :data:`RUNNER_STOP_S`.
 
     Args:
         children: The children (some may have exited already).
-        first: The label of the child stopped before the others.
-
-    Returns:
-        Wall seconds the stop took.
+        first: The label of the child whose exit releases ``last``.
+        last: The label of the child stopped last.
+        released: Set once ``last`` may stop early (e.g. the goal cancel was seen).
     """
     start = time.monotonic()
-    leading = [c for c in children if c.label == first]
-    others = [c for c in children if c.label != first]
-    for group, bound in ((leading, RUNNER_STOP_S), (others, OTHERS_STOP_S)):
-        for child in group:
-            child.signal(signal.SIGINT)
-        deadline = time.monotonic() + bound
-        while time.monotonic() < deadline and any(c.poll() is None for c in group):
-            time.sleep(0.02)
-        for child in group:
-            if child.poll() is None:
-                child.signal(signal.SIGKILL)
-        for child in group:
-            with contextlib.suppress(subprocess.TimeoutExpired):
-                child.proc.wait(timeout=1.0)
+    early = [c for c in children if c.label != last]
+    late = [c for c in children if c.label == last]
+    leader = [c for c in children if c.label == first]
+    for child in early:
+        child.signal(signal.SIGINT)
+    deadline = start + RUNNER_STOP_S
+    while (time.monotonic() < deadline and any(c.poll() is None for c in leader)
+           and not (released is not None and released.is_set())):
+        time.sleep(0.01)
+    for child in late:
+        child.signal(signal.SIGINT)
+    deadline = max(deadline, time.monotonic() + OTHERS_STOP_S)
+    while time.monotonic() < deadline and any(c.poll() is None for c in children):
+        time.sleep(0.01)
+    for child in children:
+        if child.poll() is None:
+            child.signal(signal.SIGKILL)
+    for child in children:
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            child.proc.wait(timeout=1.0)
     for child in children:
         child.finish(timeout=0.5)
     return time.monotonic() - start
@@ -483,6 +495,8 @@ class Mission:
         self.stop_s: float | None = None
         self._print_lock = threading.Lock()
         self._child_errors: dict[str, list[str]] = {}
+        self._stopping = False
+        self._goal_released = threading.Event()  # the sim answered the cancel of a stop
 
     # progress -----------------------------------------------------------------------------
     def say(self, text: str) -> None:
@@ -492,6 +506,8 @@ class Mission:
             self.out.flush()
 
     def _on_line(self, line: LogLine) -> None:
+        if self._stopping and line.child == "sim" and _GOAL_ENDED.match(line.message):
+            self._goal_released.set()
         if line.severity in ("WARN", "ERROR", "FATAL"):
             self._child_errors.setdefault(line.child, []).append(line.message)
         if line.child == "runner" and line.message.startswith(("Mission complete.",
@@ -526,6 +542,10 @@ class Mission:
                                        self._on_line, self.started))
         for child in self.children:
             child.start_reading()
+        # Import the report's libraries now, not after a Ctrl-C (numpy, Pillow, graphviz).
+        import sar_framework.engine.render
+        import sar_framework.report
+        import sar_framework.sim.occupancy  # noqa: F401
 
     def child(self, label: str) -> Child | None:
         """The child called ``label``, if it was started."""
@@ -567,8 +587,9 @@ class Mission:
             time.sleep(POLL_S)
 
     def stop(self) -> None:
-        """Stop every child (runner first) and record how long it took."""
-        self.stop_s = stop_children(self.children)
+        """Stop every child (the simulator after the runner's cancel) and time it."""
+        self._stopping = True
+        self.stop_s = stop_children(self.children, released=self._goal_released)
 
     # outcomes -----------------------------------------------------------------------------
     def status_document(self) -> dict[str, Any]:
@@ -707,6 +728,9 @@ def _summarise(mission: Mission, outcome: Outcome, written: Sequence[Path]) -> N
     mission.say("sar-tree run: " + "; ".join(parts))
     if outcome.reason:
         mission.say(f"sar-tree run: {outcome.reason}")
+    if outcome.status == "INTERRUPTED" and mission.stop_s is not None:
+        mission.say(f"sar-tree run: every process stopped {mission.stop_s:.2f} s after the "
+                    "signal")
     for failure in summary.get("failures", []):
         if outcome.status == "SUCCESS":
             mission.say(f"sar-tree run: note: {failure['name']} [{failure['uid']}] failed "

@@ -1,0 +1,78 @@
+"""The mission report from synthetic run files (no ROS, no processes)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from sar_framework.report import MissionInputs, read_mission_layout, summarise, write_report
+
+from .helpers import DEFAULT_TREE, REPO
+
+PARAMS = REPO / "config" / "mission_params.yaml"
+
+
+def _files(folder: Path) -> None:
+    events = [
+        {"sim_s": 19.0, "wall_s": 1.0, "uid": "0.0.1", "name": "NavigateToZone",
+         "kind": "NavigateToZone", "status": "SUCCESS", "message": "Reached zone_a."},
+        {"sim_s": 20.0, "wall_s": 1.1, "uid": "0.0.3.0.1", "name": "BroadcastSurvivorTF",
+         "kind": "BroadcastSurvivorTF", "status": "SUCCESS",
+         "message": "Broadcast static TF map -> survivor_1 at (-2.50, 3.20)."},
+        {"sim_s": 40.0, "wall_s": 2.0, "uid": "0.1.0", "name": "NavigateToBase",
+         "kind": "NavigateToBase", "status": "SUCCESS", "message": "Reached base station."},
+    ]
+    (folder / "status.json").write_text(json.dumps({
+        "status": "SUCCESS", "ticks": 80, "wall_first_tick_s": 0.5, "sim_start_s": 1.0,
+        "sim_end_s": 41.0, "wall_duration_s": 2.5, "nodes": {"0": "SUCCESS"},
+        "events": events, "failures": []}))
+    trace = [{"sim_s": 0.0, "event": "start", "x": 0.0, "y": 0.0, "yaw": 0.0},
+             {"sim_s": 1.0, "event": "accepted", "goal": 1, "x": -3.0, "y": 3.0, "yaw": 0.0},
+             {"sim_s": 2.0, "x": -1.0, "y": 1.0, "yaw": 2.3, "path_m": 1.41},
+             {"sim_s": 3.0, "x": -3.0, "y": 3.0, "yaw": 2.3, "path_m": 4.24},
+             {"sim_s": 41.0, "event": "end", "path_m": 8.5}]
+    (folder / "trace.jsonl").write_text("".join(json.dumps(r) + "\n" for r in trace)
+                                        + '{"torn li')
+    (folder / "reports.jsonl").write_text(json.dumps(
+        {"survivor_id": "survivor_1", "frame_id": "map", "x": -2.5, "y": 3.2, "z": 0.0}) + "\n")
+    (folder / "report.log").write_text(
+        "[WARN] [1.0] [report_survivor_server]: Report refused: 'survivor_2' at "
+        "(4.10, -2.50): refuse_all is set\n")
+
+
+def test_layout_from_the_params_file() -> None:
+    zones, base = read_mission_layout(PARAMS)
+    assert [z["id"] for z in zones] == ["zone_a", "zone_b", "zone_c", "zone_d"]
+    assert zones[1] == {"id": "zone_b", "x": 3.5, "y": 3.0, "yaw": 1.57}
+    assert base == {"x": 0.0, "y": 0.0, "yaw": 0.0}
+
+
+def test_summary_and_files(tmp_path: Path) -> None:
+    _files(tmp_path)
+    from sar_framework import load_spec
+
+    inputs = MissionInputs(tmp_path, str(DEFAULT_TREE), str(PARAMS),
+                           load_spec(DEFAULT_TREE), "SUCCESS", wall_duration_s=3.0)
+    summary = summarise(inputs)
+    assert [(z["id"], z["arrival_sim_s"]) for z in summary["zones_visited"]] == [
+        ("zone_a", 19.0)]
+    assert summary["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
+    assert summary["base_reached"]["arrival_sim_s"] == 40.0
+    assert [(s["id"], s["acknowledged"]) for s in summary["survivors"]] == [
+        ("survivor_1", True), ("survivor_2", False)]
+    assert summary["survivors"][1]["refused"] == "refuse_all is set"
+    assert summary["path_length_m"] == 8.5 and summary["navigation_goals"] == 1
+    assert summary["sim_duration_s"] == 40.0 and summary["ticks_per_wall_s"] == 40.0
+    assert summary["real_time_factor"] == 20.0
+    written = write_report(inputs)
+    assert [p.name for p in written] == ["mission.json", "mission.png", "tree.svg"]
+    assert (tmp_path / "mission.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_report_without_any_run_files(tmp_path: Path) -> None:
+    inputs = MissionInputs(tmp_path, "t.yaml", str(tmp_path / "none.yaml"), None, "ERROR",
+                           reason="the runner exited (3)")
+    written = write_report(inputs)
+    assert [p.name for p in written] == ["mission.json", "mission.png"]
+    summary = json.loads((tmp_path / "mission.json").read_text())
+    assert summary["zones_visited"] == [] and summary["sim_duration_s"] is None

@@ -15,12 +15,10 @@ help:  ## list the targets
 setup:  ## create .venv (ROS 2 Jazzy wheels, interfaces, deps) — idempotent
 	@$(PYTHON) tools/bootstrap.py
 
-run: setup  ## the main job: the search-and-rescue mission in the embedded simulator
-	@mkdir -p reports/latest
-	@$(BIN)/sar-tree validate trees/*.yaml
-	@$(BIN)/sar-tree render trees/search_and_rescue.yaml -o reports/latest/tree.svg
-	@$(BIN)/sar-tree render trees/search_and_rescue.yaml --format unicode
-	@echo "tree diagram: reports/latest/tree.svg"
+run: setup  ## the main job: the search-and-rescue mission in the embedded simulator, with a report
+	@$(BIN)/sar-tree run trees/search_and_rescue.yaml --report-dir reports/latest; rc=$$?; \
+	  echo "report: reports/latest/mission.png (map and path), mission.json, tree.svg; logs reports/latest/*.log"; \
+	  exit $$rc
 
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@$(BIN)/python -m pytest -q -p no:cacheprovider; rc=$$?; \

@@ -11,7 +11,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import contextlib
+import gc
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -25,6 +27,22 @@ from sar_framework.engine.spec import TreeSpec
 from sar_framework.engine.validate import ValidationResult, validate_file
 
 __all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
+
+
+@contextlib.contextmanager
+def _gc_paused() -> Iterator[None]:
+    """Pause the cyclic garbage collector while a tree is read and built.
+
+    A load allocates tens of thousands of objects that all stay alive; the collector
+    would scan them again and again for nothing (a third of the time of a big load).
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 @dataclass
@@ -60,7 +78,8 @@ def validate(
     Returns:
         The spec (None on errors) and every diagnostic.
     """
-    return validate_file(path, registry=registry, plugin_paths=plugin_paths)
+    with _gc_paused():
+        return validate_file(path, registry=registry, plugin_paths=plugin_paths)
 
 
 def load_spec(
@@ -82,7 +101,8 @@ def load_spec(
     Raises:
         TreeLoadError: With every problem found.
     """
-    result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+    with _gc_paused():
+        result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
         raise TreeLoadError(result.diagnostics)
     return result.spec
@@ -110,8 +130,9 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
-    if result.spec is None:
-        raise TreeLoadError(result.diagnostics)
-    root, behaviours = build(result.spec, result.registry, context)
+    with _gc_paused():
+        result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+        if result.spec is None:
+            raise TreeLoadError(result.diagnostics)
+        root, behaviours = build(result.spec, result.registry, context)
     return LoadedTree(root, result.spec, behaviours, result.registry)

@@ -26,12 +26,17 @@ Behaviour = py_trees.behaviour.Behaviour
 _Builder = Callable[[NodeSpec, list[Behaviour]], Behaviour]
 
 
+_Sequence = py_trees.composites.Sequence
+_Selector = py_trees.composites.Selector
+_Parallel = py_trees.composites.Parallel
+
+
 def _sequence(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-    return py_trees.composites.Sequence(node.name, node.attrs["memory"], children)
+    return _Sequence(node.name, node.attrs["memory"], children)
 
 
 def _selector(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-    return py_trees.composites.Selector(node.name, node.attrs["memory"], children)
+    return _Selector(node.name, node.attrs["memory"], children)
 
 
 def _parallel(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
@@ -41,7 +46,7 @@ def _parallel(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
     policy = compat.parallel_policy(
         attrs["policy"], synchronise=attrs["synchronise"], selected=selected
     )
-    return py_trees.composites.Parallel(node.name, policy, children)
+    return _Parallel(node.name, policy, children)
 
 
 def _decorator(class_name: str, **convert: Callable[[Any], Any]) -> _Builder:
@@ -73,44 +78,21 @@ for _key, _kind in KINDS.items():
 class _LeafPlan:
     """How to call one plugin's constructor (worked out once per plugin)."""
 
-    __slots__ = ("cls", "context", "refs")
+    __slots__ = ("cls", "context", "name", "refs")
 
     def __init__(self, plugin: PluginSpec) -> None:
+        self.name = plugin.name
         self.cls = plugin.cls
         self.refs = tuple(p.name for p in plugin.params if p.ref is not None)
         self.context = plugin.context
 
 
-def check_context(
-    spec: TreeSpec, registry: Registry, context: Mapping[str, Any]
-) -> list[Diagnostic]:
-    """Report every leaf whose plugin needs a context object the caller did not supply.
-
-    Args:
-        spec: The validated tree.
-        registry: The registry it was validated against.
-        context: The objects the caller supplied.
-
-    Returns:
-        One diagnostic per (leaf, missing key).
-    """
-    out = []
-    for node in spec.nodes():
-        if node.category is not Category.LEAF:
-            continue
-        plugin = registry.get(node.kind)
-        if plugin is None:
-            continue
-        for key in plugin.context:
-            if key not in context:
-                out.append(
-                    Diagnostic(
-                        node.location,
-                        f"plugin '{plugin.name}' needs the context object '{key}': "
-                        f"pass load_tree(..., context={{'{key}': ...}})",
-                    )
-                )
-    return out
+def _missing_context(node: NodeSpec, plan: _LeafPlan, key: str) -> Diagnostic:
+    return Diagnostic(
+        node.location,
+        f"plugin '{plan.name}' needs the context object '{key}': "
+        f"pass load_tree(..., context={{'{key}': ...}})",
+    )
 
 
 def build(
@@ -127,15 +109,15 @@ def build(
         The root behaviour and the ``NodeSpec.uid -> behaviour`` map.
 
     Raises:
-        TreeLoadError: A context object is missing, or a plugin's constructor raised.
+        TreeLoadError: Context objects are missing (one diagnostic per leaf and key),
+            or plugin constructors raised.
     """
     ctx = context if context is not None else {}
-    missing = check_context(spec, registry, ctx)
-    if missing:
-        raise TreeLoadError(missing)
     plans: dict[str, _LeafPlan] = {}
     built: dict[str, Behaviour] = {}
     problems: list[Diagnostic] = []
+    builders = _BUILDERS
+    leaf_category = Category.LEAF
 
     def leaf(node: NodeSpec) -> Behaviour | None:
         done = built.get(node.uid)
@@ -148,13 +130,20 @@ def build(
                 problems.append(Diagnostic(node.location, f"unknown plugin '{node.kind}'"))
                 return None
             plan = plans[node.kind] = _LeafPlan(plugin)
-        kwargs = dict(node.attrs)
-        for name in plan.refs:
-            target = node.refs.get(name)
-            if target is not None:
-                kwargs[name] = leaf(target)
-        for key in plan.context:
-            kwargs[key] = ctx[key]
+        kwargs = node.attrs
+        if plan.refs or plan.context:
+            kwargs = dict(kwargs)
+            for name in plan.refs:
+                target = node.refs.get(name)
+                if target is not None:
+                    kwargs[name] = leaf(target)
+            for key in plan.context:
+                if key in ctx:
+                    kwargs[key] = ctx[key]
+                else:
+                    problems.append(_missing_context(node, plan, key))
+            if problems:
+                return None
         try:
             behaviour = plan.cls(name=node.name, **kwargs)
         except Exception as exc:
@@ -165,21 +154,16 @@ def build(
                 )
             )
             return None
-        if not isinstance(behaviour, py_trees.behaviour.Behaviour):
-            problems.append(
-                Diagnostic(node.location, f"plugin '{node.kind}' is not a py_trees behaviour")
-            )
-            return None
         built[node.uid] = behaviour
         return behaviour
 
     def make(node: NodeSpec) -> Behaviour | None:
-        if node.category is Category.LEAF:
+        if node.category is leaf_category:
             return leaf(node)
         children = [make(child) for child in node.children]
-        if any(child is None for child in children):
+        if problems:
             return None
-        behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
+        behaviour = builders[node.kind](node, children)  # type: ignore[arg-type]
         built[node.uid] = behaviour
         return behaviour
 

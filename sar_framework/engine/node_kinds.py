@@ -13,7 +13,7 @@ only) are left out on purpose: this framework shares state by references.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
@@ -80,6 +80,17 @@ class Attr:
     min_length: int | None = None
     nullable: bool = False
     ref: str | None = None
+    #: A string with no further constraint: any YAML string is valid (the fast path).
+    simple: bool = field(init=False, repr=False, compare=False, default=False)
+
+    def __post_init__(self) -> None:
+        simple = (
+            self.type is AttrType.STRING
+            and self.enum is None
+            and self.min_length is None
+            and self.ref is None
+        )
+        object.__setattr__(self, "simple", simple)
 
 
 @dataclass(frozen=True)

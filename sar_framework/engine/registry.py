@@ -31,6 +31,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+import py_trees
+
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
 from sar_framework.engine.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
@@ -132,6 +134,12 @@ class Registry:
         if known is not None and known.cls is cls:
             return  # the same class reached twice (re-export, diamond include)
         where = _class_location(cls) or _where(location, source)
+        if not issubclass(cls, py_trees.behaviour.Behaviour):
+            self.diagnostics.append(
+                Diagnostic(where, f"plugin '{spec.name}' is not a py_trees behaviour "
+                                  f"(from {source})")
+            )
+            return
         if spec.name in RESERVED_KINDS:
             self.diagnostics.append(
                 Diagnostic(where, f"plugin name '{spec.name}' is reserved (from {source})")

@@ -99,7 +99,10 @@ def _describe(node: Node, value: Any = None) -> str:
 class _Decl:
     """The attributes of one node kind, indexed for the walk."""
 
-    __slots__ = ("attrs", "by_name", "defaults", "kind", "names", "plugin", "required", "rules")
+    __slots__ = (
+        "attrs", "by_name", "defaults", "kind", "names", "plugin", "required",
+        "required_names", "rules",
+    )
 
     def __init__(
         self, attrs: Sequence[Attr], kind: NodeKind | None, plugin: PluginSpec | None
@@ -108,6 +111,7 @@ class _Decl:
         self.by_name = {a.name: a for a in attrs}
         self.names = [a.name for a in attrs]
         self.required = [a for a in attrs if a.required]
+        self.required_names = tuple(a.name for a in self.required)
         self.defaults = {
             a.name: a.default
             for a in attrs
@@ -117,6 +121,13 @@ class _Decl:
         self.kind = kind
         self.plugin = plugin
 
+
+_NODE = AttrType.NODE
+_NODES = AttrType.NODES
+_STRING = AttrType.STRING
+_LEAF = Category.LEAF
+MAP_TAG = yaml_source.MAP_TAG
+STR_TAG = yaml_source.STR_TAG
 
 #: Marks an attribute that was present but invalid (so it is not also reported missing).
 _INVALID = object()
@@ -212,6 +223,7 @@ class _Checker:
         self.subtrees: dict[str, _Subtree] = {}
         self.value_locs: dict[tuple[SourceLocation, str], Any] = {}
         self.pending_refs: list[tuple[NodeSpec, _Scope]] = []
+        self.ref_kinds: set[str] = set()  # plugins with reference params
         self.incomplete: set[int] = set()  # id() of specs that lost a child to an error
         self.reader: yaml_source.Reader = yaml_source.Reader("", self.structural)
         self.file = ""
@@ -380,28 +392,40 @@ class _Checker:
         decl = self.plugin_decls.get(plugin.name)
         if decl is None:
             decl = self.plugin_decls[plugin.name] = _Decl(leaf_attrs(plugin), None, plugin)
+            if any(p.ref is not None for p in plugin.params):
+                self.ref_kinds.add(plugin.name)
         return decl
 
     def node(self, y: Node, depth: int) -> NodeSpec | None:
-        """Check one node and everything below it; return its spec or None."""
+        """Check one node and everything below it; return its spec or None.
+
+        A node with problems in its own attributes still yields a (partial) spec, so
+        the semantic checks below it run in the same pass; any structural error keeps
+        the tree from loading. This is the hot loop of a load, written for speed.
+        """
         if type(y) is not MappingNode:
             self.not_a_node(y)
             return None
-        entries = self.reader.items(y)
-        if entries is None:
-            return None
-        if len(entries) != 1:
-            self.node_keys(y, entries)
-            return None
-        key, key_node, value_node = entries[0]
+        pairs = y.value
+        if len(pairs) == 1 and y.tag == MAP_TAG and pairs[0][0].tag == STR_TAG:
+            key_node, value_node = pairs[0]
+            key = key_node.value
+        else:
+            entries = self.reader.items(y)
+            if entries is None:
+                return None
+            if len(entries) != 1:
+                self.node_keys(y, entries)
+                return None
+            key, key_node, value_node = entries[0]
+        mark = key_node.start_mark
+        where = SourceLocation(self.file, mark.line + 1, mark.column + 1)
         if depth > MAX_DEPTH:
-            self.semantic_error(yaml_source.location(key_node, self.file),
-                                f"the tree is nested deeper than {MAX_DEPTH} levels")
+            self.semantic_error(where, f"the tree is nested deeper than {MAX_DEPTH} levels")
             return None
-        where = yaml_source.location(key_node, self.file)
         if key == SUBTREE:
             return self.subtree_ref(value_node, where)
-        decl = _KIND_DECLS.get(key)
+        decl = _KIND_DECLS.get(key) or self.plugin_decls.get(key)
         if decl is None:
             plugin = self.registry.get(key)
             if plugin is None:
@@ -413,39 +437,24 @@ class _Checker:
             hint = f" (write '{key}: {{}}')" if what == "null" else ""
             self.error(value_node, f"the attributes of '{key}' must be a mapping, got {what}{hint}")
             return None
-        attr_entries = self.reader.items(value_node)
-        if attr_entries is None:
-            return None
-        return self.attributes(
-            key=key, decl=decl, key_node=key_node, entries=attr_entries, where=where, depth=depth
-        )
-
-    def attributes(
-        self,
-        *,
-        key: str,
-        decl: _Decl,
-        key_node: Node,
-        entries: list[tuple[str, Node, Node]],
-        where: SourceLocation,
-        depth: int,
-    ) -> NodeSpec:
-        """Check a node's attributes and children; return its (possibly partial) spec.
-
-        A node with problems still yields a spec, so the semantic checks below it
-        run in the same pass; any structural error keeps the tree from loading.
-        """
+        if value_node.value:
+            entries = self.reader.items(value_node)
+            if entries is None:
+                return None
+        else:
+            entries = []
         by_name = decl.by_name
         values: dict[str, Any] = {}
         children: list[NodeSpec] = []
         complete = True
+        invalid = False
         for name, name_node, node in entries:
             attr = by_name.get(name)
             if attr is None:
                 self.unknown_attr(name_node, name, key, decl)
                 continue
             kind = attr.type
-            if kind is AttrType.NODES:
+            if kind is _NODES:
                 values[name] = True
                 if type(node) is not SequenceNode:
                     self.error(node, f"'{name}' must be a list of nodes, got "
@@ -462,16 +471,19 @@ class _Checker:
                         complete = False
                     else:
                         children.append(child)
-            elif kind is AttrType.NODE:
+            elif kind is _NODE:
                 values[name] = True
                 child = self.node(node, depth + 1)
                 if child is None:
                     complete = False
                 else:
                     children.append(child)
+            elif kind is _STRING and attr.simple and node.tag == STR_TAG:
+                values[name] = node.value  # the common case, without the general checks
             else:
                 ok, value = self.check_value(attr, node, key)
                 if not ok:
+                    invalid = True
                     values[name] = _INVALID
                     continue
                 if attr.ref is not None:
@@ -482,31 +494,30 @@ class _Checker:
                     ]
                     value = [v for v, _ in value]
                 values[name] = value
-        name = values.get("name")
-        for attr in decl.required:
-            if attr.name not in values:
-                self.missing(key_node, key, attr, name)
-        for rule in decl.rules:
-            self.rule(rule, key_node, entries, key)
-        if _INVALID in values.values():
+        for required in decl.required_names:
+            if required not in values:
+                self.missing(key_node, key, decl.by_name[required], values.get("name"))
+        if decl.rules:
+            for rule in decl.rules:
+                self.rule(rule, key_node, entries, key)
+        if invalid:
             values = {k: v for k, v in values.items() if v is not _INVALID}
         name = values.pop("name", None)
         plugin = decl.plugin
         if plugin is not None:
             ident = values.pop("id", None)
-            attrs = dict(decl.defaults)
-            attrs.update(values)
-            spec = NodeSpec(plugin.name, Category.LEAF, plugin.name if name is None else name,
-                            "", where, attrs, children, ident)
+            attrs = {**decl.defaults, **values} if decl.defaults else values
+            spec = NodeSpec(key, _LEAF, key if name is None else name, "", where, attrs,
+                            children, ident)
         else:
             kind_decl = decl.kind
             assert kind_decl is not None
             values.pop("children", None)
             values.pop("child", None)
-            attrs = dict(decl.defaults)
-            attrs.update(values)
-            spec = NodeSpec(key, kind_decl.category, kind_decl.class_name if name is None else name,
-                            "", where, attrs, children)
+            attrs = {**decl.defaults, **values} if decl.defaults else values
+            spec = NodeSpec(key, kind_decl.category,
+                            kind_decl.class_name if name is None else name, "", where, attrs,
+                            children)
         if not complete:
             self.incomplete.add(id(spec))
         return spec
@@ -640,8 +651,9 @@ class _Checker:
                                     f"duplicate id '{node.id}' (first used at {first.location})")
             else:
                 scope.ids[node.id] = node
-        if node.category is Category.LEAF:
-            self.pending_refs.append((node, scope))
+        if node.category is _LEAF:
+            if node.kind in self.ref_kinds:
+                self.pending_refs.append((node, scope))
             return node
         children = []
         for index, child in enumerate(node.children):

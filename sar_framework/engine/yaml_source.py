@@ -13,9 +13,11 @@ merge keys, aliases and unsupported tags.
 
 from __future__ import annotations
 
+import functools
 import re
 import threading
 from collections.abc import Callable
+from itertools import accumulate
 from pathlib import Path
 from typing import Any
 
@@ -34,10 +36,12 @@ MERGE_TAG = _TAG + "merge"
 #: Largest file the engine reads; a tree of 100,000 nodes stays well below.
 MAX_FILE_BYTES = 8 * 1024 * 1024
 
-#: Texts longer than this are composed in a thread with a stack sized for the text:
-#: libyaml's C composer recurses once per nesting level, and a pathological file
-#: (``[[[[...``) would otherwise overflow the C stack. Nesting depth <= text length.
-_INLINE_COMPOSE_CHARS = 8000
+# libyaml's C composer recurses once per nesting level; a pathological file could
+# overflow the C stack (``- - - - ...`` on one long line). With flow nesting bounded
+# (MAX_FLOW_DEPTH) and no line longer than _INLINE_MAX_LINE, block nesting stays below
+# about 2 levels per indentation column plus 1 per character of a line, so the text is
+# composed in the caller's thread; otherwise in a thread with a stack sized for the text.
+_INLINE_MAX_LINE = 1000
 _STACK_BYTES_PER_CHAR = 320
 _stack_lock = threading.Lock()
 
@@ -48,26 +52,35 @@ MAX_FLOW_DEPTH = 1000
 # it may over-count, which only matters beyond MAX_FLOW_DEPTH).
 _FLOW_TOKENS = re.compile(r""""(?:[^"\\\n]|\\.)*"|'(?:[^'\n]|'')*'|(?<!\S)#[^\n]*|[\[\]{}]""")
 
+_NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
+_BRACKET_STEP = {ord("["): 1, ord("{"): 1, ord("]"): -1, ord("}"): -1}
+
 _FastLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
-# Tag resolution is a pure function of (kind, value, implicit) when no path
-# resolvers are registered (the safe loader has none), so it is memoised: the
-# composer calls it once per scalar and this is the hottest Python code it runs.
-_resolve_memo: dict[tuple[Any, str, Any], str] = {}
-_base_resolve = _FastLoader.resolve
+# Tag resolution is a pure function of (kind, value, implicit) while no path resolvers
+# are registered (the safe loader has none), so it is memoised, in C (lru_cache): the
+# composer calls it once per node and it was the hottest Python code in a load.
+_PURE_RESOLUTION = not yaml.resolver.Resolver.yaml_path_resolvers
+_resolver = yaml.resolver.Resolver()
+_base_resolve = yaml.resolver.Resolver.resolve
+
+
+@functools.lru_cache(maxsize=65536)
+def _resolve(kind: type, value: str | None, implicit: Any) -> str:
+    return _base_resolve(_resolver, kind, value, implicit)
 
 
 class _Loader(_FastLoader):  # type: ignore[misc,valid-type]
-    """The safe loader with memoised tag resolution (same tags, less time)."""
+    """The safe loader, minus per-node Python calls that cannot change the result."""
 
-    def resolve(self, kind: type, value: str, implicit: Any) -> str:
-        key = (kind, value, implicit)
-        tag = _resolve_memo.get(key)
-        if tag is None:
-            tag = _base_resolve(self, kind, value, implicit)
-            if len(_resolve_memo) < 65536:
-                _resolve_memo[key] = tag
-        return tag
+    def __init__(self, stream: str) -> None:
+        super().__init__(stream)
+        if _PURE_RESOLUTION:
+            self.resolve = _resolve
+            # Without path resolvers, descending and ascending are no-ops; any C callable
+            # taking the same arguments skips a Python frame per node.
+            self.descend_resolver = slice
+            self.ascend_resolver = tuple
 
 
 _constructor = SafeConstructor()
@@ -116,7 +129,15 @@ def _syntax_diagnostic(exc: yaml.YAMLError, text: str, file: str) -> Diagnostic:
 def _too_deep(text: str, file: str) -> Diagnostic | None:
     """Report flow nesting deeper than :data:`MAX_FLOW_DEPTH`, before composing."""
     if text.count("[") + text.count("{") <= MAX_FLOW_DEPTH:
-        return None  # the quick bound: cannot nest deeper than there are openers
+        return None  # cannot nest deeper than there are openers
+    # Next bound, at C speed: the largest rise of the running bracket balance. Brackets
+    # inside quotes or comments are counted too (a closer there could hide depth, which
+    # only a deliberately crafted file would do: the cost then is time, not a crash).
+    # (UTF-8 multi-byte sequences never contain ASCII bytes.)
+    brackets = text.encode("utf-8", "surrogatepass").translate(None, _NOT_BRACKETS)
+    balance = list(accumulate(map(_BRACKET_STEP.__getitem__, brackets)))
+    if max(balance) - min(0, *balance) <= MAX_FLOW_DEPTH:
+        return None
     depth = 0
     for match in _FLOW_TOKENS.finditer(text):
         char = match.group()
@@ -181,7 +202,7 @@ def compose(text: str, file: str) -> tuple[Node | None, list[Diagnostic]]:
     if deep is not None:
         return None, [deep]
     try:
-        if len(text) <= _INLINE_COMPOSE_CHARS:
+        if max(map(len, text.split("\n"))) < _INLINE_MAX_LINE:
             root = _compose_with(_Loader, text)
         else:
             root = _compose_big(text)
@@ -325,29 +346,36 @@ class Reader:
         if node.tag != MAP_TAG:
             self.error(node, self._tag_problem(node))
             return None
-        out: dict[str, tuple[str, Node, Node]] = {}
+        out: list[tuple[str, Node, Node]] = []
+        index: dict[str, int] = {}
         for key_node, value_node in node.value:
-            if type(key_node) is ScalarNode and key_node.tag == STR_TAG:
+            if key_node.tag == STR_TAG and type(key_node) is ScalarNode:
                 key = key_node.value
-            elif key_node.tag == MERGE_TAG:
-                self.error(key_node, "YAML merge keys (<<) are not supported")
-                continue
             else:
-                if type(key_node) is ScalarNode:
-                    ok, value = self.scalar(key_node)
-                    if not ok:
-                        continue
-                    what = f"{type(value).__name__} {key_node.value!r}"
-                else:
-                    what = _KIND_WORDS.get(type(key_node), "a node")
-                self.error(key_node, f"a mapping key must be a string, got {what}")
+                self._bad_key(key_node)
                 continue
-            first = out.get(key)
-            if first is not None:
-                line = first[1].start_mark.line + 1
+            at = index.get(key)
+            if at is None:
+                index[key] = len(out)
+                out.append((key, key_node, value_node))
+            else:
+                line = out[at][1].start_mark.line + 1
                 self.error(key_node, f"duplicate key '{key}' (first defined on line {line})")
-            out[key] = (key, key_node, value_node)
-        return list(out.values())
+                out[at] = (key, key_node, value_node)
+        return out
+
+    def _bad_key(self, key_node: Node) -> None:
+        if key_node.tag == MERGE_TAG:
+            self.error(key_node, "YAML merge keys (<<) are not supported")
+            return
+        if type(key_node) is ScalarNode:
+            ok, value = self.scalar(key_node)
+            if not ok:
+                return
+            what = f"{type(value).__name__} {key_node.value!r}"
+        else:
+            what = _KIND_WORDS.get(type(key_node), "a node")
+        self.error(key_node, f"a mapping key must be a string, got {what}")
 
     def sequence(self, node: SequenceNode) -> list[Node] | None:
         """Return a sequence's items, or None (reported) when it carries a bad tag."""

@@ -107,11 +107,17 @@ def test_read_errors(tmp_path: Path) -> None:
     assert problems == [] and root is not None
 
 
-def test_big_text_uses_the_same_composer() -> None:
-    text = "items:\n" + "".join(f"  - {{name: n{i}, value: {i}}}\n" for i in range(2000))
-    assert len(text) > yaml_source._INLINE_COMPOSE_CHARS
+def test_long_lines_use_the_same_composer_in_a_thread() -> None:
+    text = "items: [" + ", ".join(f"{{name: n{i}, value: {i}}}" for i in range(2000)) + "]\n"
+    assert len(text) > yaml_source._INLINE_MAX_LINE
     value, problems = fast_values(text)
     assert problems == [] and value == yaml.safe_load(text)
+
+
+def test_compact_nesting_on_one_long_line() -> None:
+    text = "a:\n" + "- " * 100_000 + "x\n"
+    root, problems = yaml_source.compose(text, "t.yaml")
+    assert problems == [] and root is not None
 
 
 def test_multiple_documents() -> None:

@@ -1,0 +1,328 @@
+"""Benchmark the tree engine: load + validate + build, against py_trees by hand.
+
+For each size, one synthetic mission-like tree (sequences and selectors with
+memory, decorators, leaves with and without params, ids and references) is
+written as YAML and also as straight-line py_trees code (what a person would
+write by hand, generated and compiled once). Rows, median of the runs:
+
+* ``py_trees by hand``: the generated code builds the tree;
+* ``load_tree``: YAML file -> validated TreeSpec -> behaviours (the engine);
+* ``  compose / validate / build``: the engine's stages on their own;
+* ``naive: safe_load+jsonschema+build``: libyaml ``yaml.load`` to dicts,
+  ``jsonschema`` on the generated schema, then a direct build from the dicts;
+* ``tick (loaded / by hand)``: one tick of the whole tree, and the ratio.
+
+Run::
+
+    .venv/bin/python benchmarks/bench_engine.py                 # 1,000 and 10,000 nodes
+    .venv/bin/python benchmarks/bench_engine.py --sizes 1000 --runs 50
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import statistics
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import py_trees
+import yaml
+
+from sar_framework.engine import yaml_source
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.build import build
+from sar_framework.engine.plugin import Param, leaf
+from sar_framework.engine.registry import Registry
+from sar_framework.engine.schema import tree_schema
+from sar_framework.engine.validate import validate_file
+
+Status = py_trees.common.Status
+Behaviour = py_trees.behaviour.Behaviour
+
+# Targets from the issue (milliseconds, median) for load + validate + build.
+TARGETS_MS = {1000: 15.0, 10000: 150.0}
+
+
+@leaf()
+class BenchTick(Behaviour):
+    """SUCCESS, every tick."""
+
+    def update(self) -> Status:
+        """Succeed."""
+        return Status.SUCCESS
+
+
+@leaf(params=[Param("count", int, default=1, minimum=0), Param("label", str, default="x")])
+class BenchParam(Behaviour):
+    """A leaf with params."""
+
+    def __init__(self, name: str, *, count: int, label: str) -> None:
+        super().__init__(name)
+        self.count = count
+        self.label = label
+
+    def update(self) -> Status:
+        """Succeed."""
+        return Status.SUCCESS
+
+
+@leaf(params=[Param("source", ref="BenchParam")])
+class BenchRef(Behaviour):
+    """A leaf holding another leaf."""
+
+    def __init__(self, name: str, *, source: Behaviour) -> None:
+        super().__init__(name)
+        self.source = source
+
+    def update(self) -> Status:
+        """Succeed."""
+        return Status.SUCCESS
+
+
+def bench_registry() -> Registry:
+    """The three benchmark plugins, nothing else."""
+    registry = Registry()
+    for cls in (BenchTick, BenchParam, BenchRef):
+        registry.add(cls, "benchmarks/bench_engine.py")
+    return registry
+
+
+# -- the synthetic tree ---------------------------------------------------------------------
+# A plan node: (kind, attrs, children). Leaves: kind is the plugin name.
+Plan = tuple[str, dict[str, Any], list[Any]]
+
+
+def make_plan(size: int) -> Plan:
+    """A tree of exactly ``size`` nodes: groups of 9 under composites, some decorated."""
+    count = 1
+    groups: list[Plan] = []
+    serial = 0
+    while count < size:
+        serial += 1
+        kind = "sequence" if serial % 2 else "selector"
+        group: Plan = (kind, {"name": f"Group{serial}", "memory": serial % 2 == 1}, [])
+        count += 1
+        for i in range(9):
+            if count >= size:
+                break
+            if i == 0:
+                leaf_plan: Plan = ("BenchParam", {"id": f"p{serial}", "count": i}, [])
+            elif i == 1:
+                leaf_plan = ("BenchRef", {"source": f"p{serial}"}, [])
+            elif i == 2 and count + 1 < size:
+                leaf_plan = ("retry", {"num_failures": 3}, [("BenchTick", {}, [])])
+                count += 1
+            elif i == 3:
+                leaf_plan = ("BenchTick", {"name": f"Check{serial}?"}, [])
+            else:
+                leaf_plan = ("BenchTick", {}, [])
+            group[2].append(leaf_plan)
+            count += 1
+        groups.append(group)
+    return ("sequence", {"name": "Root", "memory": True}, groups)
+
+
+def plan_yaml(plan: Plan) -> str:
+    """The plan as a tree file, in the block style of trees/*.yaml."""
+    lines = ["format: 1", "name: bench", "root:"]
+
+    def flow(attrs: dict[str, Any]) -> str:
+        return "{" + ", ".join(f"{k}: {v!r}" if isinstance(v, str) and "?" in v else f"{k}: {v}"
+                               for k, v in attrs.items()) + "}"
+
+    def emit(node: Plan, indent: str, prefix: str) -> None:
+        kind, attrs, children = node
+        if kind in ("sequence", "selector"):
+            lines.append(f"{indent}{prefix}{kind}:")
+            inner = indent + " " * (len(prefix) + 2)
+            lines.append(f"{inner}name: {attrs['name']}")
+            lines.append(f"{inner}memory: {str(attrs['memory']).lower()}")
+            lines.append(f"{inner}children:")
+            for child in children:
+                emit(child, inner + "  ", "- ")
+        elif kind == "retry":
+            child_kind = children[0][0]
+            lines.append(f"{indent}{prefix}retry: {{num_failures: {attrs['num_failures']}, "
+                         f"child: {{{child_kind}: {{}}}}}}")
+        else:
+            lines.append(f"{indent}{prefix}{kind}: {flow(attrs)}")
+
+    emit(plan, "  ", "")
+    return "\n".join(lines) + "\n"
+
+
+def plan_code(plan: Plan) -> Callable[[], Behaviour]:
+    """Straight-line py_trees code for the plan, as a person would write it, compiled."""
+    body: list[str] = []
+    counter = [0]
+    ids: dict[str, str] = {}
+
+    def emit(node: Plan) -> str:
+        kind, attrs, children = node
+        counter[0] += 1
+        var = f"n{counter[0]}"
+        if kind in ("sequence", "selector"):
+            kids = [emit(c) for c in children]
+            cls = "Sequence" if kind == "sequence" else "Selector"
+            body.append(f"    {var} = composites.{cls}({attrs['name']!r}, memory="
+                        f"{attrs['memory']}, children=[{', '.join(kids)}])")
+        elif kind == "retry":
+            kid = emit(children[0])
+            body.append(f"    {var} = decorators.Retry(name='Retry', child={kid}, "
+                        f"num_failures={attrs['num_failures']})")
+        elif kind == "BenchParam":
+            ids[attrs["id"]] = var
+            body.append(f"    {var} = BenchParam(name='BenchParam', count={attrs['count']}, "
+                        "label='x')")
+        elif kind == "BenchRef":
+            body.append(f"    {var} = BenchRef(name='BenchRef', source={ids[attrs['source']]})")
+        else:
+            body.append(f"    {var} = BenchTick(name={attrs.get('name', 'BenchTick')!r})")
+        return var
+
+    root = emit(plan)
+    source = "def build():\n" + "\n".join(body) + f"\n    return {root}\n"
+    namespace: dict[str, Any] = {
+        "composites": py_trees.composites, "decorators": py_trees.decorators,
+        "BenchTick": BenchTick, "BenchParam": BenchParam, "BenchRef": BenchRef,
+    }
+    exec(compile(source, "<hand-built tree>", "exec"), namespace)  # generated code only
+    built: Callable[[], Behaviour] = namespace["build"]
+    return built
+
+
+# -- the naive pipeline ---------------------------------------------------------------------
+def naive_load(path: Path, validator: Any) -> Behaviour:
+    """Read with libyaml, check with jsonschema, build directly: no positions, no diagnostics."""
+    document = yaml.load(path.read_text(), Loader=yaml.CSafeLoader)
+    validator.validate(document)
+    by_id: dict[str, Behaviour] = {}
+    pending: list[tuple[Behaviour, str]] = []
+    classes = {"BenchTick": BenchTick, "BenchParam": BenchParam, "BenchRef": BenchRef}
+
+    def make(node: dict[str, Any]) -> Behaviour:
+        ((kind, attrs),) = node.items()
+        if kind in ("sequence", "selector"):
+            cls = py_trees.composites.Sequence if kind == "sequence" else \
+                py_trees.composites.Selector
+            return cls(attrs["name"], memory=attrs["memory"],
+                       children=[make(c) for c in attrs["children"]])
+        if kind == "retry":
+            return py_trees.decorators.Retry(name="Retry", child=make(attrs["child"]),
+                                             num_failures=attrs["num_failures"])
+        params = {k: v for k, v in attrs.items() if k not in ("name", "id")}
+        name = attrs.get("name", kind)
+        if kind == "BenchRef":
+            behaviour = BenchRef(name=name, source=None)  # type: ignore[arg-type]
+            pending.append((behaviour, params["source"]))
+        elif kind == "BenchParam":
+            behaviour = BenchParam(name=name, count=params.get("count", 1),
+                                   label=params.get("label", "x"))
+        else:
+            behaviour = classes[kind](name=name)
+        if "id" in attrs:
+            by_id[attrs["id"]] = behaviour
+        return behaviour
+
+    root = make(document["root"])
+    for behaviour, ident in pending:
+        behaviour.source = by_id[ident]  # type: ignore[attr-defined]
+    return root
+
+
+# -- measuring ------------------------------------------------------------------------------
+def median_ms(fn: Callable[[], Any], runs: int, warmup: int = 3) -> float:
+    """Median wall time of ``fn`` in milliseconds (garbage collected between runs)."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(runs):
+        gc.collect()
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times) * 1000.0
+
+
+def tick_ratio(loaded: Behaviour, by_hand: Behaviour, rounds: int) -> tuple[float, float]:
+    """Median per-tick time (ms) of two trees, interleaved batches to share the noise."""
+    def batch(root: Behaviour) -> float:
+        start = time.perf_counter()
+        for _ in range(10):
+            root.tick_once()
+        return (time.perf_counter() - start) / 10
+
+    a, b = [], []
+    for _ in range(rounds):
+        a.append(batch(loaded))
+        b.append(batch(by_hand))
+    return statistics.median(a) * 1000.0, statistics.median(b) * 1000.0
+
+
+def run(sizes: list[int], runs: int) -> None:
+    """Print the benchmark table."""
+    registry = bench_registry()
+    validator = jsonschema.Draft202012Validator(tree_schema(registry))
+    rows: list[tuple[str, int, str, str]] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for size in sizes:
+            plan = make_plan(size)
+            path = Path(tmp) / f"bench_{size}.yaml"
+            text = plan_yaml(plan)
+            path.write_text(text)
+            by_hand = plan_code(plan)
+            loaded = load_tree(path, registry=registry)
+            nodes = sum(1 for _ in loaded.root.iterate())
+            assert nodes == sum(1 for _ in by_hand().iterate()) == size, nodes
+            n = runs if size <= 1000 else max(5, runs // 3)
+            target = TARGETS_MS.get(size)
+            hand_ms = median_ms(by_hand, n)
+            load_ms = median_ms(lambda p=path: load_tree(p, registry=registry), n)
+            compose_ms = median_ms(lambda t=text: yaml_source.compose(t, "bench.yaml"), n)
+            validate_ms = median_ms(lambda p=path: validate_file(p, registry=registry), n)
+            spec = validate_file(path, registry=registry).spec
+            assert spec is not None
+            build_ms = median_ms(lambda s=spec: build(s, registry), n)
+            naive_ms = median_ms(lambda p=path: naive_load(p, validator), max(3, n // 3))
+            tick_loaded, tick_hand = tick_ratio(loaded.root, by_hand(), 30 if size <= 1000
+                                                else 10)
+            verdict = f"target <= {target:.0f} ms" if target else ""
+            if target:
+                verdict += ": ok" if load_ms <= target else ": MISSED"
+            rows += [
+                ("py_trees by hand (generated code)", size, f"{hand_ms:8.2f} ms", "baseline"),
+                ("load_tree (read+validate+build)", size, f"{load_ms:8.2f} ms", verdict),
+                ("  stage: compose (libyaml)", size, f"{compose_ms:8.2f} ms", ""),
+                ("  stage: validate -> TreeSpec", size, f"{validate_ms:8.2f} ms",
+                 "includes compose"),
+                ("  stage: build behaviours", size, f"{build_ms:8.2f} ms", ""),
+                ("naive: safe_load+jsonschema+build", size, f"{naive_ms:8.2f} ms",
+                 f"{naive_ms / load_ms:.1f}x load_tree"),
+                ("tick: loaded tree", size, f"{tick_loaded:8.3f} ms", ""),
+                ("tick: hand-built tree", size, f"{tick_hand:8.3f} ms",
+                 f"ratio {tick_loaded / tick_hand:.3f} (target <= 1.02)"),
+            ]
+    width = max(len(r[0]) for r in rows)
+    header = f"| {'row':<{width}} | nodes  | median      | note"
+    print(header)
+    print(f"|{'-' * (width + 2)}|--------|-------------|{'-' * 36}")
+    for name, size, value, note in rows:
+        print(f"| {name:<{width}} | {size:6d} | {value} | {note}")
+
+
+def main() -> None:
+    """Parse the arguments and run."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000])
+    parser.add_argument("--runs", type=int, default=30, help="timed runs per row (1,000 nodes)")
+    args = parser.parse_args()
+    run(args.sizes, args.runs)
+
+
+if __name__ == "__main__":
+    main()

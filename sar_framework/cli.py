@@ -97,8 +97,12 @@ def _run_validate(args: argparse.Namespace) -> int:
         result = validate(tree, plugin_paths=args.plugin_path)
         count = _print_diagnostics(result.diagnostics)
         errors += count
-        if result.spec is not None and not args.quiet:
+        if args.quiet or count:
+            continue
+        if result.spec is not None:
             _say(f"{tree}: ok ({len(result.spec)} nodes)")
+        elif result.library is not None:
+            _say(f"{tree}: ok (subtrees only: {result.library})")
     if errors:
         _complain(f"{errors} error{'s' if errors != 1 else ''}")
     return EXIT_ERRORS if errors else EXIT_OK

@@ -21,7 +21,7 @@ from typing import Any
 import py_trees
 
 from sar_framework.engine.build import build
-from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
 from sar_framework.engine.validate import ValidationResult, validate_file
@@ -82,6 +82,14 @@ def validate(
         return validate_file(path, registry=registry, plugin_paths=plugin_paths)
 
 
+def _no_tree(path: str | Path, result: ValidationResult) -> TreeLoadError:
+    if result.library is not None and result.ok:
+        where = SourceLocation(str(path), 1, 1)
+        return TreeLoadError([Diagnostic(where, "missing 'root': this file only defines "
+                                                "subtrees; include it from a tree file")])
+    return TreeLoadError(result.diagnostics)
+
+
 def load_spec(
     path: str | Path,
     *,
@@ -104,7 +112,7 @@ def load_spec(
     with _gc_paused():
         result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
-        raise TreeLoadError(result.diagnostics)
+        raise _no_tree(path, result)
     return result.spec
 
 
@@ -133,6 +141,6 @@ def load_tree(
     with _gc_paused():
         result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
         if result.spec is None:
-            raise TreeLoadError(result.diagnostics)
+            raise _no_tree(path, result)
         root, behaviours = build(result.spec, result.registry, context)
     return LoadedTree(root, result.spec, behaviours, result.registry)

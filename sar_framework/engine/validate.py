@@ -188,12 +188,16 @@ class ValidationResult:
         diagnostics: Every problem found (errors and warnings), sorted by location.
         structural: The subset that the JSON Schema also flags (for tests).
         registry: The registry the tree was checked against (with its local plugins).
+        library: For a file with ``subtrees`` and no ``root`` (a file meant to be
+            included): how many subtrees it and its includes define; else None. Its
+            subtrees are checked, but references inside them only where they are used.
     """
 
     spec: TreeSpec | None
     diagnostics: list[Diagnostic]
     structural: list[Diagnostic]
     registry: Registry
+    library: int | None = None
 
     @property
     def ok(self) -> bool:
@@ -846,7 +850,8 @@ def validate_file(
             node = checker.node(entry[1], 1)
             if file_path == main_path:
                 root = node
-    if main is not None and "root" not in main.entries:
+    library = main is not None and "root" not in main.entries and "subtrees" in main.entries
+    if main is not None and "root" not in main.entries and not library:
         checker.semantic_error(SourceLocation(shown, 1, 1), "missing 'root': the node the tree "
                                                             "starts from")
 
@@ -866,7 +871,8 @@ def validate_file(
             source=shown,
             plugin_paths=[_plugin_path(e, d) for e, d, _ in plugin_entries],
         )
-    return ValidationResult(spec, diagnostics, _dedupe(checker.structural), reg)
+    return ValidationResult(spec, diagnostics, _dedupe(checker.structural), reg,
+                            len(checker.subtrees) if library else None)
 
 
 def checker_subtrees(checker: _Checker, opened: _File, node: Node) -> None:

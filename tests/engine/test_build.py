@@ -258,3 +258,20 @@ def test_tree_ticks_like_hand_built(load: Callable[..., py_trees.behaviour.Behav
     root.tick_once()
     assert root.status == Status.SUCCESS
     assert [c.status for c in root.children] == [Status.FAILURE, Status.SUCCESS]
+
+
+def test_library_file_validates_but_does_not_load(tree_dir: Path, registry: Registry) -> None:
+    from sar_framework.engine.api import load_spec, validate
+
+    write(tree_dir, "lib.yaml", "format: 1\nsubtrees:\n  s: {Tick: {}}\n  t: {Fixd: {}}\n")
+    result = validate("lib.yaml", registry=registry)
+    assert [str(d) for d in result.diagnostics] == [
+        "lib.yaml:4:7: error: unknown plugin 'Fixd' (did you mean 'Fixed'?)"
+    ]
+    write(tree_dir, "lib.yaml", "format: 1\nsubtrees:\n  s: {Tick: {}}\n")
+    result = validate("lib.yaml", registry=registry)
+    assert result.ok and result.spec is None and result.library == 1
+    with pytest.raises(TreeLoadError) as info:
+        load_spec("lib.yaml", registry=registry)
+    assert str(info.value) == ("lib.yaml:1:1: error: missing 'root': this file only defines "
+                               "subtrees; include it from a tree file")

@@ -1,0 +1,21 @@
+"""Every tree file in the repository validates against the built-in plugins."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from sar_framework.engine.api import validate
+from sar_framework.engine.registry import discover
+
+from .conftest import REPO
+
+TREES = sorted((REPO / "trees").rglob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", TREES, ids=[str(p.relative_to(REPO)) for p in TREES])
+def test_repo_tree_is_valid(path: Path) -> None:
+    result = validate(path, registry=discover(entry_points=False))
+    assert [str(d) for d in result.diagnostics] == []
+    assert result.spec is not None or result.library

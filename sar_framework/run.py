@@ -634,7 +634,7 @@ class Mission:
 
     def _timeout_outcome(self) -> Outcome:
         status = self.status_document()
-        running = [uid for uid, s in (status.get("nodes") or {}).items() if s == "RUNNING"]
+        running = list(status.get("running") or [])
         names = {n.uid: n.name for n in self.spec.nodes()} if self.spec is not None else {}
         leaves = [u for u in running if not any(o != u and o.startswith(u + ".")
                                                 for o in running)]

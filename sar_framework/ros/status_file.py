@@ -136,6 +136,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         self.sim_start_s: float | None = None
         self._last_event: dict[str, tuple[int, str, str]] = {}
         self._running: set[str] = set()
+        self.running: list[str] = []
         self._tick_failures: list[dict[str, Any]] = []
         self._changed = False
         self._snapshot: tuple[Status, ...] = ()
@@ -198,6 +199,11 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
                 self._changed = True
         self._running = {u for u in self._running
                          if self._behaviours[u].status == Status.RUNNING}
+        # What runs now (a halted leaf keeps RUNNING in `nodes`, which is for colouring).
+        running = sorted(u for u, b in self._behaviours.items() if b.status == Status.RUNNING)
+        if running != self.running:
+            self.running = running
+            self._changed = True
         snapshot = tuple(b.status for b in self._behaviours.values())
         root_status = tree.root.status
         if self._completion == "terminal":
@@ -233,6 +239,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             "sim_end_s": round(self._sim_now(), 3),
             "wall_duration_s": round(time.monotonic() - self._wall_start, 3),
             "nodes": dict(self.nodes),
+            "running": list(self.running),
             "events": list(self.events),
             "failures": list(self.failures),
             "complete": self.complete,

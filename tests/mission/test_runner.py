@@ -357,6 +357,46 @@ def test_recorder_rest_detection():
         StatusRecorder("t.yaml", spec, {}, lambda: 0.0, completion="sometimes")
 
 
+def test_recorder_running_lists_only_what_runs_now():
+    """Regression: a leaf halted by its parent must not be reported as still running.
+
+    ``nodes`` keeps each node's last non-INVALID status (for the coloured tree.svg), so a
+    halted leaf stays "RUNNING" there; ``running`` is what runs after the last tick, which is
+    what a timeout message must name.
+    """
+    from sar_framework.engine.diagnostics import SourceLocation
+
+    where = SourceLocation("t.yaml", 1, 1)
+    guard_spec = NodeSpec("Guard", Category.LEAF, "Guard?", "0.0", where)
+    work_spec = NodeSpec("Work", Category.LEAF, "Work", "0.1", where)
+    root_spec = NodeSpec("selector", Category.COMPOSITE, "Root", "0", where,
+                         children=[guard_spec, work_spec])
+    spec = TreeSpec("t", "", root_spec, "t.yaml")
+    guard_verdicts = iter([py_trees.common.Status.FAILURE] + [py_trees.common.Status.RUNNING] * 3)
+
+    class Guard(py_trees.behaviour.Behaviour):
+        def update(self):
+            return next(guard_verdicts)
+
+    class Work(py_trees.behaviour.Behaviour):
+        def update(self):
+            return py_trees.common.Status.RUNNING
+
+    guard, work = Guard("Guard?"), Work("Work")
+    root = py_trees.composites.Selector("Root", memory=False, children=[guard, work])
+    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": guard, "0.1": work},
+                              lambda: 0.0)
+    tree = py_trees.trees.BehaviourTree(root)
+    tree.visitors.append(recorder)
+    tree.add_post_tick_handler(recorder.after_tick)
+    tree.tick()  # Guard fails, Work runs
+    assert recorder.document()["running"] == ["0", "0.1"]
+    tree.tick()  # Guard now runs: the reactive selector halts Work
+    document = recorder.document()
+    assert document["running"] == ["0", "0.0"]
+    assert document["nodes"]["0.1"] == "RUNNING"  # last non-INVALID status, for colouring
+
+
 @ros
 def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     """trees/search_and_rescue.yaml with the real servers and a quick fake Nav2."""

@@ -5,8 +5,9 @@ so validating or rendering a tree never needs ROS.
 
 Modules whose names start with ``_`` are shared helpers and hold no plugin:
 ``_ros_leaf`` (the ROS node and the ``_done``/``_success`` verdict latch),
-``_service_call`` (one bounded, polled service request) and ``_navigation``
-(the NavigateToPose client behind NavigateToZone and NavigateToBase).
+``_service_call`` (one bounded, polled service request), ``_service_leaf`` (the service
+leaf behind DetectSurvivor and NotifyBase) and ``_navigation`` (the NavigateToPose client
+behind NavigateToZone and NavigateToBase).
 Leaves share state by reference, never through a blackboard: IsSurvivorDetected,
 BroadcastSurvivorTF and NotifyBase name a DetectSurvivor leaf in ``detector``, and
 NotifyBase names the BroadcastSurvivorTF leaf in ``broadcaster`` to report the

@@ -8,8 +8,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
 
-from ._ros_leaf import RosLeaf
-from ._service_call import PolledServiceCall
+from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
 if TYPE_CHECKING:
     from .broadcast_survivor_tf import BroadcastSurvivorTF
@@ -26,14 +25,10 @@ if TYPE_CHECKING:
               description="Name of the sar_interfaces/srv/ReportSurvivor service."),
         Param("frame_id", str, default="map",
               description="Frame of the reported location."),
-        Param("server_timeout_s", float, default=10.0, exclusive_minimum=0.0,
-              description="Fail if the service is not ready within this many seconds."),
-        Param("response_timeout_s", float, default=10.0, exclusive_minimum=0.0,
-              description="Fail if the service has not answered this many seconds after "
-                          "the request."),
+        *SERVICE_TIMEOUT_PARAMS,
     ],
 )
-class NotifyBase(RosLeaf):
+class NotifyBase(ServiceLeaf):
     """Report the survivor to the ReportSurvivor service; SUCCESS only when acknowledged.
 
     The id is the child frame the referenced BroadcastSurvivorTF leaf allocated (its
@@ -55,37 +50,17 @@ class NotifyBase(RosLeaf):
     def __init__(self, name: str, *, detector: DetectSurvivor, broadcaster: BroadcastSurvivorTF,
                  service_name: str = "/report_survivor", frame_id: str = "map",
                  server_timeout_s: float = 10.0, response_timeout_s: float = 10.0) -> None:
-        super().__init__(name)
+        super().__init__(name, service_name=service_name, server_timeout_s=server_timeout_s,
+                         response_timeout_s=response_timeout_s)
         self.detector = detector
         self.broadcaster = broadcaster
-        self.service_name = service_name
         self.frame_id = frame_id
-        self.server_timeout_s = server_timeout_s
-        self.response_timeout_s = response_timeout_s
-        self._call: PolledServiceCall | None = None
-        self._srv_type: Any = None
         self._survivor_id: str | None = None
         self._pose: tuple[float, float] | None = None
 
-    def setup(self, **kwargs: Any) -> None:
-        """Take the ROS node and create the service client.
-
-        Args:
-            **kwargs: Must hold ``node``.
-        """
-        super().setup(**kwargs)
-        from sar_interfaces.srv import ReportSurvivor
-
-        self._srv_type = ReportSurvivor
-        self._call = PolledServiceCall(
-            self.node, ReportSurvivor, self.service_name,
-            server_timeout_s=self.server_timeout_s, response_timeout_s=self.response_timeout_s,
-        )
-
     def initialise(self) -> None:
         """Reset the latch; fix the survivor id and location this activation reports."""
-        self._reset_latch()
-        self._service().start()
+        super().initialise()
         self._survivor_id = self.broadcaster.survivor_id()
         self._pose = self.detector.survivor_pose() if self.detector.was_found() else None
         if self._pose is None:
@@ -93,42 +68,10 @@ class NotifyBase(RosLeaf):
         elif self._survivor_id is None:
             self._latch(False, "no survivor frame broadcast yet: nothing to report")
 
-    def update(self) -> Status:
-        """Poll the report.
+    def _srv(self) -> Any:
+        from sar_interfaces.srv import ReportSurvivor
 
-        Returns:
-            RUNNING until the answer; SUCCESS if acknowledged; FAILURE otherwise.
-        """
-        if self._done:
-            return self._verdict()
-        result = self._service().poll(self._request)
-        if result is None:
-            self.feedback_message = (f"waiting for {self.service_name}"
-                                     if self._service().waiting_for_server()
-                                     else f"reported {self._survivor_id}, awaiting acknowledgement")
-            return Status.RUNNING
-        if result.error is not None:
-            return self._latch(False, result.error)
-        assert self._pose is not None
-        where = f"{self._survivor_id} at ({self._pose[0]:.2f}, {self._pose[1]:.2f})"
-        if not result.response.acknowledged:
-            return self._latch(False, f"report of {where} not acknowledged")
-        return self._latch(True, f"Reported {where}: acknowledged.")
-
-    def terminate(self, new_status: Status) -> None:
-        """Drop a report still waiting for its answer when halted.
-
-        Args:
-            new_status: The status the leaf is moving to.
-        """
-        if not self._done and self._call is not None:
-            self._call.abandon()
-
-    def shutdown(self) -> None:
-        """Destroy the service client."""
-        if self._call is not None:
-            self._call.destroy()
-            self._call = None
+        return ReportSurvivor
 
     def _request(self) -> Any:
         assert self._pose is not None and self._survivor_id is not None
@@ -139,7 +82,12 @@ class NotifyBase(RosLeaf):
         request.location.point.x, request.location.point.y = self._pose
         return request
 
-    def _service(self) -> PolledServiceCall:
-        if self._call is None:
-            raise RuntimeError(f"NotifyBase '{self.name}' used before setup(node=...)")
-        return self._call
+    def _awaiting(self) -> str:
+        return f"reported {self._survivor_id}, awaiting acknowledgement"
+
+    def _verdict_on(self, response: Any) -> Status:
+        assert self._pose is not None
+        where = f"{self._survivor_id} at ({self._pose[0]:.2f}, {self._pose[1]:.2f})"
+        if not response.acknowledged:
+            return self._latch(False, f"report of {where} not acknowledged")
+        return self._latch(True, f"Reported {where}: acknowledged.")

@@ -26,6 +26,7 @@ Behaviour = py_trees.behaviour.Behaviour
 _Builder = Callable[[NodeSpec, list[Behaviour]], Behaviour]
 
 
+_LEAF_CATEGORY = Category.LEAF
 _Sequence = py_trees.composites.Sequence
 _Selector = py_trees.composites.Selector
 _Parallel = py_trees.composites.Parallel
@@ -112,62 +113,68 @@ def build(
         TreeLoadError: Context objects are missing (one diagnostic per leaf and key),
             or plugin constructors raised.
     """
-    ctx = context if context is not None else {}
-    plans: dict[str, _LeafPlan] = {}
-    built: dict[str, Behaviour] = {}
-    problems: list[Diagnostic] = []
-    builders = _BUILDERS
-    leaf_category = Category.LEAF
+    builder = _Builder(registry, context if context is not None else {})
+    root = builder.make(spec.root)
+    if builder.problems or root is None:
+        raise TreeLoadError(builder.problems)
+    return root, builder.built
 
-    def leaf(node: NodeSpec) -> Behaviour | None:
-        done = built.get(node.uid)
+
+class _Builder:
+    """One build: behaviours made so far, per-plugin plans, problems."""
+
+    def __init__(self, registry: Registry, context: Mapping[str, Any]) -> None:
+        self.registry = registry
+        self.context = context
+        self.plans: dict[str, _LeafPlan] = {}
+        self.built: dict[str, Behaviour] = {}
+        self.problems: list[Diagnostic] = []
+
+    def leaf(self, node: NodeSpec) -> Behaviour | None:
+        done = self.built.get(node.uid)
         if done is not None:
             return done
-        plan = plans.get(node.kind)
+        plan = self.plans.get(node.kind)
         if plan is None:
-            plugin = registry.get(node.kind)
+            plugin = self.registry.get(node.kind)
             if plugin is None:  # validation guarantees it; a stale registry does not
-                problems.append(Diagnostic(node.location, f"unknown plugin '{node.kind}'"))
+                self.problems.append(Diagnostic(node.location, f"unknown plugin '{node.kind}'"))
                 return None
-            plan = plans[node.kind] = _LeafPlan(plugin)
+            plan = self.plans[node.kind] = _LeafPlan(plugin)
         kwargs = node.attrs
         if plan.refs or plan.context:
             kwargs = dict(kwargs)
             for name in plan.refs:
                 target = node.refs.get(name)
                 if target is not None:
-                    kwargs[name] = leaf(target)
+                    kwargs[name] = self.leaf(target)
             for key in plan.context:
-                if key in ctx:
-                    kwargs[key] = ctx[key]
+                if key in self.context:
+                    kwargs[key] = self.context[key]
                 else:
-                    problems.append(_missing_context(node, plan, key))
-            if problems:
+                    self.problems.append(_missing_context(node, plan, key))
+            if self.problems:
                 return None
         try:
             behaviour = plan.cls(name=node.name, **kwargs)
         except Exception as exc:
-            problems.append(
+            self.problems.append(
                 Diagnostic(
                     node.location,
                     f"cannot construct {node.kind} '{node.name}': {type(exc).__name__}: {exc}",
                 )
             )
             return None
-        built[node.uid] = behaviour
+        self.built[node.uid] = behaviour
         return behaviour
 
-    def make(node: NodeSpec) -> Behaviour | None:
-        if node.category is leaf_category:
-            return leaf(node)
+    def make(self, node: NodeSpec) -> Behaviour | None:
+        if node.category is _LEAF_CATEGORY:
+            return self.leaf(node)
+        make = self.make
         children = [make(child) for child in node.children]
-        if problems:
+        if self.problems:
             return None
-        behaviour = builders[node.kind](node, children)  # type: ignore[arg-type]
-        built[node.uid] = behaviour
+        behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
+        self.built[node.uid] = behaviour
         return behaviour
-
-    root = make(spec.root)
-    if problems or root is None:
-        raise TreeLoadError(problems)
-    return root, built

@@ -231,6 +231,8 @@ class _Checker:
         self.incomplete: set[int] = set()  # id() of specs that lost a child to an error
         self.reader: yaml_source.Reader = yaml_source.Reader("", self.structural)
         self.file = ""
+        self.files: dict[Path, _File | None] = {}
+        self.plugin_entries: list[tuple[str, Path, SourceLocation]] = []
 
     # -- messages -----------------------------------------------------------------------
     def error(self, node: Node, message: str) -> None:
@@ -269,6 +271,35 @@ class _Checker:
         if "format" not in result.entries:
             reader.error(root, "missing 'format: 1' (the tree format version)")
         return result
+
+    def visit(self, file_path: Path, file_shown: str, stack: tuple[Path, ...]) -> None:
+        """Open a file, note its plugin entries and visit its includes (depth first)."""
+        opened = self.open(file_path, file_shown)
+        self.files[file_path] = opened
+        if opened is None:
+            return
+        for entry, node in self.string_list(opened, "plugins"):
+            where = yaml_source.location(node, file_shown)
+            self.plugin_entries.append((entry, file_path.parent, where))
+        for entry, node in self.string_list(opened, "include"):
+            target = Path(entry).expanduser()
+            target = (file_path.parent / target) if not target.is_absolute() else target
+            target = Path(_normalise(target))
+            where = yaml_source.location(node, file_shown)
+            if target in stack or target == file_path:
+                loop = stack[stack.index(target) :] if target in stack else ()
+                names = [display_path(p) for p in (*loop, file_path)]
+                cycle = " -> ".join((*names, display_path(target)))
+                self.semantic_error(where, f"include cycle: {cycle}")
+                continue
+            if target in self.files:
+                continue
+            if not target.is_file():
+                what = "is not a file" if target.exists() else "does not exist"
+                self.semantic_error(where, f"included file '{entry}' {what}")
+                self.files[target] = None
+                continue
+            self.visit(target, display_path(target), (*stack, file_path))
 
     def string_list(self, file: _File, key: str) -> list[tuple[str, Node]]:
         """Check a top-level list of strings (plugins, include) and return its entries."""
@@ -784,38 +815,10 @@ def validate_file(
     checker = _Checker(base)
 
     # 1. Read the main file and, transitively, its includes (the top level only).
-    files: dict[Path, _File] = {}
-    plugin_entries: list[tuple[str, Path, SourceLocation]] = []
-
-    def visit(file_path: Path, file_shown: str, stack: tuple[Path, ...]) -> None:
-        opened = checker.open(file_path, file_shown)
-        files[file_path] = opened  # type: ignore[assignment]
-        if opened is None:
-            return
-        for entry, node in checker.string_list(opened, "plugins"):
-            plugin_entries.append((entry, file_path.parent, yaml_source.location(node, file_shown)))
-        for entry, node in checker.string_list(opened, "include"):
-            target = Path(entry).expanduser()
-            target = (file_path.parent / target) if not target.is_absolute() else target
-            target = Path(_normalise(target))
-            where = yaml_source.location(node, file_shown)
-            if target in stack or target == file_path:
-                loop = stack[stack.index(target) :] if target in stack else ()
-                names = [display_path(p) for p in (*loop, file_path)]
-                cycle = " -> ".join((*names, display_path(target)))
-                checker.semantic_error(where, f"include cycle: {cycle}")
-                continue
-            if target in files:
-                continue
-            if not target.is_file():
-                what = "is not a file" if target.exists() else "does not exist"
-                checker.semantic_error(where, f"included file '{entry}' {what}")
-                files[target] = None  # type: ignore[assignment]
-                continue
-            visit(target, display_path(target), (*stack, file_path))
-
     main_path = Path(_normalise(main_path))
-    visit(main_path, shown, ())
+    checker.visit(main_path, shown, ())
+    files = checker.files
+    plugin_entries = checker.plugin_entries
 
     # 2. The registry: built-ins and entry points, plus the local plugins named.
     if plugin_paths or plugin_entries:

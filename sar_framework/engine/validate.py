@@ -431,12 +431,18 @@ class _Checker:
                 self.ref_kinds.add(plugin.name)
         return decl
 
-    def node(self, y: Node, depth: int) -> NodeSpec | None:
+    def node(
+        self, y: Node, depth: int, uid: str = "", scope: _Scope | None = None
+    ) -> NodeSpec | None:
         """Check one node and everything below it; return its spec or None.
 
         A node with problems in its own attributes still yields a (partial) spec, so
         the semantic checks below it run in the same pass; any structural error keeps
         the tree from loading. This is the hot loop of a load, written for speed.
+
+        In the main tree (``scope`` given) the walk also assigns uids, collects ids and
+        references, and inserts subtree copies; a subtree definition is walked without
+        a scope, once, and each copy is expanded where it is used.
         """
         if type(y) is not MappingNode:
             self.not_a_node(y)
@@ -459,7 +465,10 @@ class _Checker:
             self.semantic_error(where, f"the tree is nested deeper than {MAX_DEPTH} levels")
             return None
         if key == SUBTREE:
-            return self.subtree_ref(value_node, where)
+            placeholder = self.subtree_ref(value_node, where)
+            if placeholder is None or scope is None:
+                return placeholder
+            return self.expand(placeholder, uid, scope, (), depth)
         decl = _KIND_DECLS.get(key) or self.plugin_decls.get(key)
         if decl is None:
             plugin = self.registry.get(key)
@@ -500,15 +509,17 @@ class _Checker:
                     continue
                 if not items:
                     self.error(node, f"{key} has no children (a composite needs at least one)")
-                for item in items:
-                    child = self.node(item, depth + 1)
+                for index, item in enumerate(items):
+                    child = self.node(
+                        item, depth + 1, f"{uid}.{index}" if scope is not None else "", scope
+                    )
                     if child is None:
                         complete = False
                     else:
                         children.append(child)
             elif kind is _NODE:
                 values[name] = True
-                child = self.node(node, depth + 1)
+                child = self.node(node, depth + 1, uid + ".0" if scope is not None else "", scope)
                 if child is None:
                     complete = False
                 else:
@@ -542,8 +553,13 @@ class _Checker:
         if plugin is not None:
             ident = values.pop("id", None)
             attrs = {**decl.defaults, **values} if decl.defaults else values
-            spec = NodeSpec(key, _LEAF, key if name is None else name, "", where, attrs,
+            spec = NodeSpec(key, _LEAF, key if name is None else name, uid, where, attrs,
                             children, ident)
+            if scope is not None:
+                if ident is not None:
+                    self.add_id(spec, scope)
+                if key in self.ref_kinds:
+                    self.pending_refs.append((spec, scope))
         else:
             kind_decl = decl.kind
             assert kind_decl is not None
@@ -551,8 +567,15 @@ class _Checker:
             values.pop("child", None)
             attrs = {**decl.defaults, **values} if decl.defaults else values
             spec = NodeSpec(key, kind_decl.category,
-                            kind_decl.class_name if name is None else name, "", where, attrs,
+                            kind_decl.class_name if name is None else name, uid, where, attrs,
                             children)
+            if (
+                scope is not None
+                and complete
+                and key == "parallel"
+                and attrs.get("selected") is not None
+            ):
+                self.check_selected(spec)
         if not complete:
             self.incomplete.add(id(spec))
         return spec
@@ -680,12 +703,7 @@ class _Checker:
             return self.expand(copy, uid, _Scope(scope), (*chain, name), depth)
         node.uid = uid
         if node.id is not None:
-            first = scope.ids.get(node.id)
-            if first is not None:
-                self.semantic_error(node.location,
-                                    f"duplicate id '{node.id}' (first used at {first.location})")
-            else:
-                scope.ids[node.id] = node
+            self.add_id(node, scope)
         if node.category is _LEAF:
             if node.kind in self.ref_kinds:
                 self.pending_refs.append((node, scope))
@@ -705,6 +723,15 @@ class _Checker:
         ):
             self.check_selected(node)
         return node
+
+    def add_id(self, node: NodeSpec, scope: _Scope) -> None:
+        """Record a leaf's id in its scope; report a duplicate."""
+        first = scope.ids.get(node.id)  # type: ignore[arg-type]
+        if first is not None:
+            self.semantic_error(node.location,
+                                f"duplicate id '{node.id}' (first used at {first.location})")
+        else:
+            scope.ids[node.id] = node  # type: ignore[index]
 
     def check_selected(self, node: NodeSpec) -> None:
         names = [c.name for c in node.children]
@@ -832,9 +859,9 @@ def validate_file(
         reg = base
     checker.registry = reg
 
-    # 3. Walk every file's subtrees and the main root.
+    # 3. Walk every file's subtrees (definitions, checked once), then the roots: the
+    #    main root's walk also inserts subtree copies, assigns uids and collects ids.
     main = files.get(main_path)
-    root: NodeSpec | None = None
     tree_name: str | None = None
     description = ""
     for file_path, opened in files.items():
@@ -843,26 +870,28 @@ def validate_file(
         name, text = checker.top_level(opened)
         if file_path == main_path:
             tree_name, description = name, text
-        checker.reader, checker.file = opened.reader, opened.shown
         entry = opened.entries.get("subtrees")
         if entry is not None:
+            checker.reader, checker.file = opened.reader, opened.shown
             checker_subtrees(checker, opened, entry[1])
-        entry = opened.entries.get("root")
-        if entry is not None:
-            # An included file's root is checked too, but only the main root is used.
-            node = checker.node(entry[1], 1)
-            if file_path == main_path:
-                root = node
+    root: NodeSpec | None = None
+    for file_path, opened in files.items():
+        entry = opened.entries.get("root") if opened is not None else None
+        if entry is None:
+            continue
+        checker.reader, checker.file = opened.reader, opened.shown  # type: ignore[union-attr]
+        if file_path == main_path:
+            root = checker.node(entry[1], 1, "0", _Scope(None))
+        else:
+            checker.node(entry[1], 1)  # an included file's root: checked, not used
     library = main is not None and "root" not in main.entries and "subtrees" in main.entries
     if main is not None and "root" not in main.entries and not library:
         checker.semantic_error(SourceLocation(shown, 1, 1), "missing 'root': the node the tree "
                                                             "starts from")
 
-    # 4. Subtrees, ids, references.
+    # 4. References (every leaf that has them, in every scope).
     if root is not None:
-        expanded = checker.expand(root, "0", _Scope(None), (), 1)
         checker.resolve_refs()
-        root = expanded
 
     diagnostics = _dedupe([*reg.diagnostics, *checker.structural, *checker.semantic])
     spec = None

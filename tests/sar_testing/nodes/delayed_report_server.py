@@ -9,8 +9,8 @@ import argparse
 import time
 
 import rclpy
+from _node_main import spin_until_interrupted
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from sar_interfaces.srv import ReportSurvivor
 
@@ -36,15 +36,7 @@ def main() -> None:
     node.create_service(ReportSurvivor, "/report_survivor", answer,
                         callback_group=ReentrantCallbackGroup())
     node.get_logger().info("ready")
-    executor = MultiThreadedExecutor(num_threads=4)
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node, threads=4)
 
 
 if __name__ == "__main__":

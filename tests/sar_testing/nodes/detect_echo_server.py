@@ -5,6 +5,7 @@ logs ``ready`` once the service exists.
 """
 
 import rclpy
+from _node_main import spin_until_interrupted
 from rclpy.node import Node
 from sar_interfaces.srv import DetectSurvivor
 
@@ -24,13 +25,7 @@ def main() -> None:
 
     node.create_service(DetectSurvivor, "/detect_survivor", answer)
     node.get_logger().info("ready")
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node)
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ import math
 import time
 
 import rclpy
+from _node_main import spin_until_interrupted
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from lifecycle_msgs.msg import State
 from lifecycle_msgs.srv import GetState
@@ -65,18 +66,8 @@ def main() -> None:
     amcl.create_subscription(PoseWithCovarianceStamped, "/initialpose", on_initial_pose, 10)
     amcl.create_service(GetState, "/amcl/get_state", amcl_state)
     bt.create_service(GetState, "/bt_navigator/get_state", bt_state)
-    executor = rclpy.executors.SingleThreadedExecutor()
-    executor.add_node(amcl)
-    executor.add_node(bt)
     amcl.get_logger().info("ready")
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        amcl.destroy_node()
-        bt.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(amcl, bt)
 
 
 if __name__ == "__main__":

@@ -8,10 +8,10 @@ import argparse
 import time
 
 import rclpy
+from _node_main import spin_until_interrupted
 from nav2_msgs.action import NavigateToPose
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 
 
@@ -43,15 +43,7 @@ def main() -> None:
         callback_group=ReentrantCallbackGroup(),
     )
     node.get_logger().info("ready")
-    executor = MultiThreadedExecutor(num_threads=2)
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node, threads=2)
 
 
 if __name__ == "__main__":

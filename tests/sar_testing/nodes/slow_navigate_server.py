@@ -7,10 +7,10 @@ Accepts every goal and cancel, publishes feedback every 50 ms with a shrinking
 import time
 
 import rclpy
+from _node_main import spin_until_interrupted
 from nav2_msgs.action import NavigateToPose
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 
 
@@ -39,15 +39,7 @@ def main() -> None:
         callback_group=ReentrantCallbackGroup(),
     )
     node.get_logger().info("ready")
-    executor = MultiThreadedExecutor(num_threads=2)
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node, threads=2)
 
 
 if __name__ == "__main__":

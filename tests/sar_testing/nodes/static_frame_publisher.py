@@ -4,6 +4,7 @@ Logs ``sent`` after publishing, so a test can start a late subscriber afterwards
 """
 
 import rclpy
+from _node_main import spin_until_interrupted
 from geometry_msgs.msg import TransformStamped
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -25,13 +26,7 @@ def main() -> None:
     transform.transform.rotation.w = 1.0
     publisher.publish(TFMessage(transforms=[transform]))
     node.get_logger().info("sent")
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node)
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@ message, ``tf_static: parent->child,parent->child``, and ``listening`` once subs
 """
 
 import rclpy
+from _node_main import spin_until_interrupted
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from tf2_msgs.msg import TFMessage
@@ -23,13 +24,7 @@ def main() -> None:
 
     node.create_subscription(TFMessage, "/tf_static", echo, qos)
     node.get_logger().info("listening")
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin_until_interrupted(node)
 
 
 if __name__ == "__main__":

@@ -180,6 +180,8 @@ def _compose_big(text: str) -> Node | None:
         try:
             worker = threading.Thread(target=work, name="sar-yaml-compose")
             worker.start()
+        except RuntimeError as exc:  # no memory for such a stack
+            raise yaml.YAMLError(f"cannot parse a file this complex: {exc}") from exc
         finally:
             threading.stack_size(previous)
     worker.join()
@@ -253,7 +255,8 @@ def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
     """
     here = SourceLocation(file, 1, 1)
     try:
-        data = path.read_bytes()
+        with path.open("rb") as stream:
+            data = stream.read(MAX_FILE_BYTES + 1)  # never more, whatever the file is
     except IsADirectoryError:
         return None, [Diagnostic(here, "is a directory, not a tree file")]
     except FileNotFoundError:
@@ -261,8 +264,7 @@ def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
     except OSError as exc:
         return None, [Diagnostic(here, f"cannot read: {exc.strerror or exc}")]
     if len(data) > MAX_FILE_BYTES:
-        message = f"file too large ({len(data)} bytes, limit {MAX_FILE_BYTES})"
-        return None, [Diagnostic(here, message)]
+        return None, [Diagnostic(here, f"file too large (limit {MAX_FILE_BYTES} bytes)")]
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -11,8 +11,7 @@ SCRIPT = f"""
 import importlib, pkgutil, sys
 import sar_framework.engine as engine
 for info in pkgutil.iter_modules(engine.__path__):
-    if info.name != "render":  # drawn by another module owner; checked below anyway
-        importlib.import_module("sar_framework.engine." + info.name)
+    importlib.import_module("sar_framework.engine." + info.name)
 from sar_framework import cli
 code = cli.main(["validate", "-q", {str(FIXTURES / "search_and_rescue.yaml")!r}])
 assert code == 0, code

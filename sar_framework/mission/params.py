@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_TICK_RATE_HZ",
     "MissionParams",
+    "ParamReader",
     "ParamsError",
     "create_params_node",
     "declare_default",
@@ -96,8 +97,14 @@ def declare_default(node: Node, name: str, value: Any) -> Any:
     return node.get_parameter(name).value
 
 
-class _Reader:
-    """Reads typed values from a node and words errors with file and key."""
+class ParamReader:
+    """Base of the parameter readers: a node, and errors worded with file, key and line.
+
+    Args:
+        node: The parameter-reading node.
+        source: Names where parameters came from when a key's file is unknown.
+        locations: Where each key is set in the parameter files (adds line numbers).
+    """
 
     def __init__(self, node: Node, source: str, locations: Mapping[str, KeyLocation]) -> None:
         self._node = node
@@ -105,10 +112,42 @@ class _Reader:
         self._locations = locations
 
     def error(self, key: str, problem: str) -> ParamsError:
+        """Return the error for ``key``, at its file and line when known.
+
+        Args:
+            key: The parameter name.
+            problem: What is wrong with it.
+
+        Returns:
+            The error (to raise).
+        """
         where = self._locations.get(key)
         if where is None:
             return ParamsError(self._source, key, problem)
         return ParamsError(where.file, key, problem, where.line)
+
+    def finite_number(self, key: str, value: Any) -> float:
+        """Return ``value`` as a float if it is a finite number (not a bool).
+
+        Args:
+            key: The parameter name, for the error.
+            value: The parameter's value.
+
+        Returns:
+            The number.
+
+        Raises:
+            ParamsError: ``value`` is not a number, or not finite.
+        """
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, f"must be a number, got {value!r}")
+        if not math.isfinite(value):
+            raise self.error(key, f"must be finite, got {value!r}")
+        return float(value)
+
+
+class _Reader(ParamReader):
+    """Reads the mission's typed values from a node."""
 
     def raw(self, key: str) -> Any:
         from rclpy.parameter import Parameter
@@ -122,12 +161,7 @@ class _Reader:
         value = self.raw(key)
         if value is None:
             raise self.error(key, missing)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(key, f"must be a number, got {value!r}")
-        number = float(value)
-        if not math.isfinite(number):
-            raise self.error(key, f"must be finite, got {value!r}")
-        return number
+        return self.finite_number(key, value)
 
     def zone_order(self) -> list[str]:
         value = self.raw("zone_order")

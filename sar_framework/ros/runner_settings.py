@@ -23,15 +23,14 @@ tick the root is SUCCESS or FAILURE.
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sar_framework.mission.params import declare_default
-from sar_framework.mission.params_file import KeyLocation, ParamsError
+from sar_framework.mission.params import ParamReader, declare_default
+from sar_framework.mission.params_file import KeyLocation
 from sar_framework.ros.nav2_startup import InitialPose
 from sar_framework.ros.status_file import COMPLETION_MODES
 
@@ -80,19 +79,8 @@ def default_tree() -> str:
     return DEFAULT_TREE
 
 
-class _Typed:
+class _Typed(ParamReader):
     """Guarded declaration plus a type check that names the key in its error."""
-
-    def __init__(self, node: Node, source: str, locations: Mapping[str, KeyLocation]) -> None:
-        self._node = node
-        self._source = source
-        self._locations = locations
-
-    def error(self, key: str, problem: str) -> ParamsError:
-        where = self._locations.get(key)
-        if where is None:
-            return ParamsError(self._source, key, problem)
-        return ParamsError(where.file, key, problem, where.line)
 
     def flag(self, key: str, default: bool) -> bool:
         value = declare_default(self._node, key, default)
@@ -107,14 +95,10 @@ class _Typed:
         return value
 
     def number(self, key: str, default: float, *, positive: bool = False) -> float:
-        value = declare_default(self._node, key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(key, f"must be a number, got {value!r}")
-        if not math.isfinite(value):
-            raise self.error(key, f"must be finite, got {value!r}")
-        if positive and value <= 0:
-            raise self.error(key, f"must be > 0, got {value:g}")
-        return float(value)
+        number = self.finite_number(key, declare_default(self._node, key, default))
+        if positive and number <= 0:
+            raise self.error(key, f"must be > 0, got {number:g}")
+        return number
 
     def paths(self, key: str) -> tuple[str, ...]:
         value = declare_default(self._node, key, "")

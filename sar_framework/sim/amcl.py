@@ -13,8 +13,8 @@ from collections.abc import Callable
 
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from sar_framework.ros.qos import latched_qos  # /amcl_pose: depth 1, as Nav2's AMCL
 from sar_framework.sim.lifecycle import serve_active_state
 from sar_framework.sim.messages import pose_to_2d, time_msg
 from sar_framework.sim.world import Pose2D
@@ -24,16 +24,6 @@ SEED_WARN_DISTANCE_M = 0.5
 
 # AMCL's default initial covariance: 0.5 m standard deviation in x and y, pi/12 rad in yaw.
 _DEFAULT_COVARIANCE = {0: 0.25, 7: 0.25, 35: (math.pi / 12.0) ** 2}
-
-
-def amcl_pose_qos() -> QoSProfile:
-    """Return ``/amcl_pose``'s profile: RELIABLE, TRANSIENT_LOCAL, depth 1 (as Nav2's AMCL)."""
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
-        depth=1,
-        reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL,
-    )
 
 
 class AmclStandIn:
@@ -62,7 +52,7 @@ class AmclStandIn:
         self.seeds = 0
         serve_active_state(self.node)
         self._publisher = self.node.create_publisher(
-            PoseWithCovarianceStamped, "/amcl_pose", amcl_pose_qos()
+            PoseWithCovarianceStamped, "/amcl_pose", latched_qos()
         )
         self.node.create_subscription(
             PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10

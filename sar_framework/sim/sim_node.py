@@ -34,11 +34,11 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.exceptions import ParameterUninitializedException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
+from sar_framework.ros.qos import latched_qos
 from sar_framework.sim import messages
 from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
@@ -263,16 +263,6 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
         faults=faults,
     )
     return settings, world, grid
-
-
-def latched_qos() -> QoSProfile:
-    """RELIABLE, TRANSIENT_LOCAL, depth 1: late subscribers get the last message (``/map``)."""
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
-        depth=1,
-        reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL,
-    )
 
 
 class Simulator:

@@ -100,7 +100,7 @@ class _Decl:
     """The attributes of one node kind, indexed for the walk."""
 
     __slots__ = (
-        "attrs", "by_name", "defaults", "kind", "names", "plugin", "required",
+        "attrs", "by_name", "defaults", "kind", "names", "plain_leaf", "plugin", "required",
         "required_names", "rules",
     )
 
@@ -120,12 +120,15 @@ class _Decl:
         self.rules: tuple[Rule, ...] = kind.rules if kind is not None else ()
         self.kind = kind
         self.plugin = plugin
+        # A leaf that `Plugin: {}` fully describes (nothing required).
+        self.plain_leaf = plugin is not None and not self.required
 
 
 _NODE = AttrType.NODE
 _NODES = AttrType.NODES
 _STRING = AttrType.STRING
 _LEAF = Category.LEAF
+_new_location = yaml_source.new_location
 MAP_TAG = yaml_source.MAP_TAG
 STR_TAG = yaml_source.STR_TAG
 
@@ -460,7 +463,7 @@ class _Checker:
                 return None
             key, key_node, value_node = entries[0]
         mark = key_node.start_mark
-        where = SourceLocation(self.file, mark.line + 1, mark.column + 1)
+        where = _new_location(self.file, mark.line + 1, mark.column + 1)
         if depth > MAX_DEPTH:
             self.semantic_error(where, f"the tree is nested deeper than {MAX_DEPTH} levels")
             return None
@@ -469,7 +472,7 @@ class _Checker:
             if placeholder is None or scope is None:
                 return placeholder
             return self.expand(placeholder, uid, scope, (), depth)
-        decl = _KIND_DECLS.get(key) or self.plugin_decls.get(key)
+        decl = self.plugin_decls.get(key) or _KIND_DECLS.get(key)
         if decl is None:
             plugin = self.registry.get(key)
             if plugin is None:
@@ -481,6 +484,9 @@ class _Checker:
             hint = f" (write '{key}: {{}}')" if what == "null" else ""
             self.error(value_node, f"the attributes of '{key}' must be a mapping, got {what}{hint}")
             return None
+        if not value_node.value and decl.plain_leaf and value_node.tag == MAP_TAG:
+            # `- Plugin: {}` with no required params: the most common node of all.
+            return NodeSpec(key, _LEAF, key, uid, where, dict(decl.defaults), [], None, {}, None)
         if value_node.value:
             entries = self.reader.items(value_node)
             if entries is None:
@@ -554,7 +560,7 @@ class _Checker:
             ident = values.pop("id", None)
             attrs = {**decl.defaults, **values} if decl.defaults else values
             spec = NodeSpec(key, _LEAF, key if name is None else name, uid, where, attrs,
-                            children, ident)
+                            children, ident, {}, None)
             if scope is not None:
                 if ident is not None:
                     self.add_id(spec, scope)
@@ -568,7 +574,7 @@ class _Checker:
             attrs = {**decl.defaults, **values} if decl.defaults else values
             spec = NodeSpec(key, kind_decl.category,
                             kind_decl.class_name if name is None else name, uid, where, attrs,
-                            children)
+                            children, None, {}, None)
             if (
                 scope is not None
                 and complete

@@ -94,6 +94,31 @@ _SCALAR_BUILDERS: dict[str, Callable[[ScalarNode], Any]] = {
 _scalar_memo: dict[tuple[str, str], Any] = {}
 
 
+def new_location(
+    file: str, line: int, col: int, _new: Any = object.__new__, _cls: type = SourceLocation
+) -> SourceLocation:
+    """Create a :class:`SourceLocation` in half the time of its frozen-dataclass ``__init__``.
+
+    The result is an ordinary instance (same fields, equality, hash and order); only the
+    three ``object.__setattr__`` calls of the generated ``__init__`` are skipped, which
+    matters at one location per node of a big tree.
+
+    Args:
+        file: The file name to print.
+        line: 1-based line.
+        col: 1-based column.
+
+    Returns:
+        The location.
+    """
+    loc = _new(_cls)
+    fields = loc.__dict__
+    fields["file"] = file
+    fields["line"] = line
+    fields["col"] = col
+    return loc  # type: ignore[no-any-return]
+
+
 def location(node: Node, file: str) -> SourceLocation:
     """Return where ``node`` starts, 1-based.
 
@@ -105,7 +130,7 @@ def location(node: Node, file: str) -> SourceLocation:
         The node's location.
     """
     mark = node.start_mark
-    return SourceLocation(file, mark.line + 1, mark.column + 1)
+    return new_location(file, mark.line + 1, mark.column + 1)
 
 
 def _syntax_diagnostic(exc: yaml.YAMLError, text: str, file: str) -> Diagnostic:

@@ -112,11 +112,10 @@ class _Decl:
         self.names = [a.name for a in attrs]
         self.required = [a for a in attrs if a.required]
         self.required_names = tuple(a.name for a in self.required)
-        self.defaults = {
-            a.name: a.default
-            for a in attrs
-            if not a.required and a.name not in ("name", "id", "selected")
-        }
+        # Defaults filled into NodeSpec.attrs: params for a leaf; for a composite or
+        # decorator its settings (``selected`` has no default, ``name`` is not a setting).
+        skip = ("name", "id") if plugin is not None else ("name", "selected")
+        self.defaults = {a.name: a.default for a in attrs if not a.required and a.name not in skip}
         self.rules: tuple[Rule, ...] = kind.rules if kind is not None else ()
         self.kind = kind
         self.plugin = plugin

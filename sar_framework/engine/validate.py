@@ -126,6 +126,10 @@ class _Decl:
 _NODE = AttrType.NODE
 _NODES = AttrType.NODES
 _STRING = AttrType.STRING
+_BOOLEAN = AttrType.BOOLEAN
+# PyYAML's YAML 1.1 booleans (SafeConstructor.bool_values), for the fast path.
+_BOOLS: dict[str, bool] = dict(yaml_source.BOOL_VALUES)
+BOOL_TAG = yaml_source.BOOL_TAG
 _LEAF = Category.LEAF
 _new_location = yaml_source.new_location
 MAP_TAG = yaml_source.MAP_TAG
@@ -531,6 +535,12 @@ class _Checker:
                     children.append(child)
             elif kind is _STRING and attr.simple and node.tag == STR_TAG:
                 values[name] = node.value  # the common case, without the general checks
+            elif (
+                kind is _BOOLEAN
+                and node.tag == BOOL_TAG
+                and (flag := _BOOLS.get(node.value.lower())) is not None
+            ):
+                values[name] = flag
             else:
                 ok, value = self.check_value(attr, node, key)
                 if not ok:

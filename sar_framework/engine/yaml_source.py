@@ -32,6 +32,9 @@ STR_TAG = _TAG + "str"
 MAP_TAG = _TAG + "map"
 SEQ_TAG = _TAG + "seq"
 MERGE_TAG = _TAG + "merge"
+BOOL_TAG = _TAG + "bool"
+#: How PyYAML's safe constructor reads a scalar tagged bool (lower-cased).
+BOOL_VALUES: dict[str, bool] = dict(SafeConstructor.bool_values)
 
 #: Largest file the engine reads; a tree of 100,000 nodes stays well below.
 MAX_FILE_BYTES = 8 * 1024 * 1024
@@ -351,8 +354,8 @@ class Reader:
             return False, None
         try:
             value = builder(node)
-        except (ValueError, OverflowError, yaml.YAMLError) as exc:
-            self.error(node, f"YAML: cannot read {node.value!r} as {tag[len(_TAG):]}: {exc}")
+        except Exception:  # PyYAML raises ValueError, KeyError, AttributeError, ...
+            self.error(node, f"YAML: '{node.value}' is not a valid {tag[len(_TAG):]}")
             return False, None
         if len(_scalar_memo) < 65536:
             _scalar_memo[key] = value

@@ -145,6 +145,12 @@ CASES = {
         ["tree.yaml:2:7: error: YAML tag '!!python/object/apply:os.system' is not allowed "
          "(safe YAML only)"],
     ),
+    "bad_tagged_scalars": (
+        tree("Typed: {label: a, count: !!int x, loud: !!bool maybe, note: !!timestamp q}"),
+        ["tree.yaml:3:28: error: YAML: 'x' is not a valid int",
+         "tree.yaml:3:43: error: YAML: 'maybe' is not a valid bool",
+         "tree.yaml:3:63: error: YAML: 'q' is not a valid timestamp"],
+    ),
     "custom_tag": (
         tree("Fixed: {status: !env STATUS}"),
         ["tree.yaml:3:19: error: unsupported YAML tag '!env'"],

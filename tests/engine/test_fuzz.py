@@ -48,6 +48,7 @@ _YAML_BITS = st.sampled_from([
     ":", "-", " ", "\n", "\t", "{", "}", "[", "]", "&a ", "*a", "!!python/object:os.system ",
     "!x ", "<<: ", "'", '"', "#", "|", ">", "?", ",", "%YAML 1.1\n", "---\n", "\x00", "\ufeff",
     "\\", "é", "0x1F", ".nan", "~", "yes", "2024-01-01", "memory: true", "children: []",
+    "!!timestamp ", "!!bool ", "!!int ", "!!float ", "!!null ", "!!str ", "!!binary ", "!!set ",
 ])
 
 

@@ -297,6 +297,9 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     for command in _COMMANDS.values():
         sub_parser = sub.add_parser(command.name, help=command.help, description=command.help)
+        # `--debug` is accepted after the subcommand too (SUPPRESS keeps the global value).
+        sub_parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                                help="show tracebacks of internal errors")
         command.configure(sub_parser)
         sub_parser.set_defaults(_command=command)
     return parser

@@ -42,6 +42,10 @@ ARGUMENTS = [
                           description="Behaviour tree file the runner loads."),
     DeclareLaunchArgument("params_file", default_value="config/mission_params.yaml",
                           description="Mission parameters (zones, base station, tick rate)."),
+    DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
+                          description="Survivor table the detect server answers from."),
+    DeclareLaunchArgument("report_file", default_value="~/.ros/sar_reports.jsonl",
+                          description="JSON Lines file of acknowledged survivor reports."),
     DeclareLaunchArgument("tick_rate_hz", default_value="",
                           description="Override the tick rate of params_file (empty: keep)."),
     DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
@@ -95,10 +99,11 @@ def _launch_setup(context: object) -> list:
     runner = Node(executable=RUNNER, name="sar_mission_runner",
                   parameters=[params_file, runner_params], **common)
     detect = Node(executable=DETECT_SERVER, name="detect_survivor_server",
-                  parameters=[{"survivors_file": str(REPO / "config" / "survivors.yaml"),
+                  parameters=[{"survivors_file": _path(arg("survivors_file")),
                                "use_sim_time": use_sim_time}], **common)
     report = Node(executable=REPORT_SERVER, name="report_survivor_server",
-                  parameters=[{"use_sim_time": use_sim_time}], **common)
+                  parameters=[{"report_file": str(Path(arg("report_file")).expanduser()),
+                               "use_sim_time": use_sim_time}], **common)
     rviz = Node(package="rviz2", executable="rviz2", name="rviz2",
                 arguments=["-d", PathJoinSubstitution([FindPackageShare("nav2_bringup"), "rviz",
                                                        "nav2_default_view.rviz"])],

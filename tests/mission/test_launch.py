@@ -49,11 +49,12 @@ def test_launch_file_compiles(tmp_path):
 
 def test_declared_arguments_match_the_readme():
     declared = declared_arguments()
-    assert set(declared) == {"tree", "params_file", "tick_rate_hz", "map", "nav2_params_file",
-                             "use_sim_time", "rviz"}
+    issue_arguments = {"tree", "params_file", "tick_rate_hz", "map", "nav2_params_file",
+                       "use_sim_time", "rviz"}
+    assert set(declared) == issue_arguments | {"survivors_file", "report_file"}
     assert declared == readme_arguments()
     assert declared["use_sim_time"] == "true" and declared["rviz"] == "false"
-    for key in ("tree", "params_file", "map", "nav2_params_file"):
+    for key in ("tree", "params_file", "map", "nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
 
 

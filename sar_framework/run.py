@@ -30,6 +30,7 @@ import subprocess
 import sys
 import threading
 import time
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -731,10 +732,12 @@ def _summarise(mission: Mission, outcome: Outcome, written: Sequence[Path]) -> N
     if outcome.status == "INTERRUPTED" and mission.stop_s is not None:
         mission.say(f"sar-tree run: every process stopped {mission.stop_s:.2f} s after the "
                     "signal")
-    for failure in summary.get("failures", []):
-        if outcome.status == "SUCCESS":
-            mission.say(f"sar-tree run: note: {failure['name']} [{failure['uid']}] failed "
-                        f"on the way: {failure['message']}")
+    if outcome.status == "SUCCESS":
+        # A retried leaf can fail the same way several times: one note each, with a count.
+        counts = Counter((f["name"], f["uid"], f["message"]) for f in summary.get("failures", []))
+        for (name, uid, message), count in counts.items():
+            times = f" ({count} times)" if count > 1 else ""
+            mission.say(f"sar-tree run: note: {name} [{uid}] failed on the way{times}: {message}")
     if written:
         mission.say(f"sar-tree run: report in {mission.report_dir}/ "
                     f"({', '.join(p.name for p in written)}; child logs *.log)")

@@ -81,11 +81,20 @@ def _check_tree_paths(paths: Sequence[str]) -> None:
             raise UsageError(f"not a file: '{path}'")
 
 
+def _add_no_cache(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--no-cache", action="store_true",
+        help="validate from scratch, without the cache of validated trees "
+        "(also: SAR_TREE_CACHE=0)",
+    )
+
+
 # -- validate ---------------------------------------------------------------------------
 def _configure_validate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("trees", nargs="+", metavar="TREE", help="tree files to check")
     _add_plugin_path(parser)
     parser.add_argument("-q", "--quiet", action="store_true", help="print only problems")
+    _add_no_cache(parser)
 
 
 def _run_validate(args: argparse.Namespace) -> int:
@@ -94,7 +103,7 @@ def _run_validate(args: argparse.Namespace) -> int:
     _check_tree_paths(args.trees)
     errors = 0
     for tree in args.trees:
-        result = validate(tree, plugin_paths=args.plugin_path)
+        result = validate(tree, plugin_paths=args.plugin_path, cache=not args.no_cache)
         count = _print_diagnostics(result.diagnostics)
         errors += count
         if args.quiet or count:
@@ -120,13 +129,14 @@ def _configure_render(parser: argparse.ArgumentParser) -> None:
         "--format", choices=("ascii", "unicode"), help="print the tree as text (default: unicode)"
     )
     _add_plugin_path(parser)
+    _add_no_cache(parser)
 
 
 def _run_render(args: argparse.Namespace) -> int:
     from sar_framework.engine.api import validate
 
     _check_tree_paths([args.tree])
-    result = validate(args.tree, plugin_paths=args.plugin_path)
+    result = validate(args.tree, plugin_paths=args.plugin_path, cache=not args.no_cache)
     if result.spec is None:
         _print_diagnostics(result.diagnostics)
         return EXIT_ERRORS

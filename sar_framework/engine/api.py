@@ -20,11 +20,12 @@ from typing import Any
 
 import py_trees
 
+from sar_framework.engine import cache as tree_cache
 from sar_framework.engine.build import build
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
-from sar_framework.engine.validate import ValidationResult, validate_file
+from sar_framework.engine.validate import ValidationResult
 
 __all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
 
@@ -67,6 +68,7 @@ def validate(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    cache: bool = True,
 ) -> ValidationResult:
     """Validate a tree file without raising.
 
@@ -74,12 +76,16 @@ def validate(
         path: The tree file.
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
+        cache: Reuse the validated tree when the file, its includes and the plugins
+            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The spec (None on errors) and every diagnostic.
     """
     with _gc_paused():
-        return validate_file(path, registry=registry, plugin_paths=plugin_paths)
+        return tree_cache.validate(
+            path, registry=registry, plugin_paths=plugin_paths, cache=cache
+        )
 
 
 def _no_tree(path: str | Path, result: ValidationResult) -> TreeLoadError:
@@ -95,6 +101,7 @@ def load_spec(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    cache: bool = True,
 ) -> TreeSpec:
     """Read and validate a tree file.
 
@@ -102,6 +109,8 @@ def load_spec(
         path: The tree file.
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
+        cache: Reuse the validated tree when the file, its includes and the plugins
+            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The validated tree.
@@ -110,7 +119,9 @@ def load_spec(
         TreeLoadError: With every problem found.
     """
     with _gc_paused():
-        result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+        result = tree_cache.validate(
+            path, registry=registry, plugin_paths=plugin_paths, cache=cache
+        )
     if result.spec is None:
         raise _no_tree(path, result)
     return result.spec
@@ -122,6 +133,7 @@ def load_tree(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    cache: bool = True,
 ) -> LoadedTree:
     """Read, validate and build a tree file.
 
@@ -130,6 +142,8 @@ def load_tree(
         context: Shared objects plugins declared they need (e.g. ``zone_manager``).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
+        cache: Reuse the validated tree when the file, its includes and the plugins
+            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The built tree.
@@ -139,7 +153,9 @@ def load_tree(
             object, a plugin constructor that raised).
     """
     with _gc_paused():
-        result = validate_file(path, registry=registry, plugin_paths=plugin_paths)
+        result = tree_cache.validate(
+            path, registry=registry, plugin_paths=plugin_paths, cache=cache
+        )
         if result.spec is None:
             raise _no_tree(path, result)
         root, behaviours = build(result.spec, result.registry, context)

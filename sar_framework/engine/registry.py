@@ -121,6 +121,37 @@ class Registry:
         """Return the plugin names, sorted."""
         return sorted(self._plugins)
 
+    def fingerprint(self) -> str:
+        """Return a digest of everything validation reads from this registry.
+
+        It covers every plugin's name, declaration (params, context, description),
+        source and class, the size and modification time of each plugin's module file,
+        and the diagnostics. Two registries with one fingerprint validate a tree alike.
+
+        Returns:
+            A hex digest.
+        """
+        digest = hashlib.blake2b(digest_size=20)
+        files: set[str] = set()
+        for spec in sorted(self._plugins.values(), key=lambda p: p.name):
+            cls = spec.cls
+            declaration = (spec.name, spec.source, spec.description, spec.params, spec.context,
+                           cls.__module__, cls.__qualname__)
+            digest.update(repr(declaration).encode("utf-8", "backslashreplace"))
+            module = sys.modules.get(cls.__module__)
+            file = getattr(module, "__file__", None)
+            if file:
+                files.add(file)
+        for file in sorted(files):
+            try:
+                stat = Path(file).stat()
+                digest.update(f"\0{file}\0{stat.st_mtime_ns}\0{stat.st_size}".encode())
+            except OSError:
+                digest.update(f"\0{file}\0missing".encode())
+        for diagnostic in self.diagnostics:
+            digest.update(f"\0{diagnostic}".encode("utf-8", "backslashreplace"))
+        return digest.hexdigest()
+
     def add(self, cls: type, source: str, location: SourceLocation | None = None) -> None:
         """Register one plugin class.
 

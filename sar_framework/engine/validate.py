@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -197,6 +197,10 @@ class ValidationResult:
         library: For a file with ``subtrees`` and no ``root`` (a file meant to be
             included): how many subtrees it and its includes define; else None. Its
             subtrees are checked, but references inside them only where they are used.
+        files: Every tree file read (absolute, normalised) -> its name in diagnostics;
+            the main file first.
+        plugin_entries: The ``plugins:`` entries of those files, with the directory each
+            is relative to.
     """
 
     spec: TreeSpec | None
@@ -204,6 +208,8 @@ class ValidationResult:
     structural: list[Diagnostic]
     registry: Registry
     library: int | None = None
+    files: dict[Path, str] = field(default_factory=dict)
+    plugin_entries: list[tuple[str, Path]] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -225,8 +231,11 @@ def _dedupe(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
 class _Checker:
     """One validation run over a tree file and its includes."""
 
-    def __init__(self, registry: Registry) -> None:
+    def __init__(
+        self, registry: Registry, on_read: Callable[[Path, bytes], None] | None = None
+    ) -> None:
         self.registry = registry
+        self.on_read = on_read
         self.structural: list[Diagnostic] = []
         self.semantic: list[Diagnostic] = []
         self.plugin_decls: dict[str, _Decl] = {}
@@ -250,7 +259,7 @@ class _Checker:
     # -- files --------------------------------------------------------------------------
     def open(self, path: Path, shown: str) -> _File | None:
         """Read one file's top level; the walk of its nodes comes later."""
-        root, problems = yaml_source.read(path, shown)
+        root, problems = yaml_source.read(path, shown, self.on_read)
         self.structural.extend(problems)
         reader = yaml_source.Reader(shown, self.structural)
         result = _File(path, shown, reader)
@@ -835,11 +844,49 @@ def _scalar_or_none(reader: yaml_source.Reader, node: Node) -> Any:
     return value if ok else None
 
 
+def main_file(path: str | Path) -> Path:
+    """Return the absolute, normalised path under which a tree file is validated.
+
+    Args:
+        path: The tree file, as the user named it.
+
+    Returns:
+        The path (symbolic links are kept, ``..`` is folded).
+    """
+    return Path(_normalise(Path(path).absolute()))
+
+
+def local_registry(
+    base: Registry,
+    plugin_paths: Sequence[str | Path],
+    plugin_entries: Sequence[tuple[str, Path, SourceLocation | None]],
+) -> Registry:
+    """Return ``base`` plus the plugins a load names (``base`` itself when none).
+
+    Args:
+        base: Built-ins and entry points.
+        plugin_paths: Extra plugin paths given by the caller (relative to the cwd).
+        plugin_entries: A tree's ``plugins:`` entries: (entry, its directory, where).
+
+    Returns:
+        The registry the tree is checked against and built with.
+    """
+    if not plugin_paths and not plugin_entries:
+        return base
+    reg = base.copy()
+    for entry in plugin_paths:
+        reg.import_path(str(entry), Path.cwd())
+    for entry, directory, where in plugin_entries:
+        reg.import_path(entry, directory, location=where)
+    return extend(reg, ())
+
+
 def validate_file(
     path: str | Path,
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    on_read: Callable[[Path, bytes], None] | None = None,
 ) -> ValidationResult:
     """Validate a tree file and the files it includes.
 
@@ -847,31 +894,23 @@ def validate_file(
         path: The tree file, as the user named it (diagnostics print it that way).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules (like ``--plugin-path``).
+        on_read: Called with each tree file's path and the exact bytes read.
 
     Returns:
         The result; ``spec`` is None when there were errors.
     """
     base = registry if registry is not None else default_registry()
-    main_path = Path(path).absolute()
     shown = str(path)
-    checker = _Checker(base)
+    checker = _Checker(base, on_read)
 
     # 1. Read the main file and, transitively, its includes (the top level only).
-    main_path = Path(_normalise(main_path))
+    main_path = main_file(path)
     checker.visit(main_path, shown, ())
     files = checker.files
     plugin_entries = checker.plugin_entries
 
     # 2. The registry: built-ins and entry points, plus the local plugins named.
-    if plugin_paths or plugin_entries:
-        reg = base.copy()
-        for entry in plugin_paths:
-            reg.import_path(str(entry), Path.cwd())
-        for entry, directory, where in plugin_entries:
-            reg.import_path(entry, directory, location=where)
-        extend(reg, ())
-    else:
-        reg = base
+    reg = local_registry(base, plugin_paths, plugin_entries)
     checker.registry = reg
 
     # 3. Walk every file's subtrees (definitions, checked once), then the roots: the
@@ -918,8 +957,12 @@ def validate_file(
             source=shown,
             plugin_paths=[_plugin_path(e, d) for e, d, _ in plugin_entries],
         )
-    return ValidationResult(spec, diagnostics, _dedupe(checker.structural), reg,
-                            len(checker.subtrees) if library else None)
+    return ValidationResult(
+        spec, diagnostics, _dedupe(checker.structural), reg,
+        len(checker.subtrees) if library else None,
+        {p: f.shown for p, f in files.items() if f is not None},
+        [(entry, directory) for entry, directory, _ in plugin_entries],
+    )
 
 
 def checker_subtrees(checker: _Checker, opened: _File, node: Node) -> None:

@@ -271,12 +271,15 @@ def _alias_diagnostics(text: str, file: str) -> list[Diagnostic]:
     return out
 
 
-def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
+def read(
+    path: Path, file: str, on_read: Callable[[Path, bytes], None] | None = None
+) -> tuple[Node | None, list[Diagnostic]]:
     """Read and compose a YAML file.
 
     Args:
         path: The file to read.
         file: Its name as printed in diagnostics.
+        on_read: Called with ``path`` and the exact bytes read (e.g. to hash them).
 
     Returns:
         The root node (None on error or for an empty file) and the diagnostics.
@@ -291,6 +294,8 @@ def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
         return None, [Diagnostic(here, "no such file")]
     except OSError as exc:
         return None, [Diagnostic(here, f"cannot read: {exc.strerror or exc}")]
+    if on_read is not None:
+        on_read(path, data)
     if len(data) > MAX_FILE_BYTES:
         return None, [Diagnostic(here, f"file too large (limit {MAX_FILE_BYTES} bytes)")]
     try:

@@ -235,9 +235,30 @@ def _star(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
             for i in range(10)]
 
 
-def _label(draw: Any, xy: tuple[float, float], text: str, colour: Any, font: Any) -> None:
-    """Draw ``text`` on a white box so the path under it does not hide it."""
+def shift_into(left: float, right: float, limit: float) -> float:
+    """How far to move a label spanning ``left..right`` left so it ends before ``limit``.
+
+    Args:
+        left: The label's left edge (px).
+        right: The label's right edge (px).
+        limit: The first pixel it must not reach (the legend panel starts there).
+
+    Returns:
+        The shift (>= 0), never so large that the label leaves the image on the left.
+    """
+    return max(0.0, min(right - limit, left))
+
+
+def _label(draw: Any, xy: tuple[float, float], text: str, colour: Any, font: Any, *,
+           limit: float) -> None:
+    """Draw ``text`` on a white box so the path under it does not hide it.
+
+    The label is moved left when it would run into the legend panel at ``limit``.
+    """
     box = draw.textbbox(xy, text, font=font)
+    dx = shift_into(box[0] - 2, box[2] + 2, limit)
+    xy = (xy[0] - dx, xy[1])
+    box = (box[0] - dx, box[1], box[2] - dx, box[3])
     draw.rectangle((box[0] - 2, box[1] - 1, box[2] + 2, box[3] + 1), fill=(255, 255, 255))
     draw.text(xy, text, fill=colour, font=font)
 
@@ -314,7 +335,7 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
     if "x" in base and "y" in base:
         bx, by = to_px(base["x"], base["y"])
         draw.rectangle((bx - 11, by - 11, bx + 11, by + 11), outline=_COLOURS["base"], width=3)
-        _label(draw, (bx + 14, by + 4), "base", _COLOURS["base"], normal)
+        _label(draw, (bx + 14, by + 4), "base", _COLOURS["base"], normal, limit=map_img.width)
 
     visited = {v["id"]: v for v in summary.get("zones_visited", [])}
     for number, zone in enumerate(summary.get("zones_planned", []), 1):
@@ -328,7 +349,7 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
         label += (f"  t={reached['arrival_sim_s']:.0f}s"
                   if reached and isinstance(reached.get("arrival_sim_s"), (int, float))
                   else ("" if reached else "  (not reached)"))
-        _label(draw, (zx - r, zy + r + 3), label, colour, small)
+        _label(draw, (zx - r, zy + r + 3), label, colour, small, limit=map_img.width)
 
     for survivor in summary.get("survivors", []):
         if not isinstance(survivor.get("x"), (int, float)):
@@ -338,7 +359,7 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
         draw.polygon(_star(sx, sy, 10), fill=colour if survivor.get("acknowledged") else None,
                      outline=colour)
         tag = survivor["id"] + ("" if survivor.get("acknowledged") else " (not ack.)")
-        _label(draw, (sx + 12, sy - 18), tag, colour, small)
+        _label(draw, (sx + 12, sy - 18), tag, colour, small, limit=map_img.width)
 
     title = (f"{summary.get('tree', '')}: {summary.get('outcome', '')}  |  "
              f"{len(visited)}/{len(summary.get('zones_planned', []))} zones, "

@@ -5,7 +5,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from sar_framework.report import MissionInputs, read_mission_layout, summarise, write_report
+from sar_framework.report import (
+    MissionInputs,
+    read_mission_layout,
+    shift_into,
+    summarise,
+    write_report,
+)
 
 from .helpers import DEFAULT_TREE, REPO
 
@@ -76,3 +82,10 @@ def test_report_without_any_run_files(tmp_path: Path) -> None:
     assert [p.name for p in written] == ["mission.json", "mission.png"]
     summary = json.loads((tmp_path / "mission.json").read_text())
     assert summary["zones_visited"] == [] and summary["sim_duration_s"] is None
+
+
+def test_a_label_near_the_map_edge_stays_out_of_the_legend() -> None:
+    """Regression: "ne_corner (not reached)" ran into the legend panel of mission.png."""
+    assert shift_into(700.0, 790.0, limit=768.0) == 22.0  # moved left by its overflow
+    assert shift_into(100.0, 180.0, limit=768.0) == 0.0  # inside: left alone
+    assert shift_into(10.0, 900.0, limit=768.0) == 10.0  # wider than the room: stop at 0

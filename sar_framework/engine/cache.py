@@ -48,9 +48,10 @@ from typing import Any, NamedTuple
 import yaml
 
 from sar_framework.engine import validate as validation
-from sar_framework.engine.diagnostics import SourceLocation, display_path
+from sar_framework.engine.diagnostics import display_path
 from sar_framework.engine.registry import Registry, default_registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.engine.yaml_source import new_location
 
 #: Version of the entry format; bump when the stored layout changes.
 CACHE_FORMAT = 1
@@ -191,20 +192,21 @@ def _encode(spec: TreeSpec, file_index: dict[str, int]) -> bytes | None:
 def _decode(data: bytes, files: list[str], source: str) -> TreeSpec:
     """Rebuild a spec (new objects every time), naming files as ``files`` says."""
     head, locations, rows, refs = pickle.loads(data)  # our own entry (see _read_disk)
+    # Instances are made the way unpickling makes them (no __init__, a filled __dict__):
+    # ordinary objects, in a fraction of the time of the dataclass constructors.
     new = object.__new__
-    locs = []
-    for file, line, col in locations:
-        loc = new(SourceLocation)
-        loc.__dict__.update(file=files[file], line=line, col=col)
-        locs.append(loc)
+    locs = [new_location(files[file], line, col) for file, line, col in locations]
     nodes: list[NodeSpec] = []
     open_lists: list[list[Any]] = []  # [children list, how many still to come]
+    categories = _CATEGORIES
     for kind, category, name, uid, at, attrs, count, ident, subtree in rows:
         node = new(NodeSpec)
         children: list[NodeSpec] = []
-        node.__dict__.update(kind=kind, category=_CATEGORIES[category], name=name, uid=uid,
-                             location=locs[at], attrs=attrs, children=children, id=ident,
-                             refs={}, subtree=subtree)
+        node.__dict__ = {
+            "kind": kind, "category": categories[category], "name": name, "uid": uid,
+            "location": locs[at], "attrs": attrs, "children": children, "id": ident,
+            "refs": {}, "subtree": subtree,
+        }
         nodes.append(node)
         if open_lists:
             parent = open_lists[-1]

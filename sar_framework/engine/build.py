@@ -128,12 +128,23 @@ class _Builder:
         self.context = context
         self.plans: dict[str, _LeafPlan] = {}
         self.built: dict[str, Behaviour] = {}
+        self.failed: set[str] = set()  # leaves already reported: a reference must not retry
         self.problems: list[Diagnostic] = []
 
     def leaf(self, node: NodeSpec) -> Behaviour | None:
         done = self.built.get(node.uid)
         if done is not None:
             return done
+        if node.uid in self.failed:
+            return None
+        behaviour = self._construct(node)
+        if behaviour is None:
+            self.failed.add(node.uid)
+        else:
+            self.built[node.uid] = behaviour
+        return behaviour
+
+    def _construct(self, node: NodeSpec) -> Behaviour | None:
         plan = self.plans.get(node.kind)
         if plan is None:
             plugin = self.registry.get(node.kind)
@@ -165,7 +176,6 @@ class _Builder:
                 )
             )
             return None
-        self.built[node.uid] = behaviour
         return behaviour
 
     def make(self, node: NodeSpec) -> Behaviour | None:

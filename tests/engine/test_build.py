@@ -115,6 +115,19 @@ def test_missing_context_names_plugin_and_key(tree_dir: Path, registry: Registry
     ]
 
 
+def test_a_referenced_leaf_that_fails_is_reported_once(tree_dir: Path,
+                                                      registry: Registry) -> None:
+    """Regression: a failed leaf was built again for each reference (duplicate diagnostic)."""
+    write(tree_dir, "tree.yaml", "format: 1\nroot:\n  sequence:\n    memory: true\n"
+          "    children: [DetectSurvivor: {id: d}, IsSurvivorDetected: {detector: d}]\n")
+    with pytest.raises(TreeLoadError) as info:
+        load_tree("tree.yaml", registry=registry)
+    assert [str(d) for d in info.value.diagnostics] == [
+        "tree.yaml:5:16: error: plugin 'DetectSurvivor' needs the context object "
+        "'zone_manager': pass load_tree(..., context={'zone_manager': ...})",
+    ]
+
+
 def test_context_objects_are_passed(load: Callable[..., py_trees.behaviour.Behaviour]) -> None:
     zm = object()
     root = load("format: 1\nroot: {AdvanceZone: {}}\n", zone_manager=zm)

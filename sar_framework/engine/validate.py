@@ -811,7 +811,9 @@ class _Checker:
                     stack.pop()
                     continue
                 mark = state.get(id(target))
-                if mark == 1:
+                if mark is None and id(target) not in edges:
+                    state[id(target)] = 2  # references nothing: no cycle through it
+                elif mark == 1:
                     start = next(i for i, n in enumerate(path) if n is target)
                     cycle = " -> ".join(f"'{n.id}'" for n in (*path[start:], target))
                     self.semantic_error(path[-1].location, f"reference cycle: {cycle}")

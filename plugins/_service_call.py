@@ -4,6 +4,14 @@ The guide's async-poll pattern (``service_is_ready``, ``call_async`` once, poll 
 future) with two bounds so nothing waits forever: the server must be ready within
 ``server_timeout_s`` of :meth:`PolledServiceCall.start` and must answer within
 ``response_timeout_s`` of the request. Bounds are wall-clock (``time.monotonic``).
+
+A request still unanswered after ``resend_after_s`` is sent once more, and again at that
+interval, keeping the earlier ones pending: the first answer to any of them wins. DDS can
+lose the reply to a request sent just after discovery, because ``service_is_ready()``
+proves only the request path, not that the server has matched the client's reply reader
+(ros2/rmw_cyclonedds#74); a slow server's first answer still counts. Our services are
+idempotent (a detection is a lookup; a repeated report is acknowledged but recorded once),
+so a resend is safe. ``response_timeout_s`` still counts from the first send.
 """
 
 from __future__ import annotations
@@ -40,16 +48,20 @@ class PolledServiceCall:
         service_name: The service to call.
         server_timeout_s: Seconds the server may take to become ready.
         response_timeout_s: Seconds the server may take to answer a request.
+        resend_after_s: Seconds without an answer after which the request is sent again.
     """
 
     def __init__(self, node: Node, srv_type: Any, service_name: str, *,
-                 server_timeout_s: float, response_timeout_s: float) -> None:
+                 server_timeout_s: float, response_timeout_s: float,
+                 resend_after_s: float = 2.0) -> None:
         self.service_name = service_name
         self._node = node
         self._client = node.create_client(srv_type, service_name)
         self._server_timeout_s = server_timeout_s
         self._response_timeout_s = response_timeout_s
-        self._future: Future | None = None
+        self._resend_after_s = resend_after_s
+        self._pending: list[Future] = []  # the request and its resends, oldest first
+        self._request: Any = None
         self._started = time.monotonic()
         self._sent = 0.0
 
@@ -68,40 +80,46 @@ class PolledServiceCall:
             None while waiting (for the server or its answer), else the :class:`CallResult`.
         """
         now = time.monotonic()
-        if self._future is None:
+        if not self._pending:
             if not self._client.service_is_ready():
                 if now - self._started > self._server_timeout_s:
                     return CallResult(error=f"{self.service_name} service not available "
                                             f"after {self._server_timeout_s:.1f} s")
                 return None
-            self._future = self._client.call_async(make_request())
+            self._request = make_request()
+            self._pending.append(self._client.call_async(self._request))
             self._sent = now
             return None
-        if not self._future.done():
+        answered = next((f for f in self._pending if f.done()), None)
+        if answered is None:
             if now - self._sent > self._response_timeout_s:
                 self.abandon()
                 return CallResult(error=f"no response from {self.service_name} "
                                         f"within {self._response_timeout_s:.1f} s")
+            if now - self._sent > self._resend_after_s * len(self._pending):
+                self._pending.append(self._client.call_async(self._request))
             return None
-        future, self._future = self._future, None
-        exception = future.exception()
+        self._pending.remove(answered)
+        self.abandon()  # the other copies' answers, if any come, are dropped
+        exception = answered.exception()
         if exception is not None:
             return CallResult(error=f"{self.service_name} call failed: {exception}")
-        response = future.result()
+        response = answered.result()
         if response is None:
             return CallResult(error=f"{self.service_name} returned no response")
         return CallResult(response=response)
 
     def waiting_for_server(self) -> bool:
         """Whether the request has not been sent yet because the server is not ready."""
-        return self._future is None
+        return not self._pending
 
     def abandon(self) -> None:
-        """Forget a request still waiting for its answer (a late answer is dropped)."""
-        if self._future is not None and not self._future.done():
-            self._client.remove_pending_request(self._future)
-            self._future.cancel()
-        self._future = None
+        """Forget the requests still waiting for an answer (late answers are dropped)."""
+        for future in self._pending:
+            if not future.done():
+                self._client.remove_pending_request(future)
+                future.cancel()
+        self._pending = []
 
     def destroy(self) -> None:
         """Abandon any request and destroy the client."""

@@ -138,6 +138,31 @@ def test_memory_false_reallocates_ids_while_notify_is_running(branch_env: tuple)
     assert "report: survivor_1 " in report.text
 
 
+def test_an_unanswered_request_is_sent_again_and_the_first_answer_wins(
+        branch_env: tuple) -> None:
+    """A reply lost right after discovery must not stall a leaf until its bound: the call
+    re-sends, keeping the earlier request pending, so a slow server's answer still counts."""
+    from sar_interfaces.srv import ReportSurvivor
+    from sar_plugins._service_call import PolledServiceCall
+
+    node, _make_tree, executor, report = branch_env
+    call = PolledServiceCall(node, ReportSurvivor, "/report_survivor", server_timeout_s=5.0,
+                             response_timeout_s=5.0, resend_after_s=0.3)
+    request = ReportSurvivor.Request(survivor_id="survivor_9")
+    request.location.header.frame_id = "map"
+    results = []
+    try:
+        call.start()
+        assert spin_until(executor, lambda: bool(results), 5.0,
+                          step=lambda: results.extend(filter(None, [call.poll(lambda: request)])))
+    finally:
+        call.destroy()
+    (result,) = results
+    assert result.error is None and result.response.acknowledged
+    # the server (1.0 s per answer) saw the request and at least one resend
+    assert report.text.count("report: survivor_9 ") >= 2
+
+
 def test_unanswered_report_fails_after_its_bound(branch_env: tuple) -> None:
     _node, make_tree, executor, _report = branch_env
     root, notify = build_branch(spec_zone_manager(), memory=True, response_timeout_s=0.5)

@@ -118,10 +118,7 @@ def load_spec(
     Raises:
         TreeLoadError: With every problem found.
     """
-    with _gc_paused():
-        result = tree_cache.validate(
-            path, registry=registry, plugin_paths=plugin_paths, cache=cache
-        )
+    result = validate(path, registry=registry, plugin_paths=plugin_paths, cache=cache)
     if result.spec is None:
         raise _no_tree(path, result)
     return result.spec
@@ -152,10 +149,8 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    with _gc_paused():
-        result = tree_cache.validate(
-            path, registry=registry, plugin_paths=plugin_paths, cache=cache
-        )
+    with _gc_paused():  # through the build too; validate() pausing again inside is harmless
+        result = validate(path, registry=registry, plugin_paths=plugin_paths, cache=cache)
         if result.spec is None:
             raise _no_tree(path, result)
         root, behaviours = build(result.spec, result.registry, context)

@@ -63,13 +63,24 @@ _FastLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 # Tag resolution is a pure function of (kind, value, implicit) while no path resolvers
 # are registered (the safe loader has none), so it is memoised, in C (lru_cache): the
 # composer calls it once per node and it was the hottest Python code in a load.
-_PURE_RESOLUTION = not yaml.resolver.Resolver.yaml_path_resolvers
+#: Whether no path resolver is registered (tag resolution then depends on the scalar alone).
+PURE_RESOLUTION = not yaml.resolver.Resolver.yaml_path_resolvers
 _resolver = yaml.resolver.Resolver()
 _base_resolve = yaml.resolver.Resolver.resolve
 
 
 @functools.lru_cache(maxsize=65536)
-def _resolve(kind: type, value: str | None, implicit: Any) -> str:
+def resolve_tag(kind: type, value: str | None, implicit: Any) -> str:
+    """Return the tag PyYAML's safe loader gives a node (memoised).
+
+    Args:
+        kind: The node class (``ScalarNode``, ...).
+        value: A scalar's text (None for collections).
+        implicit: ``(True, False)`` for a plain scalar, ``(False, True)`` for a quoted one.
+
+    Returns:
+        The resolved tag, e.g. ``tag:yaml.org,2002:int``.
+    """
     return _base_resolve(_resolver, kind, value, implicit)
 
 
@@ -78,8 +89,8 @@ class _Loader(_FastLoader):  # type: ignore[misc,valid-type]
 
     def __init__(self, stream: str) -> None:
         super().__init__(stream)
-        if _PURE_RESOLUTION:
-            self.resolve = _resolve
+        if PURE_RESOLUTION:
+            self.resolve = resolve_tag
             # Without path resolvers, descending and ascending are no-ops; any C callable
             # taking the same arguments skips a Python frame per node.
             self.descend_resolver = slice
@@ -87,7 +98,8 @@ class _Loader(_FastLoader):  # type: ignore[misc,valid-type]
 
 
 _constructor = SafeConstructor()
-_SCALAR_BUILDERS: dict[str, Callable[[ScalarNode], Any]] = {
+#: How PyYAML's safe constructor builds each core scalar tag other than str.
+SCALAR_BUILDERS: dict[str, Callable[[ScalarNode], Any]] = {
     _TAG + "null": _constructor.construct_yaml_null,
     _TAG + "bool": _constructor.construct_yaml_bool,
     _TAG + "int": _constructor.construct_yaml_int,
@@ -353,7 +365,7 @@ class Reader:
             return True, _scalar_memo[key]
         except KeyError:
             pass
-        builder = _SCALAR_BUILDERS.get(tag)
+        builder = SCALAR_BUILDERS.get(tag)
         if builder is None:
             self.error(node, self._tag_problem(node))
             return False, None

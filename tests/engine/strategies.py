@@ -108,3 +108,33 @@ def documents(registry: Registry, max_depth: int = 4) -> st.SearchStrategy[Any]:
         return doc
 
     return document()
+
+
+_YAML_BITS = st.sampled_from([
+    ":", "-", " ", "\n", "\t", "{", "}", "[", "]", "&a ", "*a", "!!python/object:os.system ",
+    "!x ", "<<: ", "'", '"', "#", "|", ">", "?", ",", "%YAML 1.1\n", "---\n", "\x00", "\ufeff",
+    "\\", "é", "0x1F", ".nan", "~", "yes", "2024-01-01", "memory: true", "children: []",
+    "!!timestamp ", "!!bool ", "!!int ", "!!float ", "!!null ", "!!str ", "!!binary ", "!!set ",
+    "  ", " # c", "{}", "- ", "on", "null", "''", "1_000", "-1", "\r\n", "a: b", "{x: 1}",
+])
+
+
+@st.composite
+def mutated_texts(draw: st.DrawFn, seeds: list[str]) -> str:
+    """One of ``seeds`` with a few random edits (YAML-significant bits, cuts, copies)."""
+    text = draw(st.sampled_from(seeds))
+    for _ in range(draw(st.integers(1, 6))):
+        pos = draw(st.integers(0, len(text)))
+        op = draw(st.integers(0, 3))
+        if op == 0:  # insert a YAML-significant bit
+            text = text[:pos] + draw(_YAML_BITS) + text[pos:]
+        elif op == 1:  # delete a span
+            text = text[:pos] + text[pos + draw(st.integers(1, 20)):]
+        elif op == 2:  # duplicate a line
+            lines = text.split("\n")
+            i = draw(st.integers(0, len(lines) - 1))
+            lines.insert(i, lines[i])
+            text = "\n".join(lines)
+        else:  # random characters
+            text = text[:pos] + draw(st.text(max_size=4)) + text[pos:]
+    return text

@@ -14,7 +14,7 @@ from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.validate import validate_file
 
 from .conftest import FIXTURES, make_registry
-from .strategies import documents
+from .strategies import documents, mutated_texts
 
 _REGISTRY = make_registry()
 _SEEDS = [p.read_text(encoding="utf-8") for p in sorted(FIXTURES.rglob("*.yaml"))]
@@ -44,36 +44,8 @@ def test_generated_documents(document: Any, tmp_path_factory: Any) -> None:
     _check_file(path)
 
 
-_YAML_BITS = st.sampled_from([
-    ":", "-", " ", "\n", "\t", "{", "}", "[", "]", "&a ", "*a", "!!python/object:os.system ",
-    "!x ", "<<: ", "'", '"', "#", "|", ">", "?", ",", "%YAML 1.1\n", "---\n", "\x00", "\ufeff",
-    "\\", "é", "0x1F", ".nan", "~", "yes", "2024-01-01", "memory: true", "children: []",
-    "!!timestamp ", "!!bool ", "!!int ", "!!float ", "!!null ", "!!str ", "!!binary ", "!!set ",
-])
-
-
-@st.composite
-def mutated(draw: st.DrawFn) -> str:
-    text = draw(st.sampled_from(_SEEDS))
-    for _ in range(draw(st.integers(1, 6))):
-        pos = draw(st.integers(0, len(text)))
-        op = draw(st.integers(0, 3))
-        if op == 0:  # insert a YAML-significant bit
-            text = text[:pos] + draw(_YAML_BITS) + text[pos:]
-        elif op == 1:  # delete a span
-            text = text[:pos] + text[pos + draw(st.integers(1, 20)):]
-        elif op == 2:  # duplicate a line
-            lines = text.split("\n")
-            i = draw(st.integers(0, len(lines) - 1))
-            lines.insert(i, lines[i])
-            text = "\n".join(lines)
-        else:  # random characters
-            text = text[:pos] + draw(st.text(max_size=4)) + text[pos:]
-    return text
-
-
 @_SETTINGS
-@given(text=mutated())
+@given(text=mutated_texts(_SEEDS))
 def test_mutated_files(text: str, tmp_path_factory: Any) -> None:
     path = tmp_path_factory.mktemp("mut") / "tree.yaml"
     path.write_text(text, encoding="utf-8", errors="surrogatepass")

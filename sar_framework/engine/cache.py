@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import importlib
 import os
 import pickle
 import sys
@@ -73,9 +74,9 @@ _OFF = {"0", "off", "false", "no"}
 _CATEGORIES = tuple(Category)
 _CATEGORY_INDEX = {c: i for i, c in enumerate(_CATEGORIES)}
 
-# The modules whose code decides what a tree file means (all imported by validate).
-_ENGINE_MODULES = ("validate", "yaml_source", "node_kinds", "spec", "diagnostics", "plugin",
-                   "registry", "cache")
+# The modules whose code decides what a tree file means.
+_ENGINE_MODULES = ("validate", "yaml_source", "quick_validate", "quick_yaml", "node_kinds",
+                   "spec", "diagnostics", "plugin", "registry", "cache")
 
 _lock = threading.Lock()
 _memory: OrderedDict[str, _Entry] = OrderedDict()
@@ -137,7 +138,7 @@ def _engine() -> str:
         digest.update(repr((CACHE_FORMAT, SPEC_VERSION, validation.FORMAT_VERSION, __version__,
                             yaml.__version__, sys.implementation.cache_tag)).encode())
         for name in _ENGINE_MODULES:
-            module = sys.modules[f"sar_framework.engine.{name}"]
+            module = importlib.import_module(f"sar_framework.engine.{name}")
             try:
                 digest.update(Path(module.__file__ or "").read_bytes())
             except OSError:

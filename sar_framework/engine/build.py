@@ -79,13 +79,15 @@ for _key, _kind in KINDS.items():
 class _LeafPlan:
     """How to call one plugin's constructor (worked out once per plugin)."""
 
-    __slots__ = ("cls", "context", "name", "refs")
+    __slots__ = ("cls", "context", "name", "plain", "refs")
 
     def __init__(self, plugin: PluginSpec) -> None:
         self.name = plugin.name
         self.cls = plugin.cls
         self.refs = tuple(p.name for p in plugin.params if p.ref is not None)
         self.context = plugin.context
+        # Constructed from the spec's attrs alone (the common case, done in one step).
+        self.plain = not self.refs and not self.context
 
 
 def _missing_context(node: NodeSpec, plan: _LeafPlan, key: str) -> Diagnostic:
@@ -169,18 +171,32 @@ class _Builder:
         try:
             behaviour = plan.cls(name=node.name, **kwargs)
         except Exception as exc:
-            self.problems.append(
-                Diagnostic(
-                    node.location,
-                    f"cannot construct {node.kind} '{node.name}': {type(exc).__name__}: {exc}",
-                )
-            )
+            self._cannot_construct(node, exc)
             return None
         return behaviour
 
+    def _cannot_construct(self, node: NodeSpec, exc: Exception) -> None:
+        self.problems.append(
+            Diagnostic(
+                node.location,
+                f"cannot construct {node.kind} '{node.name}': {type(exc).__name__}: {exc}",
+            )
+        )
+
     def make(self, node: NodeSpec) -> Behaviour | None:
         if node.category is _LEAF_CATEGORY:
-            return self.leaf(node)
+            plan = self.plans.get(node.kind)
+            if plan is None or not plan.plain:
+                return self.leaf(node)
+            # A plain leaf: nothing can have built it before (only references do that).
+            try:
+                behaviour = plan.cls(name=node.name, **node.attrs)
+            except Exception as exc:
+                self._cannot_construct(node, exc)
+                self.failed.add(node.uid)
+                return None
+            self.built[node.uid] = behaviour
+            return behaviour
         make = self.make
         children = [make(child) for child in node.children]
         if self.problems:

@@ -36,11 +36,19 @@ def _gc_paused() -> Iterator[None]:
 
     A load allocates tens of thousands of objects that all stay alive; the collector
     would scan them again and again for nothing (a third of the time of a big load).
+    On success, what the load made is moved straight to the oldest generation (the
+    documented effect of ``gc.freeze()`` then ``gc.unfreeze()``), which is where the
+    collector would put it after scanning it all once, at the first allocation after
+    the pause (about 25 ms at 10,000 nodes). Skipped when the program keeps objects
+    frozen itself, so as not to unfreeze them.
     """
     was_enabled = gc.isenabled()
     gc.disable()
     try:
         yield
+        if was_enabled and gc.get_freeze_count() == 0:
+            gc.freeze()
+            gc.unfreeze()
     finally:
         if was_enabled:
             gc.enable()

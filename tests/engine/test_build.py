@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 from collections.abc import Callable
 from pathlib import Path
 
@@ -288,3 +289,28 @@ def test_library_file_validates_but_does_not_load(tree_dir: Path, registry: Regi
         load_spec("lib.yaml", registry=registry)
     assert str(info.value) == ("lib.yaml:1:1: error: missing 'root': this file only defines "
                                "subtrees; include it from a tree file")
+
+
+_SMALL = "format: 1\nroot: {sequence: {memory: true, children: [{Tick: {}}]}}\n"
+
+
+def test_a_loaded_tree_goes_to_the_oldest_gc_generation(tree_dir: Path,
+                                                        registry: Registry) -> None:
+    path = write(tree_dir, "tree.yaml", _SMALL)
+    gc.collect()
+    loaded = load_tree(path, registry=registry, cache=False)
+    assert gc.isenabled()
+    young = gc.get_objects(generation=0) + gc.get_objects(generation=1)
+    assert not any(obj is loaded.root for obj in young)
+    assert any(obj is loaded.root for obj in gc.get_objects(generation=2))
+
+
+def test_objects_the_program_froze_stay_frozen(tree_dir: Path, registry: Registry) -> None:
+    path = write(tree_dir, "tree.yaml", _SMALL)
+    gc.freeze()
+    try:
+        frozen = gc.get_freeze_count()
+        load_tree(path, registry=registry, cache=False)
+        assert gc.get_freeze_count() == frozen
+    finally:
+        gc.unfreeze()

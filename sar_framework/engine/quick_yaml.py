@@ -175,6 +175,8 @@ def _flow_at(text: str, pos: int, line: int, col: int, depth: int) -> tuple[Any,
     """Read one flow value of ``text`` at ``pos``; return it and the position after it."""
     if depth > _MAX_FLOW_DEPTH:
         raise _OutsideError
+    if text.startswith("{}", pos):  # the usual value of a leaf without params
+        return {}, pos + 2
     match = _FLOW_TOKEN.match(text, pos)
     if match is None:
         raise _OutsideError
@@ -320,6 +322,18 @@ def _parse_lines(text: str) -> Mapping:
             content_col = indent + len(dash)
             if not key:
                 top.append({} if item == "{}" else _value(item, number, content_col + 1))
+                continue
+            if key not in _good_keys:
+                _key(key)
+            if value:
+                # A one-line item (`- Kind: {...}`): its mapping is complete, so it is not
+                # opened; a second key for it on the next line then leaves the subset.
+                if value == "{}":
+                    parsed: Any = {}
+                else:
+                    parsed = _value(value, number, content_col + len(key) + len(space) + 2)
+                top.append({key: (parsed, number, content_col + 1)
+                            if type(parsed) is dict else parsed})
                 continue
             mapping = {}
             top.append(mapping)

@@ -88,6 +88,7 @@ INSIDE = {
     "comments": "# head\na: 1 # one\n\n  # indented\nb:   # empty line next\n  - x # item\n",
     "flow": "a: {b: 1, c: 'x, y', d: [1, 'two', {e: {}}], f: {}}\nb: []\nc: [ x , y ]\n",
     "plain with spaces": "description: Visit the zones, in order; then home.\n",
+    "item keys on lines of their own": "a:\n  - b:\n      x: 1\n    c: 2\n",
     "nested lists": (
         "root:\n  sequence:\n    children:\n      - A: {}\n      -   B:\n            x: 1\n"
     ),
@@ -138,6 +139,7 @@ OUTSIDE = {
     "flow key without space": "a: {b:1}\n",
     "text after flow": "a: {b: 1} c\n",
     "single-pair mapping in a flow list": "a: [b: 1]\n",
+    "second key of a one-line item": "a:\n  - b: 1\n    c: 2\n",
 }
 
 

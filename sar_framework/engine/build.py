@@ -189,8 +189,11 @@ class _Builder:
             if plan is None or not plan.plain:
                 return self.leaf(node)
             # A plain leaf: nothing can have built it before (only references do that).
+            attrs = node.attrs
             try:
-                behaviour = plan.cls(name=node.name, **node.attrs)
+                behaviour = (
+                    plan.cls(name=node.name, **attrs) if attrs else plan.cls(name=node.name)
+                )
             except Exception as exc:
                 self._cannot_construct(node, exc)
                 self.failed.add(node.uid)

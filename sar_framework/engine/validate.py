@@ -42,7 +42,7 @@ from sar_framework.engine.node_kinds import (
     Rule,
     leaf_attrs,
 )
-from sar_framework.engine.plugin import PluginSpec
+from sar_framework.engine.plugin import Param, PluginSpec
 from sar_framework.engine.registry import Registry, default_registry, extend
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
@@ -759,13 +759,14 @@ class _Checker:
     def resolve_refs(self) -> None:
         """Point every reference param at its leaf; report dangling, mistyped, cyclic ones."""
         edges: dict[int, list[NodeSpec]] = {}
+        ref_params: dict[str, list[Param]] = {}  # per plugin, worked out once
         for leaf, scope in self.pending_refs:
-            plugin = self.registry.get(leaf.kind)
-            if plugin is None:
-                continue
-            for param in plugin.params:
-                if param.ref is None:
-                    continue
+            params = ref_params.get(leaf.kind)
+            if params is None:
+                plugin = self.registry.get(leaf.kind)
+                params = [p for p in plugin.params if p.ref is not None] if plugin else []
+                ref_params[leaf.kind] = params
+            for param in params:
                 ident = leaf.attrs.get(param.name)
                 if ident is None:
                     continue

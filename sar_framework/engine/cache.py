@@ -55,7 +55,7 @@ from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.engine.yaml_source import new_location
 
 #: Version of the entry format; bump when the stored layout changes.
-CACHE_FORMAT = 1
+CACHE_FORMAT = 2
 #: Version of the TreeSpec model as stored (py_trees-independent).
 SPEC_VERSION = 1
 #: Entries kept in memory, most recently used first out last.
@@ -160,53 +160,53 @@ def _key(slot: str, content: str) -> str:
 
 
 # -- the stored form of a spec --------------------------------------------------------------
-# Nodes in depth-first order, each a flat tuple; children by count, references and
-# locations by index. Shared locations and attrs stay shared; file names become indexes
-# into the entry's list of absolute paths.
+# Nodes in depth-first order, each a flat tuple holding its location; children by count,
+# references by index; file names become indexes into the entry's list of absolute paths.
 def _encode(spec: TreeSpec, file_index: dict[str, int]) -> bytes | None:
     """Flatten a spec; None when a location names a file outside the load."""
     rows: list[tuple[Any, ...]] = []
-    locations: list[tuple[int, int, int]] = []
-    location_index: dict[int, int] = {}
+    append = rows.append
     node_index: dict[int, int] = {}
     with_refs: list[NodeSpec] = []
-    for node in spec.nodes():
+    category_index = _CATEGORY_INDEX
+    stack = [spec.root]
+    pop = stack.pop
+    while stack:
+        node = pop()
         node_index[id(node)] = len(rows)
         loc = node.location
-        at = location_index.get(id(loc))
-        if at is None:
-            file = file_index.get(loc.file)
-            if file is None:
-                return None
-            at = location_index[id(loc)] = len(locations)
-            locations.append((file, loc.line, loc.col))
-        rows.append((node.kind, _CATEGORY_INDEX[node.category], node.name, node.uid, at,
-                     node.attrs, len(node.children), node.id, node.subtree))
+        file = file_index.get(loc.file)
+        if file is None:
+            return None
+        children = node.children
+        append((node.kind, category_index[node.category], node.name, node.uid, file, loc.line,
+                loc.col, node.attrs, len(children), node.id, node.subtree))
+        if children:
+            stack.extend(reversed(children))
         if node.refs:
             with_refs.append(node)
     refs = [(node_index[id(n)], [(k, node_index[id(t)]) for k, t in n.refs.items()])
             for n in with_refs]
     head = (spec.name, spec.description, spec.format, spec.plugin_paths)
-    return pickle.dumps((head, locations, rows, refs), protocol=pickle.HIGHEST_PROTOCOL)
+    return pickle.dumps((head, rows, refs), protocol=pickle.HIGHEST_PROTOCOL)
 
 
 def _decode(data: bytes, files: list[str], source: str) -> TreeSpec:
     """Rebuild a spec (new objects every time), naming files as ``files`` says."""
-    head, locations, rows, refs = pickle.loads(data)  # our own entry (see _read_disk)
+    head, rows, refs = pickle.loads(data)  # our own entry (see _read_disk)
     # Instances are made the way unpickling makes them (no __init__, a filled __dict__):
     # ordinary objects, in a fraction of the time of the dataclass constructors.
     new = object.__new__
-    locs = [new_location(files[file], line, col) for file, line, col in locations]
     nodes: list[NodeSpec] = []
     open_lists: list[list[Any]] = []  # [children list, how many still to come]
     categories = _CATEGORIES
-    for kind, category, name, uid, at, attrs, count, ident, subtree in rows:
+    for kind, category, name, uid, file, line, col, attrs, count, ident, subtree in rows:
         node = new(NodeSpec)
         children: list[NodeSpec] = []
         node.__dict__ = {
             "kind": kind, "category": categories[category], "name": name, "uid": uid,
-            "location": locs[at], "attrs": attrs, "children": children, "id": ident,
-            "refs": {}, "subtree": subtree,
+            "location": new_location(files[file], line, col), "attrs": attrs,
+            "children": children, "id": ident, "refs": {}, "subtree": subtree,
         }
         nodes.append(node)
         if open_lists:

@@ -1,7 +1,9 @@
 """A content-keyed cache of validated trees: skip read + validate when nothing changed.
 
-A clean validation (no diagnostics at all) stores the :class:`~.spec.TreeSpec` under a
-key made of:
+A clean validation (no diagnostics at all) of content validated clean once before stores
+the :class:`~.spec.TreeSpec` (the first one only leaves a small marker: a file edited
+between runs, as in an edit-and-run loop, never pays for storing its tree) under a key
+made of:
 
 * the engine: this cache's format, the spec version, the engine's own source files
   (content), PyYAML's version and the Python version;
@@ -94,7 +96,7 @@ class _Entry(NamedTuple):
     plugin_entries: tuple[tuple[str, str], ...]  # (entry, directory) of plugins: keys
     registry: str  # fingerprint of the registry with the tree's local plugins
     files: tuple[str, ...]  # absolute paths, indexed by the stored locations
-    spec: bytes  # pickle of the flat spec (see _encode)
+    spec: bytes  # pickle of the flat spec (see _encode); empty in a marker (seen once)
 
 
 def enabled(requested: bool = True) -> bool:
@@ -298,8 +300,8 @@ def _lookup(
         if entry is None:
             return None
         _remember(slot, entry)
-    if entry.key != _key(slot, content):
-        return None
+    if entry.key != _key(slot, content) or not entry.spec:
+        return None  # another content, or a marker: this content was only seen once
     if any(_file_digest(file) != digest for file, digest in entry.includes):
         return None
     entries = [(e, Path(d), None) for e, d in entry.plugin_entries]
@@ -337,16 +339,24 @@ def _store(
     by_name = {name: i for i, name in enumerate(result.files.values())}
     if len(by_name) != len(files) or set(digests) != set(result.files):
         return  # two files shown alike, or a file read that the result does not name
-    data = _encode(spec, by_name)
-    if data is None:
-        return
     base_fingerprint = base.fingerprint()
     slot = _slot(main, base_fingerprint, plugin_paths)
-    includes = tuple((str(p), d) for p, d in digests.items() if p != main)
-    entry = _Entry(_key(slot, digests[main]), includes,
-                   tuple((e, str(d)) for e, d in result.plugin_entries),
-                   base_fingerprint if result.registry is base else result.registry.fingerprint(),
-                   tuple(files), data)
+    key = _key(slot, digests[main])
+    with _lock:
+        previous = _memory.get(slot)  # (a lookup has just put any disk entry here)
+    if previous is None or previous.key != key:
+        # Seen once: leave a marker and store on the second clean validation of this
+        # content, so a file edited between runs never pays for encoding its tree.
+        entry = _Entry(key, (), (), "", (), b"")
+    else:
+        data = _encode(spec, by_name)
+        if data is None:
+            return
+        includes = tuple((str(p), d) for p, d in digests.items() if p != main)
+        fingerprint = (base_fingerprint if result.registry is base
+                       else result.registry.fingerprint())
+        entry = _Entry(key, includes, tuple((e, str(d)) for e, d in result.plugin_entries),
+                       fingerprint, tuple(files), data)
     _remember(slot, entry)
     with contextlib.suppress(OSError):  # read-only or full: memory still helps this process
         _write_disk(slot, entry)

@@ -80,16 +80,25 @@ def entries(folder: Path) -> list[Path]:
     return sorted(folder.glob("*.tree")) if folder.is_dir() else []
 
 
+def admit(path: str | Path, registry: Registry | None = _REGISTRY, **kwargs: Any) -> None:
+    """Load twice: the first clean load leaves a marker, the second stores the entry."""
+    for _ in range(2):
+        load_spec(path, registry=registry, **kwargs)
+
+
 def hit_twice(path: str | Path, registry: Registry | None, calls: Calls) -> list[TreeSpec]:
-    """Miss once, then hit from memory and from disk (a new process); return both hits."""
+    """Miss twice (marker, then entry), then hit from memory and from disk (a new
+    process); return both hits."""
     first = cache.validate(path, registry=registry)
     assert first.spec is not None and calls.count == 1
+    stored = cache.validate(path, registry=registry)
+    assert calls.count == 2, "the first load only leaves a marker"
     memory = cache.validate(path, registry=registry)
     cache.clear_memory()
     disk = cache.validate(path, registry=registry)
-    assert calls.count == 1, "the second and third loads must be hits"
+    assert calls.count == 2, "the third and fourth loads must be hits"
     assert memory.diagnostics == disk.diagnostics == []
-    assert memory.spec is not first.spec and disk.spec is not memory.spec
+    assert memory.spec is not stored.spec and disk.spec is not memory.spec
     return [memory.spec, disk.spec]  # type: ignore[list-item]
 
 
@@ -154,10 +163,10 @@ def test_load_tree_hit_builds_the_same_tree(
     monkeypatch.chdir(REPO)
     path = "tests/engine/fixtures/search_and_rescue.yaml"
     cold = load_tree(path, context=_CONTEXT, registry=_REGISTRY, cache=False)
-    load_tree(path, context=_CONTEXT, registry=_REGISTRY)
+    admit(path)
     cache.clear_memory()
     warm = load_tree(path, context=_CONTEXT, registry=_REGISTRY)
-    assert full_validations.count == 2  # cache=False, then the miss that stored it
+    assert full_validations.count == 3  # cache=False, then the marker and the entry
 
     def outline(root: py_trees.behaviour.Behaviour) -> list[tuple[str, str]]:
         return [(type(b).__name__, b.name) for b in root.iterate()]
@@ -165,6 +174,42 @@ def test_load_tree_hit_builds_the_same_tree(
     assert outline(warm.root) == outline(cold.root)
     assert sorted(warm.behaviours) == sorted(cold.behaviours)
     assert_same(warm.spec, cold.spec)
+
+
+# -- admission: stored the second time ---------------------------------------------------
+def test_first_clean_load_leaves_only_a_marker(
+    included_tree: Path, tree_cache: Path, full_validations: Calls
+) -> None:
+    load_spec("tree.yaml", registry=_REGISTRY)
+    (marker,) = entries(tree_cache)
+    assert marker.stat().st_size < 512  # no tree in it
+    cache.clear_memory()  # a new process: the marker is on disk
+    load_spec("tree.yaml", registry=_REGISTRY)
+    assert full_validations.count == 2  # a marker is a miss; this load stores the entry
+    assert marker.stat().st_size > 512
+    cache.clear_memory()
+    load_spec("tree.yaml", registry=_REGISTRY)
+    assert full_validations.count == 2
+
+
+def test_a_file_edited_between_loads_is_never_encoded(
+    included_tree: Path, full_validations: Calls, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    encoded: list[TreeSpec] = []
+    real = cache._encode
+
+    def counting(spec: TreeSpec, file_index: dict[str, int]) -> bytes | None:
+        encoded.append(spec)
+        return real(spec, file_index)
+
+    monkeypatch.setattr(cache, "_encode", counting)
+    for name in ("one", "two", "three"):  # an edit-and-run loop
+        write(included_tree.parent, "tree.yaml", f"{_MAIN}name: {name}\n")
+        assert load_spec("tree.yaml", registry=_REGISTRY).name == name
+    assert encoded == []
+    load_spec("tree.yaml", registry=_REGISTRY)  # the same content again: now stored
+    assert len(encoded) == 1
+    assert full_validations.count == 4
 
 
 # -- changes miss ----------------------------------------------------------------------
@@ -193,27 +238,27 @@ def included_tree(tree_cache: Path, tree_dir: Path) -> Path:
 
 
 def test_changed_main_file_misses(included_tree: Path, full_validations: Calls) -> None:
-    load_spec("tree.yaml", registry=_REGISTRY)
+    admit("tree.yaml")
     included_tree.write_text(included_tree.read_text() + "name: renamed\n")
     spec = load_spec("tree.yaml", registry=_REGISTRY)
-    assert full_validations.count == 2
+    assert full_validations.count == 3
     assert spec.name == "renamed"
 
 
 def test_changed_included_file_misses(included_tree: Path, full_validations: Calls) -> None:
-    load_spec("tree.yaml", registry=_REGISTRY)
+    admit("tree.yaml")
     lib = included_tree.parent / "lib" / "handling.yaml"
     lib.write_text(lib.read_text().replace("{detector: detect}", "{name: Renamed, "
                                            "detector: detect}"))
     spec = load_spec("tree.yaml", registry=_REGISTRY)
-    assert full_validations.count == 2
+    assert full_validations.count == 3
     assert spec.root.children[1].name == "Renamed"
 
 
 def test_deleted_included_file_gives_its_diagnostic(
     included_tree: Path, full_validations: Calls
 ) -> None:
-    load_spec("tree.yaml", registry=_REGISTRY)
+    admit("tree.yaml")
     (included_tree.parent / "lib" / "handling.yaml").unlink()
     with pytest.raises(TreeLoadError) as caught:
         load_spec("tree.yaml", registry=_REGISTRY)
@@ -242,13 +287,14 @@ def test_changed_plugin_declaration_misses(
     write(tree_dir, "tree.yaml", "format: 1\nroot: {Counter: {}}\n")
     one, two = _registry_with(1), _registry_with(2)
     assert one.fingerprint() != two.fingerprint()
-    assert load_spec("tree.yaml", registry=one).root.attrs == {"count": 1}
-    assert load_spec("tree.yaml", registry=two).root.attrs == {"count": 2}
-    assert full_validations.count == 2
+    for _ in range(2):  # marker, then entry, for each registry
+        assert load_spec("tree.yaml", registry=one).root.attrs == {"count": 1}
+        assert load_spec("tree.yaml", registry=two).root.attrs == {"count": 2}
+    assert full_validations.count == 4
     cache.clear_memory()  # each registry has its own entry: both still hit
     assert load_spec("tree.yaml", registry=one).root.attrs == {"count": 1}
     assert load_spec("tree.yaml", registry=two).root.attrs == {"count": 2}
-    assert full_validations.count == 2
+    assert full_validations.count == 4
 
 
 def test_local_plugin_file_is_part_of_the_key(
@@ -266,15 +312,16 @@ def test_local_plugin_file_is_part_of_the_key(
     write(tree_dir, "tree.yaml", "format: 1\nplugins: [plugins/counter.py]\n"
                                  "root: {LocalCounter: {}}\n")
     first = cache.validate("tree.yaml", registry=_REGISTRY)
+    cache.validate("tree.yaml", registry=_REGISTRY)  # stores the entry
     cache.clear_memory()
     second = cache.validate("tree.yaml", registry=_REGISTRY)
-    assert full_validations.count == 1
+    assert full_validations.count == 2
     assert second.registry.get("LocalCounter") is not None  # the build can find it
     assert_same(second.spec, first.spec)  # type: ignore[arg-type]
     plugin = tree_dir / "plugins" / "counter.py"
     os.utime(plugin, ns=(plugin.stat().st_atime_ns, plugin.stat().st_mtime_ns + 10**9))
     cache.validate("tree.yaml", registry=_REGISTRY)
-    assert full_validations.count == 2
+    assert full_validations.count == 3
 
 
 # -- a broken cache is a silent miss ---------------------------------------------------
@@ -306,16 +353,20 @@ def _corrupt(kind: str, path: Path) -> None:
 def test_broken_entry_is_a_silent_miss(
     kind: str, included_tree: Path, tree_cache: Path, full_validations: Calls
 ) -> None:
-    reference = load_spec("tree.yaml", registry=_REGISTRY)
+    admit("tree.yaml")
+    reference = load_spec("tree.yaml", registry=_REGISTRY)  # a hit
     (stored,) = entries(tree_cache)
+    assert full_validations.count == 2
     _corrupt(kind, stored)
     cache.clear_memory()
     assert_same(load_spec("tree.yaml", registry=_REGISTRY), reference)
-    assert full_validations.count == 2
-    if kind != "directory":  # the full path wrote a good entry again
+    assert full_validations.count == 3
+    if kind != "directory":  # the full path wrote a good entry again (or a marker)
+        admit("tree.yaml")
         cache.clear_memory()
+        before = full_validations.count
         assert_same(load_spec("tree.yaml", registry=_REGISTRY), reference)
-        assert full_validations.count == 2
+        assert full_validations.count == before
 
 
 # -- errors are never cached -----------------------------------------------------------
@@ -375,11 +426,11 @@ def test_cli_no_cache_and_same_output_on_a_hit(
     assert cli.main(["validate", "--no-cache", tree]) == 0
     cold = capsys.readouterr().out
     assert not tree_cache.exists()
-    assert cli.main(["validate", tree]) == 0
-    assert cli.main(["validate", tree]) == 0
-    stored, hit = capsys.readouterr().out.splitlines()
+    for _ in range(3):  # marker, entry, hit
+        assert cli.main(["validate", tree]) == 0
+    marked, stored, hit = capsys.readouterr().out.splitlines()
     assert entries(tree_cache)
-    assert cold.strip() == stored == hit
+    assert cold.strip() == marked == stored == hit
     assert "nodes)" in hit
 
 
@@ -432,7 +483,7 @@ def test_hit_from_another_directory_has_its_display_paths(
 ) -> None:
     root = included_tree.parent
     (root / "elsewhere").mkdir()
-    load_spec("tree.yaml", registry=_REGISTRY)  # stored from the tree's directory
+    admit("tree.yaml")  # stored from the tree's directory
     cache.clear_memory()
     for cwd, path in ((root / "elsewhere", "../tree.yaml"), (root / "lib", "../tree.yaml"),
                       (root, "./tree.yaml"), (root.parent, str(included_tree))):
@@ -442,7 +493,7 @@ def test_hit_from_another_directory_has_its_display_paths(
         assert reference is not None
         assert_same(hit, reference)
         assert hit.source == path
-    assert full_validations.count == 1
+    assert full_validations.count == 2
     monkeypatch.chdir(root / "lib")
     files = {n.location.file for n in load_spec("../tree.yaml", registry=_REGISTRY).nodes()}
     assert files == {"../tree.yaml", "handling.yaml"}
@@ -459,9 +510,10 @@ def test_generated_documents_load_alike(
     path.write_text(yaml.safe_dump(document, sort_keys=False), encoding="utf-8")
     reference = validate_file(path, registry=_REGISTRY)
     first = cache.validate(path, registry=_REGISTRY)
+    stored = cache.validate(path, registry=_REGISTRY)
     cache.clear_memory()
     second = cache.validate(path, registry=_REGISTRY)
-    for result in (first, second):
+    for result in (first, stored, second):
         assert result.diagnostics == reference.diagnostics
         if reference.spec is None:
             assert result.spec is None

@@ -11,9 +11,7 @@
 
 from __future__ import annotations
 
-import contextlib
-import gc
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,35 +21,12 @@ import py_trees
 from sar_framework.engine import cache as tree_cache
 from sar_framework.engine.build import build
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
+from sar_framework.engine.gc_pause import paused
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
 from sar_framework.engine.validate import ValidationResult
 
 __all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
-
-
-@contextlib.contextmanager
-def _gc_paused() -> Iterator[None]:
-    """Pause the cyclic garbage collector while a tree is read and built.
-
-    A load allocates tens of thousands of objects that all stay alive; the collector
-    would scan them again and again for nothing (a third of the time of a big load).
-    On success, what the load made is moved straight to the oldest generation (the
-    documented effect of ``gc.freeze()`` then ``gc.unfreeze()``), which is where the
-    collector would put it after scanning it all once, at the first allocation after
-    the pause (about 25 ms at 10,000 nodes). Skipped when the program keeps objects
-    frozen itself, so as not to unfreeze them.
-    """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-        if was_enabled and gc.get_freeze_count() == 0:
-            gc.freeze()
-            gc.unfreeze()
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 @dataclass
@@ -90,7 +65,7 @@ def validate(
     Returns:
         The spec (None on errors) and every diagnostic.
     """
-    with _gc_paused():
+    with paused():
         return tree_cache.validate(
             path, registry=registry, plugin_paths=plugin_paths, cache=cache
         )
@@ -157,7 +132,7 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    with _gc_paused():  # through the build too; validate() pausing again inside is harmless
+    with paused():  # through the build too; validate() pausing again inside is harmless
         result = validate(path, registry=registry, plugin_paths=plugin_paths, cache=cache)
         if result.spec is None:
             raise _no_tree(path, result)

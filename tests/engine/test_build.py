@@ -314,3 +314,24 @@ def test_objects_the_program_froze_stay_frozen(tree_dir: Path, registry: Registr
         assert gc.get_freeze_count() == frozen
     finally:
         gc.unfreeze()
+
+
+def test_reloading_in_a_loop_does_not_pile_up_garbage(
+    tree_dir: Path, registry: Registry, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Objects promoted by a load do not count towards CPython's trigger for a full
+    # collection, so the promotion has a budget; past it, the collector counts them as
+    # usual and discarded trees (cyclic garbage) are collected.
+    from sar_framework.engine import gc_pause
+
+    monkeypatch.setattr(gc_pause, "PROMOTION_BUDGET", 20_000)
+    children = ", ".join("{Tick: {}}" for _ in range(200))
+    path = write(tree_dir, "tree.yaml",
+                 f"format: 1\nroot: {{sequence: {{memory: true, children: [{children}]}}}}\n")
+    gc.collect()
+    full_before = gc.get_stats()[-1]["collections"]
+    baseline = len(gc.get_objects())
+    for _ in range(150):  # about 150 x 1,200 objects: several budgets' worth
+        load_tree(path, registry=registry, cache=False)
+    assert gc.get_stats()[-1]["collections"] > full_before
+    assert len(gc.get_objects()) < baseline + 3 * 20_000

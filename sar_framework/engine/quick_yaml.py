@@ -89,6 +89,8 @@ _BUILDERS = {
     for tag, build in yaml_source.SCALAR_BUILDERS.items()
     if tag.endswith(("null", "bool", "int", "float"))
 }
+# Memos of plain scalars and keys seen (bounded: a long-lived process reads many files).
+_MEMO_SIZE = 65536
 _plain_memo: dict[str, Any] = {}
 _good_keys: set[str] = set()
 
@@ -114,7 +116,7 @@ def _plain(text: str) -> Any:
             value = builder(ScalarNode(tag, text))
         except Exception as exc:  # a value PyYAML would also refuse
             raise _OutsideError from exc
-    if len(_plain_memo) < 65536:
+    if len(_plain_memo) < _MEMO_SIZE:
         _plain_memo[text] = value
     return value
 
@@ -124,7 +126,8 @@ def _key(text: str) -> str:
     if text not in _good_keys:
         if _resolve(ScalarNode, text, _PLAIN) != _STR_TAG:
             raise _OutsideError
-        _good_keys.add(text)
+        if len(_good_keys) < _MEMO_SIZE:
+            _good_keys.add(text)
     return text
 
 

@@ -298,10 +298,11 @@ def _parse_lines(text: str) -> Mapping:
             continue  # a blank line
         indent = len(indent_text)
         if pending is not None:
-            # The pending key's value is the collection this line starts.
+            # The pending key's value is the collection this line starts: deeper, or a
+            # list level with its key ("indentless", as PyYAML's dumper writes lists).
             mapping, map_col, pending_key, key_line, key_col = pending
-            if indent <= map_col:
-                raise _OutsideError  # an empty value, or a list level with its key
+            if indent < map_col or (indent == map_col and not dash):
+                raise _OutsideError  # an empty value
             top = [] if dash else {}
             mapping[pending_key] = (top, key_line, key_col) if not dash else top
             top_col = indent
@@ -343,6 +344,9 @@ def _parse_lines(text: str) -> Mapping:
             top, top_col = mapping, content_col
             stack.append((content_col, mapping))
         else:
+            if type(top) is list and len(stack) > 1 and stack[-2][0] == top_col:
+                stack.pop()  # the end of a list level with its key: back to the mapping
+                top_col, top = stack[-1]
             if type(top) is not dict or not key:
                 raise _OutsideError
             mapping = top

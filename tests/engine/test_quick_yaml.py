@@ -93,6 +93,10 @@ INSIDE = {
         "root:\n  sequence:\n    children:\n      - A: {}\n      -   B:\n            x: 1\n"
     ),
     "value after several spaces": "a:    {b: {c: 1}}\n",
+    "list level with its key, in a list": "x:\n- a:\n  - 1\n  b: 2\n- 3\ny: 4\n",
+    "lists level with their key": (
+        "a:\n- 1\n- b:\n    c: [x]\n  d: 2\ne:\n  f:\n  - g: {}\n  h: 3\ni: 4\n"
+    ),
 }
 
 
@@ -122,7 +126,7 @@ OUTSIDE = {
     "null key": "null: 1\n",
     "empty value": "a:\nb: 1\n",
     "empty value at the end": "a:\n",
-    "list level with its key": "a:\n- 1\n",
+    "key after a list level with its key, deeper": "a:\n- 1\n  b: 2\n",
     "trailing comma": "a: {b: 1,}\n",
     "comment in quotes": "a: 'x #y'\n",
     "timestamp": "a: 2024-01-01\n",

@@ -1,7 +1,7 @@
 """The quick path of :func:`~.validate.validate_file`: an ordinary, valid tree, fast.
 
-Most loads are of a tree that is valid and plainly written: one file (no ``include``
-or ``subtrees``), in the YAML subset :mod:`.quick_yaml` reads. For such a
+Most loads are of a tree that is valid and plainly written, in the YAML subset
+:mod:`.quick_yaml` reads (with its included files, subtrees and local plugins). For such a
 file this module produces the same :class:`~.validate.ValidationResult` as the
 reference path (PyYAML's composer, then the full check), in about a third of the time,
 by walking plain values instead of YAML nodes.
@@ -20,16 +20,19 @@ result where the reference finds a problem.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from sar_framework.engine import quick_yaml, validate, yaml_source
+from sar_framework.engine.diagnostics import display_path
 from sar_framework.engine.node_kinds import SUBTREE, Attr, AttrType
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
-_TOP_LEVEL_KEYS = frozenset(("format", "name", "description", "plugins", "root"))
+_TOP_LEVEL = validate.TOP_LEVEL
+_TOP_LEVEL_KEYS = frozenset(_TOP_LEVEL)
 _NODE = AttrType.NODE
 _NODES = AttrType.NODES
 _STRING = AttrType.STRING
@@ -48,8 +51,8 @@ class _NotOrdinaryError(Exception):
 
 def quick_validate(
     main_path: Path, shown: str, base: Registry, plugin_paths: Sequence[str | Path] = ()
-) -> tuple[validate.ValidationResult, bytes] | None:
-    """Validate an ordinary tree file quickly, or give up.
+) -> tuple[validate.ValidationResult, list[tuple[Path, bytes]]] | None:
+    """Validate an ordinary tree file (and the files it includes) quickly, or give up.
 
     Args:
         main_path: The file (absolute, normalised, as :func:`~.validate.main_file`).
@@ -58,67 +61,114 @@ def quick_validate(
         plugin_paths: Extra plugin files, dirs or modules (like ``--plugin-path``).
 
     Returns:
-        The result (with no diagnostics) and the exact bytes read; None when the
-        file is not an ordinary valid tree (the caller then takes the reference path).
+        The result (with no diagnostics) and each file read with its exact bytes, in
+        the order read; None when the tree is not ordinary and valid (the caller then
+        takes the reference path).
     """
+    files = _Files()
     try:
-        with main_path.open("rb") as stream:
-            data = stream.read(yaml_source.MAX_FILE_BYTES + 1)
-        if len(data) > yaml_source.MAX_FILE_BYTES:
-            return None
-        text = data.decode("utf-8-sig")
-    except (OSError, UnicodeDecodeError):
-        return None
-    document = quick_yaml.parse(text)
-    if document is None:
-        return None
-    try:
-        entries = _checked(validate.TOP_LEVEL["plugins"], document.get("plugins", []))
+        files.visit(main_path, shown, ())
+        # Plugin files are imported once per process (Registry.import_file), so giving
+        # up after this costs the reference path nothing.
+        registry = validate.local_registry(
+            base, plugin_paths, [(entry, directory, None) for entry, directory in files.plugins]
+        )
+        if registry.diagnostics:
+            return None  # the reference result carries them
+        spec = _Walk(registry).tree(files, main_path)
     except _NotOrdinaryError:
         return None
-    directory = main_path.parent
-    # Plugin files are imported once per process (Registry.import_file), so giving up
-    # after this costs the reference path nothing.
-    registry = validate.local_registry(base, plugin_paths,
-                                       [(entry, directory, None) for entry in entries])
-    if registry.diagnostics:
-        return None  # the reference result carries them
-    try:
-        spec = _Walk(registry, shown).tree(document, main_path)
-    except _NotOrdinaryError:
-        return None
-    spec.plugin_paths = [validate.plugin_path(entry, directory) for entry in entries]
-    result = validate.ValidationResult(spec, [], [], registry, None, {main_path: shown},
-                                       [(entry, directory) for entry in entries])
-    return result, data
+    spec.plugin_paths = [validate.plugin_path(entry, directory)
+                         for entry, directory in files.plugins]
+    result = validate.ValidationResult(
+        spec, [], [], registry, None, {path: name for path, (name, _) in files.documents.items()},
+        list(files.plugins),
+    )
+    return result, files.reads
+
+
+class _Files:
+    """The main file and its includes, read in the reference's order (depth first)."""
+
+    def __init__(self) -> None:
+        self.documents: dict[Path, tuple[str, quick_yaml.Mapping]] = {}
+        self.reads: list[tuple[Path, bytes]] = []
+        self.plugins: list[tuple[str, Path]] = []
+
+    def visit(self, path: Path, shown: str, stack: tuple[Path, ...]) -> None:
+        """Read one file, note its plugins, visit its includes (as ``_Checker.visit``)."""
+        try:
+            with path.open("rb") as stream:
+                data = stream.read(yaml_source.MAX_FILE_BYTES + 1)
+            text = data.decode("utf-8-sig")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise _NotOrdinaryError from exc
+        document = quick_yaml.parse(text) if len(data) <= yaml_source.MAX_FILE_BYTES else None
+        if document is None or not _TOP_LEVEL_KEYS.issuperset(document):
+            raise _NotOrdinaryError
+        self.reads.append((path, data))
+        self.documents[path] = (shown, document)
+        for entry in _checked(_TOP_LEVEL["plugins"], document.get("plugins", [])):
+            self.plugins.append((entry, path.parent))
+        for entry in _checked(_TOP_LEVEL["include"], document.get("include", [])):
+            target = Path(entry).expanduser()
+            target = (path.parent / target) if not target.is_absolute() else target
+            target = Path(os.path.normpath(str(target)))
+            if target in stack or target == path or not target.is_file():
+                raise _NotOrdinaryError  # an include cycle, or no such file
+            if target not in self.documents:
+                self.visit(target, display_path(target), (*stack, path))
 
 
 class _Walk:
     """One quick walk: the reference checker's state, fed from plain values."""
 
-    def __init__(self, registry: Registry, shown: str) -> None:
+    def __init__(self, registry: Registry) -> None:
         self.checker = validate._Checker(registry)
-        self.checker.file = shown
         self.registry = registry
-        self.file = shown
+        self.file = ""
         self.decls = dict(validate._KIND_DECLS)  # plus each plugin met, on first use
+        # Subtree name -> (its node as plain values, its file's name); walked afresh at
+        # each use in the tree (a fresh copy), or once on its own when never used.
+        self.definitions: dict[str, tuple[Any, str]] = {}
+        self.used: set[str] = set()
+        self.chain: list[str] = []  # the subtrees being inserted, outermost first
 
-    def tree(self, document: quick_yaml.Mapping, main_path: Path) -> TreeSpec:
-        """Check the top level, walk the root, resolve references."""
-        if not _TOP_LEVEL_KEYS.issuperset(document):
-            raise _NotOrdinaryError
-        form = document.get("format")
-        if type(form) is not int or form != validate.FORMAT_VERSION:
-            raise _NotOrdinaryError
-        name = document.get("name")
-        description = document.get("description", "")
-        if (name is not None and type(name) is not str) or type(description) is not str:
-            raise _NotOrdinaryError
-        root_entry = document.get("root")
-        if type(root_entry) is not tuple:
-            raise _NotOrdinaryError  # no root, or not a mapping
-        root = self.node(root_entry[0], 1, "0", validate._Scope(None))
+    def tree(self, files: _Files, main_path: Path) -> TreeSpec:
+        """Check every file's top level and subtrees, walk the roots, resolve references."""
         checker = self.checker
+        name: str | None = None
+        description = ""
+        for path, (shown, document) in files.documents.items():
+            self.file = checker.file = shown
+            if "format" not in document:
+                raise _NotOrdinaryError
+            top = {key: _checked(_TOP_LEVEL[key], document[key])
+                   for key in ("format", "name", "description") if key in document}
+            file_name = top.get("name")
+            file_description = top.get("description", "")
+            if path == main_path:
+                name, description = file_name, file_description
+            if "subtrees" in document:
+                self.subtrees(document["subtrees"])
+        root = None
+        for path, (shown, document) in files.documents.items():
+            entry = document.get("root")
+            if entry is None:
+                continue
+            if type(entry) is not tuple:
+                raise _NotOrdinaryError  # not a mapping
+            self.file = checker.file = shown
+            if path == main_path:
+                root = self.node(entry[0], 1, "0", validate._Scope(None))
+            else:
+                self.node(entry[0], 1, "", None)  # an included file's root: checked only
+        if root is None:
+            raise _NotOrdinaryError  # no root: a library file, or a mistake
+        for subtree, (node, shown) in self.definitions.items():
+            if subtree not in self.used:  # checked as the reference checks every definition
+                self.file = shown
+                self.node(node, 1, "", None)
         checker.resolve_refs()
         if checker.semantic or checker.structural:
             raise _NotOrdinaryError
@@ -126,9 +176,18 @@ class _Walk:
             name=name if name is not None else main_path.stem,
             description=description,
             root=root,
-            source=self.file,
+            source=files.documents[main_path][0],
             plugin_paths=[],
         )
+
+    def subtrees(self, entry: Any) -> None:
+        """Note a file's subtree definitions (as ``checker_subtrees``; walked later)."""
+        if type(entry) is not tuple:
+            raise _NotOrdinaryError  # not a mapping
+        for name, definition in entry[0].items():
+            if type(definition) is not tuple or name in self.definitions:
+                raise _NotOrdinaryError  # not a node, or defined twice
+            self.definitions[name] = (definition[0], self.file)
 
     def plugin_decl(self, key: str) -> validate._Decl:
         """The declaration of a plugin met for the first time (give up on anything else)."""
@@ -138,11 +197,15 @@ class _Walk:
         decl = self.decls[key] = self.checker.plugin_decl(plugin)
         return decl
 
-    def node(self, y: Any, depth: int, uid: str, scope: validate._Scope) -> NodeSpec:
+    def node(
+        self, y: Any, depth: int, uid: str, scope: validate._Scope | None
+    ) -> NodeSpec:
         """The reference walk's success path (see ``_Checker.node``), on plain values."""
         if type(y) is not dict or len(y) != 1 or depth > _MAX_DEPTH:
             raise _NotOrdinaryError
         [(key, entry)] = y.items()
+        if key == SUBTREE:
+            return self.subtree(entry, uid, scope, depth)
         if type(entry) is not tuple:
             raise _NotOrdinaryError  # the attributes are not a mapping
         given, line, col = entry
@@ -163,12 +226,14 @@ class _Walk:
                     raise _NotOrdinaryError
                 values[name] = True
                 for index, item in enumerate(value):
-                    children.append(self.node(item, depth + 1, f"{uid}.{index}", scope))
+                    child_uid = f"{uid}.{index}" if scope is not None else ""
+                    children.append(self.node(item, depth + 1, child_uid, scope))
             elif kind is _NODE:
                 if type(value) is not tuple:
                     raise _NotOrdinaryError
                 values[name] = True
-                children.append(self.node(value[0], depth + 1, uid + ".0", scope))
+                child_uid = uid + ".0" if scope is not None else ""
+                children.append(self.node(value[0], depth + 1, child_uid, scope))
             elif (kind is _STRING and attr.simple and type(value) is str) or (
                 kind is _BOOLEAN and type(value) is bool and attr.enum is None
             ):
@@ -185,8 +250,38 @@ class _Walk:
             if (what == "required" and not present) or (what == "forbidden" and present):
                 raise _NotOrdinaryError
         spec = validate.new_spec(decl, key, values, children, uid=uid, where=where)
-        self.checker.in_scope(spec, decl, scope)
+        if scope is not None:
+            self.checker.in_scope(spec, decl, scope)
         return spec
+
+    def subtree(
+        self, name: Any, uid: str, scope: validate._Scope | None, depth: int
+    ) -> NodeSpec:
+        """``{subtree: NAME}``: a placeholder in a definition, a fresh copy in the tree.
+
+        The copy is the definition walked again, in a scope of its own (its ids are
+        local to it), as ``_Checker.expand`` makes it from a copy of the definition.
+        """
+        if type(name) is not str or not name:
+            raise _NotOrdinaryError
+        if scope is None:
+            # Only diagnostics would print where a placeholder stands, and any diagnostic
+            # sends the tree to the reference path.
+            return NodeSpec(SUBTREE, _LEAF, name, "", _new_location(self.file, 1, 1))
+        definition = self.definitions.get(name)
+        if definition is None or name in self.chain:
+            raise _NotOrdinaryError  # an unknown or recursive subtree
+        node, shown = definition
+        outer = self.file
+        self.file = shown
+        self.chain.append(name)
+        copy = self.node(node, depth, uid, validate._Scope(scope))
+        self.chain.pop()
+        self.file = outer
+        self.used.add(name)
+        if copy.subtree is None:  # a definition that is itself {subtree: X}: X's name stays
+            copy.subtree = name
+        return copy
 
 
 def _same(value: Any, wanted: Any) -> bool:

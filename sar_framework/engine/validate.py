@@ -937,9 +937,10 @@ def validate_file(
 
         done = quick_validate(main_path, shown, base, plugin_paths)
         if done is not None:
-            result, data = done
+            result, reads = done
             if on_read is not None:
-                on_read(main_path, data)
+                for file_path, data in reads:
+                    on_read(file_path, data)
             return result
     checker = _Checker(base, on_read)
 

@@ -57,10 +57,11 @@ def both_paths(path: Path, registry: Registry, plugin_paths: tuple[str, ...] = (
     reference = validate_file(path, registry=registry, plugin_paths=plugin_paths, quick=False)
     quick = quick_validate(main_file(path), str(path), registry, plugin_paths)
     if quick is not None:
-        result, data = quick
+        result, reads = quick
         assert reference.ok and reference.diagnostics == [], "the quick path hid a problem"
         same_result(result, reference)
-        assert data == path.read_bytes()
+        assert [p for p, _ in reads] == list(reference.files)  # read in the same order
+        assert all(data == p.read_bytes() for p, data in reads)
     same_result(validate_file(path, registry=registry, plugin_paths=plugin_paths), reference)
     return quick is not None
 
@@ -69,13 +70,12 @@ def both_paths(path: Path, registry: Registry, plugin_paths: tuple[str, ...] = (
 def test_repository_trees(path: Path) -> None:
     taken = both_paths(path, discover(entry_points=False))
     top = yaml.safe_load(path.read_text(encoding="utf-8"))
-    ordinary = "root" in top and not {"include", "subtrees"} & set(top)
-    assert taken == ordinary  # every single-file tree the project ships goes the quick way
+    assert taken == ("root" in top)  # every tree the project ships goes the quick way
 
 
 def test_fixtures(registry: Registry) -> None:
-    for path in sorted(FIXTURES.rglob("*.yaml")):
-        both_paths(path, registry)
+    taken = [both_paths(path, registry) for path in sorted(FIXTURES.rglob("*.yaml"))]
+    assert any(taken)  # the mission fixture, with its include and subtree
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -116,6 +116,80 @@ def test_reads_the_file_once_and_reports_its_bytes(tree_dir: Path, registry: Reg
     result = validate_file(path, registry=registry, on_read=lambda p, b: seen.append((p, b)))
     assert result.ok
     assert seen == [(main_file(path), path.read_bytes())]
+
+
+WITH_SUBTREES = {
+    "tree.yaml": """
+        format: 1
+        include: [lib/a.yaml, lib/b.yaml]
+        subtrees:
+          twice:
+            sequence:
+              memory: true
+              children: [{subtree: from_a}, {subtree: from_a}]
+        root:
+          sequence:
+            memory: false
+            children:
+              - Fixed: {id: top}
+              - subtree: twice
+              - subtree: from_b
+              - subtree: alias
+        """,
+    "lib/a.yaml": """
+        format: 1
+        include: [b.yaml]
+        subtrees:
+          from_a:
+            selector:
+              memory: true
+              children:
+                - Fixed: {id: local}
+                - Typed: {label: a, source: local}   # the copy's own id
+                - Typed: {label: b, source: top}     # the enclosing tree's
+        """,
+    "lib/b.yaml": """
+        format: 1
+        plugins: []
+        subtrees:
+          from_b: {inverter: {child: {subtree: from_a}}}
+          alias: {subtree: from_b}
+          unused: {Tick: {}}
+        root: {Tick: {}}   # an included file's root: checked, not used
+        """,
+}
+
+
+def test_includes_and_subtrees_take_the_quick_path(tree_dir: Path, registry: Registry) -> None:
+    for name, text in WITH_SUBTREES.items():
+        write(tree_dir, name, text)
+    path = tree_dir / "tree.yaml"
+    assert both_paths(path, registry)
+    seen: list[Path] = []
+    validate_file(path, registry=registry, on_read=lambda p, _: seen.append(p))
+    assert seen == [main_file(tree_dir / n) for n in ("tree.yaml", "lib/a.yaml", "lib/b.yaml")]
+
+
+@pytest.mark.parametrize("change", [
+    ("lib/a.yaml", "include: [b.yaml]", "include: [../tree.yaml]"),  # an include cycle
+    ("lib/a.yaml", "include: [b.yaml]", "include: [c.yaml]"),  # a missing include
+    ("tree.yaml", "subtree: from_b", "subtree: from_c"),  # an unknown subtree
+    ("lib/b.yaml", "{subtree: from_a}", "{subtree: from_b}"),  # a recursive subtree
+    ("lib/b.yaml", "from_b: {", "from_a: {"),  # a subtree defined twice
+    ("lib/a.yaml", "source: local}", "source: nowhere}"),  # a dangling reference
+    ("lib/b.yaml", "root: {Tick: {}}", "root: {Tock: {}}"),  # an error in an included root
+])
+def test_problems_across_files_give_up(
+    change: tuple[str, str, str], tree_dir: Path, registry: Registry
+) -> None:
+    for name, text in WITH_SUBTREES.items():
+        write(tree_dir, name, text)
+    name, old, new = change
+    target = tree_dir / name
+    assert old in target.read_text()
+    target.write_text(target.read_text().replace(old, new))
+    assert not both_paths(tree_dir / "tree.yaml", registry)
+    assert not validate_file(tree_dir / "tree.yaml", registry=registry).ok
 
 
 def test_plugins_key_and_plugin_paths(tree_dir: Path) -> None:
@@ -167,4 +241,21 @@ def test_generated_documents(document: Any, flow: bool | None, tmp_path_factory:
 def test_mutated_files(text: str, tmp_path_factory: Any) -> None:
     path = tmp_path_factory.mktemp("quick-mut") / "tree.yaml"
     path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    both_paths(path, _REGISTRY)
+
+
+@_SETTINGS
+@given(document=documents(_REGISTRY), flow=st.sampled_from([False, None]))
+def test_generated_documents_across_two_files(
+    document: Any, flow: bool | None, tmp_path_factory: Any
+) -> None:
+    folder = tmp_path_factory.mktemp("quick-split")
+    if isinstance(document, dict) and "subtrees" in document:
+        library = {"format": 1, "subtrees": document.pop("subtrees")}
+        document = {"include": ["lib.yaml"], **document}
+        (folder / "lib.yaml").write_text(yaml.safe_dump(library, sort_keys=False,
+                                                        default_flow_style=flow, width=1000))
+    path = folder / "tree.yaml"
+    path.write_text(yaml.safe_dump(document, sort_keys=False, default_flow_style=flow,
+                                   width=1000), encoding="utf-8")
     both_paths(path, _REGISTRY)

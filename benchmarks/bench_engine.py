@@ -8,6 +8,8 @@ write by hand, generated and compiled once). Rows, median of the runs:
 * ``py_trees by hand``: the generated code builds the tree;
 * ``load_tree``: YAML file -> validated TreeSpec -> behaviours (the engine), cold: the
   cache of validated trees is off, every run reads and validates;
+* ``load_tree, groups as subtrees``: the same tree, each group a subtree defined in an
+  included file and inserted with ``{subtree: ...}`` (the style of the issue's example);
 * ``load_tree, first load (cache on)``: the first load of this content (validates,
   leaves a small marker; what an edit-and-run loop pays every time);
 * ``load_tree, second load (stores)``: the second load of the same content, in a new
@@ -170,6 +172,21 @@ def plan_yaml(plan: Plan) -> str:
     return "\n".join(lines) + "\n"
 
 
+def plan_yaml_with_subtrees(plan: Plan, library: str) -> tuple[str, str]:
+    """The plan as a main file whose groups are subtrees defined in an included file."""
+    kind, attrs, groups = plan
+    lib = ["format: 1", "subtrees:"]
+    for index, group in enumerate(groups):
+        lib.append(f"  group{index}:")
+        # The group as a root node (2-space indent), moved under its subtree name.
+        lib += ["  " + line for line in plan_yaml(group).split("\n")[3:] if line]
+    main = ["format: 1", "name: bench", f"include: [{library}]", "root:", f"  {kind}:",
+            f"    name: {attrs['name']}", f"    memory: {str(attrs['memory']).lower()}",
+            "    children:"]
+    main += [f"      - subtree: group{index}" for index in range(len(groups))]
+    return "\n".join(main) + "\n", "\n".join(lib) + "\n"
+
+
 def plan_code(plan: Plan) -> Callable[[], Behaviour]:
     """Straight-line py_trees code for the plan, as a person would write it, compiled."""
     body: list[str] = []
@@ -322,7 +339,13 @@ def run(sizes: list[int], runs: int) -> None:
             text = plan_yaml(plan)
             path.write_text(text)
             by_hand = plan_code(plan)
+            split = Path(tmp) / f"bench_{size}_split.yaml"
+            main_text, lib_text = plan_yaml_with_subtrees(plan, f"bench_{size}_lib.yaml")
+            split.write_text(main_text)
+            (Path(tmp) / f"bench_{size}_lib.yaml").write_text(lib_text)
             loaded = load_tree(path, registry=registry, cache=False)
+            assert sum(1 for _ in load_tree(split, registry=registry,
+                                            cache=False).root.iterate()) == size
             nodes = sum(1 for _ in loaded.root.iterate())
             assert nodes == sum(1 for _ in by_hand().iterate()) == size, nodes
             n = runs if size <= 1000 else max(5, runs // 3)
@@ -345,6 +368,7 @@ def run(sizes: list[int], runs: int) -> None:
                 cache.clear_memory()
                 return load_tree(p, registry=registry)
 
+            subtrees = timed_ms(lambda p=split: load_tree(p, registry=registry, cache=False), n)
             first = timed_ms(cached_load, n, setup=forget)
             stored = timed_ms(cached_load, n, setup=lambda: forget(seen_once=True))
             disk = timed_ms(disk_hit, n)
@@ -378,6 +402,8 @@ def run(sizes: list[int], runs: int) -> None:
             rows += [
                 ("py_trees by hand (generated code)", size, ms(hand), "baseline"),
                 ("load_tree (read+validate+build)", size, ms(load), "cold; " + verdict(load)),
+                ("load_tree, groups as subtrees", size, ms(subtrees),
+                 "cold, include + subtrees; " + verdict(subtrees)),
                 ("load_tree, first load (cache on)", size, ms(first), verdict(first)),
                 ("load_tree, second load (stores)", size, ms(stored), verdict(stored)),
                 ("load_tree, warm (disk hit)", size, ms(disk), verdict(disk)),

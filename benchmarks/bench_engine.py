@@ -25,7 +25,9 @@ write by hand, generated and compiled once). Rows, median of the runs:
   columns are the two trees' medians), and the ratio.
 
 Each row shows the median (what the targets are about) and the minimum (what the code
-costs when nothing else competes for the CPU).
+costs when nothing else competes for the CPU). The issue set its targets on a machine where
+the naive pipeline took about 62 ms for 1,000 nodes; the table ends with this machine's
+figure for it, and each verdict also gives the target scaled by the ratio of the two.
 
 Run::
 
@@ -62,6 +64,9 @@ Behaviour = py_trees.behaviour.Behaviour
 
 # Targets from the issue (milliseconds, median) for load + validate + build.
 TARGETS_MS = {1000: 15.0, 10000: 150.0}
+# The issue calibrates them: "a naive PyYAML + jsonschema + build pipeline takes about 62 ms
+# for 1,000 nodes here". The naive row measured here gives the same figure for this machine.
+ISSUE_NAIVE_1000_MS = 62.0
 
 
 @leaf()
@@ -330,6 +335,7 @@ def run(sizes: list[int], runs: int) -> None:
     registry = bench_registry()
     validator = jsonschema.Draft202012Validator(tree_schema(registry))
     rows: list[tuple[str, int, str, str]] = []
+    scale: float | None = None  # this machine's speed against the issue's, from the naive row
     with tempfile.TemporaryDirectory() as tmp:
         os.environ[cache.ENV_DIR] = str(Path(tmp) / "cache")  # never the user's cache
         os.environ.pop(cache.ENV_SWITCH, None)
@@ -387,14 +393,22 @@ def run(sizes: list[int], runs: int) -> None:
             tick_loaded, tick_hand, tick_min_ratio = tick_ratio(
                 loaded.root, by_hand(), 60 if size <= 1000 else 20
             )
+            if size == 1000:
+                scale = naive[0] / ISSUE_NAIVE_1000_MS
+
             def verdict(
                 pair: tuple[float, float], target: float | None = target,
-                hand: tuple[float, float] = hand,
+                hand: tuple[float, float] = hand, scale: float | None = scale,
             ) -> str:
                 if not target:
                     return ""
                 met = "ok" if pair[0] <= target else "MISSED"
-                return f"target <= {target:.0f} ms: {met}; {pair[0] / hand[0]:.1f}x by hand"
+                text = f"target <= {target:.0f} ms: {met}"
+                if scale is not None:
+                    scaled = target * scale
+                    scaled_met = "ok" if pair[0] <= scaled else "MISSED"
+                    text += f" (scaled <= {scaled:.0f}: {scaled_met})"
+                return text + f"; {pair[0] / hand[0]:.1f}x by hand"
 
             def ms(pair: tuple[float, float]) -> str:
                 return f"{pair[0]:8.2f} | {pair[1]:8.2f}"
@@ -426,6 +440,11 @@ def run(sizes: list[int], runs: int) -> None:
     print(f"|{'-' * (width + 2)}|--------|-----------|----------|{'-' * 40}")
     for name, size, value, note in rows:
         print(f"| {name:<{width}} | {size:6d} | {value} | {note}")
+    if scale is not None:
+        print(f"\nCalibration: the naive pipeline takes {scale * ISSUE_NAIVE_1000_MS:.0f} ms for "
+              f"1,000 nodes on this machine, about {ISSUE_NAIVE_1000_MS:.0f} ms where the "
+              f"targets were set: this machine is {scale:.2f}x as slow, and 'scaled' is each "
+              "target multiplied by that.")
 
 
 def main() -> None:

@@ -7,10 +7,8 @@ Accepts every goal and cancel, publishes feedback every 50 ms with a shrinking
 import time
 
 import rclpy
-from _node_main import spin_until_interrupted
+from _node_main import serve_navigate_to_pose
 from nav2_msgs.action import NavigateToPose
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 
 
@@ -32,14 +30,7 @@ def main() -> None:
         node.get_logger().info("goal canceled")
         return NavigateToPose.Result()
 
-    ActionServer(
-        node, NavigateToPose, "navigate_to_pose", execute_callback=execute,
-        goal_callback=lambda _goal: GoalResponse.ACCEPT,
-        cancel_callback=lambda _handle: CancelResponse.ACCEPT,
-        callback_group=ReentrantCallbackGroup(),
-    )
-    node.get_logger().info("ready")
-    spin_until_interrupted(node, threads=2)
+    serve_navigate_to_pose(node, execute)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@ COMPAT_BIN  := .venv-compat/bin
 export ROS_AUTOMATIC_DISCOVERY_RANGE := LOCALHOST
 export ROS_DOMAIN_ID ?= 42
 
-.PHONY: setup run test test-fast lint bench render clean help
+.PHONY: setup run launch test test-fast lint bench render clean help
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -19,6 +19,10 @@ run: setup  ## the main job: the search-and-rescue mission in the embedded simul
 	@$(BIN)/sar-tree run trees/search_and_rescue.yaml --report-dir reports/latest; rc=$$?; \
 	  echo "report: reports/latest/mission.png (map and path), mission.json, tree.svg; logs reports/latest/*.log"; \
 	  exit $$rc
+
+launch: setup  ## the reference mission under ros2 launch (real launch/launch_ros, embedded simulator)
+	@[ -x $(BIN)/ros2 ] || { echo "make launch needs the ROS 2 stack in .venv: run make setup with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC=DIR" >&2; exit 2; }
+	@$(BIN)/ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded
 
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@$(BIN)/python -m pytest -q -p no:cacheprovider; rc=$$?; \

@@ -1,45 +1,55 @@
-"""Real robot (or Gazebo) launch: Nav2 + the mission runner + both service servers.
+"""The search-and-rescue mission under ``ros2 launch``: Nav2, both servers and the runner.
 
-    ros2 launch launch/search_and_rescue.launch.py [tree:=...] [params_file:=...]
-        [tick_rate_hz:=...] [map:=...] [nav2_params_file:=...] [use_sim_time:=true|false]
-        [rviz:=true|false]
+    ros2 launch sar_framework search_and_rescue.launch.py [nav2:=bringup|embedded]
+        [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...]
+        [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
+        [record:=FILE.mcap]
 
-Relative paths are taken from the working directory when they exist there, else from
-this repository (so the defaults work from anywhere). Needs a ROS 2 Jazzy install with
-nav2_bringup, and this project pip-installed into the Python that ``ros2 launch`` uses
-(see README, "Real robot launch"). Not tested here: no ROS distro can be installed on
-our machines; a test checks that this file compiles and that its arguments match the
-README.
+``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
+``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
+package's simulator (``sar-sim``) instead, like Nav2's loopback simulation. The launch ends
+when the runner ends: exit 0 when the mission succeeded, non-zero otherwise. ``record``
+adds the recorder (``sar-mission-recorder``), which writes the mission to a rosbag2-compatible
+MCAP file and closes it when the launch shuts down.
+
+File arguments default to this package's share folder (ament index). A path that exists
+(absolute, or relative to the working directory) is used as given; otherwise it is taken
+from the package share, and ``tree`` may name a file in its trees/ (``search_and_rescue``).
+Every process names its own nodes (no process-wide ``__node`` remap: the runner's process
+also holds BasicNavigator's node, the simulator's holds amcl and bt_navigator).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription, OpaqueFunction
+from ament_index_python.packages import get_package_share_directory
+from launch.actions import (
+    DeclareLaunchArgument,
+    EmitEvent,
+    IncludeLaunchDescription,
+    OpaqueFunction,
+    RegisterEventHandler,
+)
 from launch.conditions import IfCondition
+from launch.event_handlers import OnProcessExit
+from launch.events import Shutdown
 from launch.launch_description_sources import PythonLaunchDescriptionSource
-from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
+from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
-from launch_ros.substitutions import FindPackageShare
 
-from launch import LaunchDescription
+from launch import LaunchContext, LaunchDescription
 
-REPO = Path(__file__).resolve().parent.parent
-
-# Why launch_ros Node and not ExecuteProcess: this package is pip-installed, not an ament
-# package, so there is no `package` to name. launch_ros' Node accepts an executable without
-# a package and then runs it by name from PATH, which is where pip puts the console
-# scripts (sar-mission-runner, ...). Node still gives us ROS-aware handling: parameter
-# dicts and files become --params-file arguments, the node name is set, and SIGINT on
-# shutdown reaches the process (so the runner cancels a Nav2 goal in flight).
-RUNNER = "sar-mission-runner"
-DETECT_SERVER = "sar-detect-survivor-server"
-REPORT_SERVER = "sar-report-survivor-server"
+PACKAGE = "sar_framework"
+NAV2_MODES = ("bringup", "embedded")
 
 ARGUMENTS = [
-    DeclareLaunchArgument("tree", default_value="trees/search_and_rescue.yaml",
-                          description="Behaviour tree file the runner loads."),
+    DeclareLaunchArgument("nav2", default_value="bringup", choices=list(NAV2_MODES),
+                          description="bringup: nav2_bringup (robot, Gazebo); embedded: "
+                          "this package's simulator."),
+    DeclareLaunchArgument("tree", default_value="search_and_rescue.yaml",
+                          description="Behaviour tree: a path, or a file in the package's "
+                          "trees/."),
     DeclareLaunchArgument("params_file", default_value="config/mission_params.yaml",
                           description="Mission parameters (zones, base station, tick rate)."),
     DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
@@ -49,69 +59,117 @@ ARGUMENTS = [
     DeclareLaunchArgument("tick_rate_hz", default_value="",
                           description="Override the tick rate of params_file (empty: keep)."),
     DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
-                          description="map_server map file for Nav2."),
+                          description="map_server map file for Nav2 (bringup)."),
     DeclareLaunchArgument("nav2_params_file", default_value="config/nav2_params.yaml",
-                          description="Nav2 parameters (ROSbot)."),
+                          description="Nav2 parameters (ROSbot; bringup)."),
     DeclareLaunchArgument("use_sim_time", default_value="true",
-                          description="Follow /clock (Gazebo); false on the real robot."),
+                          description="Follow /clock (Gazebo, the simulator); false on the "
+                          "real robot."),
+    DeclareLaunchArgument("speed", default_value="20.0",
+                          description="Simulated seconds per wall second (embedded)."),
     DeclareLaunchArgument("rviz", default_value="false",
-                          description="Start RViz with Nav2's default view."),
+                          description="Start RViz with Nav2's default view (bringup)."),
+    DeclareLaunchArgument("record", default_value="",
+                          description="Record the mission into this MCAP file "
+                          "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
 ]
 
 
-def _path(text: str) -> str:
-    """Resolve a launch argument path: as given if it exists, else under the repository."""
+def package_file(text: str, folder: str = "") -> str:
+    """Resolve a file argument: as given if it exists, else inside the package share.
+
+    Args:
+        text: The argument's value.
+        folder: A share sub-folder to try a bare name in (e.g. ``trees``).
+
+    Returns:
+        An absolute path (the share's, even when missing, so the error names it).
+    """
     given = Path(text).expanduser()
     if given.is_absolute() or given.exists():
         return str(given.resolve())
-    return str(REPO / given)
+    share = Path(get_package_share_directory(PACKAGE))
+    candidates = [share / given]
+    if folder:
+        candidates += [share / folder / given, share / folder / f"{given}.yaml"]
+    return str(next((c for c in candidates if c.is_file()), candidates[0]))
 
 
-def _launch_setup(context: object) -> list:
+def end_with_runner(event: object, context: LaunchContext) -> list | None:
+    """Shut the launch down when the runner exits; fail it when the mission failed.
+
+    ``ros2 launch`` exits 1 when a launch action raises, so a runner exit code other than 0
+    becomes the launch's failure, with the reason in its log. A runner stopped by the
+    launch's own shutdown (Ctrl-C) is not a failure.
+    """
+    code = event.returncode
+    if context.is_shutdown:
+        return None
+    if code != 0:
+        raise RuntimeError(f"sar-mission-runner exited with code {code}: the mission did "
+                           "not succeed")
+    return [EmitEvent(event=Shutdown(reason="the mission is complete"))]
+
+
+def launch_setup(context: LaunchContext) -> list:
     """Build the actions once the arguments are known (paths resolved, empty ones skipped)."""
     def arg(name: str) -> str:
         return LaunchConfiguration(name).perform(context)
 
     use_sim_time = arg("use_sim_time").lower() in ("true", "1", "yes")
-    params_file = _path(arg("params_file"))
+    embedded = arg("nav2") == "embedded"
+    common = {"output": "screen", "emulate_tty": True}
+    actions: list = []
+    if embedded:
+        actions.append(Node(package=PACKAGE, executable="sar-sim",
+                            parameters=[{"speed": float(arg("speed"))}], **common))
+    else:
+        bringup = Path(get_package_share_directory("nav2_bringup"))
+        actions.append(IncludeLaunchDescription(
+            PythonLaunchDescriptionSource(str(bringup / "launch" / "bringup_launch.py")),
+            launch_arguments={
+                "map": package_file(arg("map")),
+                "params_file": package_file(arg("nav2_params_file")),
+                "use_sim_time": str(use_sim_time),
+                "autostart": "true",
+            }.items(),
+        ))
+        actions.append(Node(
+            package="rviz2", executable="rviz2", name="rviz2",
+            arguments=["-d", str(bringup / "rviz" / "nav2_default_view.rviz")],
+            parameters=[{"use_sim_time": use_sim_time}],
+            condition=IfCondition(LaunchConfiguration("rviz")), output="screen"))
 
-    nav2 = IncludeLaunchDescription(
-        PythonLaunchDescriptionSource(
-            PathJoinSubstitution([FindPackageShare("nav2_bringup"), "launch",
-                                  "bringup_launch.py"])),
-        launch_arguments={
-            "map": _path(arg("map")),
-            "params_file": _path(arg("nav2_params_file")),
-            "use_sim_time": str(use_sim_time),
-            "autostart": "true",
-        }.items(),
-    )
-
+    tree = package_file(arg("tree"), "trees")
+    if arg("record"):  # started first: it sees the mission from its first message
+        actions.append(Node(package=PACKAGE, executable="sar-mission-recorder", parameters=[{
+            "output": str(Path(arg("record")).expanduser().absolute()), "tree": tree,
+            "params_file": package_file(arg("params_file"))}], **common))
     runner_params: dict[str, object] = {
-        "tree": _path(arg("tree")),
+        "tree": tree,
         "use_sim_time": use_sim_time,
         "seed_amcl": True,
-        "nav2_timeout_s": 90.0,  # Nav2 bring-up next to Gazebo can take a while
+        "exit_on_completion": True,
+        # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
+        "nav2_timeout_s": 30.0 if embedded else 90.0,
     }
     if arg("tick_rate_hz"):
         runner_params["tick_rate_hz"] = float(arg("tick_rate_hz"))
-    common = {"output": "screen", "emulate_tty": True}
-    runner = Node(executable=RUNNER, name="sar_mission_runner",
-                  parameters=[params_file, runner_params], **common)
-    detect = Node(executable=DETECT_SERVER, name="detect_survivor_server",
-                  parameters=[{"survivors_file": _path(arg("survivors_file")),
-                               "use_sim_time": use_sim_time}], **common)
-    report = Node(executable=REPORT_SERVER, name="report_survivor_server",
-                  parameters=[{"report_file": str(Path(arg("report_file")).expanduser()),
-                               "use_sim_time": use_sim_time}], **common)
-    rviz = Node(package="rviz2", executable="rviz2", name="rviz2",
-                arguments=["-d", PathJoinSubstitution([FindPackageShare("nav2_bringup"), "rviz",
-                                                       "nav2_default_view.rviz"])],
-                parameters=[{"use_sim_time": use_sim_time}],
-                condition=IfCondition(LaunchConfiguration("rviz")), output="screen")
-    return [nav2, detect, report, runner, rviz]
+    runner = Node(package=PACKAGE, executable="sar-mission-runner",
+                  parameters=[package_file(arg("params_file")), runner_params], **common)
+    actions += [
+        Node(package=PACKAGE, executable="sar-detect-survivor-server",
+             parameters=[{"survivors_file": package_file(arg("survivors_file")),
+                          "use_sim_time": use_sim_time}], **common),
+        Node(package=PACKAGE, executable="sar-report-survivor-server",
+             parameters=[{"report_file": str(Path(arg("report_file")).expanduser()),
+                          "use_sim_time": use_sim_time}], **common),
+        runner,
+        RegisterEventHandler(OnProcessExit(target_action=runner, on_exit=end_with_runner)),
+    ]
+    return actions
 
 
 def generate_launch_description() -> LaunchDescription:
-    """Nav2 bringup, the two servers and the runner, with the arguments above."""
-    return LaunchDescription([*ARGUMENTS, OpaqueFunction(function=_launch_setup)])
+    """Nav2 (bringup or embedded), the two servers and the runner, with the arguments above."""
+    return LaunchDescription([*ARGUMENTS, OpaqueFunction(function=launch_setup)])

@@ -242,6 +242,9 @@ class NavigateToPoseLeaf(RosLeaf):
         return self._latch(False, f"navigation to {target.label} not finished within "
                                   f"{self.navigation_timeout_s:.1f} s; goal cancelled")
 
+    def _reached(self, target: NavigationTarget) -> None:
+        """Called when the goal to ``target`` succeeded (before the verdict)."""
+
     def _on_feedback(self, message: Any) -> None:
         self._distance_remaining = float(message.feedback.distance_remaining)
 
@@ -254,6 +257,7 @@ class NavigateToPoseLeaf(RosLeaf):
         error_msg = getattr(getattr(response, "result", None), "error_msg", "")
         detail = f": {error_msg}" if error_msg else ""
         if status == GoalStatus.STATUS_SUCCEEDED:
+            self._reached(target)
             return self._latch(True, target.reached)
         if status == GoalStatus.STATUS_ABORTED:
             return self._latch(False, f"goal to {target.label} aborted{detail}")

@@ -72,8 +72,8 @@ class RosLeaf(py_trees.behaviour.Behaviour):
         Args:
             success: Whether the leaf succeeded.
             message: Why; becomes ``feedback_message``.
-            log: Whether to log ``message`` on the node's logger (info on success,
-                warning on failure).
+            log: Whether to log ``message`` on the node's logger (info: the runner logs
+                a failure's reason line as a warning, with the node's name and uid).
 
         Returns:
             SUCCESS or FAILURE.
@@ -82,11 +82,7 @@ class RosLeaf(py_trees.behaviour.Behaviour):
         self._success = success
         self.feedback_message = message
         if log and self._node is not None:
-            # Two call sites: rclpy pins one severity to each (file, function, line).
-            if success:
-                self._node.get_logger().info(message)
-            else:
-                self._node.get_logger().warning(message)
+            self._node.get_logger().info(message)
         return self._verdict()
 
     def _verdict(self) -> Status:

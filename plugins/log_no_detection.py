@@ -2,21 +2,20 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import leaf
 
-if TYPE_CHECKING:
-    from rclpy.node import Node
+from ._logging_leaf import LoggingLeaf
 
+if TYPE_CHECKING:
     from sar_framework.mission.zone_manager import ZoneManager
 
 
 @leaf(context=["zone_manager"])
-class LogNoDetection(py_trees.behaviour.Behaviour):
+class LogNoDetection(LoggingLeaf):
     """Log ``No survivor found at <zone>.`` for the current zone; SUCCESS.
 
     The line goes to the ROS node's logger when ``setup(node=...)`` gave one, otherwise to
@@ -29,17 +28,8 @@ class LogNoDetection(py_trees.behaviour.Behaviour):
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager) -> None:
-        super().__init__(name=name)
+        super().__init__(name)
         self.zone_manager = zone_manager
-        self._node: Node | None = None
-
-    def setup(self, **kwargs: Any) -> None:
-        """Keep the ROS node, if any, for logging.
-
-        Args:
-            **kwargs: May hold ``node``.
-        """
-        self._node = kwargs.get("node")
 
     def update(self) -> Status:
         """Log the line and return SUCCESS."""
@@ -48,7 +38,5 @@ class LogNoDetection(py_trees.behaviour.Behaviour):
         except IndexError:
             self.feedback_message = "no current zone: every zone has been visited"
             return Status.FAILURE
-        self.feedback_message = f"No survivor found at {zone_id}."
-        logger = self._node.get_logger() if self._node is not None else self.logger
-        logger.info(self.feedback_message)
+        self.say(f"No survivor found at {zone_id}.")
         return Status.SUCCESS

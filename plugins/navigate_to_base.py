@@ -12,17 +12,22 @@ class NavigateToBase(NavigateToPoseLeaf):
     """Send a Nav2 NavigateToPose goal to the base station and wait for the result.
 
     Same behaviour and bounds as NavigateToZone, with the ZoneManager's base pose as the
-    goal. Logs ``All zones visited. Returning to base.`` when it sends the goal (or how many
-    zones are left unvisited, when used mid-mission) and ``Reached base station.`` on
-    success. Wrap it in a OneShot (ON_COMPLETION) under a reactive Selector so the goal is
-    sent only once.
+    goal. Logs ``All zones visited. Returning to base.`` when it sends the goal after every
+    zone was reached (else the zones not reached, or how many are left, when used
+    mid-mission) and ``Reached base station.`` on success. Wrap it in a OneShot
+    (ON_COMPLETION) under a reactive Selector so the goal is sent only once.
     """
 
     def _target(self) -> NavigationTarget:
         base = self.zone_manager.base_pose()
         remaining = self.zone_manager.total_zones() - self.zone_manager.current_index()
-        announce = ("All zones visited. Returning to base." if remaining == 0
-                    else f"Returning to base with {remaining} zone(s) unvisited.")
+        skipped = self.zone_manager.skipped_zones()
+        if remaining:
+            announce = f"Returning to base with {remaining} zone(s) unvisited."
+        elif skipped:
+            announce = f"Zones done, not reached: {', '.join(skipped)}. Returning to base."
+        else:
+            announce = "All zones visited. Returning to base."
         return NavigationTarget(
             label="base station",
             x=base["x"],

@@ -18,6 +18,9 @@ class NavigateToZone(NavigateToPoseLeaf):
     halted first. Logs ``Reached zone_a.`` on success. Fails when no zone is left.
     """
 
+    def _reached(self, target: NavigationTarget) -> None:
+        self.zone_manager.mark_reached(target.label)
+
     def _target(self) -> NavigationTarget:
         zone = self.zone_manager.current_zone()  # IndexError (a LookupError) when exhausted
         index, total = self.zone_manager.current_index() + 1, self.zone_manager.total_zones()

@@ -35,7 +35,8 @@ class NotifyBase(ServiceLeaf):
     :meth:`survivor_id`), the location the referenced DetectSurvivor's survivor pose as a
     PointStamped in ``frame_id``. One request per activation, polled without blocking.
     FAILURE when there is nothing to report, when the report is not acknowledged, or when
-    the service is not ready within ``server_timeout_s`` or silent for ``response_timeout_s``.
+    the service is not ready within ``server_timeout_s`` or silent for ``response_timeout_s``;
+    :meth:`failed_report` then says why, for a LogReportFailure leaf.
 
     Args:
         name: The behaviour's name.
@@ -57,16 +58,43 @@ class NotifyBase(ServiceLeaf):
         self.frame_id = frame_id
         self._survivor_id: str | None = None
         self._pose: tuple[float, float] | None = None
+        self._failure: str | None = None
 
     def initialise(self) -> None:
         """Reset the latch; fix the survivor id and location this activation reports."""
         super().initialise()
+        self._failure = None
         self._survivor_id = self.broadcaster.survivor_id()
         self._pose = self.detector.survivor_pose() if self.detector.was_found() else None
         if self._pose is None:
             self._latch(False, "no survivor detected to report")
         elif self._survivor_id is None:
             self._latch(False, "no survivor frame broadcast yet: nothing to report")
+
+    def update(self) -> Status:
+        """Poll the report; note why a report that was made failed.
+
+        Returns:
+            RUNNING until the answer, SUCCESS when acknowledged, FAILURE otherwise.
+        """
+        status = super().update()
+        if status == Status.FAILURE and self._failure is None and self._pose is not None \
+                and self._survivor_id is not None:
+            self._failure = f"Report for {self._survivor_id} failed: {self.feedback_message}"
+        return status
+
+    def failed_report(self) -> str | None:
+        """Say why the report of the detector's current survivor failed, if it did.
+
+        Returns:
+            ``Report for survivor_N refused by base: not acknowledged`` (or ``... failed:
+            <reason>`` when the service did not answer); None when the report was
+            acknowledged, is pending, or concerns an earlier detection.
+        """
+        current = self.detector.survivor_pose() if self.detector.was_found() else None
+        if self.status != Status.FAILURE or current is None or current != self._pose:
+            return None
+        return self._failure
 
     def _srv(self) -> Any:
         from sar_interfaces.srv import ReportSurvivor
@@ -89,5 +117,6 @@ class NotifyBase(ServiceLeaf):
         assert self._pose is not None
         where = f"{self._survivor_id} at ({self._pose[0]:.2f}, {self._pose[1]:.2f})"
         if not response.acknowledged:
+            self._failure = f"Report for {self._survivor_id} refused by base: not acknowledged"
             return self._latch(False, f"report of {where} not acknowledged")
         return self._latch(True, f"Reported {where}: acknowledged.")

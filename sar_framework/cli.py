@@ -1,8 +1,9 @@
-"""The ``sar-tree`` command line: validate | render | plugins | schema | run.
+"""The ``sar-tree`` command line: validate | render | plugins | schema | run | export | import.
 
 Each subcommand is a :class:`Command` (its arguments and a function returning the
-exit code) registered in :data:`_COMMANDS`; a later subcommand (``run``) adds one
-entry and imports its module lazily inside its function, like ``render`` does.
+exit code) registered in :data:`_COMMANDS`; each imports what it needs inside its
+functions, and only the subcommand named on the command line gets its arguments
+configured, so ``sar-tree validate`` imports neither the runner nor graphviz.
 
 Exit codes: 0 clean, 1 errors in the input (printed GCC style), 2 usage errors.
 No traceback is ever printed unless ``--debug`` is given.
@@ -18,6 +19,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO
+
+from sar_framework.interop import commands as interop
 
 EXIT_OK = 0
 EXIT_ERRORS = 1
@@ -81,20 +84,11 @@ def _check_tree_paths(paths: Sequence[str]) -> None:
             raise UsageError(f"not a file: '{path}'")
 
 
-def _add_no_cache(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--no-cache", action="store_true",
-        help="validate from scratch, without the cache of validated trees "
-        "(also: SAR_TREE_CACHE=0)",
-    )
-
-
 # -- validate ---------------------------------------------------------------------------
 def _configure_validate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("trees", nargs="+", metavar="TREE", help="tree files to check")
     _add_plugin_path(parser)
     parser.add_argument("-q", "--quiet", action="store_true", help="print only problems")
-    _add_no_cache(parser)
 
 
 def _run_validate(args: argparse.Namespace) -> int:
@@ -103,13 +97,16 @@ def _run_validate(args: argparse.Namespace) -> int:
     _check_tree_paths(args.trees)
     errors = 0
     for tree in args.trees:
-        result = validate(tree, plugin_paths=args.plugin_path, cache=not args.no_cache)
+        result = validate(tree, plugin_paths=args.plugin_path)
         count = _print_diagnostics(result.diagnostics)
         errors += count
         if args.quiet or count:
             continue
         if result.spec is not None:
-            _say(f"{tree}: ok ({len(result.spec)} nodes)")
+            from sar_framework.mission.completion import resolve_completion
+
+            completion = resolve_completion("auto", result.spec)[0]
+            _say(f"{tree}: ok ({len(result.spec)} nodes; default completion: {completion})")
         elif result.library is not None:
             _say(f"{tree}: ok (subtrees only: {result.library})")
     if errors:
@@ -128,25 +125,30 @@ def _configure_render(parser: argparse.ArgumentParser) -> None:
     target.add_argument(
         "--format", choices=("ascii", "unicode"), help="print the tree as text (default: unicode)"
     )
+    parser.add_argument(
+        "--all-params", action="store_true",
+        help="show every leaf param, defaults included (default: only those the tree sets)",
+    )
     _add_plugin_path(parser)
-    _add_no_cache(parser)
 
 
 def _run_render(args: argparse.Namespace) -> int:
     from sar_framework.engine.api import validate
 
     _check_tree_paths([args.tree])
-    result = validate(args.tree, plugin_paths=args.plugin_path, cache=not args.no_cache)
+    result = validate(args.tree, plugin_paths=args.plugin_path)
     if result.spec is None:
         _print_diagnostics(result.diagnostics)
         return EXIT_ERRORS
     from sar_framework.engine import render  # lazy: graphviz only when rendering
 
     if args.output is None:
-        sys.stdout.write(render.render_text(result.spec, unicode=args.format != "ascii"))
+        sys.stdout.write(render.render_text(
+            result.spec, unicode=args.format != "ascii", all_params=args.all_params
+        ))
         return EXIT_OK
     try:
-        written = render.render_to_file(result.spec, Path(args.output))
+        written = render.render_to_file(result.spec, Path(args.output), all_params=args.all_params)
     except ValueError as exc:
         raise UsageError(str(exc)) from exc
     except Exception as exc:  # graphviz missing, unwritable path, ...
@@ -280,6 +282,43 @@ def _run_run(args: argparse.Namespace) -> int:
     return run_command(args)
 
 
+def _configure_faults(parser: argparse.ArgumentParser) -> None:
+    del parser  # no options
+
+
+def _run_faults(args: argparse.Namespace) -> int:
+    from sar_framework.sim.faults import faults_table
+
+    sys.stdout.write(faults_table())
+    return EXIT_OK
+
+
+# -- replay -----------------------------------------------------------------------------
+def _configure_replay(parser: argparse.ArgumentParser) -> None:
+    from sar_framework.recording.replay import configure
+
+    configure(parser)
+
+
+def _run_replay(args: argparse.Namespace) -> int:
+    from sar_framework.recording.replay import replay_command
+
+    return replay_command(args)
+
+
+# -- watch ------------------------------------------------------------------------------
+def _configure_watch(parser: argparse.ArgumentParser) -> None:
+    from sar_framework.watch.command import configure
+
+    configure(parser)
+
+
+def _run_watch(args: argparse.Namespace) -> int:
+    from sar_framework.watch.command import watch_command
+
+    return watch_command(args)
+
+
 _COMMANDS: dict[str, Command] = {
     c.name: c
     for c in (
@@ -293,12 +332,31 @@ _COMMANDS: dict[str, Command] = {
                 _run_schema),
         Command("run", "run a mission: simulator, servers and runner; print progress, "
                 "write a report", _configure_run, _run_run),
+        Command("faults", "list the faults `run` can inject (parameters, units, meaning)",
+                _configure_faults, _run_faults),
+        Command("export", "write a tree as BehaviorTree.CPP 4 XML (Groot2 opens it)",
+                interop.configure_export, interop.run_export),
+        Command("import", "turn BehaviorTree.CPP 4 XML into a validated tree file",
+                interop.configure_import, interop.run_import),
+        Command("replay", "draw a mission's report again from its recording (.mcap)",
+                _configure_replay, _run_replay),
+        Command("watch", "show the running mission's tree live in the terminal",
+                _configure_watch, _run_watch),
     )
 }  # fmt: skip
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the ``sar-tree`` argument parser with every registered subcommand."""
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """Return the ``sar-tree`` argument parser.
+
+    Args:
+        argv: The arguments about to be parsed: only the subcommand they name gets its
+            own arguments (so ``validate`` never imports what ``run`` needs). None: all.
+
+    Returns:
+        The parser.
+    """
+    chosen = next((a for a in argv if a in _COMMANDS), None) if argv is not None else None
     parser = argparse.ArgumentParser(
         prog="sar-tree", description="Schema-checked YAML behaviour trees (py_trees)."
     )
@@ -310,7 +368,8 @@ def build_parser() -> argparse.ArgumentParser:
         # `--debug` is accepted after the subcommand too (SUPPRESS keeps the global value).
         sub_parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                                 help="show tracebacks of internal errors")
-        command.configure(sub_parser)
+        if argv is None or command.name == chosen:
+            command.configure(sub_parser)
         sub_parser.set_defaults(_command=command)
     return parser
 
@@ -324,7 +383,8 @@ def main(argv: list[str] | None = None) -> int:
     Returns:
         The process exit code: 0 clean, 1 errors, 2 usage errors.
     """
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else argv
+    parser = build_parser(argv)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help (0) or a usage error (2)

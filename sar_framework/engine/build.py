@@ -16,6 +16,7 @@ from typing import Any
 import py_trees
 
 from sar_framework.engine import compat
+from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
@@ -204,6 +205,10 @@ class _Builder:
         children = [make(child) for child in node.children]
         if self.problems:
             return None
-        behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
+        if node.kind == "timeout" and CLOCK_KEY in self.context:  # ROS time, when given
+            behaviour = ClockTimeout(node.name, children[0], float(node.attrs["duration"]),
+                                     self.context[CLOCK_KEY])
+        else:
+            behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
         self.built[node.uid] = behaviour
         return behaviour

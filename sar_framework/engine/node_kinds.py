@@ -13,7 +13,7 @@ only) are left out on purpose: this framework shares state by references.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
@@ -22,6 +22,10 @@ from sar_framework.engine.spec import Category
 
 #: The node kind that inserts a named subtree (``subtree: NAME``).
 SUBTREE = "subtree"
+#: The tree format version this engine reads.
+FORMAT_VERSION = 1
+#: Deepest nesting of nodes accepted (keeps every recursive pass far from Python's limit).
+MAX_DEPTH = 200
 
 
 class AttrType(str, Enum):
@@ -80,17 +84,6 @@ class Attr:
     min_length: int | None = None
     nullable: bool = False
     ref: str | None = None
-    #: A string with no further constraint: any YAML string is valid (the fast path).
-    simple: bool = field(init=False, repr=False, compare=False, default=False)
-
-    def __post_init__(self) -> None:
-        simple = (
-            self.type is AttrType.STRING
-            and self.enum is None
-            and self.min_length is None
-            and self.ref is None
-        )
-        object.__setattr__(self, "simple", simple)
 
 
 @dataclass(frozen=True)
@@ -352,3 +345,20 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
             )
         )
     return tuple(attrs)
+
+
+#: Top-level keys of a tree file, in the order the docs list them.
+TOP_LEVEL_ATTRS: tuple[Attr, ...] = (
+    Attr("format", AttrType.INTEGER, required=True, enum=(FORMAT_VERSION,),
+         description="The tree format version; always 1."),
+    Attr("name", AttrType.STRING, description="The tree's name (default: the file name)."),
+    Attr("description", AttrType.STRING, description="Free text."),
+    Attr("plugins", AttrType.STRINGS,
+         description="Extra plugin modules, .py files or directories, relative to this file."),
+    Attr("include", AttrType.STRINGS,
+         description="Tree files whose subtrees become available here, relative to this file."),
+    Attr("subtrees", AttrType.NODE, description="Named fragments, inserted with {subtree: NAME}."),
+    Attr("root", AttrType.NODE, description="The root node (required in the file you load)."),
+)  # fmt: skip
+#: The top-level attributes by key.
+TOP_LEVEL = {a.name: a for a in TOP_LEVEL_ATTRS}

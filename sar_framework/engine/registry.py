@@ -17,15 +17,11 @@ traceback; two plugins with one name is an error naming both sources.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import importlib
 import importlib.metadata
 import importlib.util
-import inspect
 import pkgutil
-import sys
 import threading
-import traceback
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from types import ModuleType
@@ -36,53 +32,26 @@ import py_trees
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
 from sar_framework.engine.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
+from sar_framework.engine.plugin_import import (
+    class_location,
+    exception_text,
+    exec_file,
+    failure_location,
+    fallback_location,
+    is_module_name,
+    module_file,
+    same_definition,
+)
 
 #: The entry-point group third-party packages register plugins under.
 ENTRY_POINT_GROUP = "sar_framework.plugins"
 #: The import name of the built-in plugin package.
 BUILTIN_PACKAGE = "sar_plugins"
-#: Package name under which local plugin files are imported.
-_LOCAL_PREFIX = "sar_local_plugins"
-
 _lock = threading.RLock()
 # Local plugin files already imported: resolved path -> module or the import failure.
 _path_modules: dict[Path, ModuleType | BaseException] = {}
 # The shared built-in + entry-point registry, discovered once per process.
 _default: dict[str, Registry] = {}
-
-
-def _where(location: SourceLocation | None, file: str) -> SourceLocation:
-    return location if location is not None else SourceLocation(file, 1, 1)
-
-
-def _failure_location(
-    exc: BaseException, file: str | None, fallback: SourceLocation
-) -> SourceLocation:
-    """Point at the line of ``file`` that raised, or at ``fallback``."""
-    if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
-        return SourceLocation(display_path(exc.filename), exc.lineno, max(exc.offset or 1, 1))
-    if file:
-        target = str(Path(file).resolve())
-        for frame in reversed(traceback.extract_tb(exc.__traceback__)):
-            if frame.filename and str(Path(frame.filename).resolve()) == target and frame.lineno:
-                return SourceLocation(display_path(file), frame.lineno, 1)
-    return fallback
-
-
-def _exc_text(exc: BaseException) -> str:
-    # A SyntaxError's str() repeats the file and line the location already gives.
-    text = (exc.msg if isinstance(exc, SyntaxError) else str(exc)).strip().splitlines()
-    first = text[0] if text else ""
-    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
-
-
-def _class_location(cls: type) -> SourceLocation | None:
-    try:
-        file = inspect.getsourcefile(cls)
-        line = inspect.getsourcelines(cls)[1]
-    except (OSError, TypeError):
-        return None
-    return SourceLocation(display_path(file), line, 1) if file else None
 
 
 class Registry:
@@ -121,37 +90,6 @@ class Registry:
         """Return the plugin names, sorted."""
         return sorted(self._plugins)
 
-    def fingerprint(self) -> str:
-        """Return a digest of everything validation reads from this registry.
-
-        It covers every plugin's name, declaration (params, context, description),
-        source and class, the size and modification time of each plugin's module file,
-        and the diagnostics. Two registries with one fingerprint validate a tree alike.
-
-        Returns:
-            A hex digest.
-        """
-        digest = hashlib.blake2b(digest_size=20)
-        files: set[str] = set()
-        for spec in sorted(self._plugins.values(), key=lambda p: p.name):
-            cls = spec.cls
-            declaration = (spec.name, spec.source, spec.description, spec.params, spec.context,
-                           cls.__module__, cls.__qualname__)
-            digest.update(repr(declaration).encode("utf-8", "backslashreplace"))
-            module = sys.modules.get(cls.__module__)
-            file = getattr(module, "__file__", None)
-            if file:
-                files.add(file)
-        for file in sorted(files):
-            try:
-                stat = Path(file).stat()
-                digest.update(f"\0{file}\0{stat.st_mtime_ns}\0{stat.st_size}".encode())
-            except OSError:
-                digest.update(f"\0{file}\0missing".encode())
-        for diagnostic in self.diagnostics:
-            digest.update(f"\0{diagnostic}".encode("utf-8", "backslashreplace"))
-        return digest.hexdigest()
-
     def add(self, cls: type, source: str, location: SourceLocation | None = None) -> None:
         """Register one plugin class.
 
@@ -162,9 +100,9 @@ class Registry:
         """
         spec: PluginSpec = cls.__dict__[PLUGIN_ATTRIBUTE]
         known = self._plugins.get(spec.name)
-        if known is not None and known.cls is cls:
-            return  # the same class reached twice (re-export, diamond include)
-        where = _class_location(cls) or _where(location, source)
+        if known is not None and same_definition(known.cls, cls):
+            return  # one definition reached twice (re-export, package and path)
+        where = class_location(cls) or fallback_location(location, source)
         if not issubclass(cls, py_trees.behaviour.Behaviour):
             self.diagnostics.append(
                 Diagnostic(where, f"plugin '{spec.name}' is not a py_trees behaviour "
@@ -243,11 +181,11 @@ class Registry:
                 file = found.origin if found is not None else None
             except (ImportError, ValueError, AttributeError):
                 pass
-            fallback = _where(location, display_path(file) if file else name)
+            fallback = fallback_location(location, display_path(file) if file else name)
             self.diagnostics.append(
                 Diagnostic(
-                    _failure_location(exc, file, fallback) if location is None else location,
-                    f"cannot import plugin module '{name}': {_exc_text(exc)}",
+                    failure_location(exc, file, fallback) if location is None else location,
+                    f"cannot import plugin module '{name}': {exception_text(exc)}",
                 )
             )
             return None
@@ -268,12 +206,12 @@ class Registry:
         with _lock:
             module = _path_modules.get(resolved)
             if module is None:
-                module = _exec_file(resolved)
+                module = exec_file(resolved)
                 _path_modules[resolved] = module
         if isinstance(module, BaseException):
-            fallback = _where(None, shown)
-            here = _failure_location(module, str(resolved), fallback)
-            message = f"cannot import plugin file '{shown}': {_exc_text(module)}"
+            fallback = fallback_location(None, shown)
+            here = failure_location(module, str(resolved), fallback)
+            message = f"cannot import plugin file '{shown}': {exception_text(module)}"
             if location is not None:
                 message += f" (at {here})"
                 here = location
@@ -302,7 +240,7 @@ class Registry:
             if not files:
                 self.diagnostics.append(
                     Diagnostic(
-                        _where(location, display_path(path)),
+                        fallback_location(location, display_path(path)),
                         f"plugin directory '{entry}' holds no .py files",
                     )
                 )
@@ -310,9 +248,10 @@ class Registry:
         if path.is_file():
             self.import_file(path, location=location)
             return
-        if entry.endswith(".py") or "/" in entry or "\\" in entry or not _is_module_name(entry):
+        if entry.endswith(".py") or "/" in entry or "\\" in entry or not is_module_name(entry):
             self.diagnostics.append(
-                Diagnostic(_where(location, entry), f"plugin path '{entry}' does not exist")
+                Diagnostic(fallback_location(location, entry),
+                           f"plugin path '{entry}' does not exist")
             )
             return
         self.import_module(entry, location=location)
@@ -325,7 +264,7 @@ class Registry:
             self.diagnostics.append(
                 Diagnostic(
                     SourceLocation(f"<entry points {ENTRY_POINT_GROUP}>", 1, 1),
-                    f"cannot list entry points: {_exc_text(exc)}",
+                    f"cannot list entry points: {exception_text(exc)}",
                 )
             )
             return
@@ -339,11 +278,10 @@ class Registry:
                 try:
                     obj: Any = point.load()
                 except Exception as exc:
-                    module_file = _module_file(point.module)
                     self.diagnostics.append(
                         Diagnostic(
-                            _failure_location(exc, module_file, here),
-                            f"cannot load {label}: {_exc_text(exc)}",
+                            failure_location(exc, module_file(point.module), here),
+                            f"cannot load {label}: {exception_text(exc)}",
                         )
                     )
                     continue
@@ -361,7 +299,7 @@ class Registry:
         for spec in self._plugins.values():
             for param in spec.params:
                 if param.ref is not None and param.ref not in self._plugins:
-                    where = _class_location(spec.cls) or SourceLocation(spec.source, 1, 1)
+                    where = class_location(spec.cls) or SourceLocation(spec.source, 1, 1)
                     self.diagnostics.append(
                         Diagnostic(
                             where,
@@ -369,39 +307,6 @@ class Registry:
                             f"plugin '{param.ref}'",
                         )
                     )
-
-
-def _module_file(name: str) -> str | None:
-    try:
-        found = importlib.util.find_spec(name)
-    except (ImportError, ValueError, AttributeError):
-        return None
-    return found.origin if found is not None else None
-
-
-def _is_module_name(text: str) -> bool:
-    return all(part.isidentifier() for part in text.split("."))
-
-
-def _exec_file(path: Path) -> ModuleType | BaseException:
-    """Import ``path`` under a unique private module name; return it or the failure."""
-    digest = hashlib.sha1(str(path).encode()).hexdigest()[:10]
-    stem = "".join(c if c.isalnum() else "_" for c in path.stem)
-    name = f"{_LOCAL_PREFIX}.{stem}_{digest}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    if spec is None or spec.loader is None:
-        return ImportError(f"not a Python module: {path}")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    try:
-        spec.loader.exec_module(module)
-    except (KeyboardInterrupt, GeneratorExit):
-        sys.modules.pop(name, None)
-        raise
-    except BaseException as exc:  # SystemExit too: a plugin must not end the process
-        sys.modules.pop(name, None)
-        return exc
-    return module
 
 
 def discover(

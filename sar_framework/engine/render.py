@@ -27,16 +27,16 @@ same file always gives the same DOT source.
 from __future__ import annotations
 
 import html
-import json
 import re
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import graphviz
 
+from sar_framework.engine.labels import UNICODE, clean, leaf_params, settings, symbol
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.engine.text_tree import render_text
 
 __all__ = [
     "FORMATS",
@@ -63,7 +63,6 @@ STATUS_COLOURS: dict[str, str] = {
 _FONT = "Helvetica"
 _FONT_SIZE = "10"
 _SMALL = "8"
-_MAX_VALUE_CHARS = 40
 _MAX_PARAM_LINES = 8
 
 # (shape, fill colour) per composite kind, as py_trees.display draws them.
@@ -76,8 +75,6 @@ _DECORATOR_STYLE = ("ellipse", "ghostwhite")
 _LEAF_STYLE = ("ellipse", "gray")
 
 _DOTTED_UID = re.compile(r"[0-9]+(?:\.[0-9]+)*")
-_CONTROL_CHARS = re.compile(r"[\x00-\x1f\x7f]")
-_CONVERTER = re.compile(r"(success|failure|running)_is_(success|failure|running)")
 
 
 class RenderError(RuntimeError):
@@ -86,23 +83,6 @@ class RenderError(RuntimeError):
 
 class GraphvizNotFound(RenderError):  # noqa: N818 - name is part of the CLI contract
     """The Graphviz ``dot`` executable is not installed or not on ``PATH``."""
-
-
-@dataclass(frozen=True)
-class _Glyphs:
-    """Characters that differ between the ASCII and the Unicode renderings."""
-
-    arrow: str
-    ellipsis: str
-    tee: str
-    corner: str
-    pipe: str
-    subtree_open: str
-    subtree_close: str
-
-
-_UNICODE = _Glyphs("→", "…", "├── ", "└── ", "│   ", "«", "»")
-_ASCII = _Glyphs("->", "...", "|-- ", "`-- ", "|   ", "<<", ">>")
 
 
 # --------------------------------------------------------------------------- helpers
@@ -125,12 +105,6 @@ def node_id(uid: str) -> str:
     return "u" + uid.encode("utf-8", "surrogatepass").hex()
 
 
-def _clean(text: str) -> str:
-    """Make ``text`` one printable line (control characters become spaces)."""
-    text = _CONTROL_CHARS.sub(" ", text)
-    return text.encode("utf-8", "replace").decode("utf-8")
-
-
 def _html(text: str) -> str:
     r"""Escape text for a Graphviz HTML-like label.
 
@@ -138,85 +112,13 @@ def _html(text: str) -> str:
     decoding), so backslashes are doubled as well as XML-escaped. ``]`` becomes a
     character reference: Graphviz 2.43's HTML lexer rejects a bare ``]`` before a tag.
     """
-    escaped = html.escape(_clean(text).replace("\\", "\\\\"), quote=True)
+    escaped = html.escape(clean(text).replace("\\", "\\\\"), quote=True)
     return escaped.replace("]", "&#93;")
 
 
 def _plain(text: str) -> str:
     """Escape text for a plain (escString) Graphviz attribute such as a tooltip."""
-    return graphviz.escape(_clean(text))
-
-
-def _format_value(value: Any, glyphs: _Glyphs) -> str:
-    """Format a param or attribute value compactly, YAML-like."""
-    if isinstance(value, bool):
-        text = "true" if value else "false"
-    elif value is None:
-        text = "null"
-    elif isinstance(value, (int, float)):
-        text = repr(value)
-    else:
-        text = json.dumps(value, ensure_ascii=False, default=str)
-    if len(text) > _MAX_VALUE_CHARS:
-        text = text[: _MAX_VALUE_CHARS - len(glyphs.ellipsis)] + glyphs.ellipsis
-    return text
-
-
-def _symbol(node: NodeSpec) -> str:
-    """Return py_trees' text symbol for the node's kind (and memory flag)."""
-    if node.category is Category.LEAF:
-        return "-->"
-    if node.category is Category.DECORATOR:
-        return "-^-"
-    if node.kind == "parallel":
-        return "/_/"
-    bar = "o" if node.kind == "selector" else "-"
-    return f"{{{bar}}}" if node.attrs.get("memory", False) else f"[{bar}]"
-
-
-def _settings(node: NodeSpec, glyphs: _Glyphs) -> list[str]:
-    """Describe a composite's or decorator's settings as short phrases.
-
-    Known kinds get a dedicated wording (``memory``/``reactive``, ``on_completion``,
-    ``FAILURE -> SUCCESS``...); attributes not covered are listed as ``key=value``.
-    """
-    attrs = dict(node.attrs)
-    out: list[str] = []
-    if node.kind in ("sequence", "selector") and "memory" in attrs:
-        out.append("memory" if attrs.pop("memory") else "reactive")
-    elif node.kind == "parallel":
-        if "policy" in attrs:
-            out.append(str(attrs.pop("policy")))
-        selected = attrs.pop("selected", None)
-        if selected:
-            out.append(f"selected={_format_value(selected, glyphs)}")
-        if attrs.pop("synchronise", False):
-            out.append("synchronise")
-        else:
-            attrs.pop("synchronise", None)
-    elif node.kind == "one_shot" and "policy" in attrs:
-        out.append(str(attrs.pop("policy")))
-    elif node.kind == "timeout" and isinstance(attrs.get("duration"), (int, float)):
-        out.append(f"duration={_format_value(attrs.pop('duration'), glyphs)}s")
-    elif match := _CONVERTER.fullmatch(node.kind):
-        out.append(f"{match.group(1).upper()} {glyphs.arrow} {match.group(2).upper()}")
-    out.extend(f"{key}={_format_value(value, glyphs)}" for key, value in attrs.items())
-    return out
-
-
-def _leaf_params(node: NodeSpec, glyphs: _Glyphs) -> list[str]:
-    """Describe a leaf's params: ``key=value``, references as ``key -> id``.
-
-    Params whose value is ``None`` (an unset optional) are left out.
-    """
-    out: list[str] = []
-    for key, value in node.attrs.items():
-        if key in node.refs:
-            target = node.refs[key].id or value
-            out.append(f"{key} {glyphs.arrow} {target}")
-        elif value is not None:
-            out.append(f"{key}={_format_value(value, glyphs)}")
-    return out
+    return graphviz.escape(clean(text))
 
 
 def _normalise_statuses(statuses: Mapping[str, Any] | None) -> dict[str, str]:
@@ -240,13 +142,13 @@ def _normalise_statuses(statuses: Mapping[str, Any] | None) -> dict[str, str]:
 # --------------------------------------------------------------------------- DOT
 
 
-def _dot_label(node: NodeSpec, status: str | None) -> str:
+def _dot_label(node: NodeSpec, status: str | None, all_params: bool) -> str:
     """Build the HTML-like label of one node.
 
     Lines: an optional subtree note, the name (bold), the kind and settings,
     leaf params (left-aligned, at most ``_MAX_PARAM_LINES``) and the status.
     """
-    glyphs = _UNICODE
+    glyphs = UNICODE
     small = f'<FONT POINT-SIZE="{_SMALL}">'
     # Every line carries its own break, so the param block's left-aligned
     # breaks are not followed by an extra (empty) centred one.
@@ -258,9 +160,9 @@ def _dot_label(node: NodeSpec, status: str | None) -> str:
         info = [node.kind] if node.kind != node.name else []
         if node.id is not None:
             info.append(f"id: {node.id}")
-        params = _leaf_params(node, glyphs)
+        params = leaf_params(node, glyphs, all_params)
     else:
-        info = [f"{_symbol(node)} {node.kind}", *_settings(node, glyphs)]
+        info = [f"{symbol(node)} {node.kind}", *settings(node, glyphs)]
         params = []
     if info:
         lines.append(f"{small}{_html(', '.join(info))}</FONT><BR/>")
@@ -313,7 +215,9 @@ def _style(node: NodeSpec) -> tuple[str, str]:
     return _LEAF_STYLE
 
 
-def render_dot(spec: TreeSpec, *, statuses: Mapping[str, str] | None = None) -> str:
+def render_dot(
+    spec: TreeSpec, *, statuses: Mapping[str, str] | None = None, all_params: bool = False
+) -> str:
     """Return the Graphviz DOT source of a tree diagram.
 
     Args:
@@ -322,6 +226,7 @@ def render_dot(spec: TreeSpec, *, statuses: Mapping[str, str] | None = None) -> 
             (``"SUCCESS"``, ``"FAILURE"``, ``"RUNNING"``, ``"INVALID"``). When given,
             nodes are filled by status (nodes missing from the map count as
             ``INVALID``, i.e. never ticked) and a legend is drawn.
+        all_params: Show every leaf param, defaults included (default: only those set).
 
     Returns:
         The DOT source (a ``digraph``).
@@ -366,7 +271,7 @@ def render_dot(spec: TreeSpec, *, statuses: Mapping[str, str] | None = None) -> 
             where += f", from subtree {node.subtree}"
         graph.node(
             node_id(node.uid),
-            label=_dot_label(node, status),
+            label=_dot_label(node, status, all_params),
             shape=shape,
             fillcolor=fill,
             # A double border marks where a subtree was inserted.
@@ -398,7 +303,13 @@ def render_dot(spec: TreeSpec, *, statuses: Mapping[str, str] | None = None) -> 
 # --------------------------------------------------------------------------- files
 
 
-def render_to_file(spec: TreeSpec, out: Path, *, statuses: Mapping[str, str] | None = None) -> Path:
+def render_to_file(
+    spec: TreeSpec,
+    out: Path,
+    *,
+    statuses: Mapping[str, str] | None = None,
+    all_params: bool = False,
+) -> Path:
     """Render a tree diagram to a file; the format follows the extension.
 
     Args:
@@ -406,6 +317,7 @@ def render_to_file(spec: TreeSpec, out: Path, *, statuses: Mapping[str, str] | N
         out: Target file ending in ``.svg``, ``.png``, ``.pdf`` or ``.dot``;
             parent directories are created.
         statuses: Optional uid -> status map, see :func:`render_dot`.
+        all_params: Show every leaf param, defaults included (default: only those set).
 
     Returns:
         ``out``.
@@ -422,7 +334,7 @@ def render_to_file(spec: TreeSpec, out: Path, *, statuses: Mapping[str, str] | N
             f"cannot render to {str(out)!r}: unsupported extension {out.suffix or '(none)'!r}; "
             f"use one of {', '.join(FORMATS)}"
         )
-    source = render_dot(spec, statuses=statuses)
+    source = render_dot(spec, statuses=statuses, all_params=all_params)
     out.parent.mkdir(parents=True, exist_ok=True)
     if fmt == "dot":
         out.write_text(source, encoding="utf-8")
@@ -442,69 +354,3 @@ def render_to_file(spec: TreeSpec, out: Path, *, statuses: Mapping[str, str] | N
     return out
 
 
-# --------------------------------------------------------------------------- text
-
-
-def _text_line(node: NodeSpec, glyphs: _Glyphs, to_text: Callable[[str], str]) -> str:
-    """Build one line of the text tree for ``node`` (without the tree glyphs)."""
-    if node.category is Category.LEAF:
-        info = [node.kind] if node.kind != node.name else []
-        if node.id is not None:
-            info.append(f"id={node.id}")
-        params = _leaf_params(node, glyphs)
-    else:
-        info = [node.kind, *_settings(node, glyphs)]
-        params = []
-    line = f"{_symbol(node)} {_clean(node.name)}"
-    if info:
-        line += f" [{', '.join(info)}]"
-    if params:
-        line += " " + ", ".join(params)
-    if node.subtree is not None:
-        line += f" {glyphs.subtree_open}subtree: {node.subtree}{glyphs.subtree_close}"
-    return to_text(_clean(line))
-
-
-def render_text(spec: TreeSpec, *, unicode: bool = True) -> str:
-    """Return a text drawing of the tree for a terminal.
-
-    Each line shows py_trees' kind symbol, the node name and, in brackets, the
-    kind and its settings (memory flag, parallel policy, decorator params);
-    leaves show their plugin (when it differs from the name), ``id`` and params,
-    references as ``param -> id``::
-
-        {-} Mission [sequence, memory]
-        |-- -^- Once [one_shot, on_completion]
-        |   `-- --> Setup [LoadZones, id=setup] file="zones.yaml"
-        `-- --> Detect [DetectSurvivor, id=det] threshold=0.5
-
-    Args:
-        spec: The validated tree.
-        unicode: Draw with Unicode box-drawing characters; ``False`` gives pure
-            ASCII (non-ASCII characters in names and values are escaped).
-
-    Returns:
-        The drawing, one node per line, ending with a newline.
-    """
-    glyphs = _UNICODE if unicode else _ASCII
-
-    def to_text(text: str) -> str:
-        return text if unicode else text.encode("ascii", "backslashreplace").decode("ascii")
-
-    lines: list[str] = []
-    # (node, prefix for its own line, prefix for its children's lines)
-    stack: list[tuple[NodeSpec, str, str]] = [(spec.root, "", "")]
-    while stack:
-        node, own, below = stack.pop()
-        lines.append(own + _text_line(node, glyphs, to_text))
-        last = len(node.children) - 1
-        for index in range(last, -1, -1):
-            is_last = index == last
-            stack.append(
-                (
-                    node.children[index],
-                    below + (glyphs.corner if is_last else glyphs.tee),
-                    below + ("    " if is_last else glyphs.pipe),
-                )
-            )
-    return "\n".join(lines) + "\n"

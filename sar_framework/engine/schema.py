@@ -1,7 +1,7 @@
 """The JSON Schema (Draft 2020-12) of the tree format, generated from the declarations.
 
 The schema is built from the same tables the validator walks: the top-level
-keys (:data:`.validate.TOP_LEVEL_ATTRS`), the composite/decorator kinds
+keys (:data:`.node_kinds.TOP_LEVEL_ATTRS`), the composite/decorator kinds
 (:mod:`.node_kinds`) and every registered plugin's params. Editors use it
 through yaml-language-server (``# yaml-language-server: $schema=...``) to
 complete and check tree files; a test keeps the committed copy
@@ -17,9 +17,17 @@ import json
 from collections.abc import Iterable
 from typing import Any
 
-from sar_framework.engine.node_kinds import KINDS, SUBTREE, Attr, AttrType, NodeKind, leaf_attrs
+from sar_framework.engine.node_kinds import (
+    FORMAT_VERSION,
+    KINDS,
+    SUBTREE,
+    TOP_LEVEL_ATTRS,
+    Attr,
+    AttrType,
+    NodeKind,
+    leaf_attrs,
+)
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.validate import FORMAT_VERSION, TOP_LEVEL_ATTRS
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
 SCHEMA_ID = "https://github.com/sar-framework/sar_framework/schema/tree.schema.json"

@@ -49,6 +49,7 @@ class NodeSpec:
         id: The leaf's ``id`` as written, or None.
         refs: For a leaf: reference param name -> the referenced leaf's spec.
         subtree: Name of the subtree this node was inserted from, on the subtree's top node.
+        written: The names of the ``attrs`` the tree file sets (the rest are defaults).
     """
 
     kind: str
@@ -61,6 +62,7 @@ class NodeSpec:
     id: str | None = None
     refs: dict[str, NodeSpec] = field(default_factory=dict)
     subtree: str | None = None
+    written: frozenset[str] = frozenset()
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""

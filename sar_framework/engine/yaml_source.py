@@ -13,7 +13,6 @@ merge keys, aliases and unsupported tags.
 
 from __future__ import annotations
 
-import functools
 import re
 import threading
 from collections.abc import Callable
@@ -32,9 +31,6 @@ STR_TAG = _TAG + "str"
 MAP_TAG = _TAG + "map"
 SEQ_TAG = _TAG + "seq"
 MERGE_TAG = _TAG + "merge"
-BOOL_TAG = _TAG + "bool"
-#: How PyYAML's safe constructor reads a scalar tagged bool (lower-cased).
-BOOL_VALUES: dict[str, bool] = dict(SafeConstructor.bool_values)
 
 #: Largest file the engine reads; a tree of 100,000 nodes stays well below.
 MAX_FILE_BYTES = 8 * 1024 * 1024
@@ -58,43 +54,8 @@ _FLOW_TOKENS = re.compile(r""""(?:[^"\\\n]|\\.)*"|'(?:[^'\n]|'')*'|(?<!\S)#[^\n]
 _NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
 _BRACKET_STEP = {ord("["): 1, ord("{"): 1, ord("]"): -1, ord("}"): -1}
 
-_FastLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
-
-# Tag resolution is a pure function of (kind, value, implicit) while no path resolvers
-# are registered (the safe loader has none), so it is memoised, in C (lru_cache): the
-# composer calls it once per node and it was the hottest Python code in a load.
-#: Whether no path resolver is registered (tag resolution then depends on the scalar alone).
-PURE_RESOLUTION = not yaml.resolver.Resolver.yaml_path_resolvers
-_resolver = yaml.resolver.Resolver()
-_base_resolve = yaml.resolver.Resolver.resolve
-
-
-@functools.lru_cache(maxsize=65536)
-def resolve_tag(kind: type, value: str | None, implicit: Any) -> str:
-    """Return the tag PyYAML's safe loader gives a node (memoised).
-
-    Args:
-        kind: The node class (``ScalarNode``, ...).
-        value: A scalar's text (None for collections).
-        implicit: ``(True, False)`` for a plain scalar, ``(False, True)`` for a quoted one.
-
-    Returns:
-        The resolved tag, e.g. ``tag:yaml.org,2002:int``.
-    """
-    return _base_resolve(_resolver, kind, value, implicit)
-
-
-class _Loader(_FastLoader):  # type: ignore[misc,valid-type]
-    """The safe loader, minus per-node Python calls that cannot change the result."""
-
-    def __init__(self, stream: str) -> None:
-        super().__init__(stream)
-        if PURE_RESOLUTION:
-            self.resolve = resolve_tag
-            # Without path resolvers, descending and ascending are no-ops; any C callable
-            # taking the same arguments skips a Python frame per node.
-            self.descend_resolver = slice
-            self.ascend_resolver = tuple
+#: PyYAML's safe loader, with libyaml's C composer when installed.
+SafeLoader: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
 _constructor = SafeConstructor()
@@ -106,32 +67,6 @@ SCALAR_BUILDERS: dict[str, Callable[[ScalarNode], Any]] = {
     _TAG + "float": _constructor.construct_yaml_float,
     _TAG + "timestamp": _constructor.construct_yaml_timestamp,
 }
-_scalar_memo: dict[tuple[str, str], Any] = {}
-
-
-def new_location(
-    file: str, line: int, col: int, _new: Any = object.__new__, _cls: type = SourceLocation
-) -> SourceLocation:
-    """Create a :class:`SourceLocation` in half the time of its frozen-dataclass ``__init__``.
-
-    The result is an ordinary instance (same fields, equality, hash and order); only the
-    three ``object.__setattr__`` calls of the generated ``__init__`` are skipped, which
-    matters at one location per node of a big tree.
-
-    Args:
-        file: The file name to print.
-        line: 1-based line.
-        col: 1-based column.
-
-    Returns:
-        The location.
-    """
-    loc = _new(_cls)
-    fields = loc.__dict__
-    fields["file"] = file
-    fields["line"] = line
-    fields["col"] = col
-    return loc  # type: ignore[no-any-return]
 
 
 def location(node: Node, file: str) -> SourceLocation:
@@ -145,7 +80,7 @@ def location(node: Node, file: str) -> SourceLocation:
         The node's location.
     """
     mark = node.start_mark
-    return new_location(file, mark.line + 1, mark.column + 1)
+    return SourceLocation(file, mark.line + 1, mark.column + 1)
 
 
 def _syntax_diagnostic(exc: yaml.YAMLError, text: str, file: str) -> Diagnostic:
@@ -210,7 +145,7 @@ def _compose_big(text: str) -> Node | None:
 
     def work() -> None:
         try:
-            result[0] = _compose_with(_Loader, text)
+            result[0] = _compose_with(SafeLoader, text)
         except BaseException as exc:  # re-raised in the caller's thread
             result[1] = exc
 
@@ -245,7 +180,7 @@ def compose(text: str, file: str) -> tuple[Node | None, list[Diagnostic]]:
         return None, [deep]
     try:
         if max(map(len, text.split("\n"))) < _INLINE_MAX_LINE:
-            root = _compose_with(_Loader, text)
+            root = _compose_with(SafeLoader, text)
         else:
             root = _compose_big(text)
     except yaml.YAMLError as fast_error:
@@ -270,7 +205,7 @@ def compose(text: str, file: str) -> tuple[Node | None, list[Diagnostic]]:
 def _alias_diagnostics(text: str, file: str) -> list[Diagnostic]:
     """Report every alias (``*name``); only run when the text may contain one."""
     out = []
-    for event in yaml.parse(text, Loader=_FastLoader):
+    for event in yaml.parse(text, Loader=SafeLoader):
         if isinstance(event, yaml.AliasEvent):
             mark = event.start_mark
             out.append(
@@ -283,15 +218,12 @@ def _alias_diagnostics(text: str, file: str) -> list[Diagnostic]:
     return out
 
 
-def read(
-    path: Path, file: str, on_read: Callable[[Path, bytes], None] | None = None
-) -> tuple[Node | None, list[Diagnostic]]:
+def read(path: Path, file: str) -> tuple[Node | None, list[Diagnostic]]:
     """Read and compose a YAML file.
 
     Args:
         path: The file to read.
         file: Its name as printed in diagnostics.
-        on_read: Called with ``path`` and the exact bytes read (e.g. to hash them).
 
     Returns:
         The root node (None on error or for an empty file) and the diagnostics.
@@ -306,8 +238,6 @@ def read(
         return None, [Diagnostic(here, "no such file")]
     except OSError as exc:
         return None, [Diagnostic(here, f"cannot read: {exc.strerror or exc}")]
-    if on_read is not None:
-        on_read(path, data)
     if len(data) > MAX_FILE_BYTES:
         return None, [Diagnostic(here, f"file too large (limit {MAX_FILE_BYTES} bytes)")]
     try:
@@ -360,11 +290,6 @@ class Reader:
         tag = node.tag
         if tag == STR_TAG:
             return True, node.value
-        key = (tag, node.value)
-        try:
-            return True, _scalar_memo[key]
-        except KeyError:
-            pass
         builder = SCALAR_BUILDERS.get(tag)
         if builder is None:
             self.error(node, self._tag_problem(node))
@@ -374,8 +299,6 @@ class Reader:
         except Exception:  # PyYAML raises ValueError, KeyError, AttributeError, ...
             self.error(node, f"YAML: '{node.value}' is not a valid {tag[len(_TAG):]}")
             return False, None
-        if len(_scalar_memo) < 65536:
-            _scalar_memo[key] = value
         return True, value
 
     def items(self, node: MappingNode) -> list[tuple[str, Node, Node]] | None:

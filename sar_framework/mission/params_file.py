@@ -4,8 +4,9 @@ rcl's own YAML parser stops start-up with messages such as ``Couldn't parse para
 file ... Error parsing a event near line 3, at /project/src/parse.c:782``, and an empty
 list only fails later, when the node is created, with ``Cannot declare a statically
 typed parameter with default value of type PARAMETER_NOT_SET``. This module reads the
-file with PyYAML's safe composer (positions kept, nothing constructed) and reports the
-first problem as ``file:line:col: key: problem``::
+file with PyYAML's safe composer (positions kept) and reports problems as
+``file:line:col: key: problem``: :func:`read_params_file` returns every problem with the
+values and where each key is set; :func:`check_params_file` raises the first::
 
     try:
         keys = check_params_file("config/mission_params.yaml")
@@ -20,8 +21,9 @@ one scalar type; no null values, no duplicate keys. Nothing here imports ROS.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
@@ -103,88 +105,142 @@ def params_files_from_args(args: Sequence[str]) -> list[str]:
     return files
 
 
-def _location(file: str, node: Node) -> tuple[int, int]:
-    return node.start_mark.line + 1, node.start_mark.column + 1
+@dataclass
+class ParamsFile:
+    """What a parameter file sets, and what is wrong with it.
 
+    Attributes:
+        file: The file, as the caller named it.
+        values: Dotted parameter name -> its value (the last node section wins).
+        locations: Dotted parameter name -> where it is set.
+        problems: Every problem found, in file order.
+    """
 
-def _fail(file: str, node: Node, key: str, problem: str) -> ParamsError:
-    line, col = _location(file, node)
-    return ParamsError(file, key, problem, line, col)
+    file: str
+    values: dict[str, Any] = field(default_factory=dict)
+    locations: dict[str, KeyLocation] = field(default_factory=dict)
+    problems: list[ParamsError] = field(default_factory=list)
 
+    def add(self, node: Node, key: str, problem: str) -> None:
+        """Record a problem at ``node``'s position."""
+        self.problems.append(ParamsError(self.file, key, problem, node.start_mark.line + 1,
+                                         node.start_mark.column + 1))
 
-def _mapping_items(file: str, node: MappingNode, prefix: str) -> list[tuple[str, Node, Node]]:
-    """Return ``(key, key_node, value_node)``; reject non-string and duplicate keys."""
-    items: list[tuple[str, Node, Node]] = []
-    seen: dict[str, int] = {}
-    for key_node, value_node in node.value:
-        if not isinstance(key_node, ScalarNode) or key_node.tag not in (
-            _TAG + "str", _TAG + "int", _TAG + "bool", _TAG + "float"
-        ):
-            raise _fail(file, key_node, prefix.rstrip("."), "keys must be plain names")
-        key = str(key_node.value)
-        if key in seen:
-            raise _fail(file, key_node, prefix + key,
-                        f"duplicate key (first set on line {seen[key]})")
-        seen[key] = key_node.start_mark.line + 1
-        items.append((key, key_node, value_node))
-    return items
+    # -- walking the YAML nodes ----------------------------------------------------------
+    def mapping_items(self, node: MappingNode, prefix: str) -> list[tuple[str, Node, Node]]:
+        """Return ``(key, key_node, value_node)``; skip non-string and duplicate keys."""
+        items: list[tuple[str, Node, Node]] = []
+        seen: dict[str, int] = {}
+        for key_node, value_node in node.value:
+            if not isinstance(key_node, ScalarNode) or key_node.tag not in (
+                _TAG + "str", _TAG + "int", _TAG + "bool", _TAG + "float"
+            ):
+                self.add(key_node, prefix.rstrip("."), "keys must be plain names")
+                continue
+            key = str(key_node.value)
+            if key in seen:
+                self.add(key_node, prefix + key, f"duplicate key (first set on line {seen[key]})")
+                continue
+            seen[key] = key_node.start_mark.line + 1
+            items.append((key, key_node, value_node))
+        return items
 
-
-def _check_value(file: str, key: str, node: Node) -> None:
-    """Check one parameter value: a scalar or a non-empty list of one scalar type."""
-    if isinstance(node, ScalarNode):
-        if node.tag == _NULL:
-            raise _fail(file, node, key, "no value (null); give a value or remove the key")
-        if node.tag not in _SCALAR_TYPES:
-            raise _fail(file, node, key, f"unsupported value type {node.tag!r}")
-        return
-    if isinstance(node, SequenceNode):
-        if not node.value:
-            raise _fail(file, node, key, "empty list (a ROS 2 parameter list needs at least "
-                        "one value to have a type)")
-        kinds: set[str] = set()
-        for item in node.value:
-            if not isinstance(item, ScalarNode) or item.tag not in _SCALAR_TYPES:
-                raise _fail(file, item, key, "a list may only hold plain values "
-                            "(bool, integer, double or string), not lists, maps or nulls")
-            kinds.add(_SCALAR_TYPES[item.tag])
-        if len(kinds) > 1:
-            raise _fail(file, node, key, "a list must hold one type, got "
-                        + " and ".join(sorted(kinds)) + " (quote strings, write 1.0 for doubles)")
-        return
-    raise _fail(file, node, key, "unsupported value")
-
-
-def _check_parameters(file: str, node: Node, prefix: str,
-                      keys: dict[str, KeyLocation]) -> None:
-    """Walk the mapping under ``ros__parameters`` and record every leaf key."""
-    if not isinstance(node, MappingNode):
-        raise _fail(file, node, prefix.rstrip(".") or _PARAMS_KEY,
-                    "expected a mapping of parameter names to values")
-    for key, key_node, value_node in _mapping_items(file, node, prefix):
-        name = prefix + key
-        if isinstance(value_node, MappingNode):
-            _check_parameters(file, value_node, name + ".", keys)
+    def value_problem(self, key: str, node: Node) -> bool:
+        """Record the problem of one value, if any: a scalar or a non-empty list of one type."""
+        before = len(self.problems)
+        if isinstance(node, ScalarNode):
+            if node.tag == _NULL:
+                self.add(node, key, "no value (null); give a value or remove the key")
+            elif node.tag not in _SCALAR_TYPES:
+                self.add(node, key, f"unsupported value type {node.tag!r}")
+        elif isinstance(node, SequenceNode):
+            if not node.value:
+                self.add(node, key, "empty list (a ROS 2 parameter list needs at least "
+                         "one value to have a type)")
+            kinds: set[str] = set()
+            for item in node.value:
+                if not isinstance(item, ScalarNode) or item.tag not in _SCALAR_TYPES:
+                    self.add(item, key, "a list may only hold plain values "
+                             "(bool, integer, double or string), not lists, maps or nulls")
+                    return True
+                kinds.add(_SCALAR_TYPES[item.tag])
+            if len(kinds) > 1:
+                self.add(node, key, "a list must hold one type, got " + " and ".join(
+                    sorted(kinds)) + " (quote strings, write 1.0 for doubles)")
         else:
-            _check_value(file, name, value_node)
-            line, col = _location(file, key_node)
-            keys[name] = KeyLocation(file, line, col)
+            self.add(node, key, "unsupported value")
+        return len(self.problems) > before
+
+    def parameters(self, node: Node, prefix: str) -> None:
+        """Walk the mapping under ``ros__parameters`` and record every leaf key."""
+        if not isinstance(node, MappingNode):
+            self.add(node, prefix.rstrip(".") or _PARAMS_KEY,
+                     "expected a mapping of parameter names to values")
+            return
+        for key, key_node, value_node in self.mapping_items(node, prefix):
+            name = prefix + key
+            if isinstance(value_node, MappingNode):
+                self.parameters(value_node, name + ".")
+            elif not self.value_problem(name, value_node):
+                self.values[name] = yaml.SafeLoader("").construct_object(value_node, deep=True)
+                self.locations[name] = KeyLocation(self.file, key_node.start_mark.line + 1,
+                                                   key_node.start_mark.column + 1)
+
+    def section(self, node: Node, path: str) -> bool:
+        """Walk node names / namespaces down to ``ros__parameters``; return if one was found."""
+        if not isinstance(node, MappingNode):
+            self.add(node, path, f"expected a mapping holding '{_PARAMS_KEY}' "
+                     "(a node name, or '/**' for every node)")
+            return True  # reported: no second message about a missing section
+        found = False
+        for key, _key_node, value_node in self.mapping_items(node, path + "/" if path else ""):
+            if key == _PARAMS_KEY:
+                self.parameters(value_node, "")
+                found = True
+            else:
+                found = self.section(value_node, f"{path}/{key}" if path else key) or found
+        return found
 
 
-def _check_section(file: str, node: Node, path: str, keys: dict[str, KeyLocation]) -> bool:
-    """Walk node names / namespaces down to ``ros__parameters``; return whether one was found."""
-    if not isinstance(node, MappingNode):
-        raise _fail(file, node, path, f"expected a mapping holding '{_PARAMS_KEY}' "
-                    "(a node name, or '/**' for every node)")
-    found = False
-    for key, _key_node, value_node in _mapping_items(file, node, path + "/" if path else ""):
-        if key == _PARAMS_KEY:
-            _check_parameters(file, value_node, "", keys)
-            found = True
-        else:
-            found = _check_section(file, value_node, f"{path}/{key}" if path else key,
-                                   keys) or found
-    return found
+def read_params_file(path: str | Path) -> ParamsFile:
+    """Read a ROS 2 parameter file: its values, where each is set, and every problem.
+
+    Args:
+        path: The file, as the user named it (messages use it as given).
+
+    Returns:
+        The contents; ``problems`` is empty when rcl would accept the file.
+    """
+    contents = ParamsFile(str(path))
+    file = contents.file
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        contents.problems.append(ParamsError(file, "", "file not found"))
+        return contents
+    except (OSError, UnicodeDecodeError) as err:
+        contents.problems.append(ParamsError(file, "", f"cannot read the file: {err}"))
+        return contents
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.MarkedYAMLError as err:
+        mark = err.problem_mark or err.context_mark
+        problem = ": ".join(str(p) for p in (err.context, err.problem) if p)
+        line = mark.line + 1 if mark else None
+        col = mark.column + 1 if mark else None
+        contents.problems.append(
+            ParamsError(file, "", f"YAML syntax error: {problem}", line, col))
+        return contents
+    except yaml.YAMLError as err:
+        contents.problems.append(ParamsError(file, "", f"YAML error: {err}"))
+        return contents
+    if root is None:
+        contents.problems.append(
+            ParamsError(file, "", f"empty file (expected '/**:' then '{_PARAMS_KEY}:')"))
+    elif not contents.section(root, ""):
+        contents.problems.append(ParamsError(file, "", f"no '{_PARAMS_KEY}' section (expected "
+                                             f"'/**:' then '  {_PARAMS_KEY}:')", 1, 1))
+    return contents
 
 
 def check_params_file(path: str | Path) -> dict[str, KeyLocation]:
@@ -201,27 +257,7 @@ def check_params_file(path: str | Path) -> dict[str, KeyLocation]:
         ParamsError: On the first problem found (unreadable file, YAML syntax, structure,
             value types), with file, line and column.
     """
-    file = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ParamsError(file, "", "file not found") from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise ParamsError(file, "", f"cannot read the file: {err}") from None
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.MarkedYAMLError as err:
-        mark = err.problem_mark or err.context_mark
-        problem = ": ".join(str(p) for p in (err.context, err.problem) if p)
-        line = mark.line + 1 if mark else None
-        col = mark.column + 1 if mark else None
-        raise ParamsError(file, "", f"YAML syntax error: {problem}", line, col) from None
-    except yaml.YAMLError as err:
-        raise ParamsError(file, "", f"YAML error: {err}") from None
-    if root is None:
-        raise ParamsError(file, "", f"empty file (expected '/**:' then '{_PARAMS_KEY}:')")
-    keys: dict[str, KeyLocation] = {}
-    if not _check_section(file, root, "", keys):
-        raise ParamsError(file, "", f"no '{_PARAMS_KEY}' section (expected '/**:' then "
-                          f"'  {_PARAMS_KEY}:')", 1, 1)
-    return keys
+    contents = read_params_file(path)
+    if contents.problems:
+        raise contents.problems[0]
+    return contents.locations

@@ -79,6 +79,7 @@ class ZoneManager:
         self._base = _pose(base_station, "base_station")
         self._index = 0
         self._survivors = 0
+        self._reached: set[str] = set()
 
     def current_zone(self) -> dict[str, Any]:
         """Return the zone to visit now.
@@ -104,6 +105,14 @@ class ZoneManager:
         """Move on to the next zone; does nothing once every zone has been visited."""
         if self._index < len(self._zones):
             self._index += 1
+
+    def mark_reached(self, zone_id: str) -> None:
+        """Record that the robot reached ``zone_id`` (NavigateToZone calls it on success)."""
+        self._reached.add(zone_id)
+
+    def skipped_zones(self) -> list[str]:
+        """The zones already passed (advanced over) that were never reached, in order."""
+        return [z["id"] for z in self._zones[:self._index] if z["id"] not in self._reached]
 
     def base_pose(self) -> dict[str, float]:
         """Return a copy of the base station pose ``{"x", "y", "yaw"}``."""

@@ -155,15 +155,26 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
             raise StartupInterrupted("stopped while waiting for Nav2")
         if time.monotonic() > deadline:
             # The thread keeps the node; the process is about to give up anyway.
-            if not getattr(nav, "initial_pose_received", False):
-                raise Nav2StartupError(
-                    f"{localizer} never answered /initialpose on /amcl_pose (or never became "
-                    f"ACTIVE) within {timeout_s:g} s: {_HINT}")
-            raise Nav2StartupError(
-                f"{navigator} never reported ACTIVE within {timeout_s:g} s: {_HINT}")
+            raise Nav2StartupError(f"{_stuck_step(nav, localizer, navigator)} within "
+                                   f"{timeout_s:g} s: {_HINT}")
         waiter.join(timeout=_SPIN_STEP_S)
     nav.destroy_node()
     _log(logger, "Nav2 is ACTIVE and AMCL has its initial pose")
+
+
+def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
+    """Name the step BasicNavigator is stuck in, worded as the rclpy path words it."""
+    def served(name: str) -> bool:  # a server, not BasicNavigator's own client
+        return nav.count_services(f"/{name}/get_state") > 0
+
+    if not served(localizer):
+        return f"{localizer} never reported ACTIVE (/{localizer}/get_state never appeared)"
+    if not getattr(nav, "initial_pose_received", False):
+        return (f"{localizer} never answered /initialpose on /amcl_pose (or never became "
+                "ACTIVE)")
+    if not served(navigator):
+        return f"{navigator} never reported ACTIVE (/{navigator}/get_state never appeared)"
+    return f"{navigator} never reported ACTIVE"
 
 
 class _Nav2Waiter:

@@ -8,22 +8,25 @@ from __future__ import annotations
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-#: Depth tf2_ros uses for ``/tf_static``.
+#: Depth of tf2_ros's ``/tf_static`` listener (``StaticListenerQoS``).
 TF_STATIC_DEPTH = 100
+#: Depth of tf2_ros's ``StaticTransformBroadcaster`` publisher: each message carries every
+#: frame, so a late subscriber gets exactly one message, the complete one.
+TF_STATIC_BROADCASTER_DEPTH = 1
 
 
 def tf_static_qos() -> QoSProfile:
-    """Return the ``/tf_static`` profile: RELIABLE, TRANSIENT_LOCAL, keep last 100.
+    """Return the ``/tf_static`` listener profile: RELIABLE, TRANSIENT_LOCAL, keep last 100.
 
-    This is what ``tf2_ros.StaticTransformBroadcaster`` and its listeners use, so a
-    subscriber that joins late still receives the frames.
+    This is what tf2_ros's ``TransformListener`` subscribes with, so a subscriber that
+    joins late still receives the frames.
     """
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
-        depth=TF_STATIC_DEPTH,
-        reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL,
-    )
+    return latched_qos(TF_STATIC_DEPTH)
+
+
+def tf_static_broadcaster_qos() -> QoSProfile:
+    """Return ``tf2_ros.StaticTransformBroadcaster``'s profile: RELIABLE, TRANSIENT_LOCAL, 1."""
+    return latched_qos(TF_STATIC_BROADCASTER_DEPTH)
 
 
 def latched_qos(depth: int = 1) -> QoSProfile:

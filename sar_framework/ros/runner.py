@@ -16,22 +16,26 @@ Start-up, in order; each step is bounded and fails with one clear message:
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
 
-The mission is *complete* when the tree comes to rest: the root keeps the same terminal
-status over two ticks and nothing changes (``completion: rest``, the default). A root that
-is SUCCESS for one tick is not the end: the reference tree's root succeeds after every
-zone. ``completion: terminal`` takes the first SUCCESS/FAILURE instead (trees that run
-once). On completion the runner logs ``Mission complete.`` (SUCCESS) or
+When the mission is *complete* follows the ``completion`` parameter
+(:mod:`sar_framework.mission.completion`): ``once`` (the default for a tree that does not
+end with a ``one_shot``) at the root's first SUCCESS or FAILURE, after which the tree is not
+ticked again; ``rest`` (the default for a tree that ends with a ``one_shot``, such as the
+reference tree, whose root succeeds after every zone) when the tree is at rest; ``forever``
+never. On completion the runner logs ``Mission complete.`` (SUCCESS) or
 ``Mission failed (...)`` (FAILURE), once; with ``exit_on_completion`` it then ends,
-otherwise it keeps ticking (the reference tree idles at SUCCESS) until SIGINT.
+otherwise it stays up (a ``rest`` tree keeps ticking, idling at its end) until SIGINT.
 
 Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
-3 a start-up failure (Nav2 never ready, tree setup failed or timed out), 130 interrupted
-(SIGINT/SIGTERM) before the mission was complete.
+3 a start-up failure (Nav2 never ready, tree setup failed or timed out). A shutdown
+requested by SIGINT/SIGTERM is a clean exit 0 even before the mission was complete (the
+status file says so: ``complete`` is false), as ``ros2 launch`` expects of its processes;
+whoever sent the signal knows the mission was interrupted.
 
 On SIGINT the timer stops, running leaves are terminated (``root.stop(INVALID)``, which
 cancels Nav2 goals in flight), the executor spins briefly so the cancel requests leave the
-process, and only then are the node and the context shut down. A second SIGINT ends the
-process at once.
+process, and only then are the node and the context shut down (bounded by
+:data:`CANCEL_GRACE_S`). A repeated signal is ignored: a terminal's Ctrl-C reaches every
+process of the group and ``ros2 launch`` forwards it once more.
 """
 
 from __future__ import annotations
@@ -46,6 +50,7 @@ from typing import TYPE_CHECKING
 import py_trees
 from py_trees.common import Status
 
+from sar_framework.mission.completion import resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
     ParamsError,
@@ -57,6 +62,8 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
+from sar_framework.recording.tree_status import TreeStatusPublisher
+from sar_framework.ros.reasons import reason_line
 from sar_framework.ros.runner_settings import RunnerSettings, read_runner_settings
 from sar_framework.ros.status_file import (
     StatusRecorder,
@@ -75,7 +82,7 @@ EXIT_SUCCESS = 0
 EXIT_FAILURE = 1
 EXIT_CONFIG = 2
 EXIT_STARTUP = 3
-EXIT_INTERRUPTED = 130
+EXIT_STOPPED = 0
 #: How long the executor keeps spinning after running leaves were stopped.
 CANCEL_GRACE_S = 0.5
 #: Warn when ``use_sim_time`` is set and no tick came within this many wall seconds.
@@ -83,7 +90,7 @@ NO_CLOCK_WARNING_S = 5.0
 
 
 class StopRequest:
-    """SIGINT/SIGTERM set a flag the loops poll; a second signal exits at once."""
+    """SIGINT/SIGTERM set a flag the loops poll; a repeated signal changes nothing."""
 
     def __init__(self) -> None:
         self.requested = False
@@ -100,7 +107,7 @@ class StopRequest:
 
     def _handle(self, signum: int, _frame: FrameType | None) -> None:
         if self.requested:
-            raise KeyboardInterrupt  # second Ctrl-C: stop waiting for a clean shutdown
+            return  # Ctrl-C seen twice (terminal and launch): the shutdown is already bounded
         self.requested = True
         self.signal_name = signal.Signals(signum).name
 
@@ -129,15 +136,19 @@ class MissionRunner:
         self.logger = node.get_logger()
         self.finished = False
         self._announced = False
+        self.completion, self.completion_why = resolve_completion(settings.completion,
+                                                                  loaded.spec)
         self.tree = create_behaviour_tree(loaded.root)
         self.recorder = StatusRecorder(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
-            completion=settings.completion,
+            completion=self.completion,
         )
         self.tree.visitors.append(self.recorder)
         self.tree.add_post_tick_handler(self._after_tick)
+        TreeStatusPublisher(node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
+                            complete=lambda: self.recorder.complete).attach(self.tree)
 
     def setup(self) -> None:
         """Set up every behaviour with the node (bounded).
@@ -165,7 +176,8 @@ class MissionRunner:
         self.tree.tick_tock(period_ms=period_ms)
         self.logger.info(
             f"Ticking {self.settings.tree} at {self.mission.tick_rate_hz:g} Hz "
-            f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} nodes)"
+            f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} nodes); "
+            f"completion: {self.completion} ({self.completion_why})"
         )
         started = time.monotonic()
         warned = False
@@ -182,9 +194,9 @@ class MissionRunner:
         return self.exit_code()
 
     def exit_code(self) -> int:
-        """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 130 (interrupted)."""
+        """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 0 (stopped by a signal)."""
         if not self.recorder.complete:
-            return EXIT_INTERRUPTED
+            return EXIT_STOPPED
         return EXIT_SUCCESS if self.recorder.status == Status.SUCCESS else EXIT_FAILURE
 
     def shutdown(self) -> None:
@@ -196,10 +208,15 @@ class MissionRunner:
 
     def _after_tick(self, tree: py_trees.trees.BehaviourTree) -> None:
         changed = self.recorder.after_tick(tree)
+        for record in self.recorder.new_reasons:
+            self.logger.warning(reason_line(record))
+        self.recorder.new_reasons.clear()
         if changed and self.settings.print_tree:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
         if not self.recorder.complete:
             return
+        if self.completion == "once":
+            self._stop_ticking()  # a tree that runs once is not ticked again
         if not self._announced:
             self._announced = True
             if tree.root.status == Status.SUCCESS:
@@ -211,11 +228,14 @@ class MissionRunner:
         if self.settings.exit_on_completion:
             self.finished = True
 
-    def _halt(self, executor: Executor) -> None:
-        """Stop ticking, terminate running leaves, and let their cancel requests out."""
+    def _stop_ticking(self) -> None:
         timer = getattr(self.tree, "timer", None)
         if timer is not None:
             timer.cancel()
+
+    def _halt(self, executor: Executor) -> None:
+        """Stop ticking, terminate running leaves, and let their cancel requests out."""
+        self._stop_ticking()
         root = self.loaded.root
         running = [b.name for b in root.iterate() if b.status == Status.RUNNING and not b.children]
         if root.status != Status.INVALID:
@@ -237,12 +257,18 @@ def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLo
     return files, locations
 
 
-def _load(settings: RunnerSettings, mission: MissionParams) -> LoadedTree:
-    """Load the tree; raise ``TreeLoadError`` or a wrapped constructor error."""
-    from sar_framework import load_tree
+def _load(settings: RunnerSettings, mission: MissionParams, node: Node) -> LoadedTree:
+    """Load the tree (its timeouts on the node's clock); raise ``TreeLoadError``."""
+    clock = node.get_clock()
 
-    return load_tree(settings.tree, context={"zone_manager": mission.zone_manager},
-                     plugin_paths=settings.plugin_paths)
+    def now() -> float:
+        return clock.now().nanoseconds / 1e9
+
+    from sar_framework import load_tree
+    from sar_framework.engine.clock_timeout import CLOCK_KEY
+
+    return load_tree(settings.tree, context={"zone_manager": mission.zone_manager,
+                                             CLOCK_KEY: now}, plugin_paths=settings.plugin_paths)
 
 
 def run(argv: Sequence[str] | None = None) -> int:
@@ -308,7 +334,7 @@ def run(argv: Sequence[str] | None = None) -> int:
             logger.warning(f"{source}: zones.{zone_id} is defined but not in zone_order "
                            "(it will not be visited)")
         try:
-            loaded = _load(settings, mission)
+            loaded = _load(settings, mission, node)
         except TreeLoadError as err:
             lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
             return fail(EXIT_CONFIG, "tree", f"cannot load {settings.tree}:\n{lines}")
@@ -326,7 +352,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         except RuntimeError as err:
             return fail(EXIT_STARTUP, "setup", str(err))
         if stop():
-            return EXIT_INTERRUPTED
+            return EXIT_STOPPED
         executor = SingleThreadedExecutor()
         executor.add_node(node)
         try:
@@ -339,9 +365,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     except StartupInterrupted:
         (node.get_logger() if node is not None else early_logger).info(
             "stopped while waiting for Nav2")
-        return EXIT_INTERRUPTED
-    except KeyboardInterrupt:  # a second SIGINT
-        return EXIT_INTERRUPTED
+        return EXIT_STOPPED
     finally:
         if runner is not None and runner.tree.node is not None:
             runner.shutdown()  # destroys the node

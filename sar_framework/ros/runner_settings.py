@@ -5,7 +5,7 @@
 | ``tree`` | str | ``trees/search_and_rescue.yaml`` | the tree file |
 | ``plugin_path`` | str | ``""`` | extra plugin files/dirs/modules, ``os.pathsep``-separated |
 | ``exit_on_completion`` | bool | false | end once the mission is complete: 0 SUCCESS, 1 FAILURE |
-| ``completion`` | str | ``rest`` | ``rest`` or ``terminal`` (below) |
+| ``completion`` | str | ``auto`` | ``auto``, ``once``, ``rest`` or ``forever`` (below) |
 | ``print_tree`` | bool | false | log the unicode tree whenever a status changes |
 | ``status_file`` | str | ``""`` | JSON status file (off when empty) |
 | ``seed_amcl`` | bool | true | seed AMCL and wait for Nav2 before ticking |
@@ -13,9 +13,10 @@
 | ``setup_timeout_s`` | float | 15.0 | bound of the tree's ``setup()`` |
 | ``initial_pose.{x,y,yaw}`` | float | 0.0 | the AMCL seed (spawn pose), frame ``map`` |
 
-``completion``: ``rest`` means the mission is complete when the tree is at rest (the root
-keeps one terminal status over two ticks and nothing changes); ``terminal`` means the first
-tick the root is SUCCESS or FAILURE.
+``completion`` (:mod:`sar_framework.mission.completion`): ``once`` ends the mission the
+first tick the root is SUCCESS or FAILURE; ``rest`` when the tree is at rest (the root keeps
+one terminal status over two ticks and nothing changes); ``forever`` never; ``auto`` is
+``rest`` for a tree that ends with a ``one_shot``, else ``once``.
 
 ``tick_rate_hz`` and the zones come from the mission parameters
 (:mod:`sar_framework.mission.params`); ``use_sim_time`` is ROS's own.
@@ -29,10 +30,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from sar_framework.mission.completion import COMPLETION_MODES, DEFAULT_COMPLETION
 from sar_framework.mission.params import ParamReader, declare_default
 from sar_framework.mission.params_file import KeyLocation
 from sar_framework.ros.nav2_startup import InitialPose
-from sar_framework.ros.status_file import COMPLETION_MODES
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -49,7 +50,7 @@ class RunnerSettings:
         tree: The tree file, as given.
         plugin_paths: Extra plugin locations.
         exit_on_completion: End once the mission is complete.
-        completion: ``rest`` or ``terminal``: how completion is recognised.
+        completion: ``auto``, ``once``, ``rest`` or ``forever``: how the mission ends.
         print_tree: Log the tree on every status change.
         status_file: The status file path, or "" for none.
         seed_amcl: Seed AMCL and wait for Nav2 first.
@@ -129,7 +130,7 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
     tree = read.text("tree", default_tree())
     if not tree:
         raise read.error("tree", "empty: name a tree file")
-    completion = read.text("completion", "rest")
+    completion = read.text("completion", DEFAULT_COMPLETION)
     if completion not in COMPLETION_MODES:
         raise read.error("completion", f"must be one of {', '.join(COMPLETION_MODES)}, "
                                        f"got {completion!r}")

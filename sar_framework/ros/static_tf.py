@@ -2,10 +2,12 @@
 
 This is the one place that makes the choice. ``tf2_ros`` is not on PyPI, so without a
 ROS installation :class:`TopicStaticBroadcaster` stands in for
-``tf2_ros.StaticTransformBroadcaster`` with the same observable behaviour: it publishes
-``tf2_msgs/msg/TFMessage`` on ``/tf_static`` (RELIABLE, TRANSIENT_LOCAL, depth 100) and every
-message carries *all* frames sent so far (one per child frame, the newest winning), so a
-subscriber that joins late receives every frame, not just the last one sent.
+``tf2_ros.StaticTransformBroadcaster`` with the same observable behaviour (Jazzy's
+``tf2_ros_py``): it publishes ``tf2_msgs/msg/TFMessage`` on ``/tf_static`` (RELIABLE,
+TRANSIENT_LOCAL, depth 1) and every message carries *all* frames sent so far, one per child
+frame, in first-sent order; a transform for a child frame already sent is ignored (the first
+one stays), though the message is published again. With depth 1 a subscriber that joins
+late receives exactly one message holding every frame (``ros2 topic echo /tf_static --once``).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Protocol
 
-from sar_framework.ros.qos import tf_static_qos
+from sar_framework.ros.qos import tf_static_broadcaster_qos
 
 if TYPE_CHECKING:
     from geometry_msgs.msg import TransformStamped
@@ -44,21 +46,21 @@ class TopicStaticBroadcaster:
         from tf2_msgs.msg import TFMessage
 
         self._message_type = TFMessage
-        self._publisher = node.create_publisher(TFMessage, topic, tf_static_qos())
-        # child_frame_id -> latest transform; dicts keep first-insertion order.
+        self._publisher = node.create_publisher(TFMessage, topic, tf_static_broadcaster_qos())
+        # child_frame_id -> the first transform sent for it; dicts keep insertion order.
         self._frames: dict[str, TransformStamped] = {}
 
     def sendTransform(  # noqa: N802 - tf2_ros's method name
         self, transform: TransformStamped | Iterable[TransformStamped]
     ) -> None:
-        """Add or replace frames and publish every frame sent so far in one message.
+        """Add new child frames (repeats are ignored) and publish every frame in one message.
 
         Args:
             transform: A ``geometry_msgs/msg/TransformStamped`` or an iterable of them.
         """
         batch = [transform] if hasattr(transform, "child_frame_id") else list(transform)
         for item in batch:
-            self._frames[item.child_frame_id] = item
+            self._frames.setdefault(item.child_frame_id, item)
         self._publisher.publish(self._message_type(transforms=list(self._frames.values())))
 
     def frames(self) -> list[str]:

@@ -19,14 +19,15 @@ Definitions used here:
   (a reactive root re-checking a condition while the tree idles) is recorded once.
 - ``failures`` holds the leaf FAILURE events that are failures rather than decisions: the
   leaf had been RUNNING before it failed (conditions never run, so a condition saying "no"
-  is not listed), or its FAILURE came on the tick the root itself failed.
-- ``complete`` (an addition to the contract's keys) says the mission is over. With
-  ``completion="rest"`` (the default) that is once the tree is *at rest*: the root had the
-  same terminal status on two consecutive ticks and the second tick changed nothing (every
-  status the same, no new leaf verdict). A root that is SUCCESS for one tick is not enough:
-  the reference tree's root succeeds after every zone, when Patrol completes, and starts
-  the next zone on the following tick. With ``completion="terminal"`` it is the first tick
-  the root is SUCCESS or FAILURE (for trees that run once and stop).
+  is not listed), or its FAILURE came on the tick the root itself failed; and every
+  timeout, cancel, retry and skip (:mod:`.reasons`), each with ``what`` and its times.
+- ``complete`` (an addition to the contract's keys) says the mission is over
+  (:mod:`sar_framework.mission.completion`). With ``completion="once"`` that is the first
+  tick the root is SUCCESS or FAILURE. With ``completion="rest"`` it is once the tree is
+  *at rest*: the root had the same terminal status on two consecutive ticks and the second
+  tick changed nothing (every status the same, no new leaf verdict); the reference tree's
+  root succeeds after every zone and starts the next zone on the following tick. With
+  ``completion="forever"`` the mission is never complete.
 
 The file is written atomically (temporary file + rename) whenever something changed.
 """
@@ -45,10 +46,11 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.spec import Category, TreeSpec
+from sar_framework.ros.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 #: How the end of a mission is recognised (see the module docstring).
-COMPLETION_MODES = ("rest", "terminal")
+RECORDED_COMPLETIONS = ("once", "rest", "forever")
 
 
 def write_json_atomically(path: str | Path, document: dict[str, Any]) -> None:
@@ -104,7 +106,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         sim_now: Returns the ROS clock in seconds.
         path: The status file; None keeps the document in memory only.
         wall_start: ``time.monotonic()`` when the runner started.
-        completion: ``"rest"`` or ``"terminal"`` (see the module docstring).
+        completion: ``"once"``, ``"rest"`` or ``"forever"`` (see the module docstring).
 
     Raises:
         ValueError: An unknown ``completion``.
@@ -115,8 +117,9 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
                  wall_start: float | None = None, completion: str = "rest") -> None:
         super().__init__(full=False)
-        if completion not in COMPLETION_MODES:
-            raise ValueError(f"completion must be one of {COMPLETION_MODES}, got {completion!r}")
+        if completion not in RECORDED_COMPLETIONS:
+            raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
+                             f"got {completion!r}")
         self._completion = completion
         self._tree_file = tree_file
         self._path = Path(path) if path else None
@@ -126,6 +129,10 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         self._uid_of = {id(b): uid for uid, b in behaviours.items()}
         self._spec_of = {node.uid: node for node in spec.nodes()}
         self._leaves = {node.uid for node in spec.nodes() if node.category == Category.LEAF}
+        self._explaining = {node.uid for node in spec.nodes()
+                            if node.kind in EXPLAINING_DECORATORS}
+        self._reasons = ReasonLog({n.uid: n.kind for n in spec.nodes()}, behaviours)
+        self.new_reasons: list[dict[str, Any]] = []
         self.root_uid = spec.root.uid
         self.nodes: dict[str, str] = {}
         self.events: list[dict[str, Any]] = []
@@ -146,6 +153,8 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
     def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
         """Record a leaf's verdict (py_trees calls this for each ticked behaviour)."""
         uid = self._uid_of.get(id(behaviour))
+        if uid in self._explaining:
+            self._reasons.decorator_ticked(uid, self._running, self._stamp())
         if uid is None or uid not in self._leaves:
             return
         status = behaviour.status
@@ -165,19 +174,23 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         if self.sim_start_s is None:
             self._start()
         event = {
-            "sim_s": round(self._sim_now(), 3),
-            "wall_s": round(time.monotonic() - self._wall_start, 3),
-            "uid": uid, "name": behaviour.name, "kind": self._spec_of[uid].kind,
-            "status": status.name, "message": message,
+            **self._stamp(), "uid": uid, "name": behaviour.name,
+            "kind": self._spec_of[uid].kind, "status": status.name, "message": message,
         }
         self.events.append(event)
         self._changed = True
         if status == Status.FAILURE:
-            failure = {"uid": uid, "name": behaviour.name, "message": message}
             if was_running:
-                self.failures.append(failure)
+                self._reasons.leaf_failed(uid, message, self._stamp())
             else:
-                self._tick_failures.append(failure)
+                self._tick_failures.append({"what": "failure", "uid": uid,
+                                            "name": behaviour.name,
+                                            "kind": self._spec_of[uid].kind,
+                                            "message": message, **self._stamp()})
+
+    def _stamp(self) -> dict[str, float]:
+        return {"sim_s": round(self._sim_now(), 3),
+                "wall_s": round(time.monotonic() - self._wall_start, 3)}
 
     # -- after each tick -----------------------------------------------------------------------
     def after_tick(self, tree: py_trees.trees.BehaviourTree) -> bool:
@@ -197,6 +210,8 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             if status != Status.INVALID and self.nodes.get(uid) != status.name:
                 self.nodes[uid] = status.name
                 self._changed = True
+        halted = sorted(u for u in self._running if self._behaviours[u].status == Status.INVALID)
+        self._reasons.leaves_halted(halted, self._stamp())
         self._running = {u for u in self._running
                          if self._behaviours[u].status == Status.RUNNING}
         # What runs now (a halted leaf keeps RUNNING in `nodes`, which is for colouring).
@@ -206,8 +221,10 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             self._changed = True
         snapshot = tuple(b.status for b in self._behaviours.values())
         root_status = tree.root.status
-        if self._completion == "terminal":
-            complete = root_status in _TERMINAL
+        if self._completion == "once":
+            complete = self.complete or root_status in _TERMINAL
+        elif self._completion == "forever":
+            complete = False
         else:
             complete = (root_status in _TERMINAL and root_status == self.status
                         and snapshot == self._snapshot and not self._changed)
@@ -216,9 +233,14 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             self._changed = True
         self._snapshot = snapshot
         self.status = root_status
+        reasons = self._reasons.take()
         if self.status == Status.FAILURE:
-            self.failures.extend(f for f in self._tick_failures if f not in self.failures)
+            reasons += [f for f in self._tick_failures if f not in self.failures]
         self._tick_failures = []
+        if reasons:
+            self.failures.extend(reasons)
+            self.new_reasons.extend(reasons)
+            self._changed = True
         changed, self._changed = self._changed, False
         if changed:
             self.write()

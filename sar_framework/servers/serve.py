@@ -29,10 +29,13 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     Returns:
         The process exit code: 0 after SIGINT, 2 for a bad configuration.
     """
+    import signal
     import sys
 
     import rclpy
     from rclpy.executors import ExternalShutdownException
+
+    from sar_framework.recording.introspection import enable_service_introspection
 
     rclpy.init(args=list(sys.argv if argv is None else argv))
     node = None
@@ -42,10 +45,14 @@ def serve(make_node: Callable[[], Node], logger_name: str,
         except ValueError as err:  # ServerConfigError, and rclpy's bad-parameter errors
             rclpy.logging.get_logger(logger_name).error(str(err))
             return EXIT_CONFIG
+        enable_service_introspection(node)
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        # Under ros2 launch a Ctrl-C arrives twice (the terminal's process group, then
+        # launch): a second KeyboardInterrupt in the clean-up printed a traceback, exit -2.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()

@@ -13,10 +13,18 @@ ROS-free core (plain Python + numpy)::
 
 ROS nodes (rclpy)::
 
-    sim_node    the simulator: physics thread, /clock, /tf, /odom, /map
-    nav_server  bt_navigator: the navigate_to_pose action server
-    amcl        /initialpose -> /amcl_pose
-    lifecycle   ~/get_state answering ACTIVE
-    messages    message builders
-    __main__    the ``sar-sim`` console script
+    sim_node           the simulator: physics thread, /clock, /tf, /odometry/filtered
+    settings           its parameters, validated
+    lifecycle          Nav2LifecycleNode: rclpy lifecycle, action servers need ACTIVE
+    lifecycle_manager  lifecycle_manager_localization / _navigation (manage_nodes, is_active)
+    goal_actions       serve a navigator goal as an action (feedback, cancel, result)
+    nav_server         bt_navigator: navigate_to_pose, navigate_through_poses
+    planning_servers   planner_server, smoother_server, the costmap nodes
+    motion_servers     controller_server, behavior_server, waypoint_follower
+    map_server         map_server: /map latched on activation
+    amcl               /initialpose -> /amcl_pose, updates as the robot moves
+    messages           message builders
+    __main__           the ``sar-sim`` console script
+
+What it offers of Nav2's surface, and what not: docs/nav2-surface.md.
 """

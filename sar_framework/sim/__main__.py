@@ -23,13 +23,13 @@ RESULT_FLUSH_S = 0.15
 
 def usage() -> str:
     """Return the ``--help`` text: the command line and the parameter table."""
-    from sar_framework.sim.sim_node import PARAMETERS
+    from sar_framework.sim.settings import PARAMETERS
 
     lines = [
         "usage: sar-sim [--ros-args -p NAME:=VALUE ...]",
         "",
-        "Embedded Nav2 stand-in: navigate_to_pose, /clock, /tf, /odom, /map, AMCL and",
-        "lifecycle answers, on simulated time. Parameters:",
+        "Embedded Nav2 stand-in: Nav2's lifecycle nodes and actions (docs/nav2-surface.md),",
+        "/clock, /tf, /odometry/filtered, /map, /amcl_pose, on simulated time. Parameters:",
         "",
     ]
     for p in PARAMETERS:

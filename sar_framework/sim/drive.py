@@ -85,6 +85,10 @@ class Phase(enum.Enum):
     """At the goal position, turning to the goal yaw."""
     ARRIVED = "arrived"
     """Goal reached; the robot is stopped."""
+    SPINNING = "spinning"
+    """Turning in place by a given angle (Nav2's spin behaviour)."""
+    STRAIGHT = "straight"
+    """Driving a given distance straight ahead or back (backup, drive_on_heading)."""
 
 
 class DiffDrive:
@@ -109,6 +113,8 @@ class DiffDrive:
         self._cumulative: list[float] = [0.0]  # arc length at each waypoint
         self._segment = 0
         self._goal_yaw = 0.0
+        self._motion_left = 0.0  # radians (spin) or metres (straight) still to go
+        self._motion_speed = 0.0  # signed rad/s or m/s of a spin or straight motion
 
     # ------------------------------------------------------------------ state
 
@@ -135,7 +141,12 @@ class DiffDrive:
     @property
     def active(self) -> bool:
         """True while a goal is being pursued (driving or rotating)."""
-        return self._phase in (Phase.DRIVING, Phase.ROTATING)
+        return self._phase in (Phase.DRIVING, Phase.ROTATING, Phase.SPINNING, Phase.STRAIGHT)
+
+    @property
+    def motion_left(self) -> float:
+        """Radians (spin) or metres (straight) left of the current motion."""
+        return self._motion_left if self._phase in (Phase.SPINNING, Phase.STRAIGHT) else 0.0
 
     @property
     def succeeded(self) -> bool:
@@ -176,6 +187,25 @@ class DiffDrive:
         self._goal_yaw = normalize_angle(goal_yaw)
         self._phase = Phase.DRIVING
 
+    def spin(self, angle: float) -> None:
+        """Turn in place by ``angle`` radians (signed, any size) at the angular limit."""
+        self._start_motion(Phase.SPINNING, angle, self.limits.max_angular)
+
+    def drive_straight(self, distance: float, speed: float) -> None:
+        """Drive ``distance`` metres straight (negative: backwards) at ``|speed|`` m/s.
+
+        The speed is capped by the linear limit.
+        """
+        self._start_motion(Phase.STRAIGHT, distance, min(abs(speed), self.limits.max_linear))
+
+    def _start_motion(self, phase: Phase, amount: float, rate: float) -> None:
+        if not (math.isfinite(amount) and math.isfinite(rate)) or rate <= 0.0:
+            raise ValueError(f"{phase.value}: amount and speed must be finite, speed > 0")
+        self._phase = phase
+        self._path = []
+        self._motion_left = abs(amount)
+        self._motion_speed = math.copysign(rate, amount)
+
     def cancel(self) -> None:
         """Stop and drop the current goal."""
         self._phase = Phase.IDLE
@@ -196,6 +226,8 @@ class DiffDrive:
         """Seconds to finish at full speed: the rest of the path plus the final turn."""
         if not self.active:
             return 0.0
+        if self._phase in (Phase.SPINNING, Phase.STRAIGHT):
+            return self._motion_left / abs(self._motion_speed)
         if self._phase is Phase.ROTATING:
             heading = self._yaw
         else:
@@ -234,6 +266,8 @@ class DiffDrive:
             v, w = self._drive_command(dt)
         elif self._phase is Phase.ROTATING:
             v, w = self._rotate_command(dt)
+        elif self._phase in (Phase.SPINNING, Phase.STRAIGHT):
+            v, w = self._motion_command(dt)
         else:
             v, w = 0.0, 0.0
         self._integrate(v, w, dt)
@@ -270,6 +304,16 @@ class DiffDrive:
             self._phase = Phase.ARRIVED
             return 0.0, 0.0
         return 0.0, self._turn_rate(error, dt, floor=self.limits.min_angular)
+
+    def _motion_command(self, dt: float) -> tuple[float, float]:
+        """Constant-rate spin or straight motion, never beyond what is left."""
+        if self._motion_left <= 1e-9:
+            self._phase = Phase.ARRIVED
+            return 0.0, 0.0
+        rate = math.copysign(min(abs(self._motion_speed), self._motion_left / dt),
+                             self._motion_speed)
+        self._motion_left = max(self._motion_left - abs(rate) * dt, 0.0)
+        return (0.0, rate) if self._phase is Phase.SPINNING else (rate, 0.0)
 
     def _turn_rate(self, error: float, dt: float, floor: float = 0.0) -> float:
         """Proportional turn rate towards ``error``, limited and never overshooting in ``dt``."""

@@ -6,8 +6,10 @@ executor threads and waits on :attr:`Goal.done`.
 
 Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
 
-- a goal whose plan fails is accepted, then ABORTED with ``error_code`` UNKNOWN and the
-  planner's reason in ``error_msg``;
+- a goal whose plan fails is accepted, then ABORTED with the planner's reason in
+  ``error_msg`` and, as ``error_code``, the planner's ``ComputePathToPose`` code (Jazzy's
+  bt_navigator reports the failing server's code, see ``error_code_names``; its own
+  NavigateToPose result defines only NONE);
 - a new goal preempts the running one: the old goal ends ABORTED with an empty result
   (``nav2_util::SimpleActionServer::accept_pending_goal`` aborts it with an empty result);
 - a cancelled goal stops the robot and ends CANCELED;
@@ -16,104 +18,30 @@ Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
 
 from __future__ import annotations
 
-import enum
+import itertools
+import math
 import threading
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
 
 from sar_framework.sim.drive import DiffDrive
 from sar_framework.sim.faults import Faults
+from sar_framework.sim.goals import (
+    ERROR_NONE,
+    FOLLOW_PATH_NO_PROGRESS,
+    FOLLOW_PATH_UNKNOWN,
+    Goal,
+    GoalListener,
+    Kind,
+    Outcome,
+    Progress,
+    RobotState,
+)
 from sar_framework.sim.planner import GridPlanner, PlanningError
 from sar_framework.sim.world import Pose2D
 
-ERROR_NONE = 0
-"""``NavigateToPose.Result.NONE``."""
-ERROR_UNKNOWN = 9000
-"""``NavigateToPose.Result.UNKNOWN``."""
 
-
-class Outcome(enum.Enum):
-    """Where a goal stands."""
-
-    ACTIVE = "active"
-    SUCCEEDED = "succeeded"
-    ABORTED = "aborted"
-    CANCELED = "canceled"
-
-
-@dataclass
-class Progress:
-    """A consistent snapshot of a goal's progress (for feedback).
-
-    Attributes:
-        pose: The robot's pose, map frame.
-        distance_remaining: Metres left along the path.
-        estimated_time_remaining: Seconds left at full speed.
-        navigation_time: Simulated seconds since the goal started.
-    """
-
-    pose: Pose2D
-    distance_remaining: float
-    estimated_time_remaining: float
-    navigation_time: float
-
-
-@dataclass
-class Goal:
-    """One accepted ``navigate_to_pose`` goal.
-
-    Attributes:
-        number: 1-based count of accepted goals.
-        target: The goal pose, map frame.
-        started_s: Simulated time it started.
-        path: The planned waypoints (empty when planning failed).
-        outcome: Current outcome.
-        error_code: Result code (``ERROR_NONE`` unless a failure).
-        error_msg: Human-readable reason of a failure ("" otherwise).
-        finished_s: Simulated time it ended (None while active).
-        abort_at_s: Simulated time an injected fault aborts it (None: no fault).
-        done: Set once the goal has ended.
-    """
-
-    number: int
-    target: Pose2D
-    started_s: float
-    path: list[tuple[float, float]] = field(default_factory=list)
-    outcome: Outcome = Outcome.ACTIVE
-    error_code: int = ERROR_NONE
-    error_msg: str = ""
-    finished_s: float | None = None
-    abort_at_s: float | None = None
-    done: threading.Event = field(default_factory=threading.Event, repr=False)
-
-    @property
-    def active(self) -> bool:
-        """True until the goal has ended."""
-        return self.outcome is Outcome.ACTIVE
-
-
-@dataclass
-class RobotState:
-    """The robot as the physics loop publishes it.
-
-    Attributes:
-        pose: Map-frame pose.
-        linear: Forward speed, m/s.
-        angular: Turn rate, rad/s.
-        odometry: Distance driven so far, metres.
-    """
-
-    pose: Pose2D
-    linear: float
-    angular: float
-    odometry: float
-
-
-GoalListener = Callable[[Goal, float, RobotState], None]
-"""Called as ``listener(goal, sim_s, robot)`` when a goal starts and when it ends.
-
-It runs with the navigator's lock held: it must not call back into the navigator.
-"""
+def _length(points: Sequence[tuple[float, float]]) -> float:
+    return sum(math.dist(a, b) for a, b in itertools.pairwise(points))
 
 
 class Navigator:
@@ -170,20 +98,28 @@ class Navigator:
     def progress(self, goal: Goal) -> Progress:
         """Return ``goal``'s progress now (zero distance once it has ended)."""
         with self._lock:
-            pose = self._robot.pose
+            robot = self._robot
+            pose = robot.pose
+            elapsed_end = goal.finished_s if goal.finished_s is not None else self._now_s
+            time_left = max(goal.deadline_s - self._now_s, 0.0) if goal.deadline_s else 0.0
             if goal is self._current and goal.active:
+                later = sum(_length(leg) for leg, _ in goal.legs)
+                remaining = robot.distance_remaining() + later
                 return Progress(
-                    pose,
-                    self._robot.distance_remaining(),
-                    self._robot.estimated_time_remaining(),
+                    pose, remaining,
+                    robot.estimated_time_remaining() + later / robot.limits.max_linear,
                     self._now_s - goal.started_s,
+                    motion_done=abs(goal.amount) - robot.motion_left,
+                    poses_remaining=1 + len(goal.legs),
+                    time_left=time_left,
+                    linear=robot.velocity[0],
                 )
-            end = goal.finished_s if goal.finished_s is not None else self._now_s
-            return Progress(pose, 0.0, 0.0, end - goal.started_s)
+            return Progress(pose, 0.0, 0.0, elapsed_end - goal.started_s,
+                            motion_done=abs(goal.amount), poses_remaining=0)
 
     # ------------------------------------------------------------------ commands
 
-    def start(self, target: Pose2D) -> Goal:
+    def start(self, target: Pose2D, via: Sequence[Pose2D] = ()) -> Goal:
         """Start a goal, preempting the active one; plan from the robot's pose.
 
         Planning runs outside the lock; :attr:`planning` is True meanwhile so the physics
@@ -192,45 +128,80 @@ class Navigator:
 
         Args:
             target: The goal pose, map frame.
+            via: Poses to pass through first, in order (``navigate_through_poses``).
 
         Returns:
             The goal; already ABORTED (with the reason) if no plan could be made.
         """
+        goal, start = self._new_goal(target, Kind.NAVIGATE)
         with self._lock:
-            self._accepted += 1
-            goal = Goal(number=self._accepted, target=target, started_s=self._now_s)
-            if self._faults.aborts(goal.number):
-                goal.abort_at_s = goal.started_s + self._faults.abort_delay_s
-            start = self._robot.pose
             self._planning += 1
         try:
-            path = self._planner.plan((start.x, start.y), (target.x, target.y))
-            failure = ""
+            legs = self.plan_through(start, [*via, target])
+            failure, failure_code = "", ERROR_NONE
         except PlanningError as exc:
-            path, failure = [], str(exc)
-        except BaseException:
+            legs, failure, failure_code = [], str(exc), exc.error_code
+        finally:
             with self._lock:
                 self._planning -= 1
-            raise
-        with self._lock:
-            self._planning -= 1
-            # A later goal may have started while this one was planning: it wins.
-            if self._current is not None and self._current.number > goal.number:
-                self._notify(goal)
-                self._finish(goal, Outcome.ABORTED, ERROR_NONE, "")
-                return goal
-            previous = self._current
-            if previous is not None and previous.active:
-                self._finish(previous, Outcome.ABORTED, ERROR_NONE, "")
-            self._current = goal
-            self._notify(goal)
-            if failure:
-                self._robot.cancel()
-                self._finish(goal, Outcome.ABORTED, ERROR_UNKNOWN, failure)
-            else:
-                goal.path = path
-                self._robot.follow(path, target.yaw)
-        return goal
+        goal.path = [p for i, leg in enumerate(legs) for p in (leg if i == 0 else leg[1:])]
+        if failure:
+            return self._begin(goal, None, (failure_code, failure))
+        yaws = [pose.yaw for pose in via] + [target.yaw]
+        goal.legs = list(zip(legs[1:], yaws[1:], strict=True))
+        return self._begin(goal, lambda: self._robot.follow(legs[0], yaws[0]))
+
+    def plan_through(self, start: Pose2D, poses: Sequence[Pose2D]
+                     ) -> list[list[tuple[float, float]]]:
+        """Plan from ``start`` through ``poses`` (thread-safe; the planner is read-only).
+
+        Returns:
+            One leg of waypoints per pose, each starting where the previous one ended.
+
+        Raises:
+            PlanningError: A leg cannot be planned.
+        """
+        legs = []
+        here = (start.x, start.y)
+        for pose in poses:
+            legs.append(self._planner.plan(here, (pose.x, pose.y)))
+            here = (pose.x, pose.y)
+        return legs
+
+    def start_path(self, path: Sequence[tuple[float, float]], target: Pose2D) -> Goal:
+        """Follow ``path`` (no planning) and finish facing ``target.yaw``."""
+        goal, _ = self._new_goal(target, Kind.FOLLOW)
+        goal.path = [(float(x), float(y)) for x, y in path]
+        return self._begin(goal, lambda: self._robot.follow(path, target.yaw))
+
+    def start_spin(self, angle: float, time_allowance_s: float, timeout_code: int) -> Goal:
+        """Turn in place by ``angle`` radians; time out after ``time_allowance_s``."""
+        pose = self.state().pose
+        goal, _ = self._new_goal(Pose2D(pose.x, pose.y, pose.yaw + angle), Kind.SPIN)
+        goal.amount = angle
+        self._set_deadline(goal, time_allowance_s, timeout_code)
+        return self._begin(goal, lambda: self._robot.spin(angle))
+
+    def start_straight(self, distance: float, speed: float, time_allowance_s: float,
+                       timeout_code: int) -> Goal:
+        """Drive ``distance`` metres straight (negative: back); time out as given."""
+        pose = self.state().pose
+        end = Pose2D(pose.x + distance * math.cos(pose.yaw),
+                     pose.y + distance * math.sin(pose.yaw), pose.yaw)
+        goal, _ = self._new_goal(end, Kind.STRAIGHT)
+        goal.amount = distance
+        self._set_deadline(goal, time_allowance_s, timeout_code)
+        return self._begin(goal, lambda: self._robot.drive_straight(distance, speed))
+
+    def start_wait(self, seconds: float) -> Goal:
+        """Stand still for ``seconds`` of simulated time, then succeed."""
+        goal, _ = self._new_goal(self.state().pose, Kind.WAIT)
+        self._set_deadline(goal, seconds, ERROR_NONE)
+        return self._begin(goal, self._robot.cancel)
+
+    def path_is_clear(self, a: Pose2D, b: Pose2D) -> bool:
+        """Whether the robot's centre can go straight from ``a`` to ``b`` (no lethal cell)."""
+        return self._planner.segment_is_clear((a.x, a.y), (b.x, b.y), mask=self._planner.lethal)
 
     def cancel(self, goal: Goal) -> bool:
         """Cancel ``goal`` if it is the active one: the robot stops, the goal is CANCELED.
@@ -259,7 +230,7 @@ class Navigator:
             if goal is None or not goal.active:
                 return None
             self._robot.cancel()
-            self._finish(goal, Outcome.ABORTED, ERROR_UNKNOWN, reason)
+            self._finish(goal, Outcome.ABORTED, ERROR_NONE, reason)
             return goal
 
     def step(self, dt: float, now_s: float) -> None:
@@ -281,15 +252,63 @@ class Navigator:
                 self._finish(
                     goal,
                     Outcome.ABORTED,
-                    ERROR_UNKNOWN,
+                    FOLLOW_PATH_NO_PROGRESS,
                     f"injected fault: goal {goal.number} aborted (abort_goal_numbers)",
                 )
-            elif arrived and self._robot.within_tolerance():
+            elif goal.deadline_s is not None and now_s >= goal.deadline_s:
+                self._robot.cancel()
+                if goal.kind is Kind.WAIT:
+                    self._finish(goal, Outcome.SUCCEEDED, ERROR_NONE, "")
+                else:
+                    self._finish(goal, Outcome.ABORTED, goal.timeout_code,
+                                 f"{goal.kind.value} timed out")
+            elif goal.kind is Kind.WAIT:
+                return
+            elif arrived and goal.legs:  # a via pose reached: drive the next leg
+                leg, yaw = goal.legs.pop(0)
+                self._robot.follow(leg, yaw)
+            elif arrived and (goal.kind in (Kind.SPIN, Kind.STRAIGHT)
+                              or self._robot.within_tolerance()):
                 self._finish(goal, Outcome.SUCCEEDED, ERROR_NONE, "")
             elif not self._robot.active:
-                self._finish(goal, Outcome.ABORTED, ERROR_UNKNOWN, "controller stopped")
+                self._finish(goal, Outcome.ABORTED, FOLLOW_PATH_UNKNOWN, "controller stopped")
 
     # ------------------------------------------------------------------ internals
+
+    def _new_goal(self, target: Pose2D, kind: Kind) -> tuple[Goal, Pose2D]:
+        """Number a new goal (not yet current); return it and the robot's pose."""
+        with self._lock:
+            self._accepted += 1
+            goal = Goal(number=self._accepted, target=target, started_s=self._now_s, kind=kind)
+            if self._faults.aborts(goal.number):
+                goal.abort_at_s = goal.started_s + self._faults.abort_delay_s
+            return goal, self._robot.pose
+
+    def _set_deadline(self, goal: Goal, seconds: float, code: int) -> None:
+        if seconds > 0.0:
+            goal.deadline_s = goal.started_s + seconds
+            goal.timeout_code = code
+
+    def _begin(self, goal: Goal, command: Callable[[], None] | None,
+               failure: tuple[int, str] | None = None) -> Goal:
+        """Make ``goal`` current (preempting the active one) and run ``command``."""
+        with self._lock:
+            # A later goal may have started while this one was planning: it wins.
+            if self._current is not None and self._current.number > goal.number:
+                self._notify(goal)
+                self._finish(goal, Outcome.ABORTED, ERROR_NONE, "")
+                return goal
+            previous = self._current
+            if previous is not None and previous.active:
+                self._finish(previous, Outcome.ABORTED, ERROR_NONE, "")
+            self._current = goal
+            self._notify(goal)
+            if failure is not None:
+                self._robot.cancel()
+                self._finish(goal, Outcome.ABORTED, *failure)
+            elif command is not None:
+                command()
+        return goal
 
     def _finish(self, goal: Goal, outcome: Outcome, code: int, message: str) -> None:
         """End ``goal`` (lock held)."""

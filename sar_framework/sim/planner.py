@@ -41,19 +41,42 @@ _TIE_BREAK = 1.001
 
 
 class PlanningError(RuntimeError):
-    """No plan could be made; subclasses say why."""
+    """No plan could be made; subclasses say why.
+
+    ``error_code`` is Jazzy's ``nav2_msgs/action/ComputePathToPose`` result code for it.
+    """
+
+    error_code = 200  # UNKNOWN
 
 
 class StartInObstacle(PlanningError):  # noqa: N818 - the names are the API
-    """The start is outside the map, inside an obstacle, or boxed in by inflation."""
+    """The start is inside an obstacle, or boxed in by inflation."""
+
+    error_code = 205  # START_OCCUPIED
 
 
 class GoalInObstacle(PlanningError):  # noqa: N818 - the names are the API
-    """The goal is outside the map, inside an obstacle, or too close to one to reach."""
+    """The goal is inside an obstacle, or too close to one to reach."""
+
+    error_code = 206  # GOAL_OCCUPIED
+
+
+class StartOutsideMap(StartInObstacle):
+    """The start is outside the map."""
+
+    error_code = 203  # START_OUTSIDE_MAP
+
+
+class GoalOutsideMap(GoalInObstacle):
+    """The goal is outside the map."""
+
+    error_code = 204  # GOAL_OUTSIDE_MAP
 
 
 class NoPath(PlanningError):  # noqa: N818 - the names are the API
     """Start and goal are both valid but not connected through free space."""
+
+    error_code = 208  # NO_VALID_PATH
 
 
 class GridPlanner:
@@ -172,9 +195,9 @@ class GridPlanner:
         s_cell = self._cell_of(s_uv)
         g_cell = self._cell_of(g_uv)
         if not self._inside(s_cell):
-            raise StartInObstacle(f"start ({start[0]:.2f}, {start[1]:.2f}) is outside the map")
+            raise StartOutsideMap(f"start ({start[0]:.2f}, {start[1]:.2f}) is outside the map")
         if not self._inside(g_cell):
-            raise GoalInObstacle(f"goal ({goal[0]:.2f}, {goal[1]:.2f}) is outside the map")
+            raise GoalOutsideMap(f"goal ({goal[0]:.2f}, {goal[1]:.2f}) is outside the map")
         if self.lethal[s_cell]:
             raise StartInObstacle(f"start ({start[0]:.2f}, {start[1]:.2f}) is inside an obstacle")
         if self.lethal[g_cell]:

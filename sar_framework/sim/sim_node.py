@@ -1,268 +1,67 @@
-"""The composed simulator: physics loop, ``/clock``, TF, odometry, map, AMCL and Nav2 nodes.
+"""The composed simulator: physics loop, ``/clock``, TF, odometry and Nav2's nodes.
 
-One process, three nodes sharing one executor:
+One process, one executor, the nodes of a Jazzy ``bringup_launch.py``:
 
-- ``sar_sim``: parameters, ``/clock``, ``/tf`` (``map -> odom -> base_link``), ``/odom``,
-  ``/map`` (TRANSIENT_LOCAL) and the physics loop (its own thread, paced by
-  :class:`~sar_framework.sim.clock.SimClock`, never blocked by ROS callbacks);
-- ``amcl`` (:class:`~sar_framework.sim.amcl.AmclStandIn`);
-- ``bt_navigator`` (:class:`~sar_framework.sim.nav_server.NavigateToPoseServer`).
-
-Parameters are declared on ``sar_sim`` (see :data:`PARAMETERS`); integers are accepted
-where a float is expected (``speed:=20``).
+- ``sar_sim``: parameters (see :mod:`~sar_framework.sim.settings`), ``/clock``, ``/tf``
+  (``map -> odom`` while AMCL is localised, ``odom -> base_link``), odometry on
+  ``/odometry/filtered`` (as the ROSbot's EKF), and the physics loop (its own thread, paced
+  by :class:`~sar_framework.sim.clock.SimClock`, never blocked by ROS callbacks);
+- lifecycle nodes ``map_server``, ``amcl`` (``lifecycle_manager_localization``) and
+  ``controller_server``, ``smoother_server``, ``planner_server``, ``behavior_server``,
+  ``bt_navigator``, ``waypoint_follower`` (``lifecycle_manager_navigation``), plus the
+  costmap nodes ``/global_costmap/global_costmap`` and ``/local_costmap/local_costmap``.
 
 Simulated time: the simulator *is* the time source, so its own nodes' ROS clocks follow
 simulated time directly (an rclpy ``TimeSource`` fed by the physics loop) instead of
-subscribing to the ``/clock`` they publish; three such subscriptions cost a quarter of a
+subscribing to the ``/clock`` they publish; a dozen such subscriptions would cost most of a
 core at 100 updates per second. Their ``use_sim_time`` parameter therefore stays false,
 yet ``node.get_clock().now()`` is simulated time, as with ``use_sim_time:=true``.
 """
 
 from __future__ import annotations
 
-import math
 import threading
 import time
 import traceback
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
-from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.exceptions import ParameterUninitializedException
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
-from sar_framework.ros.qos import latched_qos
 from sar_framework.sim import messages
 from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
-from sar_framework.sim.drive import DiffDrive, DriveLimits
-from sar_framework.sim.faults import FaultConfigError, Faults, make_faults, with_blocked_zones
-from sar_framework.sim.nav_server import NavigateToPoseServer
-from sar_framework.sim.navigation import Goal, Navigator, RobotState
-from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, MapError, OccupancyGrid, load_map
+from sar_framework.sim.drive import DiffDrive
+from sar_framework.sim.faults import with_blocked_zones
+from sar_framework.sim.goal_actions import GoalGate
+from sar_framework.sim.goals import Goal, RobotState
+from sar_framework.sim.lifecycle import take_not_offered
+from sar_framework.sim.lifecycle_manager import LifecycleManager
+from sar_framework.sim.map_server import MapServer
+from sar_framework.sim.motion_servers import BehaviorServer, ControllerServer, WaypointFollower
+from sar_framework.sim.nav_server import BtNavigator
+from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.planner import GridPlanner
+from sar_framework.sim.planning_servers import PlannerServer, SmootherServer
+from sar_framework.sim.settings import (
+    DEFAULT_MAP_YAML,
+    PARAMETERS,
+    SimConfigError,
+    SimSettings,
+    number,
+    read_settings,
+)
 from sar_framework.sim.trace import TraceWriter
-from sar_framework.sim.world import DEFAULT_WORLD_PATH, Pose2D, World, WorldError, load_world
 
-DEFAULT_MAP_YAML = DEFAULT_MAP_PREFIX.with_name(DEFAULT_MAP_PREFIX.name + ".yaml")
-"""The committed course map (``maps/final_project_map.yaml``)."""
+__all__ = ["DEFAULT_MAP_YAML", "NODE_NAME", "PARAMETERS", "SimConfigError", "SimSettings",
+           "Simulator"]
 
 NODE_NAME = "sar_sim"
-
-
-class SimConfigError(ValueError):
-    """A simulator parameter, the map or the world file is invalid; the message says which."""
-
-
-@dataclass(frozen=True)
-class Param:
-    """One simulator parameter.
-
-    Attributes:
-        name: Parameter name.
-        default: Default value (None: type-only, or taken from the world file).
-        kind: ``float``, ``int``, ``bool``, ``str``, ``int[]`` or ``str[]``.
-        doc: One line for ``--help`` and the parameter descriptor.
-    """
-
-    name: str
-    default: Any
-    kind: str
-    doc: str
-
-
-PARAMETERS: tuple[Param, ...] = (
-    Param("map_yaml", str(DEFAULT_MAP_YAML), "str", "map_server yaml the planner and /map use"),
-    Param("world", str(DEFAULT_WORLD_PATH), "str", "world file (spawn, footprint, markers)"),
-    Param("speed", 1.0, "float", "simulated seconds per wall second (20 = 20x real time)"),
-    Param("physics_hz", 50.0, "float", "physics steps per simulated second"),
-    Param("max_update_hz", 100.0, "float", "wall-clock cap on /clock, /tf, /odom updates"),
-    Param("publish_hz", 30.0, "float", "/odom and /tf rate, per simulated second"),
-    Param("feedback_hz", 10.0, "float", "action feedback rate, per simulated second"),
-    Param("max_linear", 0.5, "float", "linear velocity limit, m/s"),
-    Param("max_angular", 1.0, "float", "angular velocity limit, rad/s"),
-    Param("speed_scale", 1.0, "float", "factor on both velocity limits (fault: slow robot)"),
-    Param("xy_goal_tolerance", 0.25, "float", "goal position tolerance, m"),
-    Param("yaw_goal_tolerance", 0.25, "float", "goal heading tolerance, rad"),
-    Param("robot_radius", None, "float", "inflation radius, m (default: world footprint)"),
-    Param("spawn_x", None, "float", "spawn x, m (default: world spawn)"),
-    Param("spawn_y", None, "float", "spawn y, m (default: world spawn)"),
-    Param("spawn_yaw", None, "float", "spawn yaw, rad (default: world spawn)"),
-    Param("auto_localize", True, "bool",
-          "publish map->odom from the start; false: only after /initialpose, as AMCL"),
-    Param("global_frame", "map", "str", "map frame"),
-    Param("odom_frame", "odom", "str", "odometry frame"),
-    Param("base_frame", "base_link", "str", "robot frame"),
-    Param("trace_file", "", "str", "JSON Lines trace of poses and goal events ('' = off)"),
-    Param("trace_period_s", 0.2, "float", "simulated seconds between trace pose lines"),
-    Param("reject_goals", False, "bool", "fault: reject every goal"),
-    Param("abort_goal_numbers", None, "int[]", "fault: abort these accepted goals (1-based)"),
-    Param("abort_delay_s", 1.0, "float", "fault: simulated seconds before such an abort"),
-    Param("accept_delay_s", 0.0, "float", "fault: wall seconds before a goal is answered"),
-    Param("blocked_zones", None, "str[]",
-          "fault: extra obstacles, 'x:y:radius' or 'marker[:radius]'"),
-)
-
-_TYPES = {
-    "float": Parameter.Type.DOUBLE,
-    "int": Parameter.Type.INTEGER,
-    "bool": Parameter.Type.BOOL,
-    "str": Parameter.Type.STRING,
-    "int[]": Parameter.Type.INTEGER_ARRAY,
-    "str[]": Parameter.Type.STRING_ARRAY,
-}
-
-
-@dataclass(frozen=True)
-class SimSettings:
-    """Validated simulator settings (see :data:`PARAMETERS` for the meaning of each).
-
-    Attributes:
-        map_yaml: Map file.
-        world: World file.
-        speed: Speed factor.
-        physics_hz: Physics rate, simulated Hz.
-        max_update_hz: Wall-clock cap on publishing.
-        publish_hz: ``/odom``/``/tf`` rate, simulated Hz.
-        feedback_hz: Feedback rate, simulated Hz.
-        limits: Drive limits (after ``speed_scale``) and goal tolerances.
-        robot_radius: Inflation radius, metres.
-        spawn: Spawn pose.
-        auto_localize: Localised from the start.
-        global_frame: Map frame.
-        odom_frame: Odometry frame.
-        base_frame: Robot frame.
-        trace_file: Trace path or None.
-        trace_period_s: Trace sampling period, simulated seconds.
-        faults: Injected faults.
-    """
-
-    map_yaml: Path
-    world: Path
-    speed: float
-    physics_hz: float
-    max_update_hz: float
-    publish_hz: float
-    feedback_hz: float
-    limits: DriveLimits
-    robot_radius: float
-    spawn: Pose2D
-    auto_localize: bool
-    global_frame: str
-    odom_frame: str
-    base_frame: str
-    trace_file: Path | None
-    trace_period_s: float
-    faults: Faults = field(default_factory=Faults)
-
-
-def _declare(node: Node, param: Param, default: Any) -> Any:
-    """Declare ``param`` on ``node`` and return its value (None when unset)."""
-    descriptor = ParameterDescriptor(
-        description=param.doc, dynamic_typing=param.kind in ("float", "int")
-    )
-    if default is None:
-        node.declare_parameter(param.name, _TYPES[param.kind], descriptor)
-    else:
-        node.declare_parameter(param.name, default, descriptor)
-    try:
-        return node.get_parameter(param.name).value
-    except ParameterUninitializedException:
-        return None
-
-
-def _number(name: str, value: Any, *, positive: bool = True) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise SimConfigError(f"parameter {name}: expected a number, got {value!r}")
-    if positive and value <= 0.0:
-        raise SimConfigError(f"parameter {name}: expected a positive number, got {value!r}")
-    return float(value)
-
-
-def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
-    """Declare the simulator's parameters on ``node``, validate them, load world and map.
-
-    Args:
-        node: The ``sar_sim`` node (parameter overrides come from its ``--ros-args``).
-
-    Returns:
-        ``(settings, world, map grid)``.
-
-    Raises:
-        SimConfigError: A parameter is invalid, or the map or world cannot be loaded.
-    """
-    by_name = {p.name: p for p in PARAMETERS}
-    raw: dict[str, Any] = {}
-    for name in ("map_yaml", "world"):
-        raw[name] = _declare(node, by_name[name], by_name[name].default)
-    try:
-        world = load_world(raw["world"])
-        grid = load_map(raw["map_yaml"])
-    except (WorldError, MapError) as exc:
-        raise SimConfigError(str(exc)) from exc
-    world_defaults = {
-        "robot_radius": world.robot.footprint_radius,
-        "spawn_x": world.robot.spawn.x,
-        "spawn_y": world.robot.spawn.y,
-        "spawn_yaw": world.robot.spawn.yaw,
-    }
-    for param in PARAMETERS:
-        if param.name not in raw:
-            raw[param.name] = _declare(node, param, world_defaults.get(param.name, param.default))
-
-    num = {
-        name: _number(name, raw[name])
-        for name in ("speed", "physics_hz", "max_update_hz", "publish_hz", "feedback_hz",
-                     "max_linear", "max_angular", "speed_scale", "xy_goal_tolerance",
-                     "yaw_goal_tolerance", "robot_radius", "trace_period_s")
-    }
-    spawn = Pose2D(*(_number(n, raw[n], positive=False)
-                     for n in ("spawn_x", "spawn_y", "spawn_yaw")))
-    markers = {m.name: (m.x, m.y) for m in world.markers}
-    try:
-        faults = make_faults(
-            reject_goals=raw["reject_goals"],
-            abort_goal_numbers=raw["abort_goal_numbers"] or (),
-            abort_delay_s=_number("abort_delay_s", raw["abort_delay_s"], positive=False),
-            accept_delay_s=_number("accept_delay_s", raw["accept_delay_s"], positive=False),
-            blocked_zones=raw["blocked_zones"] or (),
-            markers=markers,
-        )
-    except FaultConfigError as exc:
-        raise SimConfigError(f"parameter {exc}") from exc
-    limits = DriveLimits(
-        max_linear=num["max_linear"] * num["speed_scale"],
-        max_angular=num["max_angular"] * num["speed_scale"],
-        xy_tolerance=num["xy_goal_tolerance"],
-        yaw_tolerance=num["yaw_goal_tolerance"],
-    )
-    settings = SimSettings(
-        map_yaml=Path(raw["map_yaml"]),
-        world=Path(raw["world"]),
-        speed=num["speed"],
-        physics_hz=num["physics_hz"],
-        max_update_hz=num["max_update_hz"],
-        publish_hz=num["publish_hz"],
-        feedback_hz=num["feedback_hz"],
-        limits=limits,
-        robot_radius=num["robot_radius"],
-        spawn=spawn,
-        auto_localize=bool(raw["auto_localize"]),
-        global_frame=raw["global_frame"],
-        odom_frame=raw["odom_frame"],
-        base_frame=raw["base_frame"],
-        trace_file=Path(raw["trace_file"]) if raw["trace_file"] else None,
-        trace_period_s=num["trace_period_s"],
-        faults=faults,
-    )
-    return settings, world, grid
 
 
 class Simulator:
@@ -302,19 +101,40 @@ class Simulator:
             lambda: self.navigator.state().pose, self.now_ns,
             global_frame=s.global_frame, localized=s.auto_localize,
         )
-        self.nav = NavigateToPoseServer(
-            self.navigator, self.now_ns, lambda: self.amcl.localized,
-            faults=s.faults, global_frame=s.global_frame,
-            feedback_period_s=1.0 / s.feedback_hz, event_sink=self._on_request_event,
-        )
+        localized = lambda: self.amcl.localized  # noqa: E731 - read at call time
+        self.gate = GoalGate(self.navigator, self.now_ns, 1.0 / s.feedback_hz)
+        self.nav = BtNavigator(self.gate, localized, faults=s.faults,
+                               global_frame=s.global_frame, event_sink=self._on_request_event)
+        self.map_server = MapServer(self.grid, s.global_frame, self.now_ns, str(s.map_yaml))
+        self.planner_server = PlannerServer(self.navigator, self.now_ns, localized,
+                                            global_frame=s.global_frame,
+                                            resolution=self.grid.resolution)
+        self.smoother_server = SmootherServer(self.planner.is_free)
+        self.controller_server = ControllerServer(self.gate)
+        self.behavior_server = BehaviorServer(self.gate)
+        self.waypoint_follower = WaypointFollower(self.gate, localized)
+        self.managers = [
+            LifecycleManager("lifecycle_manager_localization",
+                             [self.map_server, self.amcl.node]),
+            LifecycleManager("lifecycle_manager_navigation", [
+                self.controller_server.node, self.smoother_server.node,
+                self.planner_server.node, self.behavior_server.node, self.nav.node,
+                self.waypoint_follower.node]),
+        ]
+        for manager in self.managers:
+            manager.node.set_parameters([Parameter("autostart", value=s.autostart)])
+        missing = take_not_offered()
+        if missing:
+            self.node.get_logger().info(
+                "Not offered (interface types not installed; the stand-in nav2_msgs has "
+                f"NavigateToPose only): {', '.join(missing)}")
         self._time_source = TimeSource()  # no node: fed by the physics loop, no subscription
         self._time_source.ros_time_is_active = True
         for node in self.nodes:
             self._time_source.attach_clock(node.get_clock())
         self._clock_pub = self.node.create_publisher(Clock, "/clock", 10)
         self._tf_pub = self.node.create_publisher(TFMessage, "/tf", 100)
-        self._odom_pub = self.node.create_publisher(Odometry, "/odom", 10)
-        self._map_pub = self.node.create_publisher(OccupancyGridMsg, "/map", latched_qos())
+        self._odom_pub = self.node.create_publisher(Odometry, s.odom_topic, 10)
         self.node.add_on_set_parameters_callback(self._on_set_parameters)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._physics_loop, name="sim-physics",
@@ -325,7 +145,11 @@ class Simulator:
     @property
     def nodes(self) -> list[Node]:
         """Every node of the simulator (to add to the executor)."""
-        return [self.node, self.amcl.node, self.nav.node]
+        servers = [self.map_server, self.amcl.node, self.controller_server.node,
+                   self.controller_server.costmap, self.smoother_server.node,
+                   self.planner_server.node, self.planner_server.costmap,
+                   self.behavior_server.node, self.nav.node, self.waypoint_follower.node]
+        return [self.node, *servers, *(m.node for m in self.managers)]
 
     @property
     def alive(self) -> bool:
@@ -340,9 +164,11 @@ class Simulator:
     # ------------------------------------------------------------------ lifecycle
 
     def start(self) -> None:
-        """Publish the map and the initial state, then start the physics thread."""
+        """Start the Nav2 nodes up (``autostart``), publish the state, start the physics."""
         s = self.settings
-        self._map_pub.publish(messages.occupancy_grid_msg(self.grid, s.global_frame, 0))
+        if s.autostart:
+            for manager in self.managers:
+                manager.startup()
         self._publish_state(0, self.navigator.state())
         self._clock_pub.publish(Clock())
         if self.trace is not None:
@@ -361,7 +187,9 @@ class Simulator:
         Returns:
             Whether a goal was in flight (keep spinning briefly so its result goes out).
         """
-        aborted = self.nav.close(reason)
+        aborted = self.gate.close(reason)
+        if aborted is not None:
+            self.node.get_logger().warning(f"Goal {aborted.number} aborted: {reason}")
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=1.0)
@@ -383,16 +211,16 @@ class Simulator:
 
     def destroy(self) -> None:
         """Destroy every node (after the executor has stopped)."""
-        self.nav.destroy()
-        self.amcl.node.destroy_node()
-        self.node.destroy_node()
+        for node in self.nodes:
+            node.destroy_node()
 
     def ready_message(self) -> str:
         """The start-up log line (tests and the runner wait for ``ready``)."""
         s = self.settings
         faults = f"; faults: {s.faults.describe()}" if s.faults.any else ""
         return (
-            f"ready: navigate_to_pose served, /clock at {s.speed:g}x real time "
+            f"ready: Nav2 {'active' if s.autostart else 'unconfigured (autostart off)'}, "
+            f"/clock at {s.speed:g}x real time "
             f"(physics {s.physics_hz:g} Hz), map {s.map_yaml} "
             f"({self.grid.width}x{self.grid.height}), spawn ({s.spawn.x:.2f}, {s.spawn.y:.2f}, "
             f"yaw {s.spawn.yaw:.2f}){faults}"
@@ -448,9 +276,10 @@ class Simulator:
             self._stop.wait(pause)
 
     def _publish_state(self, now_ns: int, state: RobotState) -> None:
-        """Publish ``/clock``-stamped ``/tf`` and ``/odom`` for ``state``."""
+        """Publish ``/tf`` and odometry for ``state``; let AMCL update."""
         s = self.settings
         odom_pose = messages.relative_pose(s.spawn, state.pose)
+        self.amcl.on_motion(now_ns)
         transforms = [messages.transform(s.odom_frame, s.base_frame, odom_pose, now_ns)]
         if self.amcl.localized:
             transforms.insert(0, messages.transform(s.global_frame, s.odom_frame, s.spawn,
@@ -492,7 +321,7 @@ class Simulator:
                 )
             if param.name == "speed":
                 try:
-                    speed = _number("speed", param.value)
+                    speed = number("speed", param.value)
                 except SimConfigError as exc:
                     return SetParametersResult(successful=False, reason=str(exc))
                 self._new_speed = speed  # applied by the physics thread

@@ -46,12 +46,23 @@ SPEC_LINES = [
 ]
 
 
+PROGRESS = re.compile(r"^\[\s*([0-9.]+)s\] \w+\s*\| (.*)$", re.MULTILINE)
+SAME_MOMENT_S = 0.05
+"""Lines of two processes read within this many seconds may come in either order."""
+
+
 def _in_order(text: str, lines: list[str]) -> None:
-    position = 0
+    """Every line is printed, in order; lines from two processes may swap at one moment."""
+    printed = [(float(t), message) for t, message in PROGRESS.findall(text)]
+    start, last = 0, 0.0
     for line in lines:
-        found = text.find(line, position)
-        assert found >= 0, f"missing (or out of order): {line!r}\n{text}"
-        position = found + len(line)
+        found = next((i for i in range(start, len(printed)) if printed[i][1] == line), None)
+        if found is None:  # printed a moment before the previous line, by another process
+            found = next((i for i in range(len(printed)) if printed[i][1] == line
+                          and printed[i][0] >= last - SAME_MOMENT_S), None)
+        assert found is not None, f"missing (or out of order): {line!r}\n{text}"
+        assert printed[found][0] >= last - SAME_MOMENT_S, f"out of order: {line!r}\n{text}"
+        start, last = max(start, found + 1), max(last, printed[found][0])
 
 
 @pytest.fixture(scope="module")

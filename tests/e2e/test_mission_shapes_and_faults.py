@@ -7,6 +7,7 @@ import pytest
 from .helpers import (
     DEFAULT_TREE,
     FAST,
+    REPO,
     SIX_SURVIVORS,
     SIX_ZONES,
     SKIP_TREE,
@@ -18,7 +19,7 @@ from .helpers import (
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
-NE_CORNER_BLOCKED = "blocked_zones:=['5.0:4.2:0.5']"
+NE_CORNER_BLOCKED = "blocked_zones:=['ne_corner:0.5']"  # a mission zone name
 
 
 def test_six_zones_with_retry_skip_an_unreachable_zone_and_finish(tmp_path) -> None:
@@ -42,17 +43,27 @@ def test_six_zones_with_retry_skip_an_unreachable_zone_and_finish(tmp_path) -> N
     assert goals[-1] == (0.0, 0.0) and goals.count((0.0, 0.0)) == 1
     assert "--- Zone 6/6: sw_corner (-5.00, -4.20) ---" in out
     assert "NavigateToZone" in out and "ne_corner" in out and "inside an obstacle" in out
+    # one line per failure, retry and skip, with node and reason (regression: only the
+    # repeated zone header showed; the summary said "All zones visited")
+    assert out.count("WARN: NavigateToZone [0.0.1.0.0.0]: goal to ne_corner aborted") == 2
+    assert "WARN: RetryNavigation [0.0.1.0.0] retry: attempt 1/2 failed (goal to ne_corner" in out
+    assert "WARN: SkipZoneOnFailure [0.0.1] skip: VisitZone failed (goal to ne_corner" in out
+    assert "Zones done, not reached: ne_corner. Returning to base." in out
+    assert "All zones visited" not in out
+    assert "zones not reached: ne_corner" in out and ", at base" in out
+    assert {f["what"] for f in mission["failures"]} == {"failure", "retry", "skip"}
+    assert mission["blocked_areas"] == [{"x": 5.0, "y": 4.2, "radius": 0.5}]
     assert "Mission complete." in out and no_traceback(out)
 
 
 def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_path) -> None:
     """The reference tree re-sends a failing zone goal on every tick: the bound stops it."""
     report = tmp_path / "report"
-    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "8",
+    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "15",
                             "--sim-param", "blocked_zones:=['zone_b']"], report)
     assert code == 1, out
     assert "Mission TIMEOUT" in out
-    assert "timeout after 8 s" in out
+    assert "timeout after 15 s" in out
     assert "last failure: NavigateToZone [0.0.1]: goal to zone_b aborted" in out
     assert read_json(report / "mission.json")["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
     assert no_traceback(out)
@@ -67,7 +78,7 @@ def test_missing_detect_server_fails_the_tree_naming_detect_survivor(tmp_path) -
     report = tmp_path / "report"
     # a tree that runs once: the runner's first terminal root status completes it
     code, out = run_to_end([str(tree), "--speed", FAST, "--no-detect-server",
-                            "--runner-param", "completion:=terminal", "--timeout", "60"], report)
+                            "--runner-param", "completion:=once", "--timeout", "60"], report)
     assert code == 1, out
     assert "Mission FAILURE" in out
     assert "DetectSurvivor [0.1] failed: /detect_survivor service not available" in out
@@ -90,3 +101,19 @@ def test_refusing_report_server_the_mission_goes_on_and_says_why(tmp_path) -> No
     assert not (report / "reports.jsonl").exists() or \
         read_jsonl(report / "reports.jsonl") == []
     assert no_traceback(out)
+
+
+def test_a_tree_without_a_one_shot_at_its_end_runs_once_and_ends_at_base(tmp_path) -> None:
+    """Regression: after its root succeeded such a tree was ticked again and set off anew."""
+    report = tmp_path / "report"
+    tree = REPO / "trees" / "examples" / "budget_then_home.yaml"
+    code, out = run_to_end([str(tree), "--speed", FAST, "--timeout", "90"], report)
+    assert code == 0, out
+    assert "completion: once (auto: the tree does not end with a one_shot" in out
+    assert out.count("Mission complete.") == 1 and "Mission SUCCESS" in out
+    assert "final position (0.0" in out and ", at base" in out
+    goals = [(g["x"], g["y"]) for g in read_jsonl(report / "trace.jsonl")
+             if g.get("event") == "accepted"]
+    assert goals == [(-3.0, 3.0), (3.5, 3.0), (4.0, -3.0), (-3.5, -3.0), (0.0, 0.0)]
+    mission = read_json(report / "mission.json")
+    assert mission["at_base"] is True and mission["zones_skipped"] == []

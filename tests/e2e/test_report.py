@@ -5,13 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from sar_framework.report import (
-    MissionInputs,
-    read_mission_layout,
-    shift_into,
-    summarise,
-    write_report,
-)
+from sar_framework.report import MissionInputs, read_mission_layout, summarise, write_report
+from sar_framework.report_map import BLOCKED_COLOUR, fit_left, shift_into
 
 from .helpers import DEFAULT_TREE, REPO
 
@@ -61,9 +56,11 @@ def test_summary_and_files(tmp_path: Path) -> None:
                            load_spec(DEFAULT_TREE), "SUCCESS", wall_duration_s=3.0)
     summary = summarise(inputs)
     assert [(z["id"], z["arrival_sim_s"]) for z in summary["zones_visited"]] == [
-        ("zone_a", 19.0)]
+        ("zone_a", 18.0)]  # from the mission's start (sim_start_s 1.0)
     assert summary["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
-    assert summary["base_reached"]["arrival_sim_s"] == 40.0
+    assert summary["base_reached"]["arrival_sim_s"] == 39.0
+    assert summary["final_position"] == {"x": -3.0, "y": 3.0}
+    assert summary["at_base"] is False
     assert [(s["id"], s["acknowledged"]) for s in summary["survivors"]] == [
         ("survivor_1", True), ("survivor_2", False)]
     assert summary["survivors"][1]["refused"] == "refuse_all is set"
@@ -89,3 +86,54 @@ def test_a_label_near_the_map_edge_stays_out_of_the_legend() -> None:
     assert shift_into(700.0, 790.0, limit=768.0) == 22.0  # moved left by its overflow
     assert shift_into(100.0, 180.0, limit=768.0) == 0.0  # inside: left alone
     assert shift_into(10.0, 900.0, limit=768.0) == 10.0  # wider than the room: stop at 0
+
+
+def _status(folder: Path, sim_start: float, base_at: float) -> None:
+    (folder / "status.json").write_text(json.dumps({
+        "status": "SUCCESS", "ticks": 10, "wall_first_tick_s": 0.5, "sim_start_s": sim_start,
+        "sim_end_s": base_at, "wall_duration_s": 6.0, "nodes": {},
+        "events": [{"sim_s": base_at, "wall_s": 5.0, "uid": "0.1.0", "name": "NavigateToBase",
+                    "kind": "NavigateToBase", "status": "SUCCESS",
+                    "message": "Reached base station."}], "failures": []}))
+
+
+def test_base_arrival_is_within_the_simulated_duration(tmp_path: Path) -> None:
+    """Regression: base arrival 104.7 s simulated in a mission of 102.6 s simulated."""
+    _status(tmp_path, 2.1, 104.7)
+    (tmp_path / "trace.jsonl").write_text(json.dumps(
+        {"sim_s": 104.7, "x": 0.1, "y": -0.2, "yaw": 0.0, "path_m": 30.0}) + "\n")
+    summary = summarise(MissionInputs(tmp_path, "t.yaml", str(PARAMS), None, "SUCCESS"))
+    assert summary["sim_duration_s"] == 102.6
+    assert summary["base_reached"]["arrival_sim_s"] == 102.6
+    assert summary["final_position"] == {"x": 0.1, "y": -0.2} and summary["at_base"] is True
+
+
+def _png(path: Path):
+    from PIL import Image
+
+    return Image.open(path).convert("RGB")
+
+
+def test_a_long_tree_path_in_the_title_is_cut_at_the_left_not_at_the_image_edge(
+        tmp_path: Path) -> None:
+    """Regression: the absolute tree path pushed the title off the right edge of mission.png."""
+    long_tree = "/home/someone/projects/" + "deeply/nested/" * 8 + "my_mission_tree.yaml"
+    _status(tmp_path, 0.0, 10.0)
+    write_report(MissionInputs(tmp_path, long_tree, str(PARAMS), None, "SUCCESS"))
+    image = _png(tmp_path / "mission.png")
+    band = image.crop((image.width - 12, 0, image.width, 40))
+    assert [c for _, c in band.getcolors()] == [(255, 255, 255)]  # nothing at the right edge
+    assert fit_left(long_tree, 100.0, lambda t: 7.0 * len(t)) == "…ion_tree.yaml"
+    assert fit_left("short.yaml", 100.0, lambda t: 7.0 * len(t)) == "short.yaml"
+
+
+def test_an_injected_blocked_area_is_drawn_and_listed(tmp_path: Path) -> None:
+    """Regression: a blocked_zones fault was not drawn on mission.png."""
+    _status(tmp_path, 0.0, 10.0)
+    inputs = MissionInputs(tmp_path, "t.yaml", str(PARAMS), None, "SUCCESS",
+                           blocked_areas=((3.5, 3.0, 0.6),))
+    write_report(inputs)
+    assert json.loads((tmp_path / "mission.json").read_text())["blocked_areas"] == [
+        {"x": 3.5, "y": 3.0, "radius": 0.6}]
+    counts = {c: n for n, c in _png(tmp_path / "mission.png").getcolors(maxcolors=1 << 20)}
+    assert counts.get(BLOCKED_COLOUR, 0) > 100

@@ -6,13 +6,12 @@ import io
 import json
 from pathlib import Path
 
-from sar_framework.run import Mission, Outcome, RunConfig, _summarise
+from sar_framework.run.outcome import Outcome, summarise
 
 
 def test_a_repeated_failure_on_the_way_is_noted_once_with_its_count(tmp_path: Path) -> None:
     """Regression: a retried leaf that failed twice printed two identical note lines."""
     out = io.StringIO()
-    mission = Mission(RunConfig(tree="t.yaml", report_dir=str(tmp_path)), spec=None, out=out)
     failure = {"uid": "0.0.1.0.0.0", "name": "NavigateToZone",
                "message": "goal to ne_corner aborted: no path"}
     other = {"uid": "0.0.2", "name": "DetectSurvivor", "message": "service not available"}
@@ -21,7 +20,8 @@ def test_a_repeated_failure_on_the_way_is_noted_once_with_its_count(tmp_path: Pa
         "wall_duration_s": 1.0, "sim_duration_s": 2.0,
         "failures": [failure, failure, other],
     }))
-    _summarise(mission, Outcome("SUCCESS", 0), [tmp_path / "mission.json"])
+    summarise(lambda text: out.write(text + "\n"), tmp_path, Outcome("SUCCESS", 0),
+              [tmp_path / "mission.json"], None)
     notes = [line for line in out.getvalue().splitlines() if "failed on the way" in line]
     assert notes == [
         "sar-tree run: note: NavigateToZone [0.0.1.0.0.0] failed on the way (2 times): "

@@ -1,19 +1,14 @@
-"""Shared fixtures for the engine tests: test plugin registries, a tree checker, a cache dir.
-
-Every engine test runs with the tree cache in a directory of its own session (never the
-user's); ``tree_cache`` gives a test an empty one.
-"""
+"""Shared fixtures for the engine tests: test plugin registries and a tree checker."""
 
 from __future__ import annotations
 
 import sys
 import textwrap
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
-from sar_framework.engine import cache
 from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.validate import ValidationResult, validate_file
 
@@ -76,25 +71,3 @@ def check(validate: Callable[..., ValidationResult]) -> Checker:
         return [str(d) for d in validate(text, files).diagnostics]
 
     return run
-
-
-@pytest.fixture(scope="session", autouse=True)
-def _isolated_tree_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """Point the tree cache at a directory of this test session, for every engine test."""
-    folder = tmp_path_factory.mktemp("tree-cache")
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setenv(cache.ENV_DIR, str(folder))
-        patch.delenv(cache.ENV_SWITCH, raising=False)
-        yield folder
-    cache.clear_memory()
-
-
-@pytest.fixture
-def tree_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """An empty, enabled tree cache (disk and memory) in ``tmp_path / "cache"``."""
-    folder = tmp_path / "cache"
-    monkeypatch.setenv(cache.ENV_DIR, str(folder))
-    monkeypatch.delenv(cache.ENV_SWITCH, raising=False)
-    cache.clear_memory()
-    yield folder
-    cache.clear_memory()

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import gc
-import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -291,67 +288,3 @@ def test_library_file_validates_but_does_not_load(tree_dir: Path, registry: Regi
         load_spec("lib.yaml", registry=registry)
     assert str(info.value) == ("lib.yaml:1:1: error: missing 'root': this file only defines "
                                "subtrees; include it from a tree file")
-
-
-_SMALL = "format: 1\nroot: {sequence: {memory: true, children: [{Tick: {}}]}}\n"
-
-
-def test_a_loaded_tree_goes_to_the_oldest_gc_generation(tree_dir: Path,
-                                                        registry: Registry) -> None:
-    path = write(tree_dir, "tree.yaml", _SMALL)
-    gc.collect()
-    loaded = load_tree(path, registry=registry, cache=False)
-    assert gc.isenabled()
-    young = gc.get_objects(generation=0) + gc.get_objects(generation=1)
-    assert not any(obj is loaded.root for obj in young)
-    assert any(obj is loaded.root for obj in gc.get_objects(generation=2))
-
-
-def test_objects_the_program_froze_stay_frozen(tree_dir: Path, registry: Registry) -> None:
-    path = write(tree_dir, "tree.yaml", _SMALL)
-    gc.freeze()
-    try:
-        frozen = gc.get_freeze_count()
-        load_tree(path, registry=registry, cache=False)
-        assert gc.get_freeze_count() == frozen
-    finally:
-        gc.unfreeze()
-
-
-_RELOAD_LOOP = """
-import gc, sys
-import py_trees
-from sar_framework.engine import gc_pause
-from sar_framework.engine.api import load_tree
-from sar_framework.engine.plugin import leaf
-from sar_framework.engine.registry import Registry
-
-@leaf()
-class Tick(py_trees.behaviour.Behaviour):
-    def update(self):
-        return py_trees.common.Status.SUCCESS
-
-registry = Registry()
-registry.add(Tick, "reload loop")
-gc_pause.PROMOTION_BUDGET = 20_000
-gc.collect()
-full, objects = gc.get_stats()[-1]["collections"], len(gc.get_objects())
-for _ in range(150):  # about 150 x 1,200 objects: several budgets' worth
-    load_tree(sys.argv[1], registry=registry, cache=False)
-print(gc.get_stats()[-1]["collections"] - full, len(gc.get_objects()) - objects)
-"""
-
-
-def test_reloading_in_a_loop_does_not_pile_up_garbage(tree_dir: Path) -> None:
-    # Objects promoted by a load do not count towards CPython's trigger for a full
-    # collection, so the promotion has a budget; past it, the collector counts them as
-    # usual and discarded trees (cyclic garbage) are collected. A fresh interpreter: the
-    # trigger depends on how much the heap already holds.
-    children = ", ".join("{Tick: {}}" for _ in range(200))
-    path = write(tree_dir, "tree.yaml",
-                 f"format: 1\nroot: {{sequence: {{memory: true, children: [{children}]}}}}\n")
-    done = subprocess.run([sys.executable, "-c", _RELOAD_LOOP, str(path)], check=True,
-                          capture_output=True, text=True, timeout=120)
-    full_collections, growth = map(int, done.stdout.split())
-    assert full_collections > 0
-    assert growth < 3 * 20_000

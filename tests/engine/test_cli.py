@@ -29,7 +29,7 @@ def test_validate_clean_exits_0(tmp_path: Path) -> None:
     write(tmp_path, "good.yaml", GOOD)
     run = sar_tree("validate", "good.yaml", "--plugin-path", str(GENERIC_PLUGINS), cwd=tmp_path)
     assert run.returncode == 0, run.stderr
-    assert run.stdout == "good.yaml: ok (2 nodes)\n"
+    assert run.stdout == "good.yaml: ok (2 nodes; default completion: once)\n"
     assert run.stderr == ""
     no_traceback(run)
 
@@ -153,3 +153,15 @@ def test_schema_to_file(tmp_path: Path) -> None:
 def test_seed_fixture_validates_with_builtin_plugins() -> None:
     run = sar_tree("validate", str(FIXTURES / "search_and_rescue.yaml"))
     assert run.returncode == 0, run.stderr
+
+
+def test_render_shows_the_params_a_tree_sets(tmp_path: Path) -> None:
+    write(tmp_path, "typed.yaml", "format: 1\nroot: {Typed: {label: hello, rate: 2.5}}\n")
+    args = ("render", "typed.yaml", "--format", "ascii", "--plugin-path", str(GENERIC_PLUGINS))
+    run = sar_tree(*args, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout == '--> Typed rate=2.5, label="hello"\n'
+    everything = sar_tree(*args, "--all-params", cwd=tmp_path)
+    assert everything.returncode == 0, everything.stderr
+    assert everything.stdout == (
+        '--> Typed count=1, rate=2.5, loud=false, label="hello"\n')

@@ -217,6 +217,13 @@ CASES = {
         "  b: {inverter: {child: {subtree: a}}}\nroot: {subtree: a}\n",
         ["tree.yaml:4:26: error: recursive subtree: a -> b -> a"],
     ),
+    "unused_recursive_subtree": (
+        "format: 1\nsubtrees:\n  a: {inverter: {child: {subtree: b}}}\n"
+        "  b: {inverter: {child: {subtree: a}}}\n  loop: {inverter: {child: {subtree: loop}}}\n"
+        "root: {Tick: {}}\n",
+        ["tree.yaml:4:26: error: recursive subtree: a -> b -> a",
+         "tree.yaml:5:29: error: recursive subtree: loop -> loop"],
+    ),
     "parallel_selected_required": (
         tree("parallel: {policy: success_on_selected, children: [Tick: {}]}"),
         ["tree.yaml:3:3: error: parallel needs 'selected' when policy is success_on_selected"],

@@ -160,3 +160,35 @@ def test_builtins_import_without_errors() -> None:
     reg = discover(entry_points=False)
     assert messages(reg) == []
     assert "sar_plugins" in sys.modules
+
+
+@pytest.mark.parametrize("order", ["package first", "path first"])
+def test_one_module_reached_as_package_and_by_path_is_one_plugin(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, order: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    package = "sar_test_pkg_same_" + order.split(maxsplit=1)[0]
+    write(tmp_path, f"site/{package}/__init__.py", "")
+    write(tmp_path, f"site/{package}/leaves.py", PLUGIN.format(name="Installed"))
+    monkeypatch.syspath_prepend(str(tmp_path / "site"))
+    entries = [package, f"site/{package}/leaves.py"]
+    if order == "path first":
+        entries.reverse()
+    reg = discover(entries, builtins=False, entry_points=False)
+    assert messages(reg) == []
+    assert reg.names() == ["Installed"]
+
+
+def test_a_different_definition_of_an_installed_name_names_both(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "site/sar_test_pkg_clash/__init__.py", "")
+    write(tmp_path, "site/sar_test_pkg_clash/leaves.py", PLUGIN.format(name="Clash"))
+    write(tmp_path, "local/clash.py", PLUGIN.format(name="Clash"))
+    monkeypatch.syspath_prepend(str(tmp_path / "site"))
+    reg = discover(["sar_test_pkg_clash", "local/clash.py"], builtins=False, entry_points=False)
+    assert messages(reg) == [
+        "local/clash.py:4:1: error: plugin 'Clash' is defined twice: in "
+        "sar_test_pkg_clash.leaves (site/sar_test_pkg_clash/leaves.py) and in local/clash.py"
+    ]

@@ -63,6 +63,7 @@ def node(kind, *children, name=None, id=None, subtree=None, **attrs) -> NodeSpec
         children=list(children),
         id=id,
         subtree=subtree,
+        written=frozenset(attrs),
     )
 
 
@@ -70,6 +71,7 @@ def ref(source: NodeSpec, param: str, target: NodeSpec) -> None:
     """Make `source` reference `target` through `param`, as the loader does."""
     source.attrs[param] = target.id
     source.refs[param] = target
+    source.written |= {param}
 
 
 def tree(root: NodeSpec, name: str = "test tree", description: str = "") -> TreeSpec:

@@ -103,3 +103,138 @@ def test_broken_venv_is_replaced(tmp_path: Path) -> None:
     assert stamps.done("requirements", bootstrap.digest([req]))
     assert subprocess.run([str(venv / "bin" / "python"), "-c", "pass"],
                           check=False).returncode == 0
+
+
+# --- step 4: the ROS 2 overlay (tools/ros_overlay.py) -----------------------------------
+
+def load_overlay() -> ModuleType:
+    load_bootstrap()  # puts tools/ on sys.path
+    import ros_overlay
+
+    return ros_overlay
+
+
+def git(*args: str, cwd: Path) -> str:
+    return subprocess.run(["git", *args], cwd=cwd, check=True, text=True,
+                          capture_output=True).stdout.strip()
+
+
+def make_upstream(tmp_path: Path) -> tuple[Path, str]:
+    """A local git repository standing in for an upstream one: two commits, pin the first."""
+    upstream = tmp_path / "upstream"
+    (upstream / "demo_msgs").mkdir(parents=True)
+    git("init", "-q", "-b", "main", cwd=upstream)
+    package_xml = upstream / "demo_msgs" / "package.xml"
+    package_xml.write_text("<package format='3'><name>demo_msgs</name>"
+                           "<version>1.0.0</version></package>\n")
+    git("add", ".", cwd=upstream)
+    git("-c", "user.name=t", "-c", "user.email=t@example.com", "commit", "-qm", "v1",
+        cwd=upstream)
+    pinned = git("rev-parse", "HEAD", cwd=upstream)
+    package_xml.write_text(package_xml.read_text().replace("1.0.0", "2.0.0"))
+    git("-c", "user.name=t", "-c", "user.email=t@example.com", "commit", "-qam", "v2",
+        cwd=upstream)
+    return upstream, pinned
+
+
+def test_repos_file_pins_every_overlay_repository_to_a_commit() -> None:
+    import yaml
+
+    repos = yaml.safe_load((ROOT / "ros2_jazzy.repos").read_text())["repositories"]
+    assert len(repos) == 11
+    for name, entry in repos.items():
+        assert entry["type"] == "git", name
+        assert entry["url"].startswith("https://github.com/"), name
+        assert len(entry["version"]) == 40 and int(entry["version"], 16) >= 0, name
+
+
+def test_fetch_checks_out_the_pinned_commit_of_a_repos_file(tmp_path: Path) -> None:
+    overlay = load_overlay()
+    upstream, pinned = make_upstream(tmp_path)
+    repos = tmp_path / "test.repos"
+    repos.write_text(f"repositories:\n  demo:\n    type: git\n    url: file://{upstream}\n"
+                     f"    version: {pinned}\n")
+    dest = overlay.fetch_sources(Path(sys.prefix), repos, tmp_path / "fetched")
+    assert git("rev-parse", "HEAD", cwd=dest / "demo") == pinned
+    found = overlay.locate_packages(dest, {"demo_msgs", "absent"})
+    assert found == {"demo_msgs": dest / "demo" / "demo_msgs"}
+    assert "1.0.0" in (found["demo_msgs"] / "package.xml").read_text()  # not the newer one
+
+
+def test_a_failed_fetch_falls_back_once_and_is_not_retried(tmp_path: Path,
+                                                           monkeypatch: pytest.MonkeyPatch,
+                                                           capsys: pytest.CaptureFixture
+                                                           ) -> None:
+    overlay = load_overlay()
+    monkeypatch.setattr(overlay, "SHARED_SOURCE", tmp_path / "no-shared")
+    repos = tmp_path / "gone.repos"
+    repos.write_text(f"repositories:\n  demo:\n    type: git\n    url: file://{tmp_path}/nope\n"
+                     "    version: 0123456789012345678901234567890123456789\n")
+    venv = tmp_path / "venv"
+    venv.mkdir()
+    (venv / "bin").mkdir()
+    (venv / "bin" / "vcs").symlink_to(Path(sys.prefix) / "bin" / "vcs")
+    stamps = overlay.Stamps(venv)
+    assert overlay.find_source(venv, None, stamps, repos) is None
+    assert "using the fallbacks" in capsys.readouterr().out
+    assert overlay.find_source(venv, None, stamps, repos) is None
+    assert "fetching" not in capsys.readouterr().out  # stamped: no second attempt
+
+
+def test_an_explicit_source_folder_must_exist(tmp_path: Path) -> None:
+    overlay = load_overlay()
+    with pytest.raises(overlay.SetupError, match="source folder not found"):
+        overlay.find_source(tmp_path, tmp_path / "missing", overlay.Stamps(tmp_path))
+
+
+def test_packages_are_found_by_name_and_colcon_ignore_is_honoured(tmp_path: Path) -> None:
+    overlay = load_overlay()
+    for folder, name in (("a/x", "tf2"), ("b/ignored/y", "tf2_msgs"), ("c", "launch")):
+        (tmp_path / folder).mkdir(parents=True)
+        (tmp_path / folder / "package.xml").write_text(f"<package><name>{name}</name></package>")
+    (tmp_path / "b" / "COLCON_IGNORE").touch()
+    assert overlay.locate_packages(tmp_path, {"tf2", "tf2_msgs", "launch"}) == {
+        "tf2": tmp_path / "a" / "x", "launch": tmp_path / "c"}
+
+
+def test_a_source_tree_lacking_a_package_is_named(tmp_path: Path) -> None:
+    overlay = load_overlay()
+    with pytest.raises(overlay.SetupError, match=r"lacks the ROS packages .*nav2_msgs"):
+        overlay.build_overlay(tmp_path, overlay.Stamps(tmp_path), tmp_path)
+
+
+def test_stand_ins_are_not_built_where_the_overlay_provides_the_package(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    bootstrap = load_bootstrap()
+    built: list[str] = []
+    monkeypatch.setattr(bootstrap, "build_interface_package",
+                        lambda _venv, source, _stamps: built.append(source.name))
+    stamps = bootstrap.Stamps(tmp_path)
+    stamps.data["interface:nav2_msgs"] = "an old stand-in"
+    bootstrap.build_interfaces(tmp_path, stamps, {"nav2_msgs", "tf2_msgs"})
+    assert built == ["sar_interfaces"]
+    assert "interface:nav2_msgs" not in stamps.data
+
+
+def test_the_venv_is_on_ament_prefix_path_without_sourcing(tmp_path: Path) -> None:
+    venv = Path(sys.prefix)
+    code = "import os; print(os.environ['AMENT_PREFIX_PATH'])"
+    env = {k: v for k, v in os.environ.items() if k != "AMENT_PREFIX_PATH"}
+    alone = subprocess.run([sys.executable, "-c", code], env=env, text=True,
+                           capture_output=True, check=True).stdout.strip()
+    assert alone == str(venv)
+    env["AMENT_PREFIX_PATH"] = str(tmp_path)
+    both = subprocess.run([sys.executable, "-c", code], env=env, text=True,
+                          capture_output=True, check=True).stdout.strip()
+    assert both.split(os.pathsep) == [str(venv), str(tmp_path)]
+
+
+def test_a_missing_executable_link_is_made_again() -> None:
+    # ros2 launch finds our executables in <venv>/lib/sar_framework; a warm set-up whose
+    # links lack one (a console script added later) must make them again.
+    link = ROOT / ".venv" / "lib" / "sar_framework" / "sar-sim"
+    assert link.is_symlink(), "make setup links the console scripts for ros2 launch"
+    link.unlink()
+    done = run_bootstrap(env=dict(os.environ))
+    assert done.returncode == 0, done.stderr
+    assert link.is_symlink() and link.exists(), done.stdout

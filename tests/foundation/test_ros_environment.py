@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import spin_until
+from sar_testing.spin import call_service, spin_until
 
 pytestmark = pytest.mark.ros
 NODES = Path(__file__).resolve().parent.parent / "sar_testing" / "nodes"
@@ -31,17 +31,15 @@ def test_detect_survivor_call_between_processes(ros: tuple, tmp_path: Path) -> N
     node, executor = ros
     with NodeProcess([str(NODES / "detect_echo_server.py")], "detect", log_dir=tmp_path) as srv:
         srv.wait_for_output("ready")
-        client = node.create_client(DetectSurvivor, "/detect_survivor")
-        assert spin_until(executor, client.service_is_ready, DISCOVERY_S), srv.output
+        found = call_service(node, executor, DetectSurvivor, "/detect_survivor",
+                             DetectSurvivor.Request(zone_id="zone_a"),
+                             discovery_timeout=DISCOVERY_S)
+        assert found.found is True
+        assert (found.survivor_x, found.survivor_y) == (1.5, -2.0)
 
-        found = client.call_async(DetectSurvivor.Request(zone_id="zone_a"))
-        assert spin_until(executor, found.done, 5.0)
-        assert found.result().found is True
-        assert (found.result().survivor_x, found.result().survivor_y) == (1.5, -2.0)
-
-        empty = client.call_async(DetectSurvivor.Request(zone_id="zone_b"))
-        assert spin_until(executor, empty.done, 5.0)
-        assert empty.result().found is False
+        empty = call_service(node, executor, DetectSurvivor, "/detect_survivor",
+                             DetectSurvivor.Request(zone_id="zone_b"))
+        assert empty.found is False
         srv.wait_for_output("asked about zone_b")
 
 

@@ -1,18 +1,16 @@
-"""The real-robot launch file and Nav2 parameters, checked without ROS launch installed.
+"""The launch file, run through the real launch / launch_ros, and config/nav2_params.yaml.
 
-`launch`/`launch_ros` cannot be installed here, so: the file compiles; its declared
-arguments (read from the AST) are the README's; run against small stand-ins for the launch
-API it starts the expected processes; and config/nav2_params.yaml holds the ROSbot values.
+With the ROS 2 stack built (``make setup`` with the overlay) the launch description is
+evaluated by launch itself: arguments, the nav2_bringup include down to each Nav2 node's
+parameters, the embedded mode, the tree lookup. Without it those tests skip with one line.
 """
 
 from __future__ import annotations
 
 import ast
 import importlib.util
+import itertools
 import py_compile
-import re
-import sys
-import types
 from pathlib import Path
 
 import pytest
@@ -23,7 +21,14 @@ from sar_framework.mission.params_file import check_params_file
 REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / "launch" / "search_and_rescue.launch.py"
 NAV2 = REPO / "config" / "nav2_params.yaml"
-README = REPO / "README.md"
+HAVE_LAUNCH = (importlib.util.find_spec("launch_ros") is not None
+               and importlib.util.find_spec("nav2_common") is not None)
+needs_launch = pytest.mark.skipif(
+    not HAVE_LAUNCH, reason="real-stack tier: launch_ros / nav2_bringup not built (make setup "
+    "with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC)")
+NAV2_NODES = {"map_server", "amcl", "controller_server", "smoother_server", "planner_server",
+              "behavior_server", "bt_navigator", "waypoint_follower", "velocity_smoother",
+              "collision_monitor", "docking_server"}
 
 
 def declared_arguments() -> dict[str, str]:
@@ -36,112 +41,163 @@ def declared_arguments() -> dict[str, str]:
     return found
 
 
-def readme_arguments() -> dict[str, str]:
-    text = README.read_text()
-    section = text[text.index("### Real robot launch"):]
-    rows = re.findall(r"^\| `(\w+)` \| (.+?) \| .+ \|$", section, flags=re.M)
-    return {name: ("" if default == "(empty)" else default.strip("`")) for name, default in rows}
-
-
 def test_launch_file_compiles(tmp_path):
     py_compile.compile(str(LAUNCH), cfile=str(tmp_path / "launch.pyc"), doraise=True)
 
 
-def test_declared_arguments_match_the_readme():
+def test_declared_arguments_and_their_defaults():
     declared = declared_arguments()
-    issue_arguments = {"tree", "params_file", "tick_rate_hz", "map", "nav2_params_file",
-                       "use_sim_time", "rviz"}
-    assert set(declared) == issue_arguments | {"survivors_file", "report_file"}
-    assert declared == readme_arguments()
-    assert declared["use_sim_time"] == "true" and declared["rviz"] == "false"
-    for key in ("tree", "params_file", "map", "nav2_params_file", "survivors_file"):
+    assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
+                             "tick_rate_hz", "map", "nav2_params_file", "use_sim_time",
+                             "speed", "rviz", "record"}
+    assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
+    assert declared["record"] == ""  # no recorder unless asked
+    assert (REPO / "trees" / declared["tree"]).is_file()
+    for key in ("params_file", "map", "nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
 
 
-# --- run generate_launch_description() against stand-ins ----------------------------------
+# --- evaluated by launch itself ------------------------------------------------------------
 
-class Recorded:
-    """Any launch class: remembers its arguments."""
+def evaluate(**arguments: str) -> tuple[list, dict, object]:
+    """Visit the launch description like LaunchService would, without starting processes.
 
-    def __init__(self, *args, **kwargs):
-        self.args = args
-        self.kwargs = kwargs
+    Returns the launch_ros Nodes (with substitutions performed in their launch context),
+    the IncludeLaunchDescription launch arguments seen, by include file name, and the
+    context.
+    """
+    from launch.actions import ExecuteProcess, IncludeLaunchDescription
+    from launch.launch_description_sources import PythonLaunchDescriptionSource
+    from launch.utilities import normalize_to_list_of_substitutions, perform_substitutions
+    from launch_ros.actions import LoadComposableNodes, Node
 
+    from launch import LaunchContext, LaunchDescription
 
-class LaunchConfiguration(Recorded):
-    def perform(self, context):
-        return context[self.args[0]]
+    context = LaunchContext()
+    source = PythonLaunchDescriptionSource(str(LAUNCH))
+    top = IncludeLaunchDescription(source, launch_arguments=list(arguments.items()))
+    nodes: list = []
+    includes: dict = {}
 
+    def walk(entities) -> None:
+        for entity in entities:
+            condition = getattr(entity, "condition", None)
+            if condition is not None and not condition.evaluate(context):
+                continue
+            if isinstance(entity, Node):
+                entity._perform_substitutions(context)  # what Node.execute does first
+                nodes.append(entity)
+                continue
+            if isinstance(entity, ExecuteProcess | LoadComposableNodes):
+                continue  # starts processes or calls a container: not run here
+            if isinstance(entity, LaunchDescription):
+                walk(entity.entities)
+                continue
+            children = entity.visit(context) or []
+            if isinstance(entity, IncludeLaunchDescription):  # its location is resolved now
+                name = Path(entity.launch_description_source.location).name
+                includes[name] = {
+                    perform_substitutions(context, normalize_to_list_of_substitutions(key)):
+                        perform_substitutions(context, normalize_to_list_of_substitutions(value))
+                    for key, value in entity.launch_arguments}
+            walk(children)
 
-@pytest.fixture
-def launch_module(monkeypatch):
-    names = {
-        "launch": ["LaunchDescription"],
-        "launch.actions": ["DeclareLaunchArgument", "IncludeLaunchDescription",
-                           "OpaqueFunction"],
-        "launch.conditions": ["IfCondition"],
-        "launch.launch_description_sources": ["PythonLaunchDescriptionSource"],
-        "launch.substitutions": ["PathJoinSubstitution"],
-        "launch_ros": [],
-        "launch_ros.actions": ["Node"],
-        "launch_ros.substitutions": ["FindPackageShare"],
-    }
-    for module_name, classes in names.items():
-        module = types.ModuleType(module_name)
-        for cls in classes:
-            setattr(module, cls, type(cls, (Recorded,), {}))
-        monkeypatch.setitem(sys.modules, module_name, module)
-    sys.modules["launch.substitutions"].LaunchConfiguration = LaunchConfiguration
-    spec = importlib.util.spec_from_file_location("sar_launch_under_test", LAUNCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def run_setup(module, **overrides):
-    description = module.generate_launch_description()
-    actions = description.args[0]
-    context = {a.args[0]: a.kwargs["default_value"] for a in actions
-               if type(a).__name__ == "DeclareLaunchArgument"}
-    context.update(overrides)
-    (opaque,) = [a for a in actions if type(a).__name__ == "OpaqueFunction"]
-    return opaque.kwargs["function"](context)
-
-
-def test_launch_starts_nav2_the_runner_and_both_servers(launch_module):
-    nav2, detect, report, runner, rviz = run_setup(launch_module)
-    source = nav2.args[0]
-    path_parts = source.args[0].args[0]
-    assert path_parts[1:] == ["launch", "bringup_launch.py"]
-    nav2_args = dict(nav2.kwargs["launch_arguments"])
-    assert nav2_args["map"] == str(REPO / "maps" / "final_project_map.yaml")
-    assert nav2_args["params_file"] == str(REPO / "config" / "nav2_params.yaml")
-    assert (nav2_args["use_sim_time"], nav2_args["autostart"]) == ("True", "true")
-
-    pyproject = (REPO / "pyproject.toml").read_text()
-    scripts = re.findall(r"^([\w-]+) = \"[\w.]+:main\"$", pyproject, flags=re.M)
-    for node in (runner, detect, report):
-        assert node.kwargs["executable"] in scripts
-        assert "package" not in node.kwargs
-        assert node.kwargs["output"] == "screen" and node.kwargs["emulate_tty"] is True
-    mission_file, runner_params = runner.kwargs["parameters"]
-    assert mission_file == str(REPO / "config" / "mission_params.yaml")
-    assert runner_params["tree"] == str(REPO / "trees" / "search_and_rescue.yaml")
-    assert runner_params["use_sim_time"] is True and runner_params["seed_amcl"] is True
-    assert "tick_rate_hz" not in runner_params  # empty argument: keep the file's rate
-    assert rviz.kwargs["executable"] == "rviz2"
+    walk([top])
+    return nodes, includes, context
 
 
-def test_launch_arguments_are_honoured(launch_module, tmp_path, monkeypatch):
+def command_line(node, context) -> list[str]:
+    """The node's arguments after its executable, substitutions performed."""
+    from launch.utilities import perform_substitutions
+
+    # What Node.execute puts in the locals: a name only for a node launched with name=.
+    name = node.node_name.rsplit("/", 1)[-1]
+    context.extend_locals({"ros_specific_arguments": {"ns": "__ns:=/",
+                                                      "name": f"__node:={name}"}})
+    return [perform_substitutions(context, part) for part in node.cmd[1:]]
+
+
+def parameters(arguments: list[str], node: str = "") -> dict:
+    """The ``--params-file`` sections for ``node`` (and ``/**``) and ``-p`` of a command line."""
+    merged: dict = {}
+    for flag, value in itertools.pairwise(arguments):
+        if flag == "--params-file":
+            for section, content in (yaml.safe_load(Path(value).read_text()) or {}).items():
+                if section in ("/**", node, f"/{node}") and isinstance(content, dict):
+                    merged.update(content.get("ros__parameters", {}))
+        elif flag == "-p":
+            name, _, text = value.partition(":=")
+            merged[name] = yaml.safe_load(text)
+    return merged
+
+
+@needs_launch
+def test_bringup_gives_every_nav2_node_our_params_map_and_sim_time():
+    # One process per Nav2 node (bringup's use_composition:=False) so each has its command.
+    nodes, includes, context = evaluate(use_sim_time="true", use_composition="False")
+    bringup = includes["bringup_launch.py"]
+    assert bringup["map"] == str(REPO / "maps" / "final_project_map.yaml")
+    assert bringup["params_file"] == str(REPO / "config" / "nav2_params.yaml")
+    assert bringup["use_sim_time"] == "True"
+    assert "navigation_launch.py" in includes and "localization_launch.py" in includes
+    ours = yaml.safe_load(NAV2.read_text())
+    # A node without name= (controller_server) keeps its executable's default name.
+    names = {node: node.node_name.rsplit("/", 1)[-1] for node in nodes}
+    by_name = {node.node_executable if "unspecified" in name else name: node
+               for node, name in names.items()}
+    assert set(by_name) >= NAV2_NODES, sorted(by_name)
+    for name in NAV2_NODES:
+        params = parameters(command_line(by_name[name], context), name)
+        assert params["use_sim_time"] is True, name
+        for key, value in ours.get(name, {}).get("ros__parameters", {}).items():
+            if key not in ("use_sim_time", "yaml_filename"):
+                assert params[key] == value, (name, key)
+    assert parameters(command_line(by_name["map_server"], context),
+                      "map_server")["yaml_filename"] == \
+        str(REPO / "maps" / "final_project_map.yaml")
+
+
+@needs_launch
+def test_embedded_runs_the_simulator_and_every_process_names_its_own_nodes():
+    nodes, includes, context = evaluate(nav2="embedded", tree="search_and_rescue",
+                                        tick_rate_hz="5")
+    assert set(includes) == {"search_and_rescue.launch.py"}  # no nav2_bringup
+    assert [n.node_executable for n in nodes] == [
+        "sar-sim", "sar-detect-survivor-server", "sar-report-survivor-server",
+        "sar-mission-runner"]
+    for node in nodes:
+        assert node.node_package == "sar_framework"
+        arguments = command_line(node, context)
+        assert not any(a.startswith("__node:=") for a in arguments), arguments
+    runner = parameters(command_line(nodes[-1], context), "sar_mission_runner")
+    assert Path(runner["tree"]).resolve() == REPO / "trees" / "search_and_rescue.yaml"  # by name
+    assert runner["tick_rate_hz"] == 5.0 and runner["exit_on_completion"] is True
+    assert runner["zone_order"]  # the mission file from the package share
+
+
+@needs_launch
+def test_record_starts_the_recorder_writing_that_file(tmp_path):
+    output = tmp_path / "x.mcap"
+    nodes, _includes, context = evaluate(nav2="embedded", record=str(output))
+    recorders = [n for n in nodes if n.node_executable == "sar-mission-recorder"]
+    assert len(recorders) == 1, [n.node_executable for n in nodes]
+    recorder = parameters(command_line(recorders[0], context), "sar_mission_recorder")
+    assert recorder["output"] == str(output)
+    assert Path(recorder["tree"]).resolve() == REPO / "trees" / "search_and_rescue.yaml"
+    assert Path(recorder["params_file"]).resolve() == REPO / "config" / "mission_params.yaml"
+    unrecorded, _includes, _context = evaluate(nav2="embedded")
+    assert "sar-mission-recorder" not in [n.node_executable for n in unrecorded]
+
+
+@needs_launch
+def test_a_tree_path_that_exists_is_used_as_given(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "mine.yaml").write_text("format: 1\n")
-    _nav2, detect, _report, runner, _rviz = run_setup(
-        launch_module, tree="mine.yaml", tick_rate_hz="5", use_sim_time="false")
-    runner_params = runner.kwargs["parameters"][1]
-    assert runner_params["tree"] == str(tmp_path / "mine.yaml")  # the cwd's file wins
-    assert runner_params["tick_rate_hz"] == 5.0
-    assert runner_params["use_sim_time"] is False
-    assert detect.kwargs["parameters"][0]["use_sim_time"] is False
+    nodes, _includes, context = evaluate(nav2="embedded", tree="mine.yaml",
+                                         use_sim_time="false")
+    runner = parameters(command_line(nodes[-1], context), "sar_mission_runner")
+    assert runner["tree"] == str(tmp_path / "mine.yaml")
+    assert runner["use_sim_time"] is False
 
 
 # --- config/nav2_params.yaml --------------------------------------------------------------

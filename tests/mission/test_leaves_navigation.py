@@ -172,6 +172,7 @@ def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
     make_tree, executor, mark = nav
     zones = spec_zone_manager()
     while zones.has_remaining():
+        zones.mark_reached(zones.current_zone()["id"])
         zones.advance()
     from sar_plugins.zones_remaining import ZonesRemaining
 
@@ -195,6 +196,22 @@ def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
     err = capfd.readouterr().err
     assert err.count("All zones visited. Returning to base.") == 1
     assert err.count("Reached base station.") == 1
+
+
+def test_the_base_goal_names_the_zones_not_reached(nav: tuple,
+                                                   capfd: pytest.CaptureFixture) -> None:
+    """Regression: 'All zones visited.' was logged although a zone had been skipped."""
+    make_tree, executor, _mark = nav
+    zones = spec_zone_manager()
+    while zones.has_remaining():
+        if zones.current_zone()["id"] != "zone_b":
+            zones.mark_reached(zones.current_zone()["id"])
+        zones.advance()
+    tree = make_tree(NavigateToBase("NavigateToBase", zone_manager=zones))
+    assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+    err = capfd.readouterr().err
+    assert "Zones done, not reached: zone_b. Returning to base." in err
+    assert "All zones visited" not in err
 
 
 def test_halting_before_the_goal_is_accepted_still_cancels_it(nav: tuple) -> None:

@@ -186,3 +186,41 @@ def test_nothing_to_report_without_a_detection(ros: tuple) -> None:
     notify.tick_once()
     assert notify.status == Status.FAILURE
     assert notify.feedback_message == "no survivor detected to report"
+
+
+REFUSING_SERVICE = "/report_survivor_refusing"
+
+
+def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
+        branch_env: tuple, repo_root, capfd: pytest.CaptureFixture[str]) -> None:
+    """The reference tree's HandleDetection branch, against a base that refuses every report."""
+    from sar_interfaces.srv import ReportSurvivor
+
+    from sar_framework import load_tree
+
+    node, make_tree, executor, _report = branch_env
+
+    def refuse(_request: ReportSurvivor.Request,
+               response: ReportSurvivor.Response) -> ReportSurvivor.Response:
+        response.acknowledged = False
+        return response
+
+    service = node.create_service(ReportSurvivor, REFUSING_SERVICE, refuse)
+    try:
+        loaded = load_tree(repo_root / "trees" / "search_and_rescue.yaml",
+                           context={"zone_manager": spec_zone_manager()})
+        by_name = {b.name: b for b in loaded.root.iterate()}
+        by_name["NotifyBase"].service_name = REFUSING_SERVICE
+        patrol, detect, handle = by_name["Patrol"], by_name["DetectSurvivor"], \
+            by_name["HandleDetection"]
+        patrol.remove_child(detect)
+        patrol.remove_child(handle)
+        tree = make_tree(py_trees.composites.Sequence("Branch", memory=True,
+                                                      children=[detect, handle]))
+        assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+    finally:
+        node.destroy_service(service)
+    logged = capfd.readouterr().err
+    assert "Report for survivor_1 refused by base: not acknowledged" in logged
+    assert "No survivor found" not in logged
+    assert by_name["LogNoDetection"].status == Status.INVALID, "never ticked"

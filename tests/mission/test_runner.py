@@ -83,7 +83,7 @@ def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
     status = tmp_path / "out" / "status.json"
     tree = write_tree(tmp_path, OK_TREE)
     code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
-                                          "completion:=terminal", "tick_rate_hz:=20.0",
+                                          "completion:=once", "tick_rate_hz:=20.0",
                                           "print_tree:=true"), tmp_path)
     assert code == 0, output
     assert "Mission complete." in output
@@ -116,13 +116,15 @@ def test_failure_exits_1_and_lists_the_failure(tmp_path):
     status = tmp_path / "status.json"
     tree = write_tree(tmp_path, FAIL_TREE)
     code, output = run_to_end(runner_args(tree, status, "exit_on_completion:=true",
-                                          "completion:=terminal", "tick_rate_hz:=20.0"),
+                                          "completion:=once", "tick_rate_hz:=20.0"),
                               tmp_path)
     assert code == 1, output
     assert "Mission failed (Broken: boom: no luck)." in output
     doc = json.loads(status.read_text())
     assert doc["status"] == "FAILURE"
-    assert doc["failures"] == [{"uid": "0.1", "name": "Broken", "message": "boom: no luck"}]
+    assert [{k: f[k] for k in ("what", "uid", "name", "message")} for f in doc["failures"]] == [
+        {"what": "failure", "uid": "0.1", "name": "Broken", "message": "boom: no luck"}]
+    assert "Broken [0.1]: boom: no luck" in output  # the reason line
     assert doc["nodes"]["0"] == "FAILURE"
 
 
@@ -153,7 +155,7 @@ root:
         finally:
             runner.stop()
         nav.wait_for_output("goal canceled", timeout=5)
-    assert code == 130, runner.output
+    assert code == 0, runner.output  # a requested shutdown is clean (was 130)
     assert took < 3.0, took
     assert "SIGINT: stopping the tree" in runner.output
     assert "stopped running leaves: NavigateToZone" in runner.output
@@ -194,7 +196,8 @@ def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
     status = tmp_path / "status.json"
     tree = write_tree(tmp_path, OK_TREE.replace("ticks: 20", "ticks: 2"))
     runner = NodeProcess(runner_args(tree, status, "exit_on_completion:=true",
-                                     "tick_rate_hz:=20.0"), "runner", log_dir=tmp_path).start()
+                                     "completion:=rest", "tick_rate_hz:=20.0"), "runner",
+                         log_dir=tmp_path).start()
     try:
         time.sleep(3.0)  # dozens of ticks, the root SUCCESS every fourth one
         assert runner.returncode() is None, runner.output
@@ -202,24 +205,50 @@ def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
         code = runner.wait(timeout=10)
     finally:
         runner.stop()
-    assert code == 130
+    assert code == 0
     assert "Mission complete." not in runner.output
     assert json.loads(status.read_text())["complete"] is False
 
 
 @ros
-def test_sigint_terminates_a_running_leaf(tmp_path):
+def test_a_tree_without_a_one_shot_at_its_end_runs_once_by_default(tmp_path):
+    """Regression: such a tree was ticked again after its root succeeded (completion: rest)."""
+    status = tmp_path / "status.json"
+    tree = write_tree(tmp_path, OK_TREE.replace("ticks: 20", "ticks: 2"))
+    runner = NodeProcess(runner_args(tree, status, "tick_rate_hz:=20.0"), "runner",
+                         log_dir=tmp_path).start()
+    try:
+        runner.wait_for_output("Mission complete.")
+        ticks = json.loads(status.read_text())["ticks"]
+        time.sleep(0.6)  # a dozen tick periods: no tick may come
+        runner.send_signal(signal.SIGINT)
+        code = runner.wait(timeout=10)
+    finally:
+        runner.stop()
+    assert code == 0, runner.output
+    assert "completion: once (auto: the tree does not end with a one_shot" in runner.output
+    doc = json.loads(status.read_text())
+    assert doc["ticks"] == ticks
+    assert doc["complete"] is True
+    assert [e["name"] for e in doc["events"] if e["status"] == "SUCCESS"].count("Work") == 1
+
+
+@ros
+def test_sigint_twice_terminates_a_running_leaf_and_exits_0(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: forever\nroot:\n  Forever: {name: Wait}\n")
     runner = NodeProcess(runner_args(tree, None, "tick_rate_hz:=10.0"), "runner",
                          log_dir=tmp_path).start()
     try:
         runner.wait_for_output("Ticking")
         time.sleep(0.5)
-        runner.send_signal(signal.SIGINT)
+        runner.send_signal(signal.SIGINT)  # a terminal's Ctrl-C ...
+        time.sleep(0.05)
+        runner.send_signal(signal.SIGINT)  # ... and ros2 launch forwarding it once more
         code = runner.wait(timeout=10)
     finally:
         runner.stop()
-    assert code == 130
+    assert code == 0, runner.output  # was 130 (KeyboardInterrupt on the second signal)
+    assert "Traceback" not in runner.output and "KeyboardInterrupt" not in runner.output
     assert "Wait terminated (INVALID)" in runner.output
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import spin_until
+from sar_testing.spin import call_service, spin_until
 
 from sar_framework.servers.report_log import ReportLog
 from sar_framework.servers.survivors import (
@@ -71,13 +71,8 @@ def test_report_log_reloads_ids_and_heals_a_torn_line(tmp_path):
 
 # --- over DDS ------------------------------------------------------------------------------
 
-def call(node, executor, srv_type, name, request, timeout=5.0):
-    client = node.create_client(srv_type, name)
-    assert spin_until(executor, client.service_is_ready, DISCOVERY_S), f"{name} not found"
-    future = client.call_async(request)
-    assert spin_until(executor, future.done, timeout), f"{name}: no answer"
-    node.destroy_client(client)
-    return future.result()
+def call(node, executor, srv_type, name, request):
+    return call_service(node, executor, srv_type, name, request, discovery_timeout=DISCOVERY_S)
 
 
 def detect(ros, zone_id):

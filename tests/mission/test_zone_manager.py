@@ -34,6 +34,16 @@ def test_walks_spec_zones_in_order():
     assert not zm.has_remaining()
 
 
+def test_zones_passed_without_being_reached_are_skipped():
+    """Regression: 'All zones visited' was said although a zone had been skipped."""
+    zm = make()
+    for reached in (True, False, True):
+        if reached:
+            zm.mark_reached(zm.current_zone()["id"])
+        zm.advance()
+    assert zm.skipped_zones() == ["zone_b"]  # zone_d is not passed yet
+
+
 def test_current_zone_past_end_raises_clear_index_error():
     zm = make()
     for _ in range(4):

@@ -14,9 +14,10 @@ from sar_framework.sim.faults import (
     parse_blocked_zone,
     with_blocked_zones,
 )
-from sar_framework.sim.navigation import ERROR_NONE, ERROR_UNKNOWN, Navigator, Outcome
+from sar_framework.sim.goals import ERROR_NONE, Outcome
+from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, OCCUPIED, load_map
-from sar_framework.sim.planner import GridPlanner
+from sar_framework.sim.planner import GoalInObstacle, GridPlanner
 from sar_framework.sim.trace import TraceWriter, read_trace
 from sar_framework.sim.world import Pose2D
 
@@ -199,7 +200,7 @@ def test_navigator_goal_in_a_wall_aborts_with_the_reason(planner: GridPlanner) -
     nav = Navigator(DiffDrive(Pose2D(0.0, 0.0, 0.0)), planner)
     goal = nav.start(Pose2D(0.0, 3.0, 0.0))
     assert goal.outcome is Outcome.ABORTED
-    assert goal.error_code == ERROR_UNKNOWN
+    assert goal.error_code == GoalInObstacle.error_code == 206  # ComputePathToPose GOAL_OCCUPIED
     assert "inside an obstacle" in goal.error_msg
     assert nav.state().linear == 0.0
 
@@ -259,5 +260,5 @@ def test_navigator_abort_active_at_shutdown(planner: GridPlanner) -> None:
     goal = nav.start(Pose2D(4.0, -3.0, 0.0))
     assert nav.abort_active("bye") is goal
     assert (goal.outcome, goal.error_code, goal.error_msg) == (
-        Outcome.ABORTED, ERROR_UNKNOWN, "bye"
+        Outcome.ABORTED, ERROR_NONE, "bye"
     )

@@ -57,7 +57,7 @@ class GoalRun:
 
 
 class SimClient:
-    """A navigate_to_pose client plus an /odom listener on one test node."""
+    """A navigate_to_pose client plus an /odometry/filtered listener on one test node."""
 
     def __init__(self, node: Any, executor: Any) -> None:
         from nav2_msgs.action import NavigateToPose
@@ -68,7 +68,7 @@ class SimClient:
         self.action_type = NavigateToPose
         self.action = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.odom: list[Odometry] = []
-        node.create_subscription(Odometry, "/odom", self.odom.append, 10)
+        node.create_subscription(Odometry, "/odometry/filtered", self.odom.append, 10)
 
     def wait_ready(self, sim: NodeProcess) -> None:
         ready = lambda: self.action.server_is_ready() and bool(self.odom)  # noqa: E731
@@ -158,7 +158,7 @@ class TestNavigateToPose:
         assert {f.number_of_recoveries for f in fb} == {0}
         assert fb[0].estimated_time_remaining.sec > fb[-1].estimated_time_remaining.sec
 
-        nav.spin(0.3)  # the latest /odom
+        nav.spin(0.3)  # the latest odometry
         x, y, yaw = nav.robot()
         assert math.hypot(x - ZONE_A[0], y - ZONE_A[1]) <= 0.25, (start, (x, y))
         assert abs(yaw - ZONE_A[2]) <= 0.25
@@ -168,7 +168,7 @@ class TestNavigateToPose:
 
         status, result = nav.go(0.0, 3.0, 0.0)  # inside wall_v_top
         assert status == GoalStatus.STATUS_ABORTED
-        assert result.error_code == nav.action_type.Result.UNKNOWN
+        assert result.error_code == 206  # Jazzy: the planner's ComputePathToPose GOAL_OCCUPIED
         assert result.error_msg == "goal (0.00, 3.00) is inside an obstacle"
 
     def test_goal_in_another_frame_is_rejected(self, nav: SimClient) -> None:
@@ -277,7 +277,7 @@ class TestAbortBlockedAndSlow:
         client.wait_ready(fault_sim)
         status, result = client.go(*ZONE_A)
         assert status == GoalStatus.STATUS_ABORTED
-        assert result.error_code == client.action_type.Result.UNKNOWN
+        assert result.error_code == 208  # Jazzy: the planner's ComputePathToPose NO_VALID_PATH
         assert "no path" in result.error_msg
 
     def test_speed_scale_halves_the_velocity_limits(self, fault_sim: NodeProcess,

@@ -1,0 +1,383 @@
+"""Semantics: what a schema cannot say, checked while the tree's specs are made.
+
+Subtree names and recursion (in used and unused definitions; includes: :mod:`.tree_files`),
+unique ids per scope, references to other leaves (existence, plugin type, cycles),
+``selected`` children of a parallel, finite numbers and the nesting depth. The walk is
+tolerant: a value the schema check rejects is skipped here, so both layers report in the
+same pass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from sar_framework.engine.diagnostics import (
+    SourceLocation,
+    did_you_mean,
+)
+from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType, leaf_attrs
+from sar_framework.engine.plugin import Param
+from sar_framework.engine.registry import Registry
+from sar_framework.engine.spec import Category, NodeSpec
+from sar_framework.engine.structure import DocPath, Document
+from sar_framework.engine.tree_files import TreeFiles
+
+#: The message of the depth guard.
+TOO_DEEP = f"the tree is nested deeper than {MAX_DEPTH} levels"
+
+
+@dataclass
+class Subtree:
+    """A named subtree definition."""
+
+    name: str
+    node: NodeSpec | None
+    location: SourceLocation
+
+
+@dataclass(frozen=True)
+class Declaration:
+    """What the walk needs to know of one node kind or plugin."""
+
+    key: str
+    category: Category
+    default_name: str
+    attrs: tuple[Attr, ...]
+    defaults: dict[str, Any]
+    ref_params: tuple[Param, ...] = ()
+
+
+class Scope:
+    """Ids visible at one level: the tree, or one copy of a subtree."""
+
+    def __init__(self, parent: Scope | None) -> None:
+        self.ids: dict[str, NodeSpec] = {}
+        self.parent = parent
+
+    def find(self, ident: str) -> NodeSpec | None:
+        """Return the leaf with ``ident`` here or in an enclosing scope."""
+        scope: Scope | None = self
+        while scope is not None:
+            if ident in scope.ids:
+                return scope.ids[ident]
+            scope = scope.parent
+        return None
+
+    def visible(self) -> list[str]:
+        """Return every id visible here."""
+        names: list[str] = []
+        scope: Scope | None = self
+        while scope is not None:
+            names.extend(scope.ids)
+            scope = scope.parent
+        return names
+
+
+class Semantics(TreeFiles):
+    """One validation run over a tree file and its includes.
+
+    Args:
+        registry: The plugins known before the tree's own ``plugins:`` are imported.
+
+    Attributes:
+        subtrees: The subtree definitions of every file, by name.
+    """
+
+    def __init__(self, registry: Registry) -> None:
+        super().__init__()
+        self.registry = registry
+        self.subtrees: dict[str, Subtree] = {}
+        self.used_subtrees: set[str] = set()
+        self.declarations: dict[str, Declaration | None] = {}
+        self.value_locs: dict[tuple[SourceLocation, str], Any] = {}
+        self.pending_refs: list[tuple[NodeSpec, Scope]] = []
+        self.incomplete: set[int] = set()  # id() of specs that lost a child to an error
+
+    # -- the walk -----------------------------------------------------------------------
+    def walk(self, main: Path) -> NodeSpec | None:
+        """Make every file's subtrees, then the roots; return the main tree's root spec."""
+        for doc in self.files.values():
+            definitions = doc.value.get("subtrees") if doc is not None else None
+            if not isinstance(definitions, dict):
+                continue
+            for name, value in definitions.items():
+                spec = self.node(doc, value, ("subtrees", name), 1)  # type: ignore[arg-type]
+                where = doc.key_where(("subtrees", name))  # type: ignore[union-attr]
+                first = self.subtrees.get(name)
+                if first is not None:
+                    self.error(where, f"subtree '{name}' is defined twice "
+                                      f"(first at {first.location})")
+                elif name:
+                    self.subtrees[name] = Subtree(name, spec, where)
+        root = None
+        for path, doc in self.files.items():
+            if doc is None or "root" not in doc.value:
+                continue
+            if path == main:
+                root = self.node(doc, doc.value["root"], ("root",), 1, "0", scope=Scope(None))
+            else:
+                self.node(doc, doc.value["root"], ("root",), 1)  # checked, not used
+        done = set(self.used_subtrees)
+        for name, definition in self.subtrees.items():
+            if name not in done:
+                self.subtree_cycles(definition.node, (name,), done)
+                done.add(name)
+        if root is not None:
+            self.resolve_refs()
+        return root
+
+    def declaration(self, key: str) -> Declaration | None:
+        """Return the declaration of a node kind or plugin (None when unknown)."""
+        if key not in self.declarations:
+            kind = KINDS.get(key)
+            plugin = self.registry.get(key)
+            found = None
+            if kind is not None:
+                defaults = {a.name: a.default for a in kind.attrs
+                            if not a.required and a.name not in ("name", "selected")}
+                found = Declaration(key, kind.category, kind.class_name, kind.attrs, defaults)
+            elif plugin is not None:
+                attrs = leaf_attrs(plugin)
+                defaults = {a.name: a.default for a in attrs
+                            if not a.required and a.name not in ("name", "id")}
+                refs = tuple(p for p in plugin.params if p.ref is not None)
+                found = Declaration(key, Category.LEAF, key, attrs, defaults, refs)
+            self.declarations[key] = found
+        return self.declarations[key]
+
+    def node(
+        self, doc: Document, value: Any, path: DocPath, depth: int, uid: str = "",
+        *, scope: Scope | None = None,
+    ) -> NodeSpec | None:
+        """Make the spec of one node and everything below it (None when it is not one).
+
+        In the main tree (``scope`` given) the walk also assigns uids, collects ids and
+        references, and inserts subtree copies; a subtree definition is walked without
+        a scope, once, and each copy is expanded where it is used.
+        """
+        if not isinstance(value, dict) or len(value) != 1:
+            return None
+        ((key, attrs),) = value.items()
+        path = (*path, key)
+        where = doc.key_where(path)
+        if depth > MAX_DEPTH:
+            self.error(where, TOO_DEEP)
+            return None
+        if key == SUBTREE:
+            if not isinstance(attrs, str) or not attrs:
+                return None
+            placeholder = NodeSpec(SUBTREE, Category.LEAF, attrs, "", where)
+            return placeholder if scope is None else self.expand(placeholder, uid, scope, (),
+                                                                 depth)
+        decl = self.declaration(key)
+        if decl is None or not isinstance(attrs, dict):
+            return None
+        values: dict[str, Any] = {}
+        children: list[NodeSpec] = []
+        complete = True
+        for attr in decl.attrs:
+            if attr.name not in attrs:
+                continue
+            given = attrs[attr.name]
+            at = (*path, attr.name)
+            if attr.type in (AttrType.NODES, AttrType.NODE):
+                items = [given] if attr.type is AttrType.NODE else given
+                if not isinstance(items, list):
+                    continue
+                for index, item in enumerate(items):
+                    child_uid = f"{uid}.{index}" if scope is not None else ""
+                    item_path = at if attr.type is AttrType.NODE else (*at, index)
+                    child = self.node(doc, item, item_path, depth + 1, child_uid, scope=scope)
+                    if child is None:
+                        complete = False
+                    else:
+                        children.append(child)
+                continue
+            values[attr.name] = self.number(attr, given, doc.where(at))
+            if attr.ref is not None:
+                self.value_locs[(where, attr.name)] = doc.where(at)
+            elif attr.type is AttrType.STRINGS and isinstance(given, list):
+                self.value_locs[(where, attr.name)] = [doc.where((*at, i))
+                                                       for i in range(len(given))]
+        name = values.pop("name", None)
+        ident = values.pop("id", None) if decl.category is Category.LEAF else None
+        spec = NodeSpec(key, decl.category, name if isinstance(name, str) else decl.default_name,
+                        uid, where, {**decl.defaults, **values}, children,
+                        ident if isinstance(ident, str) else None, {}, None, frozenset(values))
+        if not complete:
+            self.incomplete.add(id(spec))
+        elif scope is not None:
+            self.in_scope(spec, decl, scope)
+        return spec
+
+    def number(self, attr: Attr, value: Any, where: SourceLocation) -> Any:
+        """Convert a checked number to its Python type; report one that is not finite."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return value
+        if attr.type is AttrType.INTEGER and float(value).is_integer():
+            return int(value)
+        if attr.type is AttrType.NUMBER:
+            if not math.isfinite(value):
+                self.error(where, f"'{attr.name}' must be a finite number, got {value}")
+            return float(value)
+        return value
+
+    def in_scope(self, spec: NodeSpec, decl: Declaration, scope: Scope) -> None:
+        """Note a node of the main tree: a leaf's id and references, a parallel's picks."""
+        if decl.category is Category.LEAF:
+            if spec.id is not None:
+                self.add_id(spec, scope)
+            if decl.ref_params:
+                self.pending_refs.append((spec, scope))
+        elif spec.kind == "parallel" and spec.attrs.get("selected") is not None:
+            self.check_selected(spec)
+    def expand(
+        self, node: NodeSpec, uid: str, scope: Scope, chain: tuple[str, ...], depth: int
+    ) -> NodeSpec | None:
+        """Insert subtree copies, assign uids and collect ids, below ``node``."""
+        if depth > MAX_DEPTH:
+            self.error(node.location,
+                                f"the tree is nested deeper than {MAX_DEPTH} levels")
+            return None
+        if node.kind == SUBTREE:
+            name = node.name
+            if name in chain:
+                cycle = " -> ".join((*chain[chain.index(name):], name))
+                self.error(node.location, f"recursive subtree: {cycle}")
+                return None
+            found = self.subtrees.get(name)
+            if found is None:
+                self.error(node.location, f"unknown subtree '{name}'"
+                                    + did_you_mean(name, self.subtrees))
+                return None
+            self.used_subtrees.add(name)
+            if found.node is None:
+                return None  # its own problems are already reported
+            copy = copy_spec(found.node)
+            copy.subtree = name
+            return self.expand(copy, uid, Scope(scope), (*chain, name), depth)
+        node.uid = uid
+        if node.id is not None:
+            self.add_id(node, scope)
+        if node.category is Category.LEAF:
+            decl = self.declaration(node.kind)
+            if decl is not None and decl.ref_params:
+                self.pending_refs.append((node, scope))
+            return node
+        children = []
+        for index, child in enumerate(node.children):
+            expanded = self.expand(child, f"{uid}.{index}", scope, chain, depth + 1)
+            if expanded is not None:
+                children.append(expanded)
+        if len(children) != len(node.children):
+            self.incomplete.add(id(node))
+        node.children = children
+        if (
+            node.kind == "parallel"
+            and node.attrs.get("selected") is not None
+            and id(node) not in self.incomplete
+        ):
+            self.check_selected(node)
+        return node
+
+    def subtree_cycles(self, node: NodeSpec | None, chain: tuple[str, ...], done: set[str]) -> None:
+        """Report recursion in a subtree definition no tree uses (a used one is expanded)."""
+        if node is None:
+            return
+        if node.kind != SUBTREE:
+            for child in node.children:
+                self.subtree_cycles(child, chain, done)
+            return
+        name = node.name
+        if name in chain:
+            cycle = " -> ".join((*chain[chain.index(name):], name))
+            self.error(node.location, f"recursive subtree: {cycle}")
+        elif name not in done and name in self.subtrees:
+            self.subtree_cycles(self.subtrees[name].node, (*chain, name), done)
+            done.add(name)
+
+    def add_id(self, node: NodeSpec, scope: Scope) -> None:
+        """Record a leaf's id in its scope; report a duplicate."""
+        first = scope.ids.get(node.id)  # type: ignore[arg-type]
+        if first is not None:
+            self.error(node.location,
+                                f"duplicate id '{node.id}' (first used at {first.location})")
+        else:
+            scope.ids[node.id] = node  # type: ignore[index]
+
+    def check_selected(self, node: NodeSpec) -> None:
+        """Report ``selected`` names that are not exactly one child of the parallel."""
+        if not isinstance(node.attrs["selected"], list):
+            return
+        names = [c.name for c in node.children]
+        locs = self.value_locs.get((node.location, "selected"), [])
+        for index, wanted in enumerate(node.attrs["selected"]):
+            if not isinstance(wanted, str):
+                continue
+            where = locs[index] if index < len(locs) else node.location
+            count = names.count(wanted)
+            if count == 0:
+                self.error(where, f"'selected' names '{wanted}', which is not a child "
+                                           f"of this parallel{did_you_mean(wanted, names)}")
+            elif count > 1:
+                self.error(where, f"'selected' names '{wanted}', but {count} children "
+                                           "have that name")
+
+    def resolve_refs(self) -> None:
+        """Point every reference param at its leaf; report dangling, mistyped, cyclic ones."""
+        edges: dict[int, list[NodeSpec]] = {}
+        for leaf, scope in self.pending_refs:
+            decl = self.declaration(leaf.kind)
+            for param in decl.ref_params if decl is not None else ():
+                ident = leaf.attrs.get(param.name)
+                if not isinstance(ident, str):
+                    continue
+                where = self.value_locs.get((leaf.location, param.name), leaf.location)
+                target = scope.find(ident)
+                if target is None:
+                    self.error(where, f"'{param.name}' names no leaf: there is no id "
+                                               f"'{ident}'{did_you_mean(ident, scope.visible())}")
+                elif target.kind != param.ref:
+                    self.error(where, f"'{param.name}' must name a {param.ref} leaf, "
+                                               f"but '{ident}' is a {target.kind}")
+                else:
+                    leaf.refs[param.name] = target
+                    edges.setdefault(id(leaf), []).append(target)
+        self.reference_cycles(edges)
+
+    def reference_cycles(self, edges: dict[int, list[NodeSpec]]) -> None:
+        """Report each cycle of references between leaves, once."""
+        state: dict[int, int] = {}  # 1: on the path, 2: done
+        for leaf, _ in self.pending_refs:
+            if id(leaf) in state or id(leaf) not in edges:
+                continue
+            path: list[NodeSpec] = [leaf]
+            stack = [iter(edges[id(leaf)])]
+            state[id(leaf)] = 1
+            while stack:
+                target = next(stack[-1], None)
+                if target is None:
+                    state[id(path.pop())] = 2
+                    stack.pop()
+                    continue
+                mark = state.get(id(target))
+                if mark is None and id(target) not in edges:
+                    state[id(target)] = 2  # references nothing: no cycle through it
+                elif mark == 1:
+                    start = next(i for i, n in enumerate(path) if n is target)
+                    cycle = " -> ".join(f"'{n.id}'" for n in (*path[start:], target))
+                    self.error(path[-1].location, f"reference cycle: {cycle}")
+                elif mark is None:
+                    state[id(target)] = 1
+                    path.append(target)
+                    stack.append(iter(edges.get(id(target), ())))
+
+
+def copy_spec(node: NodeSpec) -> NodeSpec:
+    """Return a fresh copy of a subtree definition's spec (uids and refs cleared)."""
+    return NodeSpec(node.kind, node.category, node.name, "", node.location, dict(node.attrs),
+                    [copy_spec(c) for c in node.children], node.id, {}, node.subtree,
+                    node.written)

@@ -1,0 +1,348 @@
+"""Structure: a tree file as plain values, checked by ``jsonschema`` against the generated schema.
+
+:func:`to_document` turns composed YAML nodes into plain values (dicts, lists, scalars)
+and remembers the YAML key and value node of every path, so each error of the Draft
+2020-12 validator over :func:`.schema.tree_schema` maps back to ``file:line:col``.
+:class:`StructureCheck` words those errors for a user: the node kind and attribute they
+concern, what was expected, what was found, and a "did you mean" where one is close.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import jsonschema
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, did_you_mean
+from sar_framework.engine.node_kinds import (
+    KINDS,
+    MAX_DEPTH,
+    SUBTREE,
+    TOP_LEVEL,
+    UNSUPPORTED_DECORATORS,
+    Rule,
+)
+from sar_framework.engine.registry import Registry
+from sar_framework.engine.schema import tree_schema
+from sar_framework.engine.yaml_source import Reader, location
+
+#: A place in a document: the keys and list indices from its top.
+DocPath = tuple[str | int, ...]
+#: Deepest YAML nesting checked (a node level takes two or three YAML levels).
+MAX_YAML_DEPTH = 3 * MAX_DEPTH + 10
+
+_TYPE_WORDS = {
+    "string": "a string",
+    "integer": "an integer",
+    "number": "a number",
+    "boolean": "a boolean (true or false)",
+    "object": "a mapping",
+}
+
+
+@dataclass
+class Document:
+    """One tree file as plain values, with the YAML nodes they came from.
+
+    Attributes:
+        file: The file name to print.
+        value: The plain value of the whole file.
+        keys: Path of a mapping entry -> its key node.
+        nodes: Path -> its value node.
+        reported: Paths whose YAML-level problems are already reported (their value is
+            None or left out); schema errors at or below them are not repeated.
+        too_deep: The first node nested deeper than :data:`MAX_YAML_DEPTH`, if any (not
+            converted; the schema check is skipped).
+    """
+
+    file: str
+    value: Any = None
+    keys: dict[DocPath, Node] = field(default_factory=dict)
+    nodes: dict[DocPath, Node] = field(default_factory=dict)
+    reported: set[DocPath] = field(default_factory=set)
+    too_deep: Node | None = None
+
+    def where(self, path: DocPath) -> SourceLocation:
+        """Return where the value at ``path`` (or its nearest known parent) starts."""
+        while path not in self.nodes and path:
+            path = path[:-1]
+        return location(self.nodes[path], self.file)
+
+    def key_where(self, path: DocPath) -> SourceLocation:
+        """Return where the key of the entry at ``path`` starts (else its value)."""
+        key = self.keys.get(path)
+        return location(key, self.file) if key is not None else self.where(path)
+
+
+def to_document(root: MappingNode, reader: Reader) -> Document:
+    """Convert a file's top mapping to plain values, reporting YAML-level problems.
+
+    Args:
+        root: The composed top-level mapping.
+        reader: Reports duplicate keys, bad tags and bad scalars of this file.
+
+    Returns:
+        The document.
+    """
+    doc = Document(reader.file)
+    doc.value = _plain(root, (), doc, reader)
+    return doc
+
+
+def _plain(node: Node, path: DocPath, doc: Document, reader: Reader) -> Any:
+    doc.nodes[path] = node
+    if len(path) > MAX_YAML_DEPTH:
+        doc.too_deep = doc.too_deep or node
+        doc.reported.add(path)
+        return None
+    if type(node) is ScalarNode:
+        ok, value = reader.scalar(node)
+        if not ok:
+            doc.reported.add(path)
+        return value
+    if type(node) is SequenceNode:
+        items = reader.sequence(node)
+        if items is None:
+            doc.reported.add(path)
+            return None
+        return [_plain(item, (*path, i), doc, reader) for i, item in enumerate(items)]
+    entries = reader.items(node)  # type: ignore[arg-type]
+    if entries is None:
+        doc.reported.add(path)
+        return None
+    out = {}
+    for key, key_node, value_node in entries:
+        doc.keys[(*path, key)] = key_node
+        out[key] = _plain(value_node, (*path, key), doc, reader)
+    return out
+
+
+def describe(value: Any, node: Node | None = None) -> str:
+    """Say what a plain value is, for "got ..." in messages.
+
+    Args:
+        value: The value.
+        node: Its YAML node (for the text of an unusual scalar such as a date).
+
+    Returns:
+        For example ``integer 3``, ``string 'yes'``, ``a list``, ``null``.
+    """
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return f"boolean {str(value).lower()}"
+    if isinstance(value, int):
+        return f"integer {value}"
+    if isinstance(value, float):
+        return f"number {value!r}"
+    if isinstance(value, str):
+        return f"string '{value}'"
+    text = node.value if isinstance(node, ScalarNode) else value
+    return f"a {type(value).__name__} '{text}' (quote it to make a string)"
+
+
+def number(value: float) -> str:
+    """Print a bound or a value the way it was most likely written (``1`` not ``1.0``)."""
+    return str(int(value)) if isinstance(value, float) and value.is_integer() else str(value)
+
+
+def suggest(word: str, names: list[str]) -> str:
+    """Return a "did you mean", or the list of valid names when none is close."""
+    return did_you_mean(word, names) or f" (expected one of: {', '.join(names)})"
+
+
+class StructureCheck:
+    """The schema check of one registry's tree format.
+
+    Args:
+        registry: The plugins whose params the schema holds.
+    """
+
+    def __init__(self, registry: Registry) -> None:
+        self.registry = registry
+        self.schema = tree_schema(registry)
+        self.node_schema = self.schema["$defs"]["node"]
+        self.validator = jsonschema.Draft202012Validator(self.schema)
+
+    def check(self, doc: Document) -> list[Diagnostic]:
+        """Return every structural problem of ``doc``, worded, with its location.
+
+        Args:
+            doc: A converted file.
+
+        Returns:
+            The diagnostics (none when the file follows the schema).
+        """
+        if doc.too_deep is not None:
+            return []
+        errors = list(self.validator.iter_errors(doc.value))
+        # A node with several keys is reported once, as such; nothing below it.
+        crowded = [tuple(e.absolute_path) for e in errors if e.validator == "maxProperties"]
+        out = []
+        for error in errors:
+            path: DocPath = tuple(error.absolute_path)
+            if any(path[: len(p)] == p for p in doc.reported):
+                continue
+            if any(path[: len(c)] == c and error.validator != "maxProperties" for c in crowded):
+                continue
+            out.extend(Diagnostic(where, message) for where, message in self.word(error, doc))
+        return out
+
+    # -- wording ------------------------------------------------------------------------
+    def word(
+        self, error: jsonschema.ValidationError, doc: Document
+    ) -> Iterator[tuple[SourceLocation, str]]:
+        """Yield ``(where, message)`` for one jsonschema error."""
+        path: DocPath = tuple(error.absolute_path)
+        kind = error.validator
+        instance = error.instance
+        owner = self.owner(path)
+        attr = str(path[-1]) if path else ""
+        if kind == "additionalProperties":
+            for key in instance:
+                if key not in error.schema.get("properties", {}):
+                    yield doc.key_where((*path, key)), self.unknown_key(path, key, error.schema)
+        elif kind == "required":
+            rule = self.rule(error, owner)
+            for name in error.validator_value:
+                if name not in instance:
+                    yield self.owner_where(path, doc), self.missing(owner, name, instance, rule)
+        elif kind == "not" and "required" in error.validator_value:
+            name = error.validator_value["required"][0]
+            rule = self.rule(error, owner)
+            yield doc.key_where((*path, name)), f"'{name}' is not allowed {rule}"
+        elif kind == "not":
+            yield doc.where(path), f"'{attr}' must not be {number(instance)}"
+        elif kind == "type":
+            yield doc.where(path), self.wrong_type(error, path, doc)
+        elif kind == "enum":
+            choices = [c for c in error.validator_value if c is not None]
+            hint = did_you_mean(instance, map(str, choices)) if isinstance(instance, str) else ""
+            yield doc.where(path), (f"'{attr}' must be one of: {', '.join(map(str, choices))}; "
+                                    f"got {describe(instance)}{hint}")
+        elif kind in ("minimum", "maximum", "exclusiveMinimum"):
+            sign = {"minimum": ">=", "maximum": "<=", "exclusiveMinimum": ">"}[kind]
+            yield doc.where(path), (f"'{attr}' must be {sign} {number(error.validator_value)}, "
+                                    f"got {number(instance)}")
+        elif kind == "minItems" and attr == "children":
+            yield doc.where(path), f"{owner} has no children (a composite needs at least one)"
+        elif kind == "minLength" and "propertyNames" in error.schema_path:
+            yield doc.key_where((*path, instance)), "a subtree name must not be empty"
+        elif kind == "minLength" and attr == SUBTREE:
+            yield doc.where(path), f"'subtree' must name a subtree, got {describe(instance)}"
+        elif kind in ("minItems", "minLength"):
+            yield doc.where(path), f"'{attr}' must not be empty"
+        elif kind == "maxProperties":
+            keys = list(instance)
+            first = keys[0]
+            known = self.attr_names(first)
+            hint = (f" (indent the attributes under '{first}')"
+                    if known and all(k in known for k in keys[1:]) else "")
+            shown = ", ".join(f"'{k}'" for k in keys)
+            yield doc.key_where((*path, keys[1])), (f"a node has exactly one key, its kind; "
+                                                    f"got {shown}{hint}")
+        elif kind == "minProperties":
+            yield doc.where(path), "empty node: expected one key naming the node kind"
+        else:  # a schema keyword this wording does not know yet: jsonschema's own words
+            yield doc.where(path), error.message
+
+    def owner(self, path: DocPath) -> str:
+        """Return the node kind whose attributes hold ``path`` (the nearest above it)."""
+        for index in range(len(path) - 1, -1, -1):
+            key = path[index]
+            if isinstance(key, str) and (key in KINDS or key in self.registry):
+                return key
+        return ""
+
+    def owner_where(self, path: DocPath, doc: Document) -> SourceLocation:
+        """Where to report a missing attribute: the node's key, or the file's start."""
+        return doc.key_where(path) if path else doc.where(path)
+
+    def attr_names(self, key: str) -> list[str] | None:
+        """The attribute names of a node kind or plugin, in schema order, or None."""
+        prefix = "kind" if key in KINDS else "plugin"
+        schema = self.schema["$defs"].get(f"{prefix}.{key}")
+        return list(schema["properties"]) if schema is not None else None
+
+    def rule(self, error: jsonschema.ValidationError, owner: str) -> str:
+        """Word the condition of a rule (``when policy is X``), or "" for a plain error."""
+        schema_path = list(error.schema_path)
+        if "allOf" not in schema_path or owner not in KINDS:
+            return ""
+        found: Rule = KINDS[owner].rules[schema_path[schema_path.index("allOf") + 1]]
+        word = "when" if "then" in schema_path else "unless"
+        return f"{word} {found.if_attr} is {found.equals}"
+
+    def unknown_key(self, path: DocPath, key: str, error_schema: dict[str, Any]) -> str:
+        """Word a key the schema does not allow: top-level key, node kind or attribute."""
+        if not path:
+            return f"unknown top-level key '{key}'" + suggest(key, list(TOP_LEVEL))
+        if error_schema is self.node_schema:
+            if key in UNSUPPORTED_DECORATORS:
+                return f"decorator '{key}' is not supported: {UNSUPPORTED_DECORATORS[key]}"
+            candidates = [*KINDS, SUBTREE, *self.registry.names()]
+            return f"unknown plugin '{key}'{did_you_mean(key, candidates)}"
+        owner = str(path[-1])
+        names = self.attr_names(owner) or []
+        if owner in self.registry:
+            return f"unknown param '{key}' for plugin '{owner}'" + suggest(key, names)
+        what = f"unknown attribute '{key}' for {owner}"
+        category = KINDS[owner].category.value if owner in KINDS else ""
+        if key == "children" and category == "decorator":
+            return f"{what} (a decorator has exactly one 'child')"
+        if key == "child" and category == "composite":
+            return f"{what} (a composite has a list of 'children')"
+        return what + suggest(key, names)
+
+    def missing(self, owner: str, name: str, instance: dict[str, Any], rule: str) -> str:
+        """Word a missing required attribute of ``owner`` (the top level when empty)."""
+        if not owner:
+            return "missing 'format: 1' (the tree format version)"
+        if rule:
+            return f"{owner} needs '{name}' {rule}"
+        label = f"{owner} '{instance['name']}'" if isinstance(instance.get("name"), str) else owner
+        if name == "memory":
+            return (f"{label} needs 'memory: true' (resume at the running child) or "
+                    "'memory: false' (start again from the first child every tick)")
+        if name == "child":
+            return f"{label} needs a 'child' (a decorator has exactly one)"
+        if name == "children":
+            return f"{label} needs 'children' (a composite has at least one)"
+        noun = "param" if owner in self.registry else "attribute"
+        return f"{label} is missing required {noun} '{name}'"
+
+    def wrong_type(self, error: jsonschema.ValidationError, path: DocPath, doc: Document) -> str:
+        """Word a value of the wrong type, by where it stands."""
+        instance = error.instance
+        got = describe(instance, doc.nodes.get(path))
+        if error.schema is self.node_schema:
+            hint = ""
+            if isinstance(instance, str) and (instance in KINDS or instance in self.registry):
+                hint = f" (write '{instance}: {{}}')"
+            return ("expected a node: a one-key mapping such as 'NavigateToZone: {}', "
+                    f"got {got}{hint}")
+        attr = str(path[-1]) if path else ""
+        if attr == "subtrees":
+            return f"'subtrees' must be a mapping of names to nodes, got {got}"
+        if attr == SUBTREE:
+            return f"'subtree' must name a subtree, got {got}"
+        if "properties" in error.schema:  # the attributes of a node kind
+            hint = f" (write '{attr}: {{}}')" if instance is None else ""
+            return f"the attributes of '{attr}' must be a mapping, got {got}{hint}"
+        if isinstance(path[-1], int):
+            return f"items of '{path[-2]}' must be strings, got {got}"
+        expected = error.validator_value
+        expected = expected[0] if isinstance(expected, list) else expected
+        if expected == "array":
+            items = error.schema.get("items", {})
+            word = "a list of nodes" if "$ref" in items else "a list of strings"
+        else:
+            word = _TYPE_WORDS.get(expected, expected)
+        return f"'{attr}' must be {word}, got {got}"

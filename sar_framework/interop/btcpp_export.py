@@ -1,0 +1,128 @@
+"""Export a validated tree as BehaviorTree.CPP 4 XML (``BTCPP_format="4"``), Groot2-ready.
+
+The document holds one ``<BehaviorTree>`` for the tree, one per subtree it uses (each use
+becomes ``<SubTree ID="..."/>``), and a ``<TreeNodesModel>`` declaring every leaf plugin
+with its params as input ports (type, default, description) plus an ``id`` port, and
+every custom ``Sar...`` node (see :mod:`.mapping`). Leaf params are written when they
+differ from the declared default, and a leaf's ``name`` when it is not the plugin name
+(BT.CPP's default too); reference params carry the referenced leaf's ``id``.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from typing import Any
+
+from sar_framework.engine.node_kinds import KINDS
+from sar_framework.engine.plugin import REQUIRED, PluginSpec
+from sar_framework.engine.registry import Registry
+from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports
+
+#: C++ type names BT.CPP writes in a model, by Python param type.
+CPP_TYPES: dict[type, str] = {str: "std::string", int: "int", float: "double", bool: "bool"}
+#: The description of the ``id`` port every leaf model gets.
+ID_PORT_TEXT = "Unique id of this leaf; other leaves' reference ports name it."
+
+
+def port_text(value: Any) -> str:
+    """Format a param or attribute value as BT.CPP reads it from an XML attribute."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return ";".join(str(v) for v in value)
+    return str(value)
+
+
+class _Exporter:
+    """Walks a spec once, collecting subtree definitions and the models used."""
+
+    def __init__(self, registry: Registry) -> None:
+        self.registry = registry
+        self.subtrees: dict[str, ET.Element] = {}
+        self.leaf_models: dict[str, PluginSpec] = {}
+        self.custom_models: set[str] = set()
+
+    def element(self, node: NodeSpec, *, inside: str | None = None) -> ET.Element:
+        if node.subtree is not None and node.subtree != inside:
+            if node.subtree not in self.subtrees:
+                self.subtrees[node.subtree] = ET.Element("placeholder")  # recursion guard
+                self.subtrees[node.subtree] = self.element(node, inside=node.subtree)
+            return ET.Element("SubTree", {"ID": node.subtree})
+        if node.category is Category.LEAF:
+            return self.leaf(node)
+        kind = KINDS[node.kind]
+        builtin = builtin_for(node.kind, node.attrs)
+        if builtin is not None:
+            tag, ports = builtin.btcpp_id, builtin.to_ports(node.attrs)
+        else:
+            tag = custom_id(kind)
+            self.custom_models.add(node.kind)
+            ports = {name: port_text(node.attrs[name]) for name, *_ in custom_ports(kind)
+                     if node.attrs.get(name) is not None}
+        element = ET.Element(tag, {"name": node.name, **ports})
+        element.extend(self.element(child) for child in node.children)
+        return element
+
+    def leaf(self, node: NodeSpec) -> ET.Element:
+        plugin = self.registry.get(node.kind)
+        if plugin is None:
+            raise KeyError(f"plugin '{node.kind}' is not in the registry")
+        self.leaf_models[plugin.name] = plugin
+        ports = {"name": node.name} if node.name != plugin.name else {}
+        if node.id is not None:
+            ports["id"] = node.id
+        for param in plugin.params:
+            value = node.attrs.get(param.name)
+            if value is not None and (param.default is REQUIRED or value != param.default):
+                ports[param.name] = port_text(value)
+        return ET.Element(node.kind, ports)
+
+    def models(self) -> ET.Element:
+        root = ET.Element("TreeNodesModel")
+        for plugin in sorted(self.leaf_models.values(), key=lambda p: p.name):
+            model = ET.SubElement(root, "Action", {"ID": plugin.name})
+            _port(model, "id", "std::string", None, ID_PORT_TEXT)
+            for param in plugin.params:
+                cpp = "std::string" if param.ref is not None else CPP_TYPES[param.type]
+                text = param.description or (f"id of a {param.ref} leaf" if param.ref else "")
+                default = None if param.default is REQUIRED else param.default
+                _port(model, param.name, cpp, default, text)
+        for key in sorted(self.custom_models):
+            kind = KINDS[key]
+            category = "Control" if kind.category is Category.COMPOSITE else "Decorator"
+            model = ET.SubElement(root, category, {"ID": custom_id(kind)})
+            for name, cpp, default, text in custom_ports(kind):
+                _port(model, name, cpp, default, text)
+        return root
+
+
+def _port(model: ET.Element, name: str, cpp: str, default: Any, text: str) -> None:
+    attrs = {"name": name, "type": cpp}
+    if default is not None:
+        attrs["default"] = port_text(default)
+    ET.SubElement(model, "input_port", attrs).text = text or None
+
+
+def export_btcpp(spec: TreeSpec, registry: Registry) -> str:
+    """Return the tree as BehaviorTree.CPP 4 XML text.
+
+    Args:
+        spec: A validated tree.
+        registry: The plugins it was validated against (for the leaf port models).
+
+    Returns:
+        The XML document, indented, with an XML declaration.
+    """
+    exporter = _Exporter(registry)
+    main = exporter.element(spec.root)
+    root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": spec.name})
+    tree = ET.SubElement(root, "BehaviorTree", {"ID": spec.name})
+    if spec.description:
+        tree.set("_description", spec.description)
+    tree.append(main)
+    for name, body in exporter.subtrees.items():
+        ET.SubElement(root, "BehaviorTree", {"ID": name}).append(body)
+    root.append(exporter.models())
+    ET.indent(root, space="  ")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, "unicode") + "\n"

@@ -1,0 +1,9 @@
+"""Mission recordings: a rosbag2-compatible MCAP file of a run, and its replay.
+
+- :mod:`.tree_status`: the tree's status per tick on ``/sar_tree/status`` (published by
+  the runner; also what ``sar-tree watch`` shows);
+- :mod:`.recorder`: the recorder process (``python -m sar_framework.recording``);
+- :mod:`.bag_writer`, :mod:`.msgdefs`: the MCAP file and its schemas;
+- :mod:`.introspection`: service request/answer events of the mission's servers;
+- :mod:`.readback`, :mod:`.replay`: reading a recording back, ``sar-tree replay``.
+"""

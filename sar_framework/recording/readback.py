@@ -1,0 +1,288 @@
+"""Read a mission recording back into the files the mission report is made from.
+
+:func:`read_recording` decodes a recording (the ``mcap`` reader, and rclpy's own CDR
+deserialiser with the installed message classes) into a :class:`Recording`: the tree's
+status per tick, the robot's poses in ``map``, the navigation goals, the report service's
+answers, and the tree and parameter files attached to it. :func:`write_report_inputs` turns
+it into the files :mod:`sar_framework.report` reads (``status.json``, ``trace.jsonl``,
+``reports.jsonl``, ``report.log``), so a replayed report is drawn by the same code as a live
+one.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import struct
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from sar_framework.recording.recorder import (
+    ATTACHMENT_PARAMS,
+    ATTACHMENT_TREE,
+    METADATA_NAME,
+    message_class,
+)
+from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+
+GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
+REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
+GLOBAL_FRAME = "map"
+#: The robot's frame is the one whose name starts so (``base_link``, ``base_footprint``).
+ROBOT_FRAME_PREFIX = "base"
+DECODED_TOPICS = frozenset({STATUS_TOPIC, "/tf", "/tf_static", GOAL_STATUS_TOPIC,
+                            REPORT_EVENTS_TOPIC})
+"""The topics a replay needs (the others stay undecoded)."""
+_TERMINAL = ("SUCCESS", "FAILURE")
+_REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
+
+
+class RecordingError(ValueError):
+    """The file is not a mission recording this version can read."""
+
+
+@dataclass
+class Recording:
+    """What a mission recording holds, decoded.
+
+    Attributes:
+        path: The file.
+        statuses: The tree status documents, in order, each with ``wall_s`` added (seconds
+            since the first message of the recording).
+        poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
+        goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
+        reports: The report service's requests with the answer (``acknowledged``).
+        attachments: Attachment name -> bytes (the tree and parameter files).
+        metadata: The recorder's metadata (original tree and parameter paths).
+        wall_duration_s: Seconds from the first to the last message.
+    """
+
+    path: Path
+    statuses: list[dict[str, Any]] = field(default_factory=list)
+    poses: list[tuple[float, float, float, float]] = field(default_factory=list)
+    goals: list[tuple[float, str]] = field(default_factory=list)
+    reports: list[dict[str, Any]] = field(default_factory=list)
+    attachments: dict[str, bytes] = field(default_factory=dict)
+    metadata: dict[str, str] = field(default_factory=dict)
+    wall_duration_s: float = 0.0
+
+
+def _stamp_s(stamp: Any) -> float:
+    return stamp.sec + stamp.nanosec / 1e9
+
+
+def _yaw(rotation: Any) -> float:
+    return math.atan2(2.0 * (rotation.w * rotation.z + rotation.x * rotation.y),
+                      1.0 - 2.0 * (rotation.y * rotation.y + rotation.z * rotation.z))
+
+
+class _PoseTracker:
+    """Composes the latest 2D transforms of ``/tf`` and ``/tf_static`` up to ``map``."""
+
+    def __init__(self) -> None:
+        self.parent: dict[str, tuple[str, float, float, float]] = {}
+
+    def update(self, message: Any) -> list[tuple[float, float, float, float]]:
+        moved = []
+        for transform in message.transforms:
+            t = transform.transform
+            self.parent[transform.child_frame_id] = (
+                transform.header.frame_id, t.translation.x, t.translation.y, _yaw(t.rotation))
+        for transform in message.transforms:
+            if not transform.child_frame_id.startswith(ROBOT_FRAME_PREFIX):
+                continue
+            pose = self.in_global(transform.child_frame_id)
+            if pose is not None:
+                moved.append((_stamp_s(transform.header.stamp), *pose))
+        return moved
+
+    def in_global(self, frame: str) -> tuple[float, float, float] | None:
+        x = y = yaw = 0.0
+        for _ in range(len(self.parent) + 1):
+            if frame == GLOBAL_FRAME:
+                return x, y, yaw
+            if frame not in self.parent:
+                return None
+            parent, px, py, pyaw = self.parent[frame]
+            x, y = (px + math.cos(pyaw) * x - math.sin(pyaw) * y,
+                    py + math.sin(pyaw) * x + math.cos(pyaw) * y)
+            yaw += pyaw
+            frame = parent
+        return None
+
+
+def read_recording(path: str | Path) -> Recording:
+    """Decode a mission recording.
+
+    Args:
+        path: The ``.mcap`` file.
+
+    Returns:
+        The decoded recording.
+
+    Raises:
+        RecordingError: Not an MCAP file, or not readable.
+    """
+    from mcap.exceptions import McapError
+    from mcap.reader import make_reader
+    from rclpy.serialization import deserialize_message
+
+    recording = Recording(Path(path))
+    tracker = _PoseTracker()
+    classes: dict[str, Any] = {}
+    requests: dict[tuple[bytes, int], Any] = {}
+    seen_goals: set[str] = set()
+    first_ns: int | None = None
+    last_ns = 0
+    try:
+        with recording.path.open("rb") as stream:
+            reader = make_reader(stream)
+            for schema, channel, message in reader.iter_messages(log_time_order=True):
+                if schema is None or channel.topic not in DECODED_TOPICS:
+                    continue
+                if schema.name not in classes:
+                    classes[schema.name] = message_class(schema.name)
+                msg = deserialize_message(message.data, classes[schema.name])
+                first_ns = message.log_time if first_ns is None else first_ns
+                last_ns = max(last_ns, message.log_time)
+                if channel.topic == STATUS_TOPIC:
+                    try:
+                        document = decode_status(msg.data)
+                    except StatusFormatError:
+                        continue
+                    document["wall_s"] = round((message.log_time - first_ns) / 1e9, 3)
+                    recording.statuses.append(document)
+                elif channel.topic in ("/tf", "/tf_static"):
+                    recording.poses.extend(tracker.update(msg))
+                elif channel.topic == GOAL_STATUS_TOPIC:
+                    for status in msg.status_list:
+                        goal = bytes(status.goal_info.goal_id.uuid).hex()
+                        if goal not in seen_goals:
+                            seen_goals.add(goal)
+                            recording.goals.append((_stamp_s(status.goal_info.stamp), goal))
+                elif channel.topic == REPORT_EVENTS_TOPIC:
+                    key = (bytes(msg.info.client_gid), msg.info.sequence_number)
+                    if msg.info.event_type == _REQUEST_RECEIVED and msg.request:
+                        requests[key] = msg.request[0]
+                    elif msg.info.event_type == _RESPONSE_SENT and msg.response and \
+                            key in requests:
+                        request = requests.pop(key)
+                        recording.reports.append({
+                            "survivor_id": request.survivor_id,
+                            "frame_id": request.location.header.frame_id,
+                            "x": request.location.point.x, "y": request.location.point.y,
+                            "stamp": _stamp_s(msg.info.stamp),
+                            "acknowledged": bool(msg.response[0].acknowledged)})
+            recording.attachments = {a.name: a.data for a in reader.iter_attachments()}
+            recording.metadata = next((dict(m.metadata) for m in reader.iter_metadata()
+                                       if m.name == METADATA_NAME), {})
+    except (McapError, OSError, ValueError, ImportError, struct.error) as err:
+        raise RecordingError(f"{path}: cannot read the recording: "
+                             f"{type(err).__name__}: {err}") from None
+    recording.wall_duration_s = (last_ns - first_ns) / 1e9 if first_ns is not None else 0.0
+    return recording
+
+
+def status_document(recording: Recording) -> dict[str, Any]:
+    """The runner's status file (``status.json``) rebuilt from the per-tick statuses.
+
+    Events are leaf verdicts (SUCCESS/FAILURE on a tick that visited the leaf), a repeat
+    of the same verdict and message on consecutive ticks counted once; failures are leaf
+    FAILUREs after the leaf had been RUNNING, as the runner counts them.
+    """
+    statuses = recording.statuses
+    nodes: dict[str, str] = {}
+    events: list[dict[str, Any]] = []
+    failures: list[dict[str, Any]] = []
+    last: dict[str, tuple[str, str]] = {}
+    was_running: set[str] = set()
+    uids = [n["uid"] for n in statuses[0]["nodes"]] if statuses else []
+    leaves = {u for u in uids if not any(o.startswith(u + ".") for o in uids)}
+    for document in statuses:
+        for node in document["nodes"]:
+            uid, status = node["uid"], node["status"]
+            if status != "INVALID":
+                nodes[uid] = status
+            if uid not in leaves or not node["visited"]:
+                continue
+            if status == "RUNNING":
+                was_running.add(uid)
+            if status not in _TERMINAL:
+                last.pop(uid, None)
+                continue
+            if last.get(uid) == (status, node["message"]):
+                continue
+            last[uid] = (status, node["message"])
+            event = {"sim_s": document["sim_s"], "wall_s": document["wall_s"], "uid": uid,
+                     "name": node["name"], "kind": node["kind"], "status": status,
+                     "message": node["message"]}
+            events.append(event)
+            if status == "FAILURE" and uid in was_running:
+                failures.append({k: event[k] for k in ("uid", "name", "message")})
+            was_running.discard(uid)
+    end = statuses[-1] if statuses else {}
+    return {
+        "tree": recording.metadata.get("tree", ""), "status": end.get("status", "INVALID"),
+        "ticks": end.get("tick", 0), "complete": bool(end.get("complete")),
+        "wall_first_tick_s": statuses[0]["wall_s"] if statuses else None,
+        "sim_start_s": statuses[0].get("sim_start_s", statuses[0]["sim_s"]) if statuses else None,
+        "sim_end_s": end.get("sim_s"), "wall_duration_s": round(recording.wall_duration_s, 3),
+        "nodes": nodes, "events": events, "failures": failures,
+    }
+
+
+def trace_records(recording: Recording) -> list[dict[str, Any]]:
+    """The simulator's trace (``trace.jsonl``) rebuilt from a recording.
+
+    Robot poses with the distance travelled so far, and one ``accepted`` line per
+    navigation goal.
+    """
+    records: list[dict[str, Any]] = []
+    path_m = 0.0
+    previous: tuple[float, float] | None = None
+    for sim_s, x, y, yaw in recording.poses:
+        if previous is not None:
+            path_m += math.hypot(x - previous[0], y - previous[1])
+        if previous is None:
+            records.append({"sim_s": sim_s, "event": "start", "x": x, "y": y, "yaw": yaw})
+        elif (x, y) == previous:
+            continue
+        records.append({"sim_s": sim_s, "x": round(x, 4), "y": round(y, 4),
+                        "yaw": round(yaw, 4), "path_m": round(path_m, 4)})
+        previous = (x, y)
+    records.extend({"sim_s": sim_s, "event": "accepted", "goal": index}
+                   for index, (sim_s, _goal) in enumerate(recording.goals, 1))
+    return records
+
+
+def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
+    """Write the files :mod:`sar_framework.report` reads, from a recording.
+
+    Args:
+        recording: The decoded recording.
+        folder: The report folder (created).
+
+    Returns:
+        ``{"tree": ..., "params": ...}``: the attached tree and parameter files, written
+        into ``folder`` (a key is missing when the recording has no such attachment).
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "status.json").write_text(json.dumps(status_document(recording), indent=1),
+                                        encoding="utf-8")
+    (folder / "trace.jsonl").write_text(
+        "".join(json.dumps(r) + "\n" for r in trace_records(recording)), encoding="utf-8")
+    accepted = [r for r in recording.reports if r["acknowledged"]]
+    (folder / "reports.jsonl").write_text(
+        "".join(json.dumps({k: v for k, v in r.items() if k != "acknowledged"}) + "\n"
+                for r in accepted), encoding="utf-8")
+    (folder / "report.log").write_text(
+        "".join(f"Report refused: '{r['survivor_id']}' at ({r['x']:.2f}, {r['y']:.2f}): "
+                "not acknowledged\n" for r in recording.reports if not r["acknowledged"]),
+        encoding="utf-8")
+    files: dict[str, Path] = {}
+    for key, name in (("tree", ATTACHMENT_TREE), ("params", ATTACHMENT_PARAMS)):
+        if name in recording.attachments:
+            files[key] = folder / name
+            files[key].write_bytes(recording.attachments[name])
+    return files

@@ -1,0 +1,243 @@
+"""``python -m sar_framework.recording``: record a mission into a rosbag2-compatible MCAP file.
+
+::
+
+    python -m sar_framework.recording --ros-args -p output:=mission.mcap \
+        -p tree:=trees/search_and_rescue.yaml -p params_file:=config/mission_params.yaml
+
+Subscribes to :data:`RECORDED_TOPICS` with ``raw=True`` (the CDR bytes as the middleware
+delivered them, never deserialised) and writes each message as it arrives; the tree file
+and the parameter file go into the recording as attachments, so ``sar-tree replay`` needs
+nothing else. SIGINT or SIGTERM close the file (summary and index written).
+
+The detect and report servers publish their requests and answers as ROS 2 service
+introspection events (``/<service>/_service_event``; :mod:`.introspection`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import signal
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING, Any
+
+from sar_framework.recording.bag_writer import BagWriter
+from sar_framework.recording.tree_status import STATUS_TOPIC, STATUS_TYPE
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+NODE_NAME = "sar_recorder"
+ATTACHMENT_TREE = "tree.yaml"
+ATTACHMENT_PARAMS = "mission_params.yaml"
+METADATA_NAME = "sar_framework"
+#: Messages each subscription holds while the recorder is busy: the middleware takes them
+#: in on its own threads, so a burst (a fast simulator on a busy machine) is not lost.
+QUEUE_DEPTH = 2000
+#: Longest wait for a message before the stop flag is checked again.
+SPIN_TIMEOUT_S = 0.1
+#: Longest time spent, after a stop signal, writing the messages still queued.
+DRAIN_S = 0.8
+#: Longest wait for the recorder to start before the mission starts anyway.
+STARTUP_TIMEOUT_S = 15.0
+
+
+@dataclass(frozen=True)
+class RecordedTopic:
+    """One topic the recorder subscribes to.
+
+    Attributes:
+        name: The topic.
+        type_name: Its full type name.
+        latched: Published RELIABLE + TRANSIENT_LOCAL (subscribe so, to get the past).
+    """
+
+    name: str
+    type_name: str
+    latched: bool = False
+
+
+RECORDED_TOPICS = (
+    RecordedTopic("/tf", "tf2_msgs/msg/TFMessage"),
+    RecordedTopic("/tf_static", "tf2_msgs/msg/TFMessage", latched=True),
+    RecordedTopic("/amcl_pose", "geometry_msgs/msg/PoseWithCovarianceStamped", latched=True),
+    RecordedTopic("/navigate_to_pose/_action/status", "action_msgs/msg/GoalStatusArray",
+                  latched=True),
+    RecordedTopic("/navigate_to_pose/_action/feedback",
+                  "nav2_msgs/action/NavigateToPose_FeedbackMessage"),
+    RecordedTopic("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
+    RecordedTopic("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
+    RecordedTopic(STATUS_TOPIC, STATUS_TYPE),
+)
+"""What a mission recording holds (a topic nobody publishes simply stays empty). Odometry is
+left out: ``/tf`` carries the same pose, and every extra stream costs the recorder time."""
+
+_INFINITE = "{sec: 9223372036, nsec: 854775807}"
+
+
+def offered_qos_yaml(latched: bool) -> str:
+    """rosbag2's ``offered_qos_profiles`` text for a RELIABLE, depth 100 publisher.
+
+    Args:
+        latched: TRANSIENT_LOCAL (else VOLATILE) durability.
+    """
+    return (f"- history: keep_last\n  depth: 100\n  reliability: reliable\n"
+            f"  durability: {'transient_local' if latched else 'volatile'}\n"
+            f"  deadline: {_INFINITE}\n  lifespan: {_INFINITE}\n  liveliness: automatic\n"
+            f"  liveliness_lease_duration: {_INFINITE}\n"
+            "  avoid_ros_namespace_conventions: false\n")
+
+
+def message_class(type_name: str) -> Any:
+    """The Python class of a full type name (``pkg/srv/Name_Event`` and action parts too).
+
+    Args:
+        type_name: For example ``nav2_msgs/action/NavigateToPose_FeedbackMessage``.
+
+    Raises:
+        ImportError: The interface package is not installed.
+    """
+    package, kind, name = type_name.split("/")
+    module = importlib.import_module(f"{package}.{kind}")
+    if kind == "action" and name.endswith("_FeedbackMessage"):
+        return getattr(module, name[: -len("_FeedbackMessage")]).Impl.FeedbackMessage
+    return getattr(module, name)
+
+
+class MissionRecorder:
+    """Subscribes to the mission's topics on ``node`` and writes them into ``writer``.
+
+    Args:
+        node: The recorder's node.
+        writer: The open MCAP file.
+        topics: What to record.
+    """
+
+    def __init__(self, node: Node, writer: BagWriter,
+                 topics: Sequence[RecordedTopic] = RECORDED_TOPICS) -> None:
+        from sar_framework.ros.qos import latched_qos
+
+        self.writer = writer
+        self.node = node
+        for topic in topics:
+            try:
+                cls = message_class(topic.type_name)
+            except (ImportError, AttributeError) as err:
+                node.get_logger().warning(f"not recording {topic.name}: {err}")
+                continue
+            writer.add_topic(topic.name, topic.type_name, offered_qos_yaml(topic.latched))
+            qos = latched_qos(QUEUE_DEPTH) if topic.latched else QUEUE_DEPTH
+            node.create_subscription(cls, topic.name, self._writer_for(topic.name), qos,
+                                     raw=True)
+
+    def _writer_for(self, topic: str) -> Any:
+        def write(data: bytes) -> None:
+            self.writer.write(topic, data)
+        return write
+
+
+def wait_until_recording(path: Path, alive: Callable[[], bool],
+                         timeout_s: float = STARTUP_TIMEOUT_S) -> bool:
+    """Wait until a starting recorder has created its file (its subscriptions come next).
+
+    ``sar-tree run`` starts the mission's other processes only then, so a fast mission on
+    a busy machine does not begin before the recorder listens.
+
+    Args:
+        path: The recording (removed beforehand by the caller).
+        alive: Returns whether the recorder process still runs.
+        timeout_s: Upper bound of the wait.
+
+    Returns:
+        Whether the file appeared.
+    """
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline and alive():
+        if path.exists():
+            return True
+        time.sleep(0.02)
+    return path.exists()
+
+
+def drain(executor: Any, writer: BagWriter) -> None:
+    """Write what is still queued (a busy recorder lags behind), for at most :data:`DRAIN_S`."""
+    deadline = time.monotonic() + DRAIN_S
+    while time.monotonic() < deadline:
+        before = writer.messages
+        executor.spin_once(timeout_sec=0.0)
+        if writer.messages == before:
+            executor.spin_once(timeout_sec=0.0)
+            if writer.messages == before:
+                return
+
+
+def _attach_file(writer: BagWriter, name: str, path: str) -> None:
+    if path and Path(path).is_file():
+        writer.attach(name, Path(path).read_bytes(), "application/yaml")
+
+
+def run(argv: Sequence[str] | None = None) -> int:
+    """Record until SIGINT/SIGTERM; return the exit code.
+
+    0 after a signal, 2 when ``output`` is missing or cannot be written.
+
+    Args:
+        argv: The command line (``sys.argv`` when None), ROS arguments included.
+    """
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from rclpy.signals import SignalHandlerOptions
+
+    stop: list[str] = []
+
+    def request_stop(signum: int, _frame: FrameType | None) -> None:
+        stop.append(signal.Signals(signum).name)
+
+    # Our own handlers: the context stays valid while the file is closed after a signal.
+    rclpy.init(args=list(sys.argv if argv is None else argv),
+               signal_handler_options=SignalHandlerOptions.NO)
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, request_stop)
+    node = Node(NODE_NAME)
+    writer: BagWriter | None = None
+    try:
+        output = str(node.declare_parameter("output", "").value)
+        tree = str(node.declare_parameter("tree", "").value)
+        params_file = str(node.declare_parameter("params_file", "").value)
+        if not output:
+            node.get_logger().error("parameter 'output' (the .mcap file to write) is not set")
+            return 2
+        try:
+            writer = BagWriter(output)
+        except OSError as err:
+            node.get_logger().error(f"cannot write the recording '{output}': {err.strerror}")
+            return 2
+        writer.add_metadata(METADATA_NAME, {"tree": tree, "params_file": params_file})
+        _attach_file(writer, ATTACHMENT_TREE, tree)
+        _attach_file(writer, ATTACHMENT_PARAMS, params_file)
+        MissionRecorder(node, writer)
+        node.get_logger().info(f"recording {len(RECORDED_TOPICS)} topics into {output}")
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        while not stop:
+            executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
+        drain(executor, writer)
+        executor.shutdown(timeout_sec=0.0)
+    finally:
+        if writer is not None:
+            writer.close()
+            node.get_logger().info(f"wrote {writer.messages} messages to {writer.path}")
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Console entry point."""
+    sys.exit(run(argv))

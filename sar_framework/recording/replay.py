@@ -1,0 +1,103 @@
+"""``sar-tree replay FILE.mcap``: the mission report drawn again from a recording alone.
+
+The recording is decoded (:mod:`.readback`) into the files a live run leaves, then
+:func:`sar_framework.report.write_report` writes ``mission.json``, ``mission.png`` and
+``tree.svg`` exactly as after ``sar-tree run``. The tree and the parameter file come from
+the recording's attachments (the original tree file is used instead when it is still
+there unchanged, so its includes and plugins resolve).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from sar_framework.recording.readback import (
+    Recording,
+    RecordingError,
+    read_recording,
+    status_document,
+    write_report_inputs,
+)
+
+EXIT_OK = 0
+EXIT_FAILURE = 1
+EXIT_USAGE = 2
+
+
+def configure(parser: argparse.ArgumentParser) -> None:
+    """Add ``sar-tree replay``'s arguments to ``parser``."""
+    parser.add_argument("recording", metavar="FILE.mcap", help="a recording of sar-tree run")
+    parser.add_argument("--report-dir", metavar="DIR",
+                        help="where the report goes (default: FILE_replay/ beside the file)")
+
+
+def outcome_of(status: dict[str, Any]) -> str:
+    """``SUCCESS`` / ``FAILURE`` for a mission that completed, else ``INTERRUPTED``."""
+    if status.get("complete") and status.get("status") in ("SUCCESS", "FAILURE"):
+        return str(status["status"])
+    return "INTERRUPTED"
+
+
+def _tree_spec(recording: Recording, attached: Path | None) -> tuple[str, Any]:
+    """The tree file to name and its spec (None when it does not validate here)."""
+    from sar_framework.engine.api import validate
+
+    original = Path(recording.metadata.get("tree", ""))
+    if attached is None:
+        return str(original), None
+    tree = attached
+    if original.is_file() and original.read_bytes() == attached.read_bytes():
+        tree = original
+    result = validate(tree)
+    for diagnostic in result.diagnostics if result.spec is None else ():
+        sys.stderr.write(f"sar-tree replay: warning: {diagnostic}\n")
+    return str(recording.metadata.get("tree") or tree), result.spec
+
+
+def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]:
+    """Write the report of a recorded mission.
+
+    Args:
+        path: The recording.
+        report_dir: Where to write (default ``<stem>_replay`` beside the recording).
+
+    Returns:
+        The report files written.
+
+    Raises:
+        RecordingError: The file cannot be read as a mission recording.
+    """
+    from sar_framework.report import MissionInputs, write_report
+
+    recording = read_recording(path)
+    if not recording.statuses:
+        raise RecordingError(f"{path}: no tree status in the recording "
+                             "(was it recorded with sar-tree run --record?)")
+    folder = Path(report_dir) if report_dir else \
+        Path(path).with_name(f"{Path(path).stem}_replay")
+    files = write_report_inputs(recording, folder)
+    tree, spec = _tree_spec(recording, files.get("tree"))
+    status = status_document(recording)
+    inputs = MissionInputs(
+        report_dir=folder, tree=tree, params_file=str(files.get("params", "")), spec=spec,
+        outcome=outcome_of(status), wall_duration_s=recording.wall_duration_s)
+    return write_report(inputs)
+
+
+def replay_command(args: argparse.Namespace) -> int:
+    """``sar-tree replay``: return the exit code (0, or 2 for a file it cannot read)."""
+    if not Path(args.recording).is_file():
+        sys.stderr.write(f"sar-tree replay: error: recording not found: '{args.recording}'\n")
+        return EXIT_USAGE
+    try:
+        written = replay(args.recording, args.report_dir)
+    except RecordingError as err:
+        sys.stderr.write(f"sar-tree replay: error: {err}\n")
+        return EXIT_USAGE
+    folder = written[0].parent if written else args.report_dir
+    sys.stdout.write(f"sar-tree replay: report in {folder}/ "
+                     f"({', '.join(p.name for p in written)})\n")
+    return EXIT_OK

@@ -1,0 +1,174 @@
+"""The tree's status per tick on ``/sar_tree/status``, for ``sar-tree watch`` and recordings.
+
+One ``std_msgs/msg/String`` per tick whose ``data`` is a JSON document::
+
+    {"format": 1, "tree": "search_and_rescue", "tick": 12, "sim_s": 31.5, "sim_start_s": 4.2,
+     "status": "RUNNING", "complete": false,
+     "zone": {"id": "zone_b", "index": 1, "total": 4},
+     "nodes": [["0", "MissionOrReturnToBase", "selector", "RUNNING", "", true], ...],
+     "blackboard": {"/goal": "..."}}
+
+``sim_s`` is the runner's ROS clock after the tick (``/clock`` time with ``use_sim_time``),
+``sim_start_s`` the same on the first tick. ``nodes`` lists every node depth first as ``[uid,
+name, kind, status, feedback message, visited this tick]`` (a uid's depth is its number of
+dots). ``zone`` is the zone the mission is at (None when every zone is done or no zone
+manager is known), ``blackboard`` the keys the leaves write, with their values as text.
+``complete`` turns true once the mission is over (the runner's own verdict).
+
+Plain JSON keeps the topic readable by any ROS 2 tool (``ros2 topic echo``, Foxglove's raw
+view) without an interface package of ours; :func:`decode_status` reads it back.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+import py_trees
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+    from sar_framework.engine.spec import TreeSpec
+    from sar_framework.mission.zone_manager import ZoneManager
+
+STATUS_TOPIC = "/sar_tree/status"
+STATUS_TYPE = "std_msgs/msg/String"
+FORMAT = 1
+_BLACKBOARD_TEXT_MAX = 120
+
+
+def zone_of(zone_manager: ZoneManager | None) -> dict[str, Any] | None:
+    """The zone the mission is at, as ``{"id", "index", "total"}``, or None.
+
+    Args:
+        zone_manager: The mission's zone manager, if any.
+    """
+    if zone_manager is None or not zone_manager.has_remaining():
+        return None
+    return {"id": zone_manager.current_zone()["id"], "index": zone_manager.current_index(),
+            "total": zone_manager.total_zones()}
+
+
+def written_blackboard(behaviours: dict[str, py_trees.behaviour.Behaviour]) -> dict[str, str]:
+    """The blackboard keys the behaviours may write, with their current values as text.
+
+    Args:
+        behaviours: ``uid -> behaviour``.
+
+    Returns:
+        ``key -> value text`` (``-`` for a key not set yet), sorted by key.
+    """
+    keys: set[str] = set()
+    for behaviour in behaviours.values():
+        for client in getattr(behaviour, "blackboards", ()):
+            keys.update(client.write)
+            keys.update(client.exclusive)
+    storage = py_trees.blackboard.Blackboard.storage
+    return {key: (repr(storage[key])[:_BLACKBOARD_TEXT_MAX] if key in storage else "-")
+            for key in sorted(keys)}
+
+
+class TreeStatusPublisher(py_trees.visitors.VisitorBase):
+    """Publishes the tree's status on :data:`STATUS_TOPIC` after every tick.
+
+    Attach it to the ticking tree with :meth:`attach`; it notes the behaviours each tick
+    visits (as a visitor) and publishes from a post-tick handler.
+
+    Args:
+        node: The node to publish from (the runner's).
+        spec: The validated tree.
+        behaviours: ``uid -> behaviour`` from ``load_tree``.
+        zone_manager: The mission's zone manager, for the current zone.
+        complete: Returns whether the mission is over (the runner's verdict).
+    """
+
+    def __init__(self, node: Node, spec: TreeSpec,
+                 behaviours: dict[str, py_trees.behaviour.Behaviour], *,
+                 zone_manager: ZoneManager | None = None,
+                 complete: Callable[[], bool] | None = None) -> None:
+        from std_msgs.msg import String
+
+        super().__init__(full=False)
+        self._node = node
+        self._name = spec.name
+        self._order = [(n.uid, n.name, n.kind) for n in spec.nodes()]
+        self._behaviours = behaviours
+        self._zone_manager = zone_manager
+        self._complete = complete or (lambda: False)
+        self._visited: set[int] = set()
+        self._message_type = String
+        self._publisher = node.create_publisher(String, STATUS_TOPIC, 10)
+        self.tick = 0
+        self.sim_start_s: float | None = None
+
+    def attach(self, tree: py_trees.trees.BehaviourTree) -> TreeStatusPublisher:
+        """Add this publisher to ``tree``'s visitors and post-tick handlers; return it."""
+        tree.visitors.append(self)
+        tree.add_post_tick_handler(self.publish)
+        return self
+
+    def initialise(self) -> None:
+        """Start a tick: forget the previous tick's visits (py_trees calls this)."""
+        self._visited.clear()
+
+    def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
+        """Note a visited behaviour (py_trees calls this for each one ticked)."""
+        self._visited.add(id(behaviour))
+
+    def document(self, tree: py_trees.trees.BehaviourTree) -> dict[str, Any]:
+        """The status document of the tick that just ended."""
+        sim_s = round(self._node.get_clock().now().nanoseconds / 1e9, 3)
+        if self.sim_start_s is None:
+            self.sim_start_s = sim_s
+        nodes = []
+        for uid, name, kind in self._order:
+            behaviour = self._behaviours.get(uid)
+            if behaviour is None:
+                continue
+            nodes.append([uid, name, kind, behaviour.status.name, behaviour.feedback_message,
+                          id(behaviour) in self._visited])
+        return {
+            "format": FORMAT, "tree": self._name, "tick": self.tick,
+            "sim_s": sim_s, "sim_start_s": self.sim_start_s,
+            "status": tree.root.status.name, "complete": bool(self._complete()),
+            "zone": zone_of(self._zone_manager), "nodes": nodes,
+            "blackboard": written_blackboard(self._behaviours),
+        }
+
+    def publish(self, tree: py_trees.trees.BehaviourTree) -> None:
+        """Publish the tick's status (a post-tick handler)."""
+        self.tick += 1
+        message = self._message_type()
+        message.data = json.dumps(self.document(tree), separators=(",", ":"))
+        self._publisher.publish(message)
+
+
+class StatusFormatError(ValueError):
+    """A message on the status topic is not a status document this version reads."""
+
+
+def decode_status(text: str) -> dict[str, Any]:
+    """Parse one status message's ``data``.
+
+    Args:
+        text: The JSON text.
+
+    Returns:
+        The document; ``nodes`` entries as dicts with ``uid, name, kind, status, message,
+        visited, depth``.
+
+    Raises:
+        StatusFormatError: Not JSON, or not format :data:`FORMAT`.
+    """
+    try:
+        document = json.loads(text)
+    except ValueError as err:
+        raise StatusFormatError(f"not a status document: {err}") from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise StatusFormatError(f"not a format {FORMAT} status document")
+    keys = ("uid", "name", "kind", "status", "message", "visited")
+    document["nodes"] = [{**dict(zip(keys, entry, strict=True)), "depth": entry[0].count(".")}
+                         for entry in document.get("nodes", [])]
+    return document

@@ -1,0 +1,255 @@
+"""``mission.png``: the course map with zones, base, survivors, blocked areas and the path.
+
+Plain Python (numpy, Pillow; no ROS). :func:`draw_map` draws a ``mission.json`` document
+(:func:`sar_framework.report.summarise`) and the simulator's trace: the occupancy map
+(walls and debris), the planned zones (numbered in visiting order, with arrival times),
+the base station, the survivors with their ids, injected blocked areas and the robot's
+path, with a title (the tree path cut at the left when long) and a legend.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+MAP_YAML = Path(__file__).resolve().parents[1] / "maps" / "final_project_map.yaml"
+"""The course map the report draws on."""
+
+
+_SCALE = 3  # pixels per map cell (0.05 m -> 60 px per metre)
+_MARGIN_TOP = 44
+_LEGEND_W = 250
+_COLOURS = {
+    "free": (250, 250, 247), "occupied": (55, 60, 68), "unknown": (205, 205, 205),
+    "path": (30, 110, 220), "start": (30, 110, 220), "zone_visited": (46, 160, 67),
+    "zone_skipped": (220, 60, 50), "base": (120, 70, 200), "survivor": (230, 120, 0),
+    "text": (25, 25, 25), "panel": (255, 255, 255), "grid": (232, 232, 228),
+    "blocked": (150, 20, 120),
+}
+BLOCKED_COLOUR = _COLOURS["blocked"]
+"""The colour of injected blocked areas on ``mission.png``."""
+
+
+def _star(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
+    """The ten corners of a five-pointed star centred on ``(cx, cy)``."""
+    return [(cx + radius * (1 if i % 2 == 0 else 0.45) * math.cos(math.pi / 2 + i * math.pi / 5),
+             cy - radius * (1 if i % 2 == 0 else 0.45) * math.sin(math.pi / 2 + i * math.pi / 5))
+            for i in range(10)]
+
+
+def shift_into(left: float, right: float, limit: float) -> float:
+    """How far to move a label spanning ``left..right`` left so it ends before ``limit``.
+
+    Args:
+        left: The label's left edge (px).
+        right: The label's right edge (px).
+        limit: The first pixel it must not reach (the legend panel starts there).
+
+    Returns:
+        The shift (>= 0), never so large that the label leaves the image on the left.
+    """
+    return max(0.0, min(right - limit, left))
+
+
+def fit_left(text: str, room: float, measure: Callable[[str], float]) -> str:
+    """``text`` cut at the left (behind an ellipsis) until ``measure`` says it fits ``room``.
+
+    Args:
+        text: E.g. an absolute tree path; its end (the file name) matters most.
+        room: The width available (px).
+        measure: The drawn width of a text (px).
+    """
+    if measure(text) <= room:
+        return text
+    for start in range(1, len(text)):
+        candidate = "…" + text[start:]
+        if measure(candidate) <= room:
+            return candidate
+    return "…"
+
+
+def _label(draw: Any, xy: tuple[float, float], text: str, colour: Any, font: Any, *,
+           limit: float) -> None:
+    """Draw ``text`` on a white box so the path under it does not hide it.
+
+    The label is moved left when it would run into the legend panel at ``limit``.
+    """
+    box = draw.textbbox(xy, text, font=font)
+    dx = shift_into(box[0] - 2, box[2] + 2, limit)
+    xy = (xy[0] - dx, xy[1])
+    box = (box[0] - dx, box[1], box[2] - dx, box[3])
+    draw.rectangle((box[0] - 2, box[1] - 1, box[2] + 2, box[3] + 1), fill=(255, 255, 255))
+    draw.text(xy, text, fill=colour, font=font)
+
+
+def _font(size: int) -> Any:
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.load_default(size=size)
+    except TypeError:  # Pillow < 10.1: a fixed bitmap font
+        return ImageFont.load_default()
+
+
+def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path,
+             map_yaml: Path = MAP_YAML) -> Path:
+    """Draw ``mission.png``: map, zones, base, survivors, path, title and legend.
+
+    Args:
+        summary: The ``mission.json`` document.
+        trace: The simulator's trace records (poses are drawn as the path).
+        out: The PNG file to write.
+        map_yaml: The occupancy map.
+
+    Returns:
+        ``out``.
+    """
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from sar_framework.sim.occupancy import FREE, OCCUPIED, load_map
+
+    grid = load_map(map_yaml)
+    rgb = np.empty((grid.height, grid.width, 3), dtype=np.uint8)
+    rgb[:] = _COLOURS["unknown"]
+    rgb[grid.data == FREE] = _COLOURS["free"]
+    rgb[grid.data == OCCUPIED] = _COLOURS["occupied"]
+    map_img = Image.fromarray(rgb[::-1], "RGB").resize(
+        (grid.width * _SCALE, grid.height * _SCALE), Image.NEAREST)
+    width = map_img.width + _LEGEND_W
+    height = max(map_img.height + _MARGIN_TOP, 420)
+    img = Image.new("RGB", (width, height), _COLOURS["panel"])
+    img.paste(map_img, (0, _MARGIN_TOP))
+    draw = ImageDraw.Draw(img)
+    px_per_m = _SCALE / grid.resolution
+
+    def to_px(x: float, y: float) -> tuple[float, float]:
+        col = (x - grid.origin_x) * px_per_m
+        row = (grid.origin_y + grid.height * grid.resolution - y) * px_per_m
+        return col, row + _MARGIN_TOP
+
+    # a 1 m grid, under everything else
+    for gx in range(math.ceil(grid.origin_x), math.floor(grid.origin_x + grid.width *
+                                                          grid.resolution) + 1):
+        x0, _ = to_px(gx, 0)
+        for y in range(_MARGIN_TOP, _MARGIN_TOP + map_img.height, 6):
+            if img.getpixel((int(x0), y)) == _COLOURS["free"]:
+                draw.point((int(x0), y), fill=_COLOURS["grid"])
+    small, normal, big = _font(13), _font(15), _font(18)
+
+    poses = [to_px(float(r["x"]), float(r["y"])) for r in trace
+             if "event" not in r and "x" in r and "y" in r]
+    start = next((r for r in trace if r.get("event") == "start"), None)
+    if start is not None:
+        poses.insert(0, to_px(float(start["x"]), float(start["y"])))
+    if len(poses) >= 2:
+        draw.line(poses, fill=_COLOURS["path"], width=3, joint="curve")
+    if poses:
+        sx, sy = poses[0]
+        draw.ellipse((sx - 5, sy - 5, sx + 5, sy + 5), outline=_COLOURS["start"], width=2)
+        ex, ey = poses[-1]
+        draw.ellipse((ex - 5, ey - 5, ex + 5, ey + 5), fill=_COLOURS["path"])
+
+    for area in summary.get("blocked_areas", []):
+        ax, ay = to_px(area["x"], area["y"])
+        r = area["radius"] * px_per_m
+        draw.ellipse((ax - r, ay - r, ax + r, ay + r), outline=_COLOURS["blocked"], width=3)
+        draw.line((ax - r * 0.7, ay - r * 0.7, ax + r * 0.7, ay + r * 0.7),
+                  fill=_COLOURS["blocked"], width=3)
+
+    base = summary.get("base_station") or {}
+    if "x" in base and "y" in base:
+        bx, by = to_px(base["x"], base["y"])
+        draw.rectangle((bx - 11, by - 11, bx + 11, by + 11), outline=_COLOURS["base"], width=3)
+        _label(draw, (bx + 14, by + 4), "base", _COLOURS["base"], normal, limit=map_img.width)
+
+    visited = {v["id"]: v for v in summary.get("zones_visited", [])}
+    for number, zone in enumerate(summary.get("zones_planned", []), 1):
+        zx, zy = to_px(zone["x"], zone["y"])
+        reached = visited.get(zone["id"])
+        colour = _COLOURS["zone_visited"] if reached else _COLOURS["zone_skipped"]
+        r = 0.3 * px_per_m
+        draw.ellipse((zx - r, zy - r, zx + r, zy + r), outline=colour, width=3)
+        draw.text((zx, zy), str(number), fill=colour, font=normal, anchor="mm")
+        label = zone["id"]
+        label += (f"  t={reached['arrival_sim_s']:.0f}s"
+                  if reached and isinstance(reached.get("arrival_sim_s"), (int, float))
+                  else ("" if reached else "  (not reached)"))
+        _label(draw, (zx - r, zy + r + 3), label, colour, small, limit=map_img.width)
+
+    for survivor in summary.get("survivors", []):
+        if not isinstance(survivor.get("x"), (int, float)):
+            continue
+        sx, sy = to_px(survivor["x"], survivor["y"])
+        colour = _COLOURS["survivor"]
+        draw.polygon(_star(sx, sy, 10), fill=colour if survivor.get("acknowledged") else None,
+                     outline=colour)
+        tag = survivor["id"] + ("" if survivor.get("acknowledged") else " (not ack.)")
+        _label(draw, (sx + 12, sy - 18), tag, colour, small, limit=map_img.width)
+
+    facts = (f": {summary.get('outcome', '')}  |  "
+             f"{len(visited)}/{len(summary.get('zones_planned', []))} zones, "
+             f"{sum(1 for s in summary.get('survivors', []) if s.get('acknowledged'))} "
+             f"survivors reported, path {summary.get('path_length_m', 0):.1f} m")
+    tree = fit_left(str(summary.get("tree", "")), width - 20 - draw.textlength(facts, font=big),
+                    lambda text: draw.textlength(text, font=big))
+    draw.text((10, 12), tree + facts, fill=_COLOURS["text"], font=big)
+    _legend(draw, map_img.width + 14, _MARGIN_TOP + 6, summary, font=normal, small=small)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    img.save(out, "PNG")
+    return out
+
+
+def _legend(draw: Any, x: int, y: int, summary: dict[str, Any], *, font: Any,
+            small: Any) -> None:
+    """Draw the legend and the mission's numbers in the right-hand panel."""
+    c = _COLOURS
+    draw.text((x, y), "Legend", fill=c["text"], font=font)
+    y += 26
+    rows: list[tuple[str, Any]] = [
+        ("wall / debris", lambda yy: draw.rectangle((x, yy, x + 18, yy + 12),
+                                                   fill=c["occupied"])),
+        ("robot path", lambda yy: draw.line((x, yy + 6, x + 18, yy + 6), fill=c["path"],
+                                            width=3)),
+        ("start (hollow), end", lambda yy: (
+            draw.ellipse((x, yy + 1, x + 10, yy + 11), outline=c["start"], width=2),
+            draw.ellipse((x + 12, yy + 2, x + 20, yy + 10), fill=c["path"]))),
+        ("zone reached (n = order)", lambda yy: draw.ellipse((x, yy, x + 14, yy + 14),
+                                                            outline=c["zone_visited"],
+                                                            width=3)),
+        ("zone not reached", lambda yy: draw.ellipse((x, yy, x + 14, yy + 14),
+                                                    outline=c["zone_skipped"], width=3)),
+        ("base station", lambda yy: draw.rectangle((x, yy, x + 14, yy + 14),
+                                                  outline=c["base"], width=3)),
+        ("survivor (filled: ack.)", lambda yy: draw.polygon(
+            _star(x + 8, yy + 7, 8), fill=c["survivor"])),
+    ]
+    if summary.get("blocked_areas"):
+        rows.append(("blocked area (fault)", lambda yy: draw.ellipse(
+            (x, yy, x + 14, yy + 14), outline=c["blocked"], width=3)))
+    for text, icon in rows:
+        icon(y)
+        draw.text((x + 28, y), text, fill=c["text"], font=small)
+        y += 24
+    y += 10
+    sim = summary.get("sim_duration_s")
+    lines = [
+        f"outcome: {summary.get('outcome')}",
+        f"simulated: {sim:.1f} s" if isinstance(sim, (int, float)) else "simulated: -",
+        f"wall: {summary.get('wall_duration_s', 0):.1f} s",
+        f"ticks: {summary.get('ticks', 0)}",
+        f"goals sent: {summary.get('navigation_goals', 0)}",
+        f"path: {summary.get('path_length_m', 0):.2f} m",
+    ]
+    final = summary.get("final_position")
+    if final:
+        where = "at base" if summary.get("at_base") else "not at base"
+        lines.append(f"end: ({final['x']:.2f}, {final['y']:.2f}), {where}")
+    for survivor in summary.get("survivors", []):
+        if isinstance(survivor.get("x"), (int, float)):
+            lines.append(f"{survivor['id']}: ({survivor['x']:.2f}, {survivor['y']:.2f})")
+    for line in lines:
+        draw.text((x, y), line, fill=c["text"], font=small)
+        y += 19

@@ -1,0 +1,110 @@
+"""Why things happen in a ticking tree: one record per failure, timeout, cancel, retry, skip.
+
+:class:`ReasonLog` is fed by the status recorder (:mod:`.status_file`) with what each tick
+did and keeps one record per event worth telling a user::
+
+    {"what": "timeout", "uid": "0.0.1.0", "name": "VisitWithin180s", "kind": "timeout",
+     "message": "timed out after 180 s; NavigateToZone: navigation to zone_a interrupted; "
+                "goal cancelled", "sim_s": 201.5, "wall_s": 11.2}
+
+``what`` is ``failure`` (a leaf that had been RUNNING failed), ``timeout`` (a ``timeout``
+decorator failed its child), ``cancel`` (a RUNNING leaf was halted by its parent, e.g. a
+reactive selector), ``retry`` (a ``retry`` decorator starts its child again, or gives up)
+or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). Each
+record's :func:`reason_line` is what the runner logs: ``NavigateToZone [0.0.1]: goal to
+zone_b aborted: no path``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
+
+#: The decorator kinds that explain something when their child fails.
+EXPLAINING_DECORATORS = ("timeout", "retry", "failure_is_success")
+
+
+def reason_line(record: dict[str, Any]) -> str:
+    """One console line for a record: ``Name [uid] what: message``."""
+    what = "" if record["what"] == "failure" else f" {record['what']}"
+    return f"{record['name']} [{record['uid']}]{what}: {record['message']}"
+
+
+class ReasonLog:
+    """Collects the records of one tick, then hands them over.
+
+    Args:
+        kinds: ``uid -> node kind`` of every node of the tree.
+        behaviours: ``uid -> behaviour``.
+    """
+
+    def __init__(self, kinds: dict[str, str], behaviours: dict[str, Behaviour]) -> None:
+        self._kinds = kinds
+        self._behaviours = behaviours
+        self._tick: list[dict[str, Any]] = []
+        self._quoted: set[str] = set()
+
+    def _add(self, what: str, uid: str, message: str, stamp: dict[str, float]) -> None:
+        behaviour = self._behaviours[uid]
+        self._tick.append({"what": what, "uid": uid, "name": behaviour.name,
+                           "kind": self._kinds[uid], "message": message, **stamp})
+
+    def _last_failure_under(self, uid: str) -> str:
+        for record in reversed(self._tick):
+            if record["what"] in ("failure", "timeout") and record["uid"].startswith(uid + "."):
+                return record["message"]
+        return "no reason given"
+
+    def leaf_failed(self, uid: str, message: str, stamp: dict[str, float]) -> None:
+        """A leaf that had been RUNNING returned FAILURE."""
+        self._add("failure", uid, message or "no reason given", stamp)
+
+    def decorator_ticked(self, uid: str, running: set[str], stamp: dict[str, float]) -> None:
+        """Explain what a ``timeout``, ``retry`` or ``failure_is_success`` just did.
+
+        Args:
+            uid: The decorator's uid.
+            running: Uids of the leaves that were RUNNING before this tick.
+            stamp: ``sim_s`` and ``wall_s`` of the tick.
+        """
+        kind = self._kinds[uid]
+        behaviour = self._behaviours[uid]
+        child = behaviour.children[0] if behaviour.children else None
+        status = behaviour.status
+        if kind == "timeout" and status == Status.FAILURE \
+                and (child is None or child.status == Status.INVALID):
+            halted = [u for u in sorted(running) if u.startswith(uid + ".")
+                      and self._behaviours[u].status == Status.INVALID]
+            self._quoted.update(halted)
+            parts = [f"timed out after {getattr(behaviour, 'duration', 0.0):g} s"]
+            parts += [f"{self._behaviours[u].name}: {self._behaviours[u].feedback_message}"
+                      for u in halted]
+            self._add("timeout", uid, "; ".join(parts), stamp)
+        elif kind == "retry" and child is not None and child.status == Status.FAILURE:
+            failures = getattr(behaviour, "failures", 0)
+            limit = getattr(behaviour, "num_failures", 0)
+            why = self._last_failure_under(uid)
+            message = (f"attempt {failures}/{limit} failed ({why}); trying again"
+                       if status == Status.RUNNING else
+                       f"giving up after {failures} failed attempts ({why})")
+            self._add("retry", uid, message, stamp)
+        elif kind == "failure_is_success" and status == Status.SUCCESS \
+                and child is not None and child.status == Status.FAILURE:
+            self._add("skip", uid, f"{child.name} failed ({self._last_failure_under(uid)}); "
+                      "skipped", stamp)
+
+    def leaves_halted(self, halted: list[str], stamp: dict[str, float]) -> None:
+        """RUNNING leaves their parent stopped this tick (not already quoted by a timeout)."""
+        for uid in halted:
+            if uid not in self._quoted:
+                feedback = str(self._behaviours[uid].feedback_message or "")
+                self._add("cancel", uid, f"halted ({feedback})" if feedback else "halted",
+                          stamp)
+
+    def take(self) -> list[dict[str, Any]]:
+        """The records of the tick just finished (and forget them)."""
+        records, self._tick = self._tick, []
+        self._quoted = set()
+        return records

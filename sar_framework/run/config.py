@@ -1,0 +1,278 @@
+"""Configuration of ``sar-tree run``: its options, the checks of its inputs, its children.
+
+Everything here happens before a process starts: :func:`configure` declares the command
+line, :func:`check_config` checks every input, :func:`child_specs` says which processes
+run with which ROS arguments and :func:`ros_environment` with which environment.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from sar_framework.run.inputs import CheckedInputs, check_inputs, parse_entry
+
+DEFAULT_DOMAIN_ID = 42
+"""``ROS_DOMAIN_ID`` when the environment sets none (the Makefile's value too)."""
+DEFAULT_SPEED = 20.0
+"""Simulated seconds per wall second (see ``benchmarks/bench_mission.py``)."""
+DEFAULT_TIMEOUT_S = 300.0
+DEFAULT_PARAMS = "config/mission_params.yaml"
+DEFAULT_REPORT_DIR = "reports/latest"
+
+
+
+class RunUsageError(Exception):
+    """Bad input found before anything was started: printed, exit code 2."""
+
+
+@dataclass(frozen=True)
+class ChildSpec:
+    """One process of the mission.
+
+    Attributes:
+        label: Short name used in progress lines and for the log file (``runner.log``).
+        module: The Python module run with ``-m``.
+        ros_args: Everything after ``--ros-args``.
+    """
+
+    label: str
+    module: str
+    ros_args: tuple[str, ...]
+
+
+@dataclass
+class RunConfig:
+    """What ``sar-tree run`` was asked to do.
+
+    Attributes:
+        tree: The tree file.
+        params: The mission parameter file.
+        survivors: The detect server's survivor table, or None for its default.
+        sim: Start the embedded simulator (else real Nav2 must be running).
+        speed: The simulator's speed factor.
+        report_dir: Where logs and the report go.
+        timeout_s: Wall-clock bound of the mission.
+        keep_alive: Stay up after the mission until Ctrl-C.
+        verbose: Print every child log line, not only progress, warnings and errors.
+        detect_server: Start the detect server.
+        report_server: Start the report server.
+        sim_params: Extra ``NAME:=VALUE`` for the simulator.
+        detect_params: Extra ``NAME:=VALUE`` for the detect server.
+        report_params: Extra ``NAME:=VALUE`` for the report server.
+        runner_params: Extra ``NAME:=VALUE`` for the runner.
+        plugin_paths: Extra plugin locations for the runner.
+        record: The MCAP file to record the mission into, or None.
+        watch: Show the tree live (``sar-tree watch``) instead of progress lines.
+    """
+
+    tree: str
+    params: str = DEFAULT_PARAMS
+    survivors: str | None = None
+    sim: bool = True
+    speed: float = DEFAULT_SPEED
+    report_dir: str = DEFAULT_REPORT_DIR
+    timeout_s: float = DEFAULT_TIMEOUT_S
+    keep_alive: bool = False
+    verbose: bool = False
+    detect_server: bool = True
+    report_server: bool = True
+    sim_params: list[str] = field(default_factory=list)
+    detect_params: list[str] = field(default_factory=list)
+    report_params: list[str] = field(default_factory=list)
+    runner_params: list[str] = field(default_factory=list)
+    plugin_paths: list[str] = field(default_factory=list)
+    record: str | None = None
+    watch: bool = False
+
+
+# -- command line -------------------------------------------------------------------------
+def configure(parser: argparse.ArgumentParser) -> None:
+    """Add ``sar-tree run``'s arguments to ``parser``.
+
+    Args:
+        parser: The subcommand's parser.
+    """
+    from sar_framework.mission.completion import COMPLETION_HELP
+
+    parser.epilog = (COMPLETION_HELP + " Faults to inject (--sim-param, --detect-param, "
+                     "--report-param NAME:=VALUE): see `sar-tree faults`.")
+    parser.add_argument("tree", metavar="TREE", help="the tree file")
+    parser.add_argument("--params", default=DEFAULT_PARAMS, metavar="FILE",
+                        help=f"mission parameter file (default: {DEFAULT_PARAMS})")
+    parser.add_argument("--survivors", metavar="FILE",
+                        help="survivor table for the detect server "
+                        "(default: config/survivors.yaml)")
+    sim = parser.add_mutually_exclusive_group()
+    sim.add_argument("--sim", dest="sim", action="store_true", default=True,
+                     help="run the embedded simulator (default)")
+    sim.add_argument("--no-sim", dest="sim", action="store_false",
+                     help="do not start the simulator: real Nav2 must be running")
+    parser.add_argument("--speed", type=float, default=DEFAULT_SPEED, metavar="X",
+                        help=f"simulated seconds per wall second (default: {DEFAULT_SPEED:g})")
+    parser.add_argument("--report-dir", default=DEFAULT_REPORT_DIR, metavar="DIR",
+                        help=f"logs and mission report (default: {DEFAULT_REPORT_DIR})")
+    parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, metavar="S",
+                        help=f"give up after S wall seconds (default: {DEFAULT_TIMEOUT_S:g})")
+    parser.add_argument("--keep-alive", action="store_true",
+                        help="stay up after the mission (TF, services) until Ctrl-C")
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="print every log line of every process")
+    parser.add_argument("--no-detect-server", dest="detect_server", action="store_false",
+                        help="do not start the detect server (fault injection)")
+    parser.add_argument("--no-report-server", dest="report_server", action="store_false",
+                        help="do not start the report server (fault injection)")
+    for who in ("sim", "detect", "report", "runner"):
+        parser.add_argument(f"--{who}-param", dest=f"{who}_params", action="append",
+                            default=[], metavar="NAME:=VALUE",
+                            help=f"extra ROS parameter for the {who} (repeatable)")
+    parser.add_argument("--plugin-path", action="append", default=[], metavar="P",
+                        help="extra plugin .py file, directory or module name (repeatable)")
+    parser.add_argument("--record", metavar="FILE.mcap",
+                        help="record the mission into a rosbag2-compatible MCAP file")
+    parser.add_argument("--watch", action="store_true",
+                        help="show the tree live (sar-tree watch) instead of progress lines")
+
+
+def config_from_args(args: argparse.Namespace) -> RunConfig:
+    """Turn parsed arguments into a :class:`RunConfig`.
+
+    Args:
+        args: The namespace :func:`configure`'s arguments produced.
+
+    Returns:
+        The configuration (not yet checked; see :func:`check_config`).
+    """
+    return RunConfig(
+        tree=args.tree, params=args.params, survivors=args.survivors, sim=args.sim,
+        speed=args.speed, report_dir=args.report_dir, timeout_s=args.timeout,
+        keep_alive=args.keep_alive, verbose=args.verbose,
+        detect_server=args.detect_server, report_server=args.report_server,
+        sim_params=list(args.sim_params), detect_params=list(args.detect_params),
+        report_params=list(args.report_params), runner_params=list(args.runner_params),
+        plugin_paths=list(args.plugin_path), record=args.record,
+        watch=args.watch,
+    )
+
+
+def check_config(config: RunConfig) -> CheckedInputs:
+    """Check every input before any process starts (:mod:`sar_framework.run.inputs`).
+
+    Args:
+        config: The configuration.
+
+    Returns:
+        What the checks found (the tree's spec, the runner's parameters, the zones).
+
+    Raises:
+        RunUsageError: One problem or more; the message holds every one, a line each.
+    """
+    inputs, problems = check_inputs(config)
+    if inputs is None:
+        raise RunUsageError("\n".join(problems) or f"cannot use {config.tree}")
+    return inputs
+
+
+def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str:
+    """A ``blocked_zones`` entry with a mission zone name replaced by ``x:y:radius``.
+
+    Args:
+        entry: ``zone_b``, ``zone_b:0.8``, a world marker name or ``x:y:radius``.
+        zones: Mission zone id -> ``(x, y)``.
+    """
+    from sar_framework.sim.faults import DEFAULT_NAMED_RADIUS
+
+    name, _, radius = entry.strip().partition(":")
+    if name not in zones:
+        return entry
+    x, y = zones[name]
+    return f"{x:g}:{y:g}:{radius or f'{DEFAULT_NAMED_RADIUS:g}'}"
+
+
+def sim_entries(entries: Sequence[str], zones: dict[str, tuple[float, float]]) -> list[str]:
+    """The ``--sim-param`` entries with mission zone names in ``blocked_zones`` resolved."""
+    resolved = []
+    for entry in entries:
+        parsed = parse_entry(entry)
+        if parsed is not None and parsed[0] == "blocked_zones" and isinstance(parsed[1], list):
+            names = [blocked_zone_entry(str(e), zones) for e in parsed[1]]
+            resolved.append("blocked_zones:=[" + ", ".join(repr(n) for n in names) + "]")
+        else:
+            resolved.append(entry)
+    return resolved
+
+
+def ros_environment(base: dict[str, str] | None = None, *,
+                    log_dir: Path | None = None) -> dict[str, str]:
+    """The environment every child runs with.
+
+    Loopback-only discovery, the caller's ``ROS_DOMAIN_ID`` or :data:`DEFAULT_DOMAIN_ID`,
+    unbuffered, uncoloured output.
+
+    Args:
+        base: The environment to start from (``os.environ`` by default).
+        log_dir: Where rcl writes its log files (``ROS_LOG_DIR``), if given.
+
+    Returns:
+        A new environment mapping.
+    """
+    env = dict(os.environ if base is None else base)
+    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    env.pop("ROS_LOCALHOST_ONLY", None)
+    if not env.get("ROS_DOMAIN_ID", "").strip():
+        env["ROS_DOMAIN_ID"] = str(DEFAULT_DOMAIN_ID)
+    env.setdefault("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
+    env["PYTHONUNBUFFERED"] = "1"
+    env["RCUTILS_COLORIZED_OUTPUT"] = "0"
+    if log_dir is not None:
+        env["ROS_LOG_DIR"] = str(log_dir)
+    return env
+
+
+def child_specs(config: RunConfig, report_dir: Path,
+                zones: dict[str, tuple[float, float]] | None = None) -> list[ChildSpec]:
+    """The processes of a mission, in start order (the runner last).
+
+    Args:
+        config: The configuration.
+        report_dir: The report folder (status, trace and report files go there).
+        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+
+    Returns:
+        One spec per child process.
+    """
+    sim_time = ("-p", f"use_sim_time:={'true' if config.sim else 'false'}")
+
+    def params(entries: Sequence[str]) -> tuple[str, ...]:
+        return tuple(a for entry in entries for a in ("-p", entry))
+
+    specs: list[ChildSpec] = []
+    if config.record:
+        specs.append(ChildSpec("recorder", "sar_framework.recording", (
+            "-p", f"output:={config.record}", "-p", f"tree:={config.tree}",
+            "-p", f"params_file:={config.params}")))
+    if config.sim:
+        specs.append(ChildSpec("sim", "sar_framework.sim", (
+            "-p", f"speed:={config.speed:g}",
+            "-p", f"trace_file:={report_dir / 'trace.jsonl'}",
+            *params(sim_entries(config.sim_params, zones or {})))))
+    if config.detect_server:
+        survivors = ("-p", f"survivors_file:={config.survivors}") if config.survivors else ()
+        specs.append(ChildSpec("detect", "sar_framework.servers.detect_survivor_server", (
+            *sim_time, *survivors, *params(config.detect_params))))
+    if config.report_server:
+        specs.append(ChildSpec("report", "sar_framework.servers.report_survivor_server", (
+            *sim_time, "-p", f"report_file:={report_dir / 'reports.jsonl'}",
+            *params(config.report_params))))
+    plugin_path = (("-p", f"plugin_path:={os.pathsep.join(config.plugin_paths)}")
+                   if config.plugin_paths else ())
+    specs.append(ChildSpec("runner", "sar_framework.ros.runner", (
+        "--params-file", config.params,
+        "-p", f"tree:={config.tree}", *sim_time,
+        "-p", f"exit_on_completion:={'false' if config.keep_alive else 'true'}",
+        "-p", f"status_file:={report_dir / 'status.json'}",
+        *plugin_path, *params(config.runner_params))))
+    return specs

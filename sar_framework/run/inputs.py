@@ -1,0 +1,192 @@
+"""Every input of ``sar-tree run`` checked before anything starts, all problems at once.
+
+Checked: the files exist; ``--speed`` and ``--timeout``; the tree (every diagnostic); the
+mission parameter file (rcl's structure, then each key's name, type and value against
+:data:`~sar_framework.mission.params_check.RUNNER_PARAMETERS`, then the zones); the
+survivor table; and each ``--sim-param``/``--detect-param``/``--report-param``/
+``--runner-param NAME:=VALUE`` (known name, did-you-mean, type; ``blocked_zones`` entries
+parsed, with the mission's zone names accepted). Problems are GCC style, one a line
+(``file:line:col: key: problem`` where a position is known).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import yaml
+
+from sar_framework.mission.params_check import (
+    RUNNER_PARAMETERS,
+    ParamInfo,
+    check_values,
+    mission_problems,
+    zone_positions,
+)
+
+if TYPE_CHECKING:
+    from sar_framework.run.config import RunConfig
+
+CHILDREN = ("sim", "detect", "report", "runner")
+_SIM_TIME = ParamInfo("use_sim_time", "bool", "follow /clock")
+SERVER_PARAMETERS: dict[str, tuple[ParamInfo, ...]] = {
+    # As declared in sar_framework/servers/detect_survivor_server.py and
+    # report_survivor_server.py (a test compares the names).
+    "detect": (
+        ParamInfo("survivors_file", "str", "survivor table (YAML)"),
+        ParamInfo("service_name", "str", "the service's name"),
+        ParamInfo("answer_delay_s", "float", "fault: wall seconds before each answer"),
+        _SIM_TIME,
+    ),
+    "report": (
+        ParamInfo("report_file", "str", "JSON Lines file of acknowledged reports"),
+        ParamInfo("service_name", "str", "the service's name"),
+        ParamInfo("global_frame", "str", "frame of the reported positions"),
+        ParamInfo("refuse_all", "bool", "fault: refuse every report"),
+        ParamInfo("answer_delay_s", "float", "fault: wall seconds before each answer"),
+        _SIM_TIME,
+    ),
+}
+
+
+def child_parameters(who: str) -> tuple[ParamInfo, ...]:
+    """The parameters child ``who`` (``sim``, ``detect``, ``report``, ``runner``) reads."""
+    if who == "runner":
+        return RUNNER_PARAMETERS
+    if who == "sim":
+        from sar_framework.sim.sim_node import PARAMETERS
+
+        return (*(ParamInfo(p.name, p.kind, p.doc) for p in PARAMETERS), _SIM_TIME)
+    return SERVER_PARAMETERS[who]
+
+
+def parse_entry(entry: str) -> tuple[str, Any] | None:
+    """``NAME:=VALUE`` -> ``(NAME, value)`` read as YAML, as rcl reads it; None if malformed."""
+    name, sep, text = entry.partition(":=")
+    if not sep or not name or not all(c.isalnum() or c in "_." for c in name) \
+            or name[0].isdigit() or name[0] == ".":
+        return None
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError:
+        value = text
+    return name, text if value is None else value
+
+
+@dataclass
+class CheckedInputs:
+    """What the checks found, for starting the mission.
+
+    Attributes:
+        spec: The tree's ``TreeSpec``.
+        runner_values: The runner's parameters: the file's, then ``--runner-param``.
+        zones: Mission zone id -> ``(x, y)``.
+        blocked_areas: The ``blocked_zones`` fault as ``(x, y, radius)`` circles, metres.
+    """
+
+    spec: Any
+    runner_values: dict[str, Any]
+    zones: dict[str, tuple[float, float]]
+    blocked_areas: tuple[tuple[float, float, float], ...] = ()
+
+
+def _option_problems(config: RunConfig) -> list[str]:
+    problems = []
+    for label, path in (("tree", config.tree), ("parameter file", config.params),
+                        ("survivor table", config.survivors)):
+        if path is not None and not Path(path).is_file():
+            problems.append(f"{label} not found: '{path}'")
+    if not (config.speed > 0 and config.speed < 1e6):
+        problems.append(f"--speed must be a positive number, got {config.speed:g}")
+    if not config.timeout_s > 0:
+        problems.append(f"--timeout must be positive, got {config.timeout_s:g}")
+    return problems
+
+
+def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]:
+    values: dict[str, Any] = {}
+    for entry in getattr(config, f"{who}_params"):
+        parsed = parse_entry(entry)
+        if parsed is None:
+            problems.append(f"--{who}-param {entry!r}: expected NAME:=VALUE")
+        else:
+            values[parsed[0]] = parsed[1]
+    return values
+
+
+def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]],
+                   problems: list[str]) -> tuple[tuple[float, float, float], ...]:
+    from sar_framework.sim.faults import FaultConfigError, parse_blocked_zone
+    from sar_framework.sim.world import WorldError, load_world
+
+    entries = values.get("blocked_zones")
+    if not isinstance(entries, list):
+        return ()
+    try:
+        markers = {m.name: (m.x, m.y) for m in load_world(values.get("world") or
+                                                           _default_world()).markers}
+    except WorldError:
+        markers = {}
+    areas = []
+    for entry in entries:
+        if not str(entry).strip():
+            continue  # [''] means none (a ROS list cannot be empty)
+        try:
+            zone = parse_blocked_zone(str(entry), {**markers, **zones})
+        except FaultConfigError as err:
+            problems.append(f"--sim-param {err}")
+        else:
+            areas.append((zone.x, zone.y, zone.radius))
+    return tuple(areas)
+
+
+def _default_world() -> Path:
+    from sar_framework.sim.world import DEFAULT_WORLD_PATH
+
+    return Path(DEFAULT_WORLD_PATH)
+
+
+def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
+    """Check every input of a run.
+
+    Args:
+        config: The configuration.
+
+    Returns:
+        ``(inputs, problems)``: ``inputs`` is None when a problem stops the run.
+    """
+    from sar_framework.engine.api import validate
+    from sar_framework.mission.params_file import read_params_file
+    from sar_framework.servers.survivors import SurvivorsFileError, load_survivors
+
+    problems = _option_problems(config)
+    overrides = {who: _entries(config, who, problems) for who in CHILDREN}
+    for who in CHILDREN:
+        problems += [str(err) for err in check_values(overrides[who], child_parameters(who),
+                                                      {}, f"--{who}-param")]
+    spec = None
+    if Path(config.tree).is_file():
+        result = validate(config.tree, plugin_paths=config.plugin_paths)
+        problems += [str(d) for d in result.diagnostics if d.severity == "error"]
+        spec = result.spec
+    values: dict[str, Any] = {}
+    if Path(config.params).is_file():
+        contents = read_params_file(config.params)
+        problems += [str(p) for p in contents.problems]
+        problems += [str(p) for p in check_values(contents.values, RUNNER_PARAMETERS,
+                                                  contents.locations, config.params)]
+        values = {**contents.values, **overrides["runner"]}
+        if not contents.problems:
+            problems += [str(p) for p in mission_problems(values, contents.locations,
+                                                          config.params)]
+    zones = zone_positions(values)
+    blocked = _blocked_areas(overrides["sim"], zones, problems)
+    if config.survivors is not None and Path(config.survivors).is_file():
+        try:
+            load_survivors(config.survivors)
+        except SurvivorsFileError as err:
+            problems.append(str(err))
+    if problems or spec is None:
+        return None, problems
+    return CheckedInputs(spec, values, zones, blocked), problems

@@ -1,0 +1,203 @@
+"""Mission outcome of ``sar-tree run``: progress lines, verdict, reason, summary, exit code.
+
+Exit codes: 0 the mission reached its declared end with SUCCESS, 1 FAILURE, a timeout or a
+failed start-up, 2 bad input (missing tree, a tree or parameter file with errors, a bad
+option), 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import signal
+from collections import Counter
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+EXIT_OK = 0
+EXIT_FAILURE = 1
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+
+_PROGRESS = re.compile(
+    r"^(--- Zone \d+/\d+: |Reached |Detection request for |Report received: |"
+    r"Report refused: |No survivor found at |All zones visited|Zones done, |Returning to base|"
+    r"Mission complete\.|"
+    r"Mission failed|Broadcast static TF )"
+)
+VERDICT_PREFIXES = ("Mission complete.", "Mission failed")
+"""How the runner's one verdict line starts."""
+
+
+def is_progress(message: str) -> bool:
+    """Whether an INFO line of a child is a progress line shown on the console."""
+    return _PROGRESS.match(message) is not None
+
+
+@dataclass
+class Outcome:
+    """How a mission ended.
+
+    Attributes:
+        status: ``SUCCESS``, ``FAILURE``, ``TIMEOUT``, ``INTERRUPTED`` or ``ERROR``.
+        exit_code: The process exit code.
+        reason: One line for the user (which node failed and why), or "".
+    """
+
+    status: str
+    exit_code: int
+    reason: str = ""
+
+
+def read_status(report_dir: Path) -> dict[str, Any]:
+    """The runner's status file, or ``{}`` when it is missing or unreadable."""
+    try:
+        return json.loads((report_dir / "status.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+
+
+def last_failure(status: dict[str, Any]) -> dict[str, Any] | None:
+    """The last leaf failure or timeout the runner recorded (else its last record), or None."""
+    failures = status.get("failures") or []
+    causes = [f for f in failures if f.get("what", "failure") in ("failure", "timeout")]
+    return (causes or failures or [None])[-1]
+
+
+def failure_reason(status: dict[str, Any], verdict_line: str | None) -> str:
+    """The last failure the runner recorded, its start-up error, or its verdict line."""
+    last = last_failure(status)
+    if last is not None:
+        return (f"{last.get('name')} [{last.get('uid')}] failed: "
+                f"{last.get('message') or 'no reason given'}")
+    if status.get("error"):
+        return str(status.get("error"))
+    return verdict_line or "no reason given"
+
+
+def verdict_outcome(verdict_line: str | None, status: dict[str, Any]) -> Outcome:
+    """The outcome the runner's verdict line announced."""
+    if verdict_line and verdict_line.startswith("Mission complete."):
+        return Outcome("SUCCESS", EXIT_OK)
+    return Outcome("FAILURE", EXIT_FAILURE, failure_reason(status, verdict_line))
+
+
+def runner_exit_outcome(code: int, status: dict[str, Any], verdict_line: str | None,
+                        last_error: str) -> Outcome:
+    """The outcome of a runner that exited with ``code``.
+
+    Args:
+        code: The runner's exit status.
+        status: Its status file.
+        verdict_line: Its verdict line, if it printed one.
+        last_error: Its last warning or error line.
+    """
+    if code == 0 and status.get("complete") is False:  # stopped by a signal we did not send
+        return Outcome("ERROR", EXIT_FAILURE, "the runner was stopped before the mission "
+                       "was complete")
+    if code == 0:
+        return Outcome("SUCCESS", EXIT_OK)
+    if code == 1:
+        return Outcome("FAILURE", EXIT_FAILURE, failure_reason(status, verdict_line))
+    if code == 2:
+        return Outcome("ERROR", EXIT_USAGE, f"the runner rejected its input: {last_error}")
+    return Outcome("ERROR", EXIT_FAILURE, f"the runner exited ({code}): {last_error}")
+
+
+def exit_words(code: int | None) -> str:
+    """``was killed by SIGKILL`` or ``exited with status 3``."""
+    if code is not None and code < 0:
+        try:
+            return f"was killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"was killed by signal {-code}"
+    return f"exited with status {code}"
+
+
+def child_exit_outcome(label: str, code: int | None, last_error: str) -> Outcome:
+    """The outcome of a run whose simulator (its clock) ended, or a child refused its input.
+
+    Args:
+        label: The child.
+        code: Its exit status (negative: the signal that killed it).
+        last_error: Its last warning or error line, quoted when it exited by itself.
+    """
+    exit_code = EXIT_USAGE if code == EXIT_USAGE else EXIT_FAILURE
+    reason = f"the {label} process {exit_words(code)} mid-mission"
+    if code is not None and code >= 0:
+        reason += f": {last_error}"
+    if label == "sim":
+        reason += "; simulated time stopped, so the tree cannot go on"
+    return Outcome("ERROR", exit_code, reason)
+
+
+def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any) -> Outcome:
+    """The outcome of a mission still running after ``timeout_s`` wall seconds."""
+    running = list(status.get("running") or [])
+    names = {n.uid: n.name for n in spec.nodes()} if spec is not None else {}
+    leaves = [u for u in running if not any(o != u and o.startswith(u + ".")
+                                            for o in running)]
+    where = ", ".join(f"{names.get(u, u)} [{u}]" for u in leaves) or "no node RUNNING"
+    failure = last_failure(status)
+    last = (f"; last failure: {failure.get('name')} [{failure.get('uid')}]: "
+            f"{failure.get('message')}") if failure else ""
+    return Outcome("TIMEOUT", EXIT_FAILURE,
+                   f"timeout after {timeout_s:g} s; still running: {where}{last}")
+
+
+def _where_it_ended(summary: dict[str, Any]) -> str:
+    """``final position (0.02, -0.01), at base`` from a ``mission.json`` document."""
+    final = summary.get("final_position")
+    if not final:
+        return "final position unknown"
+    where = {True: "at base", False: "NOT at base", None: "base unknown"}[summary.get("at_base")]
+    return f"final position ({final['x']:.2f}, {final['y']:.2f}), {where}"
+
+
+def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
+              written: Sequence[Path], stop_s: float | None) -> None:
+    """Print the final lines: verdict, numbers, failures, where the report is.
+
+    Args:
+        say: Prints one line.
+        report_dir: The report folder.
+        outcome: How the mission ended.
+        written: The report files written (mission.json among them, when it was).
+        stop_s: Wall seconds the stop took, when known.
+    """
+    summary: dict[str, Any] = {}
+    mission_json = report_dir / "mission.json"
+    if mission_json in written:
+        summary = json.loads(mission_json.read_text(encoding="utf-8"))
+    zones = list(dict.fromkeys(z["id"] for z in summary.get("zones_visited", [])))
+    survivors = [s["id"] for s in summary.get("survivors", []) if s.get("acknowledged")]
+    parts = [f"Mission {outcome.status}"]
+    if summary:
+        parts.append(f"{summary.get('wall_duration_s', 0):.1f} s wall, "
+                     f"{summary.get('sim_duration_s') or 0:.1f} s simulated, "
+                     f"{summary.get('ticks', 0)} ticks")
+        parts.append(f"zones visited: {', '.join(zones) or 'none'}")
+        if summary.get("zones_skipped"):
+            parts.append(f"zones not reached: {', '.join(summary['zones_skipped'])}")
+        parts.append(f"survivors reported: {', '.join(survivors) or 'none'}")
+        parts.append(_where_it_ended(summary))
+    say("sar-tree run: " + "; ".join(parts))
+    if outcome.reason:
+        say(f"sar-tree run: {outcome.reason}")
+    if outcome.status == "INTERRUPTED" and stop_s is not None:
+        say(f"sar-tree run: every process stopped {stop_s:.2f} s after the signal")
+    if outcome.status == "SUCCESS":
+        # A retried leaf can fail the same way several times: one note each, with a count.
+        # Retries, skips and cancels were printed as they happened; the causes are noted.
+        counts = Counter((f["name"], f["uid"], f.get("what", "failure"), f["message"])
+                         for f in summary.get("failures", [])
+                         if f.get("what", "failure") in ("failure", "timeout"))
+        for (name, uid, what, message), count in counts.items():
+            times = f" ({count} times)" if count > 1 else ""
+            event = "failed" if what == "failure" else "timed out"
+            say(f"sar-tree run: note: {name} [{uid}] {event} on the way{times}: {message}")
+    if written:
+        say(f"sar-tree run: report in {report_dir}/ "
+            f"({', '.join(p.name for p in written)}; child logs *.log)")

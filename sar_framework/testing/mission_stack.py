@@ -1,0 +1,88 @@
+"""The embedded simulator and the detect/report servers as child processes, for tests.
+
+::
+
+    with MissionStack(tmp_path) as stack:      # waits until each one logs "ready"
+        ...                                     # navigate_to_pose, /detect_survivor, ...
+    stack.reports()                             # what the report server recorded
+
+They run on the ROS environment of the calling process (a private domain with
+:func:`~sar_framework.testing.ros_env.lease_domain_id`, as the ``sar_ros_domain``
+fixture sets it). The simulator runs on simulated time (``speed`` simulated seconds per
+wall second) and the servers follow it (``use_sim_time``).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from sar_framework.testing.processes import NodeProcess
+
+READY_S = 30.0  # start-up on a loaded 2-core machine: imports and discovery
+
+
+class MissionStack:
+    """The simulator, the detect server and the report server.
+
+    Args:
+        log_dir: Where each process's log (``sim.log``, ``detect.log``, ``report.log``) and
+            the report server's ``reports.jsonl`` go.
+        speed: Simulated seconds per wall second.
+        survivors: A survivors file for the detect server (default: its built-in table).
+    """
+
+    def __init__(self, log_dir: Path, *, speed: float = 20.0,
+                 survivors: Path | None = None) -> None:
+        self.log_dir = Path(log_dir)
+        self.log_dir.mkdir(parents=True, exist_ok=True)
+        self.report_file = self.log_dir / "reports.jsonl"
+        sim_time = ["-p", "use_sim_time:=true"]
+        detect = ["-p", f"survivors_file:={survivors}"] if survivors else []
+        self.processes = [
+            NodeProcess(["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={speed:g}"],
+                        "sim", log_dir=self.log_dir),
+            NodeProcess(["-m", "sar_framework.servers.detect_survivor_server", "--ros-args",
+                         *sim_time, *detect], "detect", log_dir=self.log_dir),
+            NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+                         *sim_time, "-p", f"report_file:={self.report_file}"], "report",
+                        log_dir=self.log_dir),
+        ]
+
+    def start(self) -> MissionStack:
+        """Start all three and wait until each has logged ``ready``."""
+        for process in self.processes:
+            process.start()
+        try:
+            for process in self.processes:
+                process.wait_for_output(r"\bready\b", timeout=READY_S)
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def stop(self) -> None:
+        """Stop the servers, then the simulator (SIGINT, then SIGKILL)."""
+        for process in reversed(self.processes):
+            if process.started:
+                process.stop()
+
+    def output(self, label: str) -> str:
+        """What the process ``sim``, ``detect`` or ``report`` has logged so far."""
+        return next(p for p in self.processes if p.label == label).output
+
+    def reports(self) -> list[dict[str, Any]]:
+        """The survivors the report server has recorded."""
+        if not self.report_file.exists():
+            return []
+        lines = self.report_file.read_text().splitlines()
+        return [json.loads(line) for line in lines if line.strip()]
+
+    def __enter__(self) -> MissionStack:
+        return self.start()
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.stop()

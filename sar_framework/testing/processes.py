@@ -1,0 +1,136 @@
+"""Start and stop ROS nodes in child processes, with the venv's interpreter.
+
+The ROS wheels' ``.pth`` bootstrapper re-executes every interpreter of the venv once
+with the right ``LD_LIBRARY_PATH``, so a child must be started with ``sys.executable``
+of the test run (the venv's Python), never a system ``python3``.
+
+Typical use::
+
+    with NodeProcess(["-m", "sar_framework.servers.detect_survivor_server"], "detect") as p:
+        p.wait_for_output("ready", timeout=15)
+        ...
+    # leaving the block sends SIGINT, then SIGKILL if the node does not stop
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from types import TracebackType
+
+
+class NodeProcess:
+    """A child Python process running a ROS node, its output captured to a file.
+
+    Args:
+        args: Arguments after the interpreter (``["-m", "pkg.module", ...]`` or a script).
+        label: A short name for messages and the log file.
+        env: Extra environment variables (the test run's ROS settings are inherited).
+        log_dir: Where the output file goes (a temp dir by default).
+    """
+
+    def __init__(self, args: Sequence[str], label: str, *, env: dict[str, str] | None = None,
+                 log_dir: Path | None = None) -> None:
+        self.args = [sys.executable, *args]
+        self.label = label
+        self.env = {**os.environ, **(env or {})}
+        folder = log_dir or Path(tempfile.mkdtemp(prefix="sar_node_"))
+        self.log_path = folder / f"{label}.log"
+        self._proc: subprocess.Popen[bytes] | None = None
+
+    def start(self) -> NodeProcess:
+        """Start the process (its own process group, so a stop reaches its children)."""
+        with self.log_path.open("wb") as log:
+            self._proc = subprocess.Popen(
+                self.args, stdout=log, stderr=subprocess.STDOUT, env=self.env,
+                start_new_session=True,
+            )
+        return self
+
+    @property
+    def started(self) -> bool:
+        """Whether :meth:`start` was called."""
+        return self._proc is not None
+
+    @property
+    def pid(self) -> int:
+        """The child's process id."""
+        assert self._proc is not None, "not started"
+        return self._proc.pid
+
+    @property
+    def output(self) -> str:
+        """Everything the process has printed so far."""
+        return self.log_path.read_text(errors="replace") if self.log_path.exists() else ""
+
+    def returncode(self) -> int | None:
+        """The exit code, or None while it runs."""
+        assert self._proc is not None, "not started"
+        return self._proc.poll()
+
+    def wait_for_output(self, pattern: str, timeout: float = 20.0) -> re.Match[str]:
+        """Wait until the output matches a regular expression.
+
+        Args:
+            pattern: The regular expression.
+            timeout: Seconds to wait.
+
+        Returns:
+            The match.
+
+        Raises:
+            AssertionError: Timeout or the process ended first; the output is in the message.
+        """
+        deadline = time.monotonic() + timeout
+        regex = re.compile(pattern)
+        while True:
+            match = regex.search(self.output)
+            if match:
+                return match
+            if self.returncode() is not None:
+                raise AssertionError(
+                    f"{self.label} exited ({self.returncode()}) before printing {pattern!r}:\n"
+                    f"{self.output}"
+                )
+            if time.monotonic() > deadline:
+                raise AssertionError(
+                    f"{self.label}: no {pattern!r} within {timeout} s:\n{self.output}"
+                )
+            time.sleep(0.05)
+
+    def wait(self, timeout: float) -> int:
+        """Wait for the process to end by itself; return its exit code."""
+        assert self._proc is not None, "not started"
+        return self._proc.wait(timeout=timeout)
+
+    def send_signal(self, sig: int) -> None:
+        """Send a signal to the process group."""
+        assert self._proc is not None, "not started"
+        if self._proc.poll() is None:
+            os.killpg(self._proc.pid, sig)
+
+    def stop(self, timeout: float = 5.0) -> int:
+        """SIGINT (ROS's Ctrl-C), then SIGKILL if it has not ended within ``timeout``."""
+        assert self._proc is not None, "not started"
+        if self._proc.poll() is None:
+            self.send_signal(signal.SIGINT)
+            try:
+                self._proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                self.send_signal(signal.SIGKILL)
+                self._proc.wait(timeout=timeout)
+        return self._proc.returncode
+
+    def __enter__(self) -> NodeProcess:
+        return self.start()
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.stop()

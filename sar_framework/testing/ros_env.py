@@ -1,0 +1,70 @@
+"""A ROS 2 environment of its own for each test run.
+
+Every run gets ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` (no traffic leaves loopback)
+and a ``ROS_DOMAIN_ID`` nobody else on the machine holds: ids are claimed with an
+exclusive ``flock`` on a file in the temp dir, so parallel runs (two developers, CI and a
+shell) never see each other's nodes.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import tempfile
+from pathlib import Path
+from typing import IO
+
+# Fast DDS maps a domain to UDP ports; 1..101 is safe on Linux with default port ranges.
+_DOMAIN_RANGE = range(1, 102)
+
+
+class DomainLease:
+    """An exclusively held ROS domain id, released by :meth:`release`.
+
+    Attributes:
+        domain_id: The id this process holds.
+    """
+
+    def __init__(self, domain_id: int, handle: IO[str]) -> None:
+        self.domain_id = domain_id
+        self._handle = handle
+
+    def release(self) -> None:
+        """Give the id back."""
+        fcntl.flock(self._handle, fcntl.LOCK_UN)
+        self._handle.close()
+
+
+def lease_domain_id() -> DomainLease:
+    """Claim a free ROS domain id for this process.
+
+    Returns:
+        The lease; keep it alive for as long as the id is used.
+
+    Raises:
+        RuntimeError: Every id in the range is held by another run.
+    """
+    folder = Path(tempfile.gettempdir()) / "sar_framework_ros_domains"
+    folder.mkdir(exist_ok=True)
+    start = os.getpid() % len(_DOMAIN_RANGE)  # spread concurrent runs over the range
+    ids = list(_DOMAIN_RANGE)
+    for domain_id in ids[start:] + ids[:start]:
+        handle = (folder / f"{domain_id}.lock").open("w")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        return DomainLease(domain_id, handle)
+    raise RuntimeError("no free ROS_DOMAIN_ID: too many test runs at once")
+
+
+def apply_local_ros_env(domain_id: int) -> None:
+    """Set this process's (and its children's) ROS environment to loopback + ``domain_id``."""
+    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    os.environ["ROS_DOMAIN_ID"] = str(domain_id)
+    os.environ.pop("ROS_STATIC_PEERS", None)
+    os.environ.pop("ROS_LOCALHOST_ONLY", None)  # deprecated in Jazzy; RANGE replaces it
+    os.environ.setdefault("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
+    os.environ["PYTHONUNBUFFERED"] = "1"
+    os.environ["RCUTILS_COLORIZED_OUTPUT"] = "0"

@@ -1,0 +1,202 @@
+"""``sar-tree watch``: attach to a running mission and show its tree live in the terminal.
+
+Listens on the ROS domain of the environment (``ROS_DOMAIN_ID``) to the tree status the
+runner publishes each tick (:mod:`sar_framework.recording.tree_status`) and redraws the
+frame of :mod:`.view` with rich's ``Live`` display, at most :data:`MAX_FPS` times a
+second. It ends by itself when the mission is over (the runner's verdict) or when the
+runner goes away, and on Ctrl-C; when no mission shows up within ``--wait`` seconds it
+says so and exits 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from types import FrameType
+from typing import Any
+
+from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.watch.snapshot_source import SnapshotFeed
+
+EXIT_OK = 0
+EXIT_NO_MISSION = 1
+EXIT_INTERRUPTED = 130
+MAX_FPS = 20.0
+DEFAULT_WAIT_S = 30.0
+RATE_WINDOW_S = 2.0
+SPIN_S = 0.02
+#: Seconds to keep reading after the runner's publisher is gone (messages still in flight).
+GONE_GRACE_S = 0.5
+#: Seconds to wait, once the mission is over, for the last tick's snapshot.
+SNAPSHOT_GRACE_S = 0.4
+
+
+def configure(parser: argparse.ArgumentParser) -> None:
+    """Add ``sar-tree watch``'s arguments to ``parser``."""
+    parser.add_argument("--wait", type=float, default=DEFAULT_WAIT_S, metavar="S",
+                        help="give up when no mission ticks within S seconds "
+                        f"(default: {DEFAULT_WAIT_S:g})")
+    parser.add_argument("--fps", type=float, default=MAX_FPS, metavar="N",
+                        help=f"redraw at most N times a second (default: {MAX_FPS:g})")
+
+
+@dataclass
+class WatchState:
+    """What the watcher has seen so far.
+
+    Attributes:
+        document: The latest status document, or None before the first.
+        arrivals: ``(wall time, tick)`` of recent documents, for the tick rate.
+        received: Documents received.
+        drawn: Frames drawn.
+        rejected: Messages that were not status documents.
+        fresh: A document came since the last frame was drawn.
+        first_s: ``time.monotonic()`` of the first document.
+    """
+
+    document: dict[str, Any] | None = None
+    arrivals: deque[tuple[float, int]] = field(default_factory=deque)
+    received: int = 0
+    drawn: int = 0
+    rejected: int = 0
+    fresh: bool = False
+    first_s: float = 0.0
+
+    def take(self, text: str, now: float) -> None:
+        """Decode one message and keep it (a bad one is counted and dropped)."""
+        try:
+            document = decode_status(text)
+        except StatusFormatError:
+            self.rejected += 1
+            return
+        if self.document is None:
+            self.first_s = now
+        self.document, self.fresh = document, True
+        self.received += 1
+        self.arrivals.append((now, int(document.get("tick", 0))))
+        while self.arrivals and now - self.arrivals[0][0] > RATE_WINDOW_S:
+            self.arrivals.popleft()
+
+    def ticks_per_s(self) -> float | None:
+        """Ticks per wall second over the last :data:`RATE_WINDOW_S` seconds."""
+        if len(self.arrivals) < 2:
+            return None
+        (t0, k0), (t1, k1) = self.arrivals[0], self.arrivals[-1]
+        return (k1 - k0) / (t1 - t0) if t1 > t0 else None
+
+
+def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = None) -> int:
+    """Show the running mission's tree until it ends; return the exit code.
+
+    Args:
+        wait_s: Seconds to wait for the first status.
+        fps: Highest redraw rate.
+        console: A ``rich.console.Console`` (stdout's by default).
+    """
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from rclpy.signals import SignalHandlerOptions
+    from rich.console import Console
+    from rich.live import Live
+    from std_msgs.msg import String
+
+    from sar_framework.watch.snapshot_source import snapshots_available
+    from sar_framework.watch.view import frame
+
+    console = console or Console()
+    stop: list[int] = []
+
+    def request_stop(signum: int, _frame: FrameType | None) -> None:
+        stop.append(signum)
+
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    previous = {s: signal.signal(s, request_stop) for s in (signal.SIGINT, signal.SIGTERM)}
+    node = Node("sar_tree_watch")
+    state = WatchState()
+    node.create_subscription(String, STATUS_TOPIC,
+                             lambda m: state.take(m.data, time.monotonic()), 100)
+    feed = SnapshotFeed(node) if snapshots_available() else None
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    started = time.monotonic()
+    ending = ""
+    gone_since: float | None = None
+    done_since: float | None = None
+    try:
+        with Live(console=console, auto_refresh=False, transient=False) as live:
+            live.update(f"waiting for a mission on {STATUS_TOPIC} "
+                        f"(ROS_DOMAIN_ID={_domain()})...", refresh=True)
+            last_draw = 0.0
+            while not stop:
+                executor.spin_once(timeout_sec=SPIN_S)
+                now = time.monotonic()
+                if feed is not None and state.document is not None:
+                    feed.poll(now)
+                done = state.document is not None and bool(state.document.get("complete"))
+                if done and feed is not None and feed.topic:
+                    # draw the last tick with its own snapshot, which follows the status
+                    done_since = done_since or now
+                    done = (feed.has(int(state.document.get("tick", 0)))
+                            or now - done_since > SNAPSHOT_GRACE_S)
+                fresh = state.fresh or (feed is not None and feed.fresh)
+                if fresh and (done or now - last_draw >= 1.0 / fps):
+                    document = feed.merged(state.document) if feed else state.document
+                    live.update(frame(document, state.ticks_per_s(),
+                                      source=_source(state.received, feed)), refresh=True)
+                    state.fresh, last_draw = False, now
+                    state.drawn += 1
+                if done:
+                    ending = "the mission is over"
+                    break
+                if state.document is None and now - started > wait_s:
+                    break
+                if state.document is not None and node.count_publishers(STATUS_TOPIC) == 0:
+                    gone_since = gone_since or now
+                    if now - gone_since > GONE_GRACE_S:
+                        ending = "the runner has gone"
+                        break
+                else:
+                    gone_since = None
+    finally:
+        if feed is not None:
+            feed.close(executor)
+        executor.shutdown(timeout_sec=0.0)
+        node.destroy_node()
+        rclpy.try_shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    if stop:
+        return EXIT_INTERRUPTED
+    if state.document is None:
+        console.print(f"sar-tree watch: no mission ticked on {STATUS_TOPIC} within "
+                      f"{wait_s:g} s (ROS_DOMAIN_ID={_domain()}); start one with sar-tree run "
+                      "or ros2 launch on the same domain", highlight=False)
+        return EXIT_NO_MISSION
+    elapsed = max(time.monotonic() - state.first_s, 1e-9)
+    console.print(f"sar-tree watch: {ending}; {state.received} ticks seen, {state.drawn} "
+                  f"frames drawn ({state.drawn / elapsed:.1f} frames/s)", highlight=False)
+    return EXIT_OK
+
+
+def _source(received: int, feed: SnapshotFeed | None) -> str:
+    if feed is None or not feed.topic:
+        return f"{STATUS_TOPIC}, {received} ticks seen"
+    return f"{STATUS_TOPIC} + py_trees_ros snapshots on {feed.topic}, {received} ticks seen"
+
+
+def _domain() -> str:
+    return os.environ.get("ROS_DOMAIN_ID", "0") or "0"
+
+
+def watch_command(args: argparse.Namespace) -> int:
+    """``sar-tree watch``: return the exit code."""
+    if not args.wait > 0 or not args.fps > 0:
+        sys.stderr.write("sar-tree watch: error: --wait and --fps must be positive\n")
+        return 2
+    return watch(args.wait, args.fps)

@@ -1,0 +1,102 @@
+"""A server or the simulator killed mid-mission: the tree sees it, as it would on a robot.
+
+A server's death is a service that stops answering: the leaf fails with that reason after
+its bound, and a tree written to skip goes on (regression: the supervisor aborted the whole
+run, quoting the server's last log line). The simulator is the clock: its death ends the
+run, naming the process and the signal. Nothing reported is lost, no process is left.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import pytest
+
+from .helpers import (
+    FAST,
+    SKIP_TREE,
+    child_pids,
+    no_traceback,
+    read_json,
+    read_jsonl,
+    sar_tree_run,
+    wait_gone,
+)
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+
+MODULES = {"detect": "detect_survivor_server", "report": "report_survivor_server",
+           "sim": "sar_framework.sim"}
+
+
+def _quick_service_bounds(tmp_path: Path) -> Path:
+    """The skip tree with 1 s service bounds (the defaults are 10 s of wall time)."""
+    bounds = "server_timeout_s: 1.0, response_timeout_s: 1.0"
+    text = SKIP_TREE.read_text().replace("DetectSurvivor: {id: detect}",
+                                         f"DetectSurvivor: {{id: detect, {bounds}}}")
+    text = text.replace("NotifyBase: {detector: detect, broadcaster: broadcast}",
+                        f"NotifyBase: {{detector: detect, broadcaster: broadcast, {bounds}}}")
+    tree = tmp_path / "skip_quick.yaml"
+    tree.write_text(text)
+    return tree
+
+
+def _pid_of(parent: int, label: str) -> int:
+    for pid in child_pids(parent):
+        cmdline = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+        if MODULES[label] in cmdline and "--ros-args" in cmdline:
+            return pid
+    raise AssertionError(f"no {label} child of {parent}")
+
+
+def _kill_when(tmp_path: Path, label: str, moment: str) -> tuple[int, str, Path, list[int]]:
+    report = tmp_path / "report"
+    process = sar_tree_run([str(_quick_service_bounds(tmp_path)), "--speed", FAST,
+                            "--timeout", "90"], report)
+    try:
+        process.wait_for_output(moment, timeout=60)
+        children = child_pids(process.pid)
+        os.kill(_pid_of(process.pid, label), signal.SIGKILL)
+        code = process.wait(timeout=90)
+    finally:
+        process.stop()
+    return code, process.output, report, children
+
+
+@pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Report received: survivor_1",
+                                    r"--- Zone 3/4: zone_c"])
+def test_detect_server_killed_the_tree_skips_and_finishes(tmp_path: Path, moment: str) -> None:
+    code, out, report, children = _kill_when(tmp_path, "detect", moment)
+    assert code == 0, out
+    assert "the detect process was killed by SIGKILL mid-mission; the tree goes on" in out
+    assert "DetectSurvivor [" in out and "/detect_survivor" in out  # the leaf's reason line
+    assert " skip: VisitZone failed (" in out
+    assert "Mission complete." in out and no_traceback(out)
+    mission = read_json(report / "mission.json")
+    assert mission["base_reached"] is not None and mission["at_base"] is True
+    # what was acknowledged before the kill is in the report
+    acknowledged = [s["id"] for s in mission["survivors"] if s.get("acknowledged")]
+    assert acknowledged == [r["survivor_id"] for r in read_jsonl(report / "reports.jsonl")]
+    assert wait_gone(children, timeout=2.0) == []
+
+
+def test_report_server_killed_mid_mission_the_tree_goes_on(tmp_path: Path) -> None:
+    code, out, report, children = _kill_when(tmp_path, "report", r"Report received: survivor_1")
+    assert code == 0, out
+    assert "the report process was killed by SIGKILL mid-mission" in out
+    assert "NotifyBase [" in out
+    assert [r["survivor_id"] for r in read_jsonl(report / "reports.jsonl")] == ["survivor_1"]
+    assert wait_gone(children, timeout=2.0) == []
+
+
+@pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Reached zone_b\."])
+def test_simulator_killed_ends_the_run_naming_it(tmp_path: Path, moment: str) -> None:
+    code, out, report, children = _kill_when(tmp_path, "sim", moment)
+    assert code == 1, out
+    assert ("the sim process was killed by SIGKILL mid-mission; simulated time stopped, "
+            "so the tree cannot go on") in out
+    assert "Mission ERROR" in out and no_traceback(out)
+    assert (report / "mission.json").exists()
+    assert wait_gone(children, timeout=2.0) == []

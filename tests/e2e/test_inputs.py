@@ -1,0 +1,128 @@
+"""Every input of ``sar-tree run`` is checked before anything starts, all problems at once."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from sar_framework.run.config import RunConfig, child_specs
+from sar_framework.run.inputs import SERVER_PARAMETERS, check_inputs
+
+from .helpers import DEFAULT_TREE, REPO, SIX_ZONES
+
+THREE_MISTAKES = """\
+/**:
+  ros__parameters:
+    zone_order: ["zone_a", "zone_b"]
+    zones:
+      zone_a: {x: -3.0, y: abc, yaw: 0.0}
+      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
+    base_station: {x: 0.0, y: 0.0, yaw: 0.0}
+    tick_rate_hz: -2.0
+    tick_rate: 2.0
+"""
+
+
+def _problems(tmp_path: Path, **options: object) -> list[str]:
+    config = RunConfig(tree=str(DEFAULT_TREE), report_dir=str(tmp_path / "r"), **options)
+    inputs, problems = check_inputs(config)
+    assert inputs is None or not problems
+    return problems
+
+
+def test_a_params_file_with_three_mistakes_gets_three_located_errors(tmp_path: Path) -> None:
+    """Regression: only the first was reported, without a column, after the start."""
+    params = tmp_path / "params.yaml"
+    params.write_text(THREE_MISTAKES)
+    assert _problems(tmp_path, params=str(params)) == [
+        f"{params}:5:25: zones.zone_a.y: must be a number, got 'abc'",
+        f"{params}:8:5: tick_rate_hz: must be > 0, got -2.0",
+        f"{params}:9:5: tick_rate: unknown parameter (did you mean 'tick_rate_hz'?)",
+    ]
+
+
+def test_misspelt_or_mistyped_child_parameters_are_errors(tmp_path: Path) -> None:
+    """Regression: `--sim-param blocked_zone:=[...]` ran a clean mission with exit 0."""
+    problems = _problems(
+        tmp_path, sim_params=["blocked_zone:=['zone_b']", "speed_scale:=fast"],
+        detect_params=["answer_delay:=1.0"], report_params=["refuse_all:=maybe"],
+        runner_params=["completion:=onse", "tick_rate_hz:=0"])
+    assert problems == [
+        "--sim-param: blocked_zone: unknown parameter (did you mean 'blocked_zones'?)",
+        "--sim-param: speed_scale: must be a number, got 'fast'",
+        "--detect-param: answer_delay: unknown parameter (did you mean 'answer_delay_s'?)",
+        "--report-param: refuse_all: must be true or false, got 'maybe'",
+        "--runner-param: completion: must be one of auto, once, rest, forever, got 'onse' "
+        "(did you mean 'once'?)",
+        "--runner-param: tick_rate_hz: must be > 0, got 0",
+    ]
+
+
+def test_blocked_zones_accept_mission_zone_names(tmp_path: Path) -> None:
+    """Regression: only the world's marker names were accepted, not the mission's zones."""
+    config = RunConfig(tree=str(DEFAULT_TREE), params=str(SIX_ZONES),
+                       sim_params=["blocked_zones:=['ne_corner:0.5', 'sw_corner', 'zone_b']"])
+    inputs, problems = check_inputs(config)
+    assert problems == [] and inputs is not None
+    sim = next(c for c in child_specs(config, tmp_path, inputs.zones) if c.label == "sim")
+    assert "blocked_zones:=['5:4.2:0.5', '-5:-4.2:0.6', 'zone_b']" in sim.ros_args
+    bad = _problems(tmp_path, params=str(SIX_ZONES), sim_params=["blocked_zones:=['ne_cornr']"])
+    assert len(bad) == 1 and bad[0].startswith("--sim-param blocked_zones: 'ne_cornr'")
+    assert "ne_corner" in bad[0]
+
+
+@pytest.mark.parametrize("who", sorted(SERVER_PARAMETERS))
+def test_server_tables_name_what_the_servers_declare(who: str) -> None:
+    module = {"detect": "detect_survivor_server", "report": "report_survivor_server"}[who]
+    source = (REPO / "sar_framework" / "servers" / f"{module}.py").read_text()
+    declared = set(re.findall(r'declare_parameter\("(\w+)"', source))
+    assert declared == {p.name for p in SERVER_PARAMETERS[who]} - {"use_sim_time"}
+
+
+def test_nothing_starts_and_no_internal_text_leaks(tmp_path: Path) -> None:
+    params = tmp_path / "params.yaml"
+    params.write_text(THREE_MISTAKES)
+    tree = tmp_path / "bad.yaml"
+    tree.write_text("format: 1\nroot:\n  sequence:\n    children:\n      - NavigateToZonee: {}\n")
+    result = subprocess.run(
+        [sys.executable, "-m", "sar_framework", "run", str(tree), "--params", str(params),
+         "--sim-param", "blocked_zone:=[]", "--report-dir", str(tmp_path / "r")],
+        capture_output=True, text=True, timeout=60, cwd=REPO, check=False)
+    assert result.returncode == 2, result.stderr
+    assert result.stdout == ""
+    assert not (tmp_path / "r").exists()
+    lines = result.stderr.splitlines()
+    assert lines[-1] == "sar-tree run: error: 6 problems in the inputs; nothing was started"
+    assert f"{tree}:5:9: error:" in result.stderr
+    assert "ValueError" not in result.stderr and "Traceback" not in result.stderr
+
+
+def test_run_help_explains_completion_and_points_at_the_faults() -> None:
+    from sar_framework.cli import main
+
+    result = subprocess.run([sys.executable, "-m", "sar_framework", "run", "--help"],
+                            capture_output=True, text=True, timeout=60, check=False)
+    text = " ".join(result.stdout.split())
+    assert main(["faults"]) == 0
+    for words in ("once = the mission ends the first time the root returns SUCCESS or FAILURE",
+                  "auto (default) = rest when the tree ends with a one_shot, else once",
+                  "see `sar-tree faults`"):
+        assert words in text
+
+
+def test_every_listed_fault_is_a_parameter_the_child_reads(capsys) -> None:
+    from sar_framework.cli import main
+    from sar_framework.run.inputs import child_parameters
+    from sar_framework.sim.faults import FAULT_PARAMETERS
+
+    assert main(["faults"]) == 0
+    listed = capsys.readouterr().out
+    for fault in FAULT_PARAMETERS:
+        assert f"{fault.option} {fault.example}".strip() in listed
+        if fault.name:
+            who = fault.option.removeprefix("--").removesuffix("-param")
+            assert fault.name in {p.name for p in child_parameters(who)}

@@ -1,0 +1,103 @@
+"""Build BehaviorTree.CPP (from the shared ROS overlay sources) and the checker, once, cached.
+
+The library is configured as plain CMake (no ament, no Groot2/ZeroMQ, no SQLite, no
+examples or tests) and installed into a cache folder keyed by a digest of its sources, so
+the ~2 min build happens once per machine; the small checker program is keyed by its own
+sources and the library's key. An exclusive ``flock`` keeps concurrent runs from building
+the same thing twice. Nothing is ever written next to the sources.
+
+Cache folder: ``$SAR_BTCPP_CACHE``, else ``$XDG_CACHE_HOME/sar_framework/btcpp``, else
+``~/.cache/sar_framework/btcpp``.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+BTCPP_SOURCE = Path("/work/shared/ros-overlay/src/behaviortree_cpp")
+CHECKER_SOURCE = Path(__file__).resolve().parent / "btcpp_checker"
+BTCPP_OPTIONS = (
+    "-DBTCPP_GROOT_INTERFACE=OFF", "-DBTCPP_SQLITE_LOGGING=OFF", "-DBTCPP_EXAMPLES=OFF",
+    "-DBTCPP_UNIT_TESTS=OFF", "-DBUILD_TESTING=OFF", "-DBTCPP_BUILD_TOOLS=OFF",
+    "-DCMAKE_BUILD_TYPE=Release",
+)
+
+
+def missing_toolchain() -> str | None:
+    """Return why BT.CPP cannot be built here (one line), or None when it can."""
+    for tool in ("cmake", "g++"):
+        if shutil.which(tool) is None:
+            return f"{tool} is not installed: BehaviorTree.CPP cannot be built"
+    if not (BTCPP_SOURCE / "CMakeLists.txt").is_file():
+        return f"no BehaviorTree.CPP sources at {BTCPP_SOURCE}"
+    return None
+
+
+def cache_root() -> Path:
+    """The folder builds are cached in."""
+    if os.environ.get("SAR_BTCPP_CACHE"):
+        return Path(os.environ["SAR_BTCPP_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "sar_framework" / "btcpp"
+
+
+def tree_digest(folder: Path, *extra: str) -> str:
+    """A digest of every file's relative path and bytes under ``folder`` (and ``extra``)."""
+    digest = hashlib.blake2b(digest_size=12)
+    for part in extra:
+        digest.update(part.encode())
+    for path in sorted(p for p in folder.rglob("*") if p.is_file() and "build" not in p.parts):
+        digest.update(str(path.relative_to(folder)).encode() + b"\0")
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def _cmake_project(source: Path, target: Path, options: list[str], log: Path) -> None:
+    build = target / "build"
+    jobs = os.environ.get("SAR_BTCPP_JOBS", "2")
+    with log.open("w") as out:
+        for argv in (
+            ["cmake", "-S", str(source), "-B", str(build), "-G", "Ninja" if shutil.which("ninja")
+             else "Unix Makefiles", f"-DCMAKE_INSTALL_PREFIX={target / 'install'}", *options],
+            ["cmake", "--build", str(build), "--parallel", jobs],
+            ["cmake", "--install", str(build)],
+        ):
+            done = subprocess.run(argv, stdout=out, stderr=subprocess.STDOUT, check=False)
+            if done.returncode != 0:
+                raise RuntimeError(f"{' '.join(argv)} failed ({done.returncode}); see {log}")
+
+
+def _cached(key: str, source: Path, options: list[str]) -> Path:
+    root = cache_root()
+    root.mkdir(parents=True, exist_ok=True)
+    target = root / key
+    with (root / f"{key}.lock").open("w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (target / "done").exists():
+            shutil.rmtree(target, ignore_errors=True)
+            target.mkdir(parents=True)
+            _cmake_project(source, target, options, target / "build.log")
+            (target / "done").write_text("ok\n")
+    return target / "install"
+
+
+def build_checker() -> Path:
+    """Build (or reuse) BT.CPP and the checker; return the checker executable's path."""
+    library_key = "lib-" + tree_digest(BTCPP_SOURCE / "src", *BTCPP_OPTIONS,
+                                       (BTCPP_SOURCE / "CMakeLists.txt").read_text(),
+                                       tree_digest(BTCPP_SOURCE / "include"))
+    library = _cached(library_key, BTCPP_SOURCE, list(BTCPP_OPTIONS))
+    checker_key = "checker-" + tree_digest(CHECKER_SOURCE, library_key)
+    installed = _cached(checker_key, CHECKER_SOURCE,
+                        [f"-DCMAKE_PREFIX_PATH={library}", "-DCMAKE_BUILD_TYPE=Release",
+                         f"-DBTCPP_SOURCE_DIR={BTCPP_SOURCE}"])
+    return installed / "bin" / "btcpp_checker"
+
+
+if __name__ == "__main__":
+    print(build_checker())

@@ -1,0 +1,368 @@
+// btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
+//
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all]
+//
+// Every model of the file's <TreeNodesModel> is registered with its declared input ports
+// (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
+// Action/Condition model becomes a scripted leaf, a Sar... Decorator the py_trees
+// decorator it stands for. SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
+// each visit of that leaf returns the next status, the last one repeats; a leaf without a
+// line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
+// with "all", MAX_TICKS times (a finished root starts over, as a mission runner ticks it).
+// Output: "visit NAME STATUS" for every leaf tick and "tick N STATUS" after each tick.
+#include <behaviortree_cpp/action_node.h>
+#include <behaviortree_cpp/bt_factory.h>
+#include <behaviortree_cpp/control_node.h>
+#include <behaviortree_cpp/decorator_node.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using BT::NodeStatus;
+
+namespace
+{
+// Leaf name -> the statuses of its successive visits.
+class Script
+{
+public:
+  explicit Script(const std::string& path)
+  {
+    std::ifstream in(path);
+    std::string line;
+    while(std::getline(in, line))
+    {
+      std::istringstream words(line);
+      std::string name, word;
+      if(!(words >> name))
+      {
+        continue;
+      }
+      while(words >> word)
+      {
+        results_[name].push_back(BT::convertFromString<NodeStatus>(word));
+      }
+    }
+  }
+
+  NodeStatus next(const std::string& name)
+  {
+    auto found = results_.find(name);
+    if(found == results_.end() || found->second.empty())
+    {
+      return NodeStatus::SUCCESS;
+    }
+    size_t& index = visits_[name];
+    const auto& list = found->second;
+    return list[std::min(index++, list.size() - 1)];
+  }
+
+private:
+  std::map<std::string, std::vector<NodeStatus>> results_;
+  std::map<std::string, size_t> visits_;
+};
+
+class ScriptedLeaf : public BT::ActionNodeBase
+{
+public:
+  ScriptedLeaf(const std::string& name, const BT::NodeConfig& config, Script& script)
+    : BT::ActionNodeBase(name, config), script_(script)
+  {}
+
+  NodeStatus tick() override
+  {
+    const NodeStatus status = script_.next(name());
+    std::cout << "visit " << name() << " " << BT::toStr(status) << "\n";
+    return status;
+  }
+
+  void halt() override
+  {
+    resetStatus();
+  }
+
+private:
+  Script& script_;
+};
+
+// The py_trees decorators BT.CPP has no built-in for (sar_framework.interop.mapping).
+class SarDecorator : public BT::DecoratorNode
+{
+public:
+  SarDecorator(const std::string& name, const BT::NodeConfig& config, std::string kind)
+    : BT::DecoratorNode(name, config), kind_(std::move(kind))
+  {}
+
+  NodeStatus tick() override
+  {
+    if(latched_)
+    {
+      return *latched_;
+    }
+    setStatus(NodeStatus::RUNNING);
+    const NodeStatus child = child_node_->executeTick();
+    const NodeStatus result = convert(child);
+    if(child != NodeStatus::RUNNING)
+    {
+      resetChild();
+    }
+    else if(result != NodeStatus::RUNNING)
+    {
+      haltChild();
+    }
+    return result;
+  }
+
+  void halt() override
+  {
+    DecoratorNode::halt();
+  }
+
+private:
+  NodeStatus convert(NodeStatus child)
+  {
+    if(kind_ == "SarFailureIsRunning")
+      return child == NodeStatus::FAILURE ? NodeStatus::RUNNING : child;
+    if(kind_ == "SarRunningIsFailure")
+      return child == NodeStatus::RUNNING ? NodeStatus::FAILURE : child;
+    if(kind_ == "SarRunningIsSuccess")
+      return child == NodeStatus::RUNNING ? NodeStatus::SUCCESS : child;
+    if(kind_ == "SarCondition")
+    {
+      const auto wanted = getInput<std::string>("status").value();
+      const bool met = BT::toStr(child) == upper(wanted);
+      return met ? NodeStatus::SUCCESS : NodeStatus::RUNNING;
+    }
+    if(kind_ == "SarOneShot")
+    {
+      const auto policy = getInput<std::string>("policy").value();
+      const bool done = child == NodeStatus::SUCCESS ||
+                        (policy == "on_completion" && child == NodeStatus::FAILURE);
+      if(done)
+      {
+        latched_ = child;
+      }
+      return child;
+    }
+    if(kind_ == "SarPassThrough" || kind_ == "SarCount")
+      return child;
+    throw BT::RuntimeError("btcpp_checker: no implementation of ", kind_);
+  }
+
+  static std::string upper(std::string text)
+  {
+    for(auto& c : text)
+    {
+      c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    return text;
+  }
+
+  std::string kind_;
+  std::optional<NodeStatus> latched_;
+};
+
+// py_trees' Parallel: tick every child (but, with synchronise, those already succeeded),
+// then FAILURE if any failed, else SUCCESS when the policy is met, else RUNNING.
+class SarParallel : public BT::ControlNode
+{
+public:
+  SarParallel(const std::string& name, const BT::NodeConfig& config)
+    : BT::ControlNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    const auto policy = getInput<std::string>("policy").value();
+    const bool synchronise =
+        policy != "success_on_one" && getInput<bool>("synchronise").value_or(true);
+    if(status() != NodeStatus::RUNNING)
+    {
+      last_.assign(childrenCount(), NodeStatus::IDLE);
+    }
+    setStatus(NodeStatus::RUNNING);
+    for(size_t i = 0; i < childrenCount(); ++i)
+    {
+      if(!(synchronise && last_[i] == NodeStatus::SUCCESS))
+      {
+        last_[i] = children_nodes_[i]->executeTick();
+      }
+    }
+    NodeStatus result = NodeStatus::RUNNING;
+    const auto count = [this](NodeStatus wanted) {
+      return std::count(last_.begin(), last_.end(), wanted);
+    };
+    if(count(NodeStatus::FAILURE) > 0)
+    {
+      result = NodeStatus::FAILURE;
+    }
+    else if(policy == "success_on_all" && count(NodeStatus::SUCCESS) == long(childrenCount()))
+    {
+      result = NodeStatus::SUCCESS;
+    }
+    else if(policy == "success_on_one" && count(NodeStatus::SUCCESS) > 0)
+    {
+      result = NodeStatus::SUCCESS;
+    }
+    else if(policy == "success_on_selected" && selectedSucceeded())
+    {
+      result = NodeStatus::SUCCESS;
+    }
+    if(result != NodeStatus::RUNNING)
+    {
+      resetChildren();
+    }
+    return result;
+  }
+
+private:
+  bool selectedSucceeded()
+  {
+    std::istringstream names(getInput<std::string>("selected").value());
+    std::string wanted;
+    while(std::getline(names, wanted, ';'))
+    {
+      for(size_t i = 0; i < childrenCount(); ++i)
+      {
+        if(children_nodes_[i]->name() == wanted && last_[i] != NodeStatus::SUCCESS)
+        {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  std::vector<NodeStatus> last_;
+};
+
+template <typename T>
+BT::PortInfo typedPort(const char* name, const char* def, const char* text)
+{
+  auto port = BT::InputPort<T>(name, text ? text : "").second;
+  if(def != nullptr)
+  {
+    port.setDefaultValue(BT::convertFromString<T>(def));
+  }
+  return port;
+}
+
+BT::PortsList portsOf(const tinyxml2::XMLElement* model)
+{
+  BT::PortsList ports;
+  for(auto* port = model->FirstChildElement("input_port"); port != nullptr;
+      port = port->NextSiblingElement("input_port"))
+  {
+    const char* name = port->Attribute("name");
+    const std::string type = port->Attribute("type") ? port->Attribute("type") : "std::string";
+    const char* def = port->Attribute("default");
+    const char* text = port->GetText();
+    if(type == "int")
+      ports.insert({ name, typedPort<int>(name, def, text) });
+    else if(type == "double")
+      ports.insert({ name, typedPort<double>(name, def, text) });
+    else if(type == "bool")
+      ports.insert({ name, typedPort<bool>(name, def, text) });
+    else
+      ports.insert({ name, typedPort<std::string>(name, def, text) });
+  }
+  return ports;
+}
+
+// Register every model of the file's <TreeNodesModel>; returns how many.
+int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Script& script)
+{
+  tinyxml2::XMLDocument doc;
+  if(doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS)
+  {
+    throw BT::RuntimeError("cannot read ", path, ": ", doc.ErrorStr());
+  }
+  auto* models = doc.RootElement()->FirstChildElement("TreeNodesModel");
+  int count = 0;
+  for(auto* model = models ? models->FirstChildElement() : nullptr; model != nullptr;
+      model = model->NextSiblingElement())
+  {
+    const std::string category = model->Name();
+    BT::TreeNodeManifest manifest;
+    manifest.registration_ID = model->Attribute("ID");
+    manifest.ports = portsOf(model);
+    if(category == "Action" || category == "Condition")
+    {
+      manifest.type = BT::NodeType::ACTION;
+      factory.registerBuilder(manifest, [&script](const std::string& name,
+                                                  const BT::NodeConfig& config) {
+        return std::make_unique<ScriptedLeaf>(name, config, script);
+      });
+    }
+    else if(category == "Decorator")
+    {
+      manifest.type = BT::NodeType::DECORATOR;
+      const std::string kind = manifest.registration_ID;
+      factory.registerBuilder(manifest, [kind](const std::string& name,
+                                               const BT::NodeConfig& config) {
+        return std::make_unique<SarDecorator>(name, config, kind);
+      });
+    }
+    else if(category == "Control" && manifest.registration_ID == "SarParallel")
+    {
+      manifest.type = BT::NodeType::CONTROL;
+      factory.registerBuilder(manifest, [](const std::string& name,
+                                           const BT::NodeConfig& config) {
+        return std::make_unique<SarParallel>(name, config);
+      });
+    }
+    else
+    {
+      throw BT::RuntimeError("btcpp_checker: no implementation of the ", category, " ",
+                             manifest.registration_ID);
+    }
+    ++count;
+  }
+  return count;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  if(argc != 4 && !(argc == 5 && std::string(argv[4]) == "all"))
+  {
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all]\n";
+    return 2;
+  }
+  try
+  {
+    Script script(argv[2]);
+    BT::BehaviorTreeFactory factory;
+    const int models = registerModels(argv[1], factory, script);
+    std::ifstream in(argv[1]);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto tree = factory.createTreeFromText(text.str());
+    std::cout << "models " << models << "\n";
+    const int max_ticks = std::stoi(argv[3]);
+    for(int tick = 1; tick <= max_ticks; ++tick)
+    {
+      const NodeStatus status = tree.tickExactlyOnce();
+      std::cout << "tick " << tick << " " << BT::toStr(status) << "\n";
+      if(status != NodeStatus::RUNNING && argc == 4)
+      {
+        break;
+      }
+    }
+  }
+  catch(const std::exception& error)
+  {
+    std::cerr << "error: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

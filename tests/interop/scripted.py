@@ -1,0 +1,105 @@
+"""Scripted leaves: the same tree ticked by py_trees (our loader) and by BehaviorTree.CPP.
+
+A *script* maps a leaf's name to the statuses its successive visits return (the last one
+repeats; a leaf without an entry returns SUCCESS), exactly as the C++ checker
+(``btcpp_checker/main.cpp``) reads it. Both sides print one transcript format::
+
+    visit NAME STATUS      (every leaf tick)
+    tick N STATUS          (the root, after each tick)
+"""
+
+from __future__ import annotations
+
+import subprocess
+from collections.abc import Iterable
+from pathlib import Path
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.plugin import PluginSpec, leaf
+from sar_framework.engine.registry import Registry
+
+Script = dict[str, list[str]]
+
+
+class ScriptState:
+    """The script plus the visits made so far and the transcript."""
+
+    def __init__(self, script: Script) -> None:
+        self.script = script
+        self.visits: dict[str, int] = {}
+        self.lines: list[str] = []
+
+    def next(self, name: str) -> Status:
+        results = self.script.get(name) or ["SUCCESS"]
+        index = self.visits.get(name, 0)
+        self.visits[name] = index + 1
+        status = Status[results[min(index, len(results) - 1)]]
+        self.lines.append(f"visit {name} {status.name}")
+        return status
+
+
+class ScriptedLeaf(py_trees.behaviour.Behaviour):
+    """A leaf whose every update returns the script's next status for its name."""
+
+    state: ScriptState | None = None
+
+    def __init__(self, name: str, **_params: object) -> None:
+        super().__init__(name)
+
+    def update(self) -> Status:
+        assert ScriptedLeaf.state is not None, "no script set"
+        return ScriptedLeaf.state.next(self.name)
+
+
+def scripted_registry(plugins: Iterable[PluginSpec]) -> Registry:
+    """A registry with a scripted leaf for each plugin: same name, params and context."""
+    registry = Registry()
+    for plugin in plugins:
+        cls = type(plugin.name, (ScriptedLeaf,), {"__module__": __name__})
+        leaf(plugin.name, params=plugin.params, context=plugin.context,
+             description=plugin.description)(cls)
+        registry.add(cls, "scripted")
+    assert registry.diagnostics == [], registry.diagnostics
+    return registry
+
+
+def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
+                 *, all_ticks: bool = False) -> list[str]:
+    """Load ``tree`` with ``registry`` (our loader) and tick it; return the transcript.
+
+    Ticking stops when the root finishes, or, with ``all_ticks``, after ``max_ticks``.
+    """
+    context = {key: None for plugin in registry for key in plugin.context}
+    loaded = load_tree(tree, context, registry=registry)
+    state = ScriptedLeaf.state = ScriptState(script)
+    try:
+        for tick in range(1, max_ticks + 1):
+            loaded.root.tick_once()
+            state.lines.append(f"tick {tick} {loaded.root.status.name}")
+            if loaded.root.status != Status.RUNNING and not all_ticks:
+                break
+    finally:
+        ScriptedLeaf.state = None
+    return state.lines
+
+
+def run_checker(checker: Path, xml: Path, script: Script, max_ticks: int,
+                *, all_ticks: bool = False) -> list[str]:
+    """Run the BT.CPP checker on ``xml``; return its transcript (after the models line)."""
+    script_file = xml.with_suffix(".script")
+    script_file.write_text("".join(f"{name} {' '.join(s)}\n" for name, s in script.items()))
+    done = subprocess.run([str(checker), str(xml), str(script_file), str(max_ticks),
+                           *(["all"] if all_ticks else [])],
+                          capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0, f"BT.CPP refused {xml}:\n{done.stderr}\n{xml.read_text()}"
+    lines = done.stdout.splitlines()
+    assert lines[0].startswith("models "), lines
+    return lines[1:]
+
+
+def visits_and_result(lines: list[str]) -> list[str]:
+    """The leaf visits and the last root status (tick counts left out)."""
+    return [line for line in lines if line.startswith("visit ")] + [lines[-1].split()[-1]]

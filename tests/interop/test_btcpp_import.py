@@ -1,0 +1,148 @@
+"""``sar-tree import``: BT.CPP 4 XML to our format, round trips and file:line diagnostics."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from sar_framework.cli import main
+from sar_framework.engine.api import load_spec
+from sar_framework.engine.registry import default_registry, extend
+from sar_framework.engine.spec import NodeSpec
+from sar_framework.interop.btcpp_import import import_btcpp
+from sar_framework.interop.xml_source import parse_xml
+
+REPO = Path(__file__).resolve().parents[2]
+TUTORIAL_PLUGINS = REPO / "trees" / "tutorials" / "plugins" / "tutorial_leaves.py"
+FIXTURES = Path(__file__).parent / "fixtures"
+TREES = [REPO / "trees" / "search_and_rescue.yaml",
+         *sorted((REPO / "trees" / "tutorials").glob("0*.yaml")),
+         *sorted((REPO / "trees" / "examples").glob("*.yaml"))]
+
+
+def shape(node: NodeSpec) -> tuple[Any, ...]:
+    """Everything that makes two trees tick alike, recursively."""
+    return (node.kind, node.name, node.id, node.subtree, sorted(node.attrs.items()),
+            [shape(child) for child in node.children])
+
+
+@pytest.mark.parametrize("tree", TREES, ids=[p.name for p in TREES])
+def test_yaml_to_xml_to_yaml_gives_the_same_tree(tree: Path, tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    xml, back = tmp_path / "tree.xml", tmp_path / "back.yaml"
+    plugins = ["--plugin-path", str(TUTORIAL_PLUGINS)]
+    assert main(["export", str(tree), "-o", str(xml), *plugins]) == 0
+    assert main(["import", str(xml), "-o", str(back), *plugins]) == 0, capsys.readouterr().err
+    original, again = load_spec(tree), load_spec(back)
+    assert shape(again.root) == shape(original.root)
+    assert (again.name, again.description) == (original.name, original.description)
+
+
+def problems(text: str) -> list[str]:
+    registry = extend(default_registry().copy(), [str(TUTORIAL_PLUGINS)])
+    result = import_btcpp(parse_xml(text, "t.xml"), "t.xml", registry)
+    assert result.document is None
+    return [str(p) for p in result.problems]
+
+
+def test_nav2_navigator_shape_is_refused_with_a_line_for_each_problem(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["import", str(FIXTURES / "nav2_navigator_shape.xml")]) == 1
+    err = capsys.readouterr().err.splitlines()
+    where = str(FIXTURES / "nav2_navigator_shape.xml")
+    assert err[0].startswith(f"{where}:5:5: error: <RecoveryNode> cannot be imported: Nav2's")
+    assert err[1].startswith(f"{where}:6:7: error: <PipelineSequence> cannot be imported")
+    assert any(":10:9: error: port 'path' of <FollowPath> reads the blackboard entry '{path}'"
+               in line for line in err)
+    assert any(":14:9: error: <RoundRobin> cannot be imported" in line for line in err)
+    assert len(err) == len(set(err)) >= 6
+
+
+def test_an_unknown_leaf_and_a_bad_param_value_point_at_their_lines() -> None:
+    text = ('<root BTCPP_format="4">\n  <BehaviorTree ID="t">\n    <Sequence>\n'
+            '      <Countdon ticks="2"/>\n      <Countdown ticks="two"/>\n'
+            '      <Countdown tiks="2"/>\n    </Sequence>\n  </BehaviorTree>\n</root>\n')
+    assert problems(text) == [
+        "t.xml:4:7: error: unknown node <Countdon>: neither a BT.CPP node we map nor a "
+        "registered plugin (see 'sar-tree plugins'; add yours with --plugin-path)",
+        "t.xml:5:7: error: 'ticks' must be a integer, got 'two'",
+        "t.xml:6:7: error: <Countdown> has no param 'tiks' (its params: ticks, result)",
+    ]
+
+
+@pytest.mark.parametrize(("xml", "message"), [
+    ('<root BTCPP_format="3"><BehaviorTree ID="t"><Countdown/></BehaviorTree></root>',
+     "t.xml:1:1: error: only BehaviorTree.CPP v4 XML is read"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="a"><Countdown/></BehaviorTree>'
+     '<BehaviorTree ID="b"><Countdown/></BehaviorTree></root>',
+     "t.xml:1:1: error: which tree is the main one?"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><SequenceWithMemory><Countdown/>'
+     '</SequenceWithMemory></BehaviorTree></root>',
+     "t.xml:1:45: error: <SequenceWithMemory> cannot be imported: it retries"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><RunOnce><Countdown/></RunOnce>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: <RunOnce>: RunOnce with then_skip=true"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Inverter><Countdown/><Countdown/>'
+     '</Inverter></BehaviorTree></root>', "t.xml:1:45: error: <Inverter> is a decorator"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><SubTree ID="x" goal="{goal}"/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: port 'goal' of <SubTree> reads"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown _skipIf="a"/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: '_skipIf' on <Countdown>: BT.CPP pre/post"),
+])
+def test_what_cannot_be_imported_is_named(xml: str, message: str) -> None:
+    assert problems(xml)[0].startswith(message)
+
+
+def test_malformed_xml_is_a_located_error(tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<root BTCPP_format="4">\n  <BehaviorTree ID="t">\n</root>\n')
+    assert main(["import", str(bad)]) == 1
+    assert capsys.readouterr().err == f"{bad}:3:3: error: XML: mismatched tag\n"
+
+
+def test_our_validator_checks_what_the_importer_cannot(tmp_path: Path,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    xml = tmp_path / "refs.xml"
+    xml.write_text('<root BTCPP_format="4"><BehaviorTree ID="t">'
+                   '<ReportId taker="nobody"/></BehaviorTree></root>')
+    out = tmp_path / "refs.yaml"
+    assert main(["import", str(xml), "-o", str(out), "--plugin-path",
+                 str(TUTORIAL_PLUGINS)]) == 1
+    err = capsys.readouterr().err
+    assert f"{out}:" in err and "'taker' names no leaf" in err, err
+    assert not out.exists()
+
+
+def test_explicit_v3_style_elements_and_custom_nodes_are_read() -> None:
+    text = ('<root BTCPP_format="4"><BehaviorTree ID="t">'
+            '<SarParallel name="Both" policy="success_on_selected" selected="A;B" '
+            'synchronise="false"><Action ID="Countdown" name="A" ticks="3"/>'
+            '<SarOneShot policy="on_successful_completion"><Countdown name="B"/></SarOneShot>'
+            '<Timeout msec="2500"><Countdown name="C" result="failure"/></Timeout>'
+            '</SarParallel></BehaviorTree>'
+            '<TreeNodesModel><Action ID="Countdown"/></TreeNodesModel></root>')
+    registry = extend(default_registry().copy(), [str(TUTORIAL_PLUGINS)])
+    result = import_btcpp(parse_xml(text, "t.xml"), "t.xml", registry)
+    assert result.problems == []
+    assert result.document == {"format": 1, "name": "t", "root": {"parallel": {
+        "name": "Both", "policy": "success_on_selected", "synchronise": False,
+        "selected": ["A", "B"], "children": [
+            {"Countdown": {"name": "A", "ticks": 3}},
+            {"one_shot": {"policy": "on_successful_completion",
+                          "child": {"Countdown": {"name": "B"}}}},
+            {"timeout": {"duration": 2.5, "child": {"Countdown": {"name": "C",
+                                                                  "result": "failure"}}}},
+        ]}}}
+
+
+def test_export_usage_and_input_errors(tmp_path: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["export", str(tmp_path / "missing.yaml")]) == 2
+    assert "no such file" in capsys.readouterr().err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("format: 1\nroot:\n  sequence: {children: [{Nope: {}}]}\n")
+    assert main(["export", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert f"{bad}:3:" in err and "unknown plugin 'Nope'" in err, err

@@ -1,0 +1,88 @@
+"""Reason records: one per failure, timeout, cancel, retry and skip, with node and why (no ROS)."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework import load_tree
+from sar_framework.mission.zone_manager import ZoneManager
+from sar_framework.ros.reasons import reason_line
+from sar_framework.ros.status_file import StatusRecorder
+
+PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
+
+TREE = """\
+format: 1
+name: reasons
+root:
+  sequence:
+    memory: true
+    name: Steps
+    children:
+      - failure_is_success:
+          name: SkipA
+          child:
+            retry:
+              name: RetryA
+              num_failures: 2
+              child:
+                Countdown: {name: NavA, ticks: 1, succeed: false, message: "goal to zone_a aborted"}
+      - failure_is_success:
+          name: SkipB
+          child:
+            timeout:
+              name: WithinB
+              duration: 0.2
+              child:
+                Countdown: {name: NavB, ticks: 100000}
+      - selector:
+          name: Reactive
+          memory: false
+          children:
+            - Countdown: {name: Later, ticks: 1, succeed: false, message: "not yet"}
+            - Countdown: {name: Long, ticks: 100000}
+"""
+
+
+def _run(tmp_path: Path, ticks: int) -> StatusRecorder:
+    path = tmp_path / "t.yaml"
+    path.write_text(TREE)
+    zones = ZoneManager([{"id": "zone_a", "x": 0.0, "y": 0.0, "yaw": 0.0}],
+                        {"x": 0.0, "y": 0.0, "yaw": 0.0})
+    loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
+    recorder = StatusRecorder(str(path), loaded.spec, loaded.behaviours, lambda: 0.0)
+    tree = py_trees.trees.BehaviourTree(loaded.root)
+    tree.visitors.append(recorder)
+    tree.add_post_tick_handler(recorder.after_tick)
+    for _ in range(ticks):
+        tree.tick()
+        time.sleep(0.01)
+        if recorder.status != Status.RUNNING:
+            break
+    return recorder
+
+
+def test_every_failure_retry_skip_timeout_and_cancel_has_a_line(tmp_path: Path) -> None:
+    """Regression: a timeout, retry or skip printed nothing; mission.json had no failures."""
+    recorder = _run(tmp_path, 60)
+    lines = [reason_line(r) for r in recorder.new_reasons]
+    assert lines[:5] == [
+        "NavA [0.0.0.0]: goal to zone_a aborted",
+        "RetryA [0.0.0] retry: attempt 1/2 failed (goal to zone_a aborted); trying again",
+        "NavA [0.0.0.0]: goal to zone_a aborted",
+        "RetryA [0.0.0] retry: giving up after 2 failed attempts (goal to zone_a aborted)",
+        "SkipA [0.0] skip: RetryA failed (goal to zone_a aborted); skipped",
+    ]
+    assert lines[5].startswith("WithinB [0.1.0] timeout: timed out after 0.2 s; NavB: ")
+    assert lines[6].startswith("SkipB [0.1] skip: WithinB failed (timed out after 0.2 s; NavB")
+    # the reactive selector: Later fails after running, Long runs, Later runs again and
+    # halts Long (a cancel)
+    assert "Later [0.2.0]: not yet" in lines
+    assert any(line.startswith("Long [0.2.1] cancel: halted (") for line in lines)
+    assert recorder.failures == recorder.new_reasons
+    assert {r["what"] for r in recorder.failures} == {"failure", "retry", "skip", "timeout",
+                                                      "cancel"}

@@ -1,0 +1,77 @@
+"""Durations in trees follow the injected clock (the node's ROS time), not wall seconds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import py_trees
+from py_trees.common import Status
+
+from sar_framework import load_tree
+from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
+
+TREE = """\
+format: 1
+name: timed
+root:
+  sequence:
+    name: Steps
+    memory: true
+    children:
+      - Wait: {name: Dwell, duration: 2.0}
+      - timeout:
+          name: Within3s
+          duration: 3.0
+          child: {Wait: {name: Long, duration: 100.0}}
+"""
+
+
+class FakeClock:
+    """Seconds that move only when told to."""
+
+    def __init__(self) -> None:
+        self.now_s = 1000.0
+
+    def __call__(self) -> float:
+        return self.now_s
+
+    def node(self) -> SimpleNamespace:
+        """A stand-in for an rclpy node: get_clock().now().nanoseconds."""
+        clock = SimpleNamespace(now=lambda: SimpleNamespace(nanoseconds=int(self.now_s * 1e9)))
+        return SimpleNamespace(get_clock=lambda: clock)
+
+
+def test_wait_and_timeout_follow_the_clock_not_the_wall(tmp_path: Path) -> None:
+    """Regression: timeouts counted wall seconds (a 1.5 s timeout was 30 s simulated at 20x)."""
+    path = tmp_path / "t.yaml"
+    path.write_text(TREE)
+    clock = FakeClock()
+    loaded = load_tree(path, context={CLOCK_KEY: clock})
+    assert isinstance(loaded.behaviours["0.1"], ClockTimeout)
+    tree = py_trees.trees.BehaviourTree(loaded.root)
+    tree.setup(node=clock.node())
+    seen = []
+    for _ in range(8):  # half a simulated second per tick, no wall time passes
+        tree.tick()
+        seen.append((clock.now_s - 1000.0, loaded.behaviours["0.0"].status.name,
+                     loaded.root.status.name))
+        clock.now_s += 0.5
+    # Dwell runs until 2.0 s, then Within3s runs Long until 2.0 + 3.0 s and fails
+    assert [s for t, s, _ in seen if t < 2.0] == ["RUNNING"] * 4
+    assert seen[4][1] == "SUCCESS"
+    assert loaded.root.status == Status.RUNNING
+    while loaded.root.status == Status.RUNNING and clock.now_s < 1010.0:
+        tree.tick()
+        clock.now_s += 0.5
+    assert loaded.root.status == Status.FAILURE
+    assert clock.now_s - 0.5 - 1000.0 == 5.5  # the first tick past 2.0 + 3.0
+    assert loaded.behaviours["0.1"].feedback_message == "timed out"
+    assert loaded.behaviours["0.1.0"].status == Status.INVALID  # halted
+
+
+def test_without_a_clock_timeout_is_py_trees_own(tmp_path: Path) -> None:
+    path = tmp_path / "t.yaml"
+    path.write_text(TREE)
+    loaded = load_tree(path)
+    assert type(loaded.behaviours["0.1"]) is py_trees.decorators.Timeout

@@ -1,0 +1,126 @@
+"""``ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded`` for real.
+
+The real-stack tier: upstream launch / launch_ros / ros2cli built by ``make setup``. Runs the
+reference mission to its end (recorded with ``record:=``), a failing start, and Ctrl-C in the
+middle of a mission (every node name unique in ``ros2 node list``; every process exits 0
+without a traceback).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+ROS2 = Path(sys.prefix) / "bin" / "ros2"
+pytestmark = [
+    pytest.mark.ros, pytest.mark.slow,
+    pytest.mark.skipif(not ROS2.exists(), reason="real-stack tier: ros2cli / launch not built "
+                       "(make setup with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC)"),
+]
+LAUNCH = ["launch", "sar_framework", "search_and_rescue.launch.py", "nav2:=embedded"]
+SPEC_LINES = ("--- Zone 1/4: zone_a", "Reached zone_a.", "Broadcast static TF map -> survivor_1",
+              "Report received: survivor_1", "No survivor found at zone_b.",
+              "All zones visited. Returning to base.", "Reached base station.",
+              "Mission complete.")
+
+
+def launch(tmp_path: Path, *arguments: str) -> subprocess.Popen[str]:
+    print("tier: real ROS 2 stack (ros2 launch from .venv)")
+    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), RCUTILS_COLORIZED_OUTPUT="0",
+               PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(
+        [str(ROS2), *LAUNCH, f"report_file:={tmp_path / 'reports.jsonl'}", *arguments],
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+        start_new_session=True)
+    STARTED.append(proc)
+    return proc
+
+
+STARTED: list[subprocess.Popen[str]] = []
+
+
+@pytest.fixture(autouse=True)
+def no_launch_outlives_its_test() -> Iterator[None]:
+    """Kill what a failed test left running: later tests must not meet its nodes."""
+    yield
+    while STARTED:
+        proc = STARTED.pop()
+        # Also after launch itself exited: a launch that failed can leave a child behind.
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate(timeout=30)
+
+
+def node_names(expected: set[str], bound_s: float) -> list[str]:
+    """``ros2 node list``, asked again until it names every expected node or the bound ends."""
+    deadline = time.monotonic() + bound_s
+    while True:
+        listed = subprocess.run(
+            [str(ROS2), "node", "list", "--no-daemon", "--spin-time", "3"],
+            capture_output=True, text=True, timeout=60, check=True).stdout.split()
+        if expected <= set(listed) or time.monotonic() > deadline:
+            return listed
+
+
+def test_the_reference_mission_completes_and_is_recorded_under_ros2_launch(tmp_path):
+    from mcap.reader import make_reader
+
+    record = tmp_path / "mission.mcap"
+    proc = launch(tmp_path, f"record:={record}")
+    output, _ = proc.communicate(timeout=240)
+    assert proc.returncode == 0, output
+    for line in SPEC_LINES:
+        assert line in output, line
+    assert "(py_trees_ros tree" in output
+    assert "Traceback" not in output
+    assert len(re.findall(r"process has finished cleanly", output)) == 5, output  # + recorder
+    with record.open("rb") as stream:  # closed with its summary when the launch shut down
+        summary = make_reader(stream).get_summary()
+    assert summary is not None
+    counts = {summary.channels[c].topic: n
+              for c, n in summary.statistics.channel_message_counts.items()}
+    for topic in ("/tf_static", "/sar_tree/status"):
+        assert counts.get(topic, 0) > 0, (topic, counts)
+
+
+def test_a_runner_that_fails_fails_the_launch(tmp_path):
+    proc = launch(tmp_path, "tree:=no_such_tree")
+    output, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 1, output
+    assert "sar-mission-runner exited with code 2" in output
+
+
+def test_node_names_are_unique_and_ctrl_c_ends_every_process_cleanly(tmp_path):
+    proc = launch(tmp_path, "speed:=1.0")  # a slow mission: still running when we look
+    lines: list[str] = []
+    deadline = time.monotonic() + 90
+    assert proc.stdout is not None
+    while time.monotonic() < deadline:
+        line = proc.stdout.readline()
+        lines.append(line)
+        if "--- Zone 1/4" in line or not line:
+            break
+    assert any("--- Zone 1/4" in line for line in lines), "".join(lines)
+    expected = {"/sar_mission_runner", "/sar_sim", "/amcl", "/bt_navigator",
+                "/detect_survivor_server", "/report_survivor_server"}
+    listed = node_names(expected, 30.0)  # discovery of a busy process can take a while
+    assert expected <= set(listed), listed
+    assert len(listed) == len(set(listed)), listed
+    os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: launch and its children, and
+    rest, _ = proc.communicate(timeout=60)  # launch forwards SIGINT to them once more
+    output = "".join(lines) + rest
+    assert proc.returncode == 0, output
+    assert "Traceback" not in output and "KeyboardInterrupt" not in output, output
+    for process in ("sar-sim", "sar-detect-survivor-server", "sar-report-survivor-server",
+                    "sar-mission-runner"):
+        assert re.search(rf"\[{process}-\d\]: process has finished cleanly", output), process
+    assert "process has died" not in output, output  # the runner's was "exit code 130"

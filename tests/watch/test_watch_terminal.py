@@ -1,0 +1,167 @@
+"""``sar-tree watch`` in a real terminal (tmux), attached to a real mission."""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import py_trees
+import pytest
+from e2e.helpers import DEFAULT_TREE, REPO, sar_tree_run
+from sar_testing.spin import call_service, ros_node, spin_until
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow,
+              pytest.mark.skipif(shutil.which("tmux") is None, reason="tmux is not installed")]
+
+
+class Terminal:
+    """A tmux server of its own (so it takes this test's environment) with one window."""
+
+    def __init__(self, command: list[str], width: int = 120, height: int = 40) -> None:
+        self.socket = f"sar-watch-{uuid.uuid4().hex[:8]}"
+        env = {k: os.environ[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE",
+                                          "SAR_TREE_CACHE_DIR") if k in os.environ}
+        exports = " ".join(f"{k}={shlex.quote(v)}" for k, v in env.items())
+        shell = (f"cd {shlex.quote(str(REPO))} && env {exports} {shlex.join(command)}; "
+                 "echo EXIT=$?; sleep 600")
+        self._tmux("new-session", "-d", "-s", "w", "-x", str(width), "-y", str(height), shell)
+
+    def _tmux(self, *args: str) -> str:
+        return subprocess.run(["tmux", "-L", self.socket, *args], capture_output=True,
+                              text=True, check=True, timeout=10).stdout
+
+    def screen(self) -> str:
+        return self._tmux("capture-pane", "-p", "-t", "w")
+
+    def wait_for(self, found: Callable[[str], bool], timeout: float) -> str:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            text = self.screen()
+            if found(text):
+                return text
+            time.sleep(0.2)
+        raise AssertionError(f"not on the screen within {timeout} s:\n{self.screen()}")
+
+    def close(self) -> None:
+        subprocess.run(["tmux", "-L", self.socket, "kill-server"], capture_output=True,
+                       check=False, timeout=10)
+
+
+@pytest.fixture
+def terminal() -> Iterator[Callable[[list[str]], Terminal]]:
+    opened: list[Terminal] = []
+
+    def open_terminal(command: list[str]) -> Terminal:
+        opened.append(Terminal(command))
+        return opened[-1]
+
+    yield open_terminal
+    for t in opened:
+        t.close()
+
+
+SAR_TREE = [sys.executable, "-m", "sar_framework"]
+
+
+def test_watch_follows_a_mission_and_exits_when_it_is_over(terminal, tmp_path: Path) -> None:
+    screen = terminal([*SAR_TREE, "watch", "--wait", "60"])
+    screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
+    mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"], tmp_path / "report")
+    try:
+        running = screen.wait_for(
+            lambda s: "* NavigateToZone  navigating to zone_" in s and "ticks/s" in s, 60)
+        assert "search_and_rescue  tick " in running
+        assert "* MissionOrReturnToBase [selector]" in running
+        assert "running branch: MissionOrReturnToBase → Patrol → NavigateToZone" in running
+        assert "zone zone_" in running
+        assert "blackboard: no keys written by the leaves" in running
+        final = screen.wait_for(lambda s: "EXIT=" in s, 90)
+        assert mission.wait(timeout=30) == 0
+    finally:
+        mission.stop()
+    assert "EXIT=0" in final
+    assert "✓ NavigateToBase  Reached base station." in final
+    assert "mission over: SUCCESS" in final
+    assert "sar-tree watch: the mission is over;" in final
+
+
+def test_watch_without_a_mission_says_so(terminal) -> None:
+    screen = terminal([*SAR_TREE, "watch", "--wait", "2"])
+    final = screen.wait_for(lambda s: "EXIT=" in s, 30)
+    assert "EXIT=1" in final
+    assert "no mission ticked on /sar_tree/status within 2 s" in final
+
+
+def test_run_watch_draws_the_tree_instead_of_progress_lines(terminal, tmp_path: Path) -> None:
+    report = tmp_path / "report"
+    screen = terminal([*SAR_TREE, "run", str(DEFAULT_TREE), "--speed", "20", "--watch",
+                       "--report-dir", str(report)])
+    final = screen.wait_for(lambda s: "EXIT=" in s, 120)
+    assert "EXIT=0" in final
+    assert "mission over: SUCCESS" in final
+    assert "sar-tree run: Mission SUCCESS" in final
+    assert "runner |" not in final  # no progress lines while the tree is drawn
+    assert (report / "mission.json").is_file()
+
+
+def open_snapshot_stream(node, executor) -> str:
+    """Open a stream on whichever tree offers one, as py-trees-tree-watcher does; its topic."""
+    from py_trees_ros_interfaces.srv import OpenSnapshotStream
+
+    kind = "py_trees_ros_interfaces/srv/OpenSnapshotStream"
+    found: list[str] = []
+
+    def offered() -> bool:
+        found[:] = [n for n, types in node.get_service_names_and_types() if kind in types]
+        return bool(found)
+
+    assert spin_until(executor, offered, 60.0), "no tree offers a snapshot stream"
+    request = OpenSnapshotStream.Request()
+    request.parameters.snapshot_period = 0.0
+    return call_service(node, executor, OpenSnapshotStream, found[0], request).topic_name
+
+
+def test_watch_shows_what_the_snapshot_stream_says(terminal, tmp_path: Path) -> None:
+    pytest.importorskip("py_trees_ros_interfaces.msg", reason="py_trees_ros is not installed")
+    from py_trees_ros_interfaces.msg import BehaviourTree
+
+    symbols = {1: "-", 2: "*", 3: "✓", 4: "✕"}  # the message's INVALID..FAILURE
+    assert set(symbols.values()) == {py_trees.display.unicode_symbols[s]
+                                     for s in py_trees.common.Status}
+    screen = terminal([*SAR_TREE, "watch", "--wait", "60"])
+    screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
+    mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"], tmp_path / "report")
+    by_tick: dict[int, list[tuple[str, str]]] = {}
+    try:
+        with ros_node("snapshot_listener") as (node, executor):
+            topic = open_snapshot_stream(node, executor)
+            node.create_subscription(BehaviourTree, topic, lambda m: by_tick.__setitem__(
+                m.statistics.count + 1, sorted((symbols[b.status], b.name) for b in m.behaviours)),
+                100)
+            final = ""
+
+            def over() -> bool:
+                nonlocal final
+                final = screen.screen()
+                return "EXIT=" in final
+
+            assert spin_until(executor, over, 90.0), screen.screen()
+        assert mission.wait(timeout=30) == 0
+    finally:
+        mission.stop()
+    assert "EXIT=0" in final and "mission over: SUCCESS" in final
+    words = " ".join(final.split())  # the source line may wrap
+    assert "py_trees_ros snapshots on /sar_mission_runner/snapshot_streams/" in words
+    tick = int(re.search(r"search_and_rescue  tick (\d+)", final).group(1))
+    drawn = sorted(re.findall(r"── (\S) (\S+)", final))
+    assert ("✓", "NavigateToBase") in drawn and len(drawn) > 10
+    # every node, with the status the stream gave at that tick
+    assert drawn == by_tick.get(tick), (final, tick, sorted(by_tick)[-3:])

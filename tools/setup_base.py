@@ -1,0 +1,96 @@
+"""Helpers every set-up step shares: errors, logging, commands, input digests and stamps.
+
+Standard library only: this runs before any venv exists.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import subprocess
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+class SetupError(Exception):
+    """A set-up step failed in a way the user must act on; the message says how."""
+
+
+def log(message: str) -> None:
+    """Print one progress line."""
+    print(f"[bootstrap] {message}", flush=True)
+
+
+def run(cmd: Sequence[str | Path], *, what: str, env: dict[str, str] | None = None,
+        cwd: Path | None = None) -> str:
+    """Run a command, returning its output; raise SetupError with its tail on failure.
+
+    Args:
+        cmd: The command.
+        what: What the step is doing, for the error message.
+        env: Environment (defaults to the current one).
+        cwd: Working directory.
+
+    Returns:
+        The combined stdout and stderr.
+    """
+    proc = subprocess.run(
+        [str(c) for c in cmd], env=env, cwd=cwd, text=True,
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, check=False,
+    )
+    if proc.returncode != 0:
+        tail = "\n".join(
+            line for line in proc.stdout.splitlines()[-40:]
+            if not line.startswith("WARNING: Location")
+        )
+        raise SetupError(f"{what} failed (exit {proc.returncode}):\n{tail}")
+    return proc.stdout
+
+
+def digest(paths: Iterable[Path], *extra: str) -> str:
+    """Hash file contents (and names) plus extra strings: a step's input fingerprint."""
+    h = hashlib.sha256()
+    for p in sorted(paths):
+        h.update(str(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p).encode())
+        h.update(p.read_bytes())
+    for e in extra:
+        h.update(e.encode())
+    return h.hexdigest()
+
+
+def files_under(folder: Path) -> list[Path]:
+    """Every file below a folder."""
+    return [p for p in folder.rglob("*") if p.is_file()]
+
+
+class Stamps:
+    """Per-venv record of which steps are done for which inputs."""
+
+    def __init__(self, venv: Path) -> None:
+        self.path = venv / ".sar-stamps.json"
+        try:
+            self.data: dict[str, str] = json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            self.data = {}
+
+    def done(self, step: str, key: str) -> bool:
+        """Whether the step already succeeded for these inputs."""
+        return self.data.get(step) == key
+
+    def mark(self, step: str, key: str) -> None:
+        """Record a step's success (written at once, so a later failure keeps it)."""
+        self.data[step] = key
+        self.path.write_text(json.dumps(self.data, indent=1, sort_keys=True))
+
+
+def venv_python(venv: Path) -> Path:
+    """The venv's interpreter."""
+    return venv / "bin" / "python"
+
+
+def importable(venv: Path, module: str) -> bool:
+    """Whether the venv's interpreter can import a module."""
+    return subprocess.run([str(venv_python(venv)), "-c", f"import {module}"],
+                          capture_output=True, check=False).returncode == 0

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service, spin_until
+from sar_testing.spin import call_service
 
 from sar_framework.servers.report_log import ReportLog
 from sar_framework.servers.survivors import (

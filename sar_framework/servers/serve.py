@@ -10,6 +10,8 @@ if TYPE_CHECKING:
 
 #: Exit code for a configuration the server cannot start with.
 EXIT_CONFIG = 2
+#: Longest wait of one spin: how long a signal may wait to be noticed.
+SPIN_TIMEOUT_S = 0.1
 
 
 class ServerConfigError(ValueError):
@@ -27,17 +29,25 @@ def serve(make_node: Callable[[], Node], logger_name: str,
         argv: Command line (``sys.argv`` when None); ROS arguments are honoured.
 
     Returns:
-        The process exit code: 0 after SIGINT, 2 for a bad configuration.
+        The process exit code: 0 after SIGINT or SIGTERM, 2 for a bad configuration.
     """
     import signal
     import sys
 
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.recording.introspection import enable_service_introspection
 
-    rclpy.init(args=list(sys.argv if argv is None else argv))
+    # Our own handlers set a flag that the spin loop checks. rclpy's raise KeyboardInterrupt
+    # wherever the main thread is, and shut the context down under the executor: a loaded
+    # machine then printed a traceback from a take (or a half-made Task) at every Ctrl-C.
+    stop: list[int] = []
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda signum, _frame: stop.append(signum))
+    rclpy.init(args=list(sys.argv if argv is None else argv),
+               signal_handler_options=SignalHandlerOptions.NO)
     node = None
     try:
         try:
@@ -46,13 +56,12 @@ def serve(make_node: Callable[[], Node], logger_name: str,
             rclpy.logging.get_logger(logger_name).error(str(err))
             return EXIT_CONFIG
         enable_service_introspection(node)
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        while not stop:
+            executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
+        executor.shutdown(timeout_sec=0.0)
     finally:
-        # Under ros2 launch a Ctrl-C arrives twice (the terminal's process group, then
-        # launch): a second KeyboardInterrupt in the clean-up printed a traceback, exit -2.
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service
+from sar_testing.spin import call_service, spin_until
 
 from sar_framework.servers.report_log import ReportLog
 from sar_framework.servers.survivors import (
@@ -199,3 +199,34 @@ def test_refuse_all_fault_injection(ros, tmp_path):
         assert report(ros, "survivor_1") is False
         server.wait_for_output("refuse_all is set")
     assert not file.exists() or records(file) == []
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_mid_request_stops_the_server_cleanly(ros, tmp_path, sig):
+    """A signal while requests keep arriving ends the server with 0 and no traceback.
+
+    With rclpy's own handlers the signal raised KeyboardInterrupt wherever the main thread
+    was and shut the context down under the executor: a take (or a half-made Task) then
+    printed a traceback (seen under load at the end of a mission).
+    """
+    from sar_interfaces.srv import DetectSurvivor
+
+    node, executor = ros
+    for round_ in range(3):
+        server = NodeProcess(DETECT, f"detect{round_}", log_dir=tmp_path).start()
+        try:
+            server.wait_for_output("ready")
+            client = node.create_client(DetectSurvivor, "/detect_survivor")
+            assert spin_until(executor, client.service_is_ready, DISCOVERY_S)
+            pending = [client.call_async(DetectSurvivor.Request(zone_id="zone_a"))
+                       for _ in range(50)]
+            spin_until(executor, lambda p=pending: any(f.done() for f in p), 5.0)
+            server.send_signal(sig)  # while the other requests are still being served
+            for _ in range(50):
+                client.call_async(DetectSurvivor.Request(zone_id="zone_b"))
+            assert server.wait(timeout=10) == 0, server.output
+        finally:
+            server.stop()
+            node.destroy_client(client)
+        assert "Traceback" not in server.output, server.output

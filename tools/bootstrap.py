@@ -12,6 +12,10 @@ Run by ``make`` before every target; it does real work only when an input change
     4. ROS 2 stack     upstream Jazzy launch, ros2cli, tf2, nav2_msgs, py_trees_ros...
                        built with colcon into the venv (tools/ros_overlay.py), when a
                        source tree is found or can be fetched
+
+With a sourced ROS 2 Jazzy (``/opt/ros/jazzy/setup.bash``) the venv is made with its python3
+and sees its packages; steps 3 and 4 and the stand-ins are skipped and only the requirements
+it lacks are installed (tools/sourced_ros.py).
     5. interfaces      build interfaces/sar_interfaces into the venv; build the
                        stand-ins nav2_msgs / tf2_msgs only where step 4 did not provide
                        the real package and the import fails
@@ -33,6 +37,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -49,6 +54,14 @@ from setup_base import (
     log,
     run,
     venv_python,
+)
+from sourced_ros import (
+    SourcedRos,
+    detect_sourced_ros,
+    install_library_path_hook,
+    interface_build_env,
+    provided_distributions,
+    requirements_not_provided,
 )
 
 REQUIRED_PYTHON = (3, 11)  # the ROS 2 Jazzy wheels on PyPI are built for CPython 3.11 only
@@ -105,30 +118,51 @@ def ensure_system_tools(python: str) -> None:
 
 
 # ---------------------------------------------------------------- 2. venv + wheels
-def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequence[str] = ()
-                ) -> Stamps:
-    """Create the venv (removing a broken one) and install pinned requirements."""
+def python_version(python: str) -> str:
+    """``3.11``: the major and minor version of an interpreter."""
+    return run([python, "-c", "import sys; print('%d.%d' % sys.version_info[:2])"],
+               what=f"asking {python} for its version").strip()
+
+
+def venv_matches(venv: Path, version: str, system_site: bool) -> bool:
+    """Whether ``venv`` runs Python ``version`` and sees system site-packages as wanted."""
     vpy = venv_python(venv)
-    healthy = vpy.exists() and subprocess.run(
-        [str(vpy), "-c", "import sys; assert sys.version_info[:2] == (3, 11)"],
-        capture_output=True, check=False,
-    ).returncode == 0
-    if venv.exists() and not healthy:
-        log(f"removing broken virtual environment {venv}")
+    if not vpy.exists() or subprocess.run(
+            [str(vpy), "-c", f"import sys; assert '%d.%d' % sys.version_info[:2] == '{version}'"],
+            capture_output=True, check=False).returncode != 0:
+        return False
+    config = (venv / "pyvenv.cfg").read_text() if (venv / "pyvenv.cfg").exists() else ""
+    return ("include-system-site-packages = true" in config) == system_site
+
+
+def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequence[str] = (),
+                *, system_site: bool = False) -> Stamps:
+    """Create the venv (replacing a broken or different one) and install pinned requirements.
+
+    Args:
+        python: The interpreter to make the venv with.
+        venv: Where.
+        requirements: Pinned requirement files to install.
+        extra: More ``pip install`` arguments.
+        system_site: See the interpreter's own site-packages (a sourced ROS's Debian ones).
+    """
+    if venv.exists() and not venv_matches(venv, python_version(python), system_site):
+        log(f"replacing virtual environment {venv} (broken, or made for another set-up)")
         shutil.rmtree(venv)
     if not venv.exists():
         log(f"creating {venv.name} with {python}")
         try:
-            run([python, "-m", "venv", venv], what="creating the virtual environment")
+            run([python, "-m", "venv", *(["--system-site-packages"] if system_site else []),
+                 venv], what="creating the virtual environment")
         except SetupError:
             shutil.rmtree(venv, ignore_errors=True)  # never leave a half-made venv behind
             raise
     stamps = Stamps(venv)
-    key = digest(requirements, *extra)
+    key = digest(requirements, *extra, f"system-site={system_site}")
     if stamps.done("requirements", key):
         return stamps
     log(f"installing pinned packages into {venv.name} ({', '.join(p.name for p in requirements)})")
-    args = [vpy, "-m", "pip", "install", "--disable-pip-version-check", "-q"]
+    args = [venv_python(venv), "-m", "pip", "install", "--disable-pip-version-check", "-q"]
     for req in requirements:
         args += ["-r", req]
     try:
@@ -174,7 +208,8 @@ def fix_wheel_cmake_paths(venv: Path, stamps: Stamps) -> None:
 
 
 # ---------------------------------------------------------------- 5. interfaces
-def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
+def build_interface_package(venv: Path, source: Path, stamps: Stamps,
+                            sourced: SourcedRos | None = None) -> None:
     """Configure, build and install one ament_cmake interface package into the venv."""
     key = digest(files_under(source), stamps.data.get("requirements", ""))
     step = f"interface:{source.name}"
@@ -183,10 +218,7 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
     log(f"building interface package {source.name}")
     build = venv / ".sar-build" / source.name
     shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
-    env = dict(os.environ)
-    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
-    env["CMAKE_PREFIX_PATH"] = str(venv)
-    env["AMENT_PREFIX_PATH"] = str(venv)
+    env = interface_build_env(venv, sourced)
     started = time.monotonic()
     run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
          "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release"],
@@ -200,13 +232,15 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps) -> None:
     stamps.mark(step, key)
 
 
-def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset()) -> None:
+def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(),
+                     sourced: SourcedRos | None = None) -> None:
     """Build sar_interfaces, and the stand-ins only where the real packages are missing.
 
     Args:
         venv: The venv.
         stamps: Its stamps.
         provided: Packages the ROS 2 overlay built: their stand-ins are never built.
+        sourced: The sourced ROS 2 Jazzy to build against, if any.
     """
     for name in STAND_INS:
         source = ROOT / "interfaces" / "stand_ins" / name
@@ -215,8 +249,8 @@ def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(
             continue
         if stamps.data.get(f"interface:{name}") is None and importable(venv, name):
             continue  # a real installation provides it: never shadow it
-        build_interface_package(venv, source, stamps)
-    build_interface_package(venv, ROOT / "interfaces" / "sar_interfaces", stamps)
+        build_interface_package(venv, source, stamps, sourced)
+    build_interface_package(venv, ROOT / "interfaces" / "sar_interfaces", stamps, sourced)
 
 
 # ---------------------------------------------------------------- 6. project
@@ -285,17 +319,29 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     started = time.monotonic()
     try:
-        python = find_python()
+        sourced = detect_sourced_ros()
+        python = sourced.python if sourced is not None else find_python()
         ensure_system_tools(python)
         req = ROOT / "requirements"
-        main_reqs = [req / "ros.txt", req / "ros-stack.txt", req / "python.txt", req / "dev.txt"]
         venv = args.venv.resolve()
-        stamps = ensure_venv(python, venv, main_reqs)
-        fix_wheel_cmake_paths(venv, stamps)
+        if sourced is not None:
+            log(f"using the sourced ROS 2 Jazzy at {sourced.prefix} with {python}: "
+                "no ROS wheels, no overlay build")
+            with tempfile.TemporaryDirectory() as scratch:
+                lacking = requirements_not_provided(
+                    [req / "python.txt", req / "dev.txt"], provided_distributions(python),
+                    Path(scratch) / "requirements-sourced.txt")
+                stamps = ensure_venv(python, venv, [lacking], system_site=True)
+            install_library_path_hook(venv)
+        else:
+            main_reqs = [req / "ros.txt", req / "ros-stack.txt", req / "python.txt",
+                         req / "dev.txt"]
+            stamps = ensure_venv(python, venv, main_reqs)
+            fix_wheel_cmake_paths(venv, stamps)
         overlay = args.overlay_src.resolve() if args.overlay_src else None
         provided: set[str] = set()
         timed("ROS 2 stack", lambda: provided.update(ensure_ros_stack(venv, stamps, overlay)))
-        timed("interfaces", lambda: build_interfaces(venv, stamps, provided))
+        timed("interfaces", lambda: build_interfaces(venv, stamps, provided, sourced))
         install_project(venv, stamps)
         if not args.no_compat:
             compat = args.compat_venv.resolve()

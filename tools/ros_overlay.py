@@ -27,6 +27,7 @@ import time
 from pathlib import Path
 
 from setup_base import ROOT, SetupError, Stamps, digest, files_under, log, run, venv_python
+from sourced_ros import sourced_ros_prefix
 
 REPOS_FILE = ROOT / "ros2_jazzy.repos"
 SHARED_SOURCE = ROOT.parent / "shared" / "ros-overlay" / "src"
@@ -42,16 +43,6 @@ PACKAGES = (
 DATA_PACKAGES = {"nav2_bringup": ("launch", "params")}
 AMENT_HOOK = "sar_ament_prefix.pth"
 _NAME = re.compile(r"<name>\s*([A-Za-z0-9_]+)\s*</name>")
-
-
-def sourced_ros_prefix() -> str | None:
-    """Return the sourced ROS 2 Jazzy prefix that provides launch_ros, or None."""
-    if os.environ.get("ROS_DISTRO") != "jazzy":
-        return None
-    for prefix in filter(None, os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
-        if (Path(prefix) / "share" / "launch_ros" / "package.xml").exists():
-            return prefix
-    return None
 
 
 def locate_packages(root: Path, names: set[str]) -> dict[str, Path]:
@@ -207,12 +198,8 @@ def ensure_ros_stack(venv: Path, stamps: Stamps, explicit: Path | None) -> set[s
     install_ament_hook(venv)
     if os.environ.get("SAR_ROS_OVERLAY", "").lower() in ("off", "0", "no"):
         return set()
-    prefix = sourced_ros_prefix()
-    if prefix is not None and explicit is None:
-        if not stamps.done("overlay-system", prefix):
-            log(f"using the sourced ROS 2 Jazzy at {prefix}: no overlay build")
-            stamps.mark("overlay-system", prefix)
-        return set()
+    if sourced_ros_prefix() is not None and explicit is None:
+        return set()  # the sourced ROS provides these packages (tools/sourced_ros.py)
     source = find_source(venv, explicit, stamps)
     if source is None:
         # Built from a tree that is gone since: the real packages are still installed.

@@ -100,9 +100,21 @@ def test_broken_venv_is_replaced(tmp_path: Path) -> None:
     req = tmp_path / "empty.txt"
     req.write_text("# nothing\n")
     stamps = bootstrap.ensure_venv(sys.executable, venv, [req])
-    assert stamps.done("requirements", bootstrap.digest([req]))
+    assert stamps.done("requirements", bootstrap.digest([req], "system-site=False"))
     assert subprocess.run([str(venv / "bin" / "python"), "-c", "pass"],
                           check=False).returncode == 0
+
+
+def test_over_a_sourced_ros_only_the_requirements_it_lacks_are_installed(tmp_path) -> None:
+    load_bootstrap()  # puts tools/ on sys.path
+    import sourced_ros
+
+    req = tmp_path / "python.txt"
+    req.write_text("# pins\nPyYAML==6.0.3\npy_trees==2.6.0  # ROS has 2.2\n"
+                   "jsonschema==4.26.0\nrich==15.0.0\n\n")
+    provided = {sourced_ros.normalised(n) for n in ("pyyaml", "py-trees", "numpy")}
+    out = sourced_ros.requirements_not_provided([req], provided, tmp_path / "o" / "r.txt")
+    assert out.read_text() == "jsonschema==4.26.0\nrich==15.0.0\n"
 
 
 # --- step 4: the ROS 2 overlay (tools/ros_overlay.py) -----------------------------------
@@ -208,7 +220,7 @@ def test_stand_ins_are_not_built_where_the_overlay_provides_the_package(
     bootstrap = load_bootstrap()
     built: list[str] = []
     monkeypatch.setattr(bootstrap, "build_interface_package",
-                        lambda _venv, source, _stamps: built.append(source.name))
+                        lambda _venv, source, _stamps, _sourced: built.append(source.name))
     stamps = bootstrap.Stamps(tmp_path)
     stamps.data["interface:nav2_msgs"] = "an old stand-in"
     bootstrap.build_interfaces(tmp_path, stamps, {"nav2_msgs", "tf2_msgs"})

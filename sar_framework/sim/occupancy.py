@@ -1,13 +1,10 @@
-"""Occupancy grids: rasterise a world, write/read nav2 map_server files, inflate obstacles.
+"""Occupancy grids: rasterise a world, read nav2 map_server files, inflate obstacles.
 
 Grid convention (as ``nav_msgs/OccupancyGrid``): ``data[row, col]`` with row 0 at the
 map's *minimum* y, values ``FREE`` (0), ``OCCUPIED`` (100) and ``UNKNOWN`` (-1). The PGM
 image is stored the other way up (row 0 = maximum y), as map_server expects.
 
-Generate the committed map::
-
-    python -m sar_framework.sim.occupancy [--world maps/final_project_world.yaml]
-                                          [--out maps/final_project_map]
+The committed map is written by :mod:`sar_framework.sim.map_writer`.
 
 Note on loading: with map_saver's ``free_thresh: 0.25`` map_server reads the unknown
 shade 205 (occupancy 50/255 = 0.196) as *free*; :func:`load_map` follows map_server, so
@@ -17,10 +14,7 @@ plan can reach them either way.
 
 from __future__ import annotations
 
-import argparse
 import math
-import sys
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +22,7 @@ import numpy as np
 import yaml
 from PIL import Image
 
-from sar_framework.sim.world import DEFAULT_WORLD_PATH, Box, Cylinder, World, WorldError, load_world
+from sar_framework.sim.world import DEFAULT_WORLD_PATH, Box, Cylinder, World
 
 FREE = 0
 OCCUPIED = 100
@@ -270,49 +264,6 @@ def inflate(grid: OccupancyGrid, radius: float) -> np.ndarray:
     return distance <= radius + 1e-6
 
 
-def _format_number(value: float) -> str:
-    """Shortest decimal text of ``value`` after rounding away float noise (``-6.4``, ``0.05``)."""
-    text = repr(round(float(value), 9))
-    return "0.0" if text == "-0.0" else text
-
-
-def write_map(grid: OccupancyGrid, prefix: str | Path) -> tuple[Path, Path]:
-    """Write ``<prefix>.pgm`` and ``<prefix>.yaml`` as nav2 map_saver does (trinary mode).
-
-    Output bytes depend only on the grid, so regenerating an unchanged world is a no-op.
-
-    Args:
-        grid: The grid to save.
-        prefix: Output path without extension.
-
-    Returns:
-        ``(pgm_path, yaml_path)``.
-    """
-    prefix = Path(prefix)
-    prefix.parent.mkdir(parents=True, exist_ok=True)
-    pgm_path = prefix.with_name(prefix.name + ".pgm")
-    yaml_path = prefix.with_name(prefix.name + ".yaml")
-    pixels = np.full(grid.data.shape, PGM_UNKNOWN, dtype=np.uint8)
-    pixels[grid.data == FREE] = PGM_FREE
-    pixels[grid.data == OCCUPIED] = PGM_OCCUPIED
-    header = (
-        f"P5\n# CREATOR: sar_framework.sim.occupancy {grid.resolution:.3f} m/pix\n"
-        f"{grid.width} {grid.height}\n255\n"
-    )
-    pgm_path.write_bytes(header.encode("ascii") + np.flipud(pixels).tobytes())
-    yaml_path.write_text(
-        f"image: {pgm_path.name}\n"
-        "mode: trinary\n"
-        f"resolution: {_format_number(grid.resolution)}\n"
-        f"origin: [{_format_number(grid.origin_x)}, {_format_number(grid.origin_y)}, 0.0]\n"
-        "negate: 0\n"
-        f"occupied_thresh: {OCCUPIED_THRESH}\n"
-        f"free_thresh: {FREE_THRESH}\n",
-        encoding="utf-8",
-    )
-    return pgm_path, yaml_path
-
-
 def _yaml_number(doc: dict, key: str, source: str) -> float:
     value = doc.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -391,37 +342,3 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
     return OccupancyGrid(
         data=data, resolution=resolution, origin_x=float(origin[0]), origin_y=float(origin[1])
     )
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """Command line: rasterise a world file and write the map_server pair.
-
-    Args:
-        argv: Arguments (default: ``sys.argv[1:]``).
-
-    Returns:
-        Exit status: 0 on success, 1 when the world file is bad.
-    """
-    parser = argparse.ArgumentParser(
-        prog="python -m sar_framework.sim.occupancy",
-        description="Rasterise a world file into a nav2 map_server map (PGM + YAML).",
-    )
-    parser.add_argument("--world", type=Path, default=DEFAULT_WORLD_PATH, help="world YAML")
-    parser.add_argument(
-        "--out", type=Path, default=DEFAULT_MAP_PREFIX, help="output path without extension"
-    )
-    parser.add_argument("--resolution", type=float, default=DEFAULT_RESOLUTION, help="m/cell")
-    args = parser.parse_args(argv)
-    try:
-        world = load_world(args.world)
-    except WorldError as exc:
-        sys.stderr.write(f"error: {exc}\n")
-        return 1
-    grid = rasterize(world, resolution=args.resolution)
-    pgm, yaml_file = write_map(grid, args.out)
-    sys.stdout.write(f"wrote {pgm} and {yaml_file} ({grid.width}x{grid.height} cells)\n")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
+from sar_framework.sim.map_writer import main, write_map
 from sar_framework.sim.occupancy import (
     DEFAULT_MAP_PREFIX,
     FREE,
@@ -17,10 +18,8 @@ from sar_framework.sim.occupancy import (
     OccupancyGrid,
     inflate,
     load_map,
-    main,
     obstacle_distance,
     rasterize,
-    write_map,
 )
 from sar_framework.sim.world import load_world
 

@@ -9,7 +9,12 @@ start-up, so it may block, but always within a wall-clock bound::
 
 With ``nav2_simple_commander`` importable (a real ROS install) it is the course's recipe:
 ``BasicNavigator.setInitialPose`` + ``waitUntilNav2Active``, run in a helper thread so the
-bound holds. Otherwise the same steps in plain rclpy on a temporary node and executor:
+bound holds. ``waitUntilNav2Active`` waits for each ``get_state`` reply without a bound and
+never asks again, and DDS can drop the reply to a request sent just after discovery: when
+it is still waiting after :data:`PROBE_AFTER_S` while AMCL has answered the seed, a probe
+asks both nodes itself (re-sending) and, once both are ACTIVE, the start-up goes on. A
+helper thread left waiting is woken by the context's shutdown and joined at exit.
+Otherwise the same steps in plain rclpy on a temporary node and executor:
 
 1. wait until ``/amcl/get_state`` reports ACTIVE (``lifecycle_msgs/srv/GetState``, id 3);
 2. publish ``/initialpose`` (PoseWithCovarianceStamped, frame ``map``) every 0.5 s until
@@ -23,6 +28,7 @@ No ``spin_until_future_complete``: futures are polled in a bounded ``spin_once``
 
 from __future__ import annotations
 
+import atexit
 import math
 import threading
 import time
@@ -41,6 +47,10 @@ _HINT = "is Nav2 (or the simulator) running?"
 _SEED_PERIOD_S = 0.5
 _STATE_RETRY_S = 0.5
 _SPIN_STEP_S = 0.05
+#: BasicNavigator sleeps 2 s after each get_state answer: longer than this means a lost reply.
+PROBE_AFTER_S = 6.0
+#: A get_state request without an answer after this long is sent again.
+RESEND_S = 1.0
 
 
 class Nav2StartupError(RuntimeError):
@@ -135,6 +145,8 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
+    from sar_framework.ros.lifecycle_probe import LifecycleProbe
+
     nav = navigator_cls(node_name="sar_nav2_startup")
     nav.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     seed = PoseStamped()
@@ -146,20 +158,61 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
     _log(logger, f"Seeding AMCL at ({pose.x:.2f}, {pose.y:.2f}, yaw {pose.yaw:.2f}) with "
                  "BasicNavigator; waiting for Nav2 to become ACTIVE")
     nav.setInitialPose(seed)
-    waiter = threading.Thread(target=nav.waitUntilNav2Active, daemon=True,
-                              kwargs={"navigator": navigator, "localizer": localizer})
+    failure: list[BaseException] = []
+    waiter = threading.Thread(target=_wait_quietly, daemon=True, name="nav2-startup",
+                              args=(nav, navigator, localizer, failure))
     waiter.start()
-    deadline = time.monotonic() + timeout_s
-    while waiter.is_alive():
-        if should_stop():
-            raise StartupInterrupted("stopped while waiting for Nav2")
-        if time.monotonic() > deadline:
-            # The thread keeps the node; the process is about to give up anyway.
-            raise Nav2StartupError(f"{_stuck_step(nav, localizer, navigator)} within "
-                                   f"{timeout_s:g} s: {_HINT}")
-        waiter.join(timeout=_SPIN_STEP_S)
-    nav.destroy_node()
+    started = time.monotonic()
+    probe: LifecycleProbe | None = None
+    try:
+        while waiter.is_alive():
+            if should_stop():
+                raise StartupInterrupted("stopped while waiting for Nav2")
+            now = time.monotonic()
+            if now > started + timeout_s:
+                raise Nav2StartupError(f"{_stuck_step(nav, localizer, navigator)} within "
+                                       f"{timeout_s:g} s: {_HINT}")
+            if probe is None and now > started + PROBE_AFTER_S \
+                    and getattr(nav, "initial_pose_received", False):
+                probe = LifecycleProbe((localizer, navigator), resend_s=RESEND_S)
+            if probe is not None and probe.all_active():
+                _log(logger, "BasicNavigator is still waiting for a get_state reply (DDS "
+                             f"dropped one; it does not ask again): {localizer} and "
+                             f"{navigator} answered ACTIVE to a fresh request, going on")
+                break
+            waiter.join(timeout=_SPIN_STEP_S)
+    finally:
+        if probe is not None:
+            probe.close()
+        if waiter.is_alive():  # it spins the node: leave both to the shutdown
+            atexit.register(_join_after_shutdown, waiter)
+    if failure:
+        raise Nav2StartupError(f"BasicNavigator.waitUntilNav2Active failed: {failure[0]}")
+    if not waiter.is_alive():
+        nav.destroy_node()
     _log(logger, "Nav2 is ACTIVE and AMCL has its initial pose")
+
+
+def _wait_quietly(nav: Any, navigator: str, localizer: str,
+                  failure: list[BaseException]) -> None:
+    """Run ``waitUntilNav2Active``; keep its error unless the context was shut down."""
+    try:
+        nav.waitUntilNav2Active(navigator=navigator, localizer=localizer)
+    except Exception as err:
+        if nav.context.ok():
+            failure.append(err)
+
+
+def _join_after_shutdown(waiter: threading.Thread) -> None:
+    """At exit: shut the context down (its executor then stops) and join the thread.
+
+    A thread still inside rcl's wait when the interpreter finalises aborts the process
+    ("terminate called without an active exception").
+    """
+    import rclpy
+
+    rclpy.try_shutdown()
+    waiter.join(timeout=2.0)
 
 
 def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
@@ -239,12 +292,22 @@ class _Nav2Waiter:
                 if not self._spin_until(executor, client.service_is_ready, self._deadline):
                     raise self._timed_out(f"{name} never reported ACTIVE (/{name}/get_state "
                                           "never appeared)")
-                future = client.call_async(GetState.Request())
-                if not self._spin_until(executor, future.done, self._deadline):
-                    client.remove_pending_request(future)
-                    raise self._timed_out(f"{name} never reported ACTIVE (no answer from "
-                                          f"/{name}/get_state)")
-                state = future.result().current_state if future.result() else None
+                futures = [client.call_async(GetState.Request())]
+
+                def answered(futures: list[Any] = futures) -> bool:
+                    return any(f.done() for f in futures)
+
+                while not self._spin_until(executor, answered,
+                                           time.monotonic() + RESEND_S):
+                    if time.monotonic() >= self._deadline:
+                        raise self._timed_out(f"{name} never reported ACTIVE (no answer "
+                                              f"from /{name}/get_state)")
+                    futures.append(client.call_async(GetState.Request()))  # a lost reply
+                response = next(f for f in futures if f.done()).result()
+                for future in futures:
+                    if not future.done():
+                        client.remove_pending_request(future)
+                state = response.current_state if response else None
                 if state is not None and state.id == ACTIVE_STATE_ID:
                     _log(self._logger, f"{name} is ACTIVE")
                     return

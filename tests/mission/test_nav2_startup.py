@@ -91,3 +91,51 @@ def test_stop_request_interrupts_promptly(ros):
     with pytest.raises(StartupInterrupted):
         wait(ros, timeout_s=30.0, should_stop=lambda: time.monotonic() > deadline)
     assert time.monotonic() - start < 1.5
+
+
+def test_a_get_state_reply_lost_by_dds_is_asked_again(ros, tmp_path):
+    logger = Lines()
+    with NodeProcess([FAKE, "--bt-drop-first", "1"], "nav2", log_dir=tmp_path) as fake:
+        fake.wait_for_output("ready")
+        took = wait(ros, timeout_s=15.0, logger=logger)
+        fake.wait_for_output("get_state request 1 left unanswered")
+    assert took < 10.0
+    assert "bt_navigator is ACTIVE: Nav2 is ready" in logger.lines
+
+
+BASIC_NAVIGATOR_SCRIPT = """
+import rclpy
+from sar_framework.ros.nav2_startup import seed_amcl_and_wait_for_nav2
+
+class Printer:
+    info = staticmethod(print)
+
+rclpy.init()
+seed_amcl_and_wait_for_nav2(timeout_s=25.0, logger=Printer())
+print("STARTED", flush=True)
+"""
+
+
+@pytest.mark.skipif(basic_navigator_class() is None,
+                    reason="real-stack tier: nav2_simple_commander is not installed")
+def test_basic_navigator_stuck_on_a_lost_reply_does_not_stall_the_start(tmp_path):
+    """BasicNavigator waits for a get_state reply forever; the start-up goes on without it.
+
+    It runs in a process of its own (BasicNavigator needs the default context), which must
+    then exit cleanly: a thread left inside rcl's wait used to abort the interpreter.
+    """
+    import subprocess
+    import sys
+
+    with NodeProcess([FAKE, "--bt-drop-first", "1"], "nav2", log_dir=tmp_path) as fake:
+        fake.wait_for_output("ready")
+        started = time.monotonic()
+        done = subprocess.run([sys.executable, "-c", BASIC_NAVIGATOR_SCRIPT],
+                              capture_output=True, text=True, timeout=60, check=False)
+        took = time.monotonic() - started
+        fake.wait_for_output("get_state request 1 left unanswered")
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out
+    assert "STARTED" in out and "going on" in out, out
+    assert "terminate called" not in out and "Traceback" not in out, out
+    assert took < 20.0, out

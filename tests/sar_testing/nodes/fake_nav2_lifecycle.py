@@ -5,6 +5,8 @@ Options (argv):
     --bt-active-after S   bt_navigator reports "inactive" for S seconds, then ACTIVE
     --bt-never-active     bt_navigator always reports "inactive"
     --ignore-initialpose  never publish /amcl_pose
+    --bt-drop-first N     leave bt_navigator's first N get_state requests unanswered (what
+                          a reply lost by DDS looks like to the client)
 
 Logs ``ready`` once serving and ``initialpose x=.. y=.. yaw=.. frame=..`` per seed.
 """
@@ -14,10 +16,12 @@ import math
 import time
 
 import rclpy
+import rclpy.task
 from _node_main import spin_until_interrupted
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from lifecycle_msgs.msg import State
 from lifecycle_msgs.srv import GetState
+from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
@@ -28,6 +32,7 @@ def main() -> None:
     parser.add_argument("--bt-active-after", type=float, default=0.0)
     parser.add_argument("--bt-never-active", action="store_true")
     parser.add_argument("--ignore-initialpose", action="store_true")
+    parser.add_argument("--bt-drop-first", type=int, default=0)
     options, ros_args = parser.parse_known_args()
     rclpy.init(args=ros_args)
     amcl = Node("amcl")
@@ -45,7 +50,13 @@ def main() -> None:
     def amcl_state(_req: GetState.Request, _resp: GetState.Response) -> GetState.Response:
         return state(True)
 
-    def bt_state(_req: GetState.Request, _resp: GetState.Response) -> GetState.Response:
+    asked = [0]
+
+    async def bt_state(_req: GetState.Request, _resp: GetState.Response) -> GetState.Response:
+        asked[0] += 1
+        if asked[0] <= options.bt_drop_first:
+            bt.get_logger().info(f"get_state request {asked[0]} left unanswered")
+            await rclpy.task.Future()  # never done: no reply is ever sent
         active = not options.bt_never_active and (
             time.monotonic() - started >= options.bt_active_after)
         return state(active)
@@ -65,7 +76,9 @@ def main() -> None:
 
     amcl.create_subscription(PoseWithCovarianceStamped, "/initialpose", on_initial_pose, 10)
     amcl.create_service(GetState, "/amcl/get_state", amcl_state)
-    bt.create_service(GetState, "/bt_navigator/get_state", bt_state)
+    # Reentrant: a request left pending must not hold the later ones back.
+    bt.create_service(GetState, "/bt_navigator/get_state", bt_state,
+                      callback_group=ReentrantCallbackGroup())
     amcl.get_logger().info("ready")
     spin_until_interrupted(amcl, bt)
 

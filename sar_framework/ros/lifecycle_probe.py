@@ -1,0 +1,65 @@
+"""Ask lifecycle nodes whether they are ACTIVE, on a context of its own.
+
+Used by the Nav2 start-up when BasicNavigator's own wait may be stuck on a lost reply: a
+fresh client re-sends an unanswered ``get_state`` (DDS can drop the reply to a request sent
+just after discovery) and never blocks.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+#: ``lifecycle_msgs/msg/State.PRIMARY_STATE_ACTIVE``.
+ACTIVE_STATE_ID = 3
+#: Longest wait of one :meth:`LifecycleProbe.all_active`.
+SPIN_STEP_S = 0.05
+
+
+class LifecycleProbe:
+    """Ask lifecycle nodes for their state on a context of its own, re-sending unanswered asks.
+
+    Args:
+        names: The lifecycle nodes (``amcl``, ``bt_navigator``).
+        resend_s: Seconds after which an unanswered request is sent again.
+    """
+
+    def __init__(self, names: tuple[str, ...], *, resend_s: float = 1.0) -> None:
+        from lifecycle_msgs.srv import GetState
+        from rclpy.context import Context
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.node import Node
+
+        self._context = Context()
+        self._context.init()
+        self._node = Node("sar_nav2_probe", context=self._context)
+        self._executor = SingleThreadedExecutor(context=self._context)
+        self._executor.add_node(self._node)
+        self._clients = {n: self._node.create_client(GetState, f"/{n}/get_state")
+                         for n in names}
+        self._asks: dict[str, tuple[float, list[Any]]] = {}
+        self._active: set[str] = set()
+        self._resend_s = resend_s
+
+    def all_active(self) -> bool:
+        """Spin briefly, (re-)ask the nodes not yet seen ACTIVE; whether all are."""
+        from lifecycle_msgs.srv import GetState
+
+        self._executor.spin_once(timeout_sec=SPIN_STEP_S)
+        now = time.monotonic()
+        for name, client in self._clients.items():
+            if name in self._active:
+                continue
+            sent, futures = self._asks.get(name, (0.0, []))
+            answers = [f.result() for f in futures if f.done() and f.result() is not None]
+            if any(a.current_state.id == ACTIVE_STATE_ID for a in answers):
+                self._active.add(name)
+            elif now - sent > self._resend_s and client.service_is_ready():
+                self._asks[name] = (now, [*futures, client.call_async(GetState.Request())])
+        return len(self._active) == len(self._clients)
+
+    def close(self) -> None:
+        """Destroy the node and shut the probe's context down."""
+        self._executor.shutdown(timeout_sec=0.0)
+        self._node.destroy_node()
+        self._context.try_shutdown()

@@ -28,6 +28,8 @@ OPEN_TYPE = "py_trees_ros_interfaces/srv/OpenSnapshotStream"
 STATUS_NAMES = {1: "INVALID", 2: "RUNNING", 3: "SUCCESS", 4: "FAILURE"}
 #: Seconds between looks for the runner's snapshot service.
 DISCOVERY_PERIOD_S = 0.5
+#: Seconds an open request may go unanswered before it is sent again.
+OPEN_RESEND_S = 2.0
 #: Snapshots kept, by tick.
 KEPT = 50
 _ZERO_ID = bytes(16)
@@ -109,13 +111,23 @@ class SnapshotFeed:
         self._looked_s = 0.0
 
     def poll(self, now: float) -> None:
-        """Find the runner's snapshot service and open a stream, a step at a time."""
+        """Find the runner's snapshot service and open a stream, a step at a time.
+
+        Args:
+            now: ``time.monotonic()``; an open request unanswered for
+                :data:`OPEN_RESEND_S` is sent again.
+        """
         if self.topic:
             return
         if self._opening is not None:
             if self._opening.done():
                 self._subscribe(self._opening.result().topic_name)
-            return
+                return
+            if now - self._looked_s < OPEN_RESEND_S:
+                return
+            # No answer: DDS can drop the reply to a request sent just after discovery.
+            self._client.remove_pending_request(self._opening)
+            self._opening = None
         if now - self._looked_s < DISCOVERY_PERIOD_S:
             return
         self._looked_s = now

@@ -17,11 +17,17 @@ File arguments default to this package's share folder (ament index). A path that
 from the package share, and ``tree`` may name a file in its trees/ (``search_and_rescue``).
 Every process names its own nodes (no process-wide ``__node`` remap: the runner's process
 also holds BasicNavigator's node, the simulator's holds amcl and bt_navigator).
+
+Which of this package's processes start, and with which parameters, is not written here:
+the arguments fill a ``MissionSettings`` and :mod:`sar_framework.mission.processes` (the
+description ``sar-tree run`` starts from too) says the rest; this file adds what only a
+launch does (nav2_bringup, RViz, ending with the runner).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from ament_index_python.packages import get_package_share_directory
 from launch.actions import (
@@ -37,8 +43,15 @@ from launch.events import Shutdown
 from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
+from launch_ros.parameter_descriptions import ParameterValue
 
 from launch import LaunchContext, LaunchDescription
+from sar_framework.mission.processes import (
+    BRINGUP_NAV2_TIMEOUT_S,
+    MissionSettings,
+    Process,
+    mission_processes,
+)
 
 PACKAGE = "sar_framework"
 NAV2_MODES = ("bringup", "embedded")
@@ -111,62 +124,76 @@ def end_with_runner(event: object, context: LaunchContext) -> list | None:
     return [EmitEvent(event=Shutdown(reason="the mission is complete"))]
 
 
-def launch_setup(context: LaunchContext) -> list:
-    """Build the actions once the arguments are known (paths resolved, empty ones skipped)."""
+def mission_settings(context: LaunchContext) -> MissionSettings:
+    """What the mission starts, from the launch arguments (file arguments resolved)."""
     def arg(name: str) -> str:
         return LaunchConfiguration(name).perform(context)
 
-    use_sim_time = arg("use_sim_time").lower() in ("true", "1", "yes")
     embedded = arg("nav2") == "embedded"
-    common = {"output": "screen", "emulate_tty": True}
+    record = arg("record")
+    return MissionSettings(
+        tree=package_file(arg("tree"), "trees"),
+        params_file=package_file(arg("params_file")),
+        use_sim_time=arg("use_sim_time").lower() in ("true", "1", "yes"),
+        simulator=embedded,
+        speed=float(arg("speed")),
+        survivors_file=package_file(arg("survivors_file")),
+        report_file=str(Path(arg("report_file")).expanduser()),
+        exit_on_completion=True,
+        # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
+        nav2_timeout_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
+        tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
+        record=str(Path(record).expanduser().absolute()) if record else "",
+    )
+
+
+def launch_parameters(parameters: dict[str, Any]) -> dict[str, Any]:
+    """The parameters with their types kept: launch_ros reads a bare string as YAML."""
+    typed: dict[str, Any] = {}
+    for name, value in parameters.items():
+        if isinstance(value, str):
+            typed[name] = ParameterValue(value, value_type=str)
+        elif isinstance(value, list) and value and all(isinstance(v, str) for v in value):
+            typed[name] = ParameterValue(value, value_type=list[str])
+        else:
+            typed[name] = value
+    return typed
+
+
+def process_node(process: Process) -> Node:
+    """One process of the mission: its executable, its params files, then its parameters."""
+    return Node(package=PACKAGE, executable=process.executable,
+                parameters=[*process.params_files, launch_parameters(process.parameters)],
+                output="screen", emulate_tty=True)
+
+
+def launch_setup(context: LaunchContext) -> list:
+    """Build the actions once the arguments are known: Nav2's side, then the processes."""
+    settings = mission_settings(context)
     actions: list = []
-    if embedded:
-        actions.append(Node(package=PACKAGE, executable="sar-sim",
-                            parameters=[{"speed": float(arg("speed"))}], **common))
-    else:
+    if not settings.simulator:
         bringup = Path(get_package_share_directory("nav2_bringup"))
         actions.append(IncludeLaunchDescription(
             PythonLaunchDescriptionSource(str(bringup / "launch" / "bringup_launch.py")),
             launch_arguments={
-                "map": package_file(arg("map")),
-                "params_file": package_file(arg("nav2_params_file")),
-                "use_sim_time": str(use_sim_time),
+                "map": package_file(LaunchConfiguration("map").perform(context)),
+                "params_file": package_file(
+                    LaunchConfiguration("nav2_params_file").perform(context)),
+                "use_sim_time": str(settings.use_sim_time),
                 "autostart": "true",
             }.items(),
         ))
         actions.append(Node(
             package="rviz2", executable="rviz2", name="rviz2",
             arguments=["-d", str(bringup / "rviz" / "nav2_default_view.rviz")],
-            parameters=[{"use_sim_time": use_sim_time}],
+            parameters=[{"use_sim_time": settings.use_sim_time}],
             condition=IfCondition(LaunchConfiguration("rviz")), output="screen"))
-
-    tree = package_file(arg("tree"), "trees")
-    if arg("record"):  # started first: it sees the mission from its first message
-        actions.append(Node(package=PACKAGE, executable="sar-mission-recorder", parameters=[{
-            "output": str(Path(arg("record")).expanduser().absolute()), "tree": tree,
-            "params_file": package_file(arg("params_file"))}], **common))
-    runner_params: dict[str, object] = {
-        "tree": tree,
-        "use_sim_time": use_sim_time,
-        "seed_amcl": True,
-        "exit_on_completion": True,
-        # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
-        "nav2_timeout_s": 30.0 if embedded else 90.0,
-    }
-    if arg("tick_rate_hz"):
-        runner_params["tick_rate_hz"] = float(arg("tick_rate_hz"))
-    runner = Node(package=PACKAGE, executable="sar-mission-runner",
-                  parameters=[package_file(arg("params_file")), runner_params], **common)
-    actions += [
-        Node(package=PACKAGE, executable="sar-detect-survivor-server",
-             parameters=[{"survivors_file": package_file(arg("survivors_file")),
-                          "use_sim_time": use_sim_time}], **common),
-        Node(package=PACKAGE, executable="sar-report-survivor-server",
-             parameters=[{"report_file": str(Path(arg("report_file")).expanduser()),
-                          "use_sim_time": use_sim_time}], **common),
-        runner,
-        RegisterEventHandler(OnProcessExit(target_action=runner, on_exit=end_with_runner)),
-    ]
+    for process in mission_processes(settings):
+        node = process_node(process)
+        actions.append(node)
+        if process.label == "runner":
+            actions.append(RegisterEventHandler(
+                OnProcessExit(target_action=node, on_exit=end_with_runner)))
     return actions
 
 

@@ -1,4 +1,4 @@
-"""Mission state for the search-and-rescue tree (plain Python, no ROS)."""
+"""The search-and-rescue mission in plain Python (no ROS): its state, parameters, processes."""
 
 from sar_framework.mission.zone_manager import ZoneManager
 

@@ -1,9 +1,10 @@
 """``sar-tree run``: the whole mission from one command.
 
-Starts, as child processes of this one (the way the launch file composes them): the
-embedded simulator (unless ``--no-sim``), the detect and report servers, and the tree
-runner; prints the mission's progress; stops everything in order; writes the mission
-report (:mod:`sar_framework.report`) into the report folder, beside every child's log.
+Starts, as child processes of this one, what :mod:`sar_framework.mission.processes`
+describes (the launch file starts the same): the embedded simulator (unless ``--no-sim``),
+the detect and report servers, and the tree runner; prints the mission's progress; stops
+everything in order; writes the mission report (:mod:`sar_framework.report`) into the
+report folder, beside every child's log.
 
 Three modules, one concern each:
 

@@ -1,8 +1,10 @@
 """Configuration of ``sar-tree run``: its options, the checks of its inputs, its children.
 
 Everything here happens before a process starts: :func:`configure` declares the command
-line, :func:`check_config` checks every input, :func:`child_specs` says which processes
-run with which ROS arguments and :func:`ros_environment` with which environment.
+line, :func:`check_config` checks every input, :func:`mission_settings` says what the
+mission starts (:mod:`sar_framework.mission.processes`, the description the launch file
+shares), :func:`child_specs` turns it into command lines and :func:`ros_environment` gives
+their environment.
 """
 
 from __future__ import annotations
@@ -13,12 +15,17 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sar_framework.mission.processes import (
+    DEFAULT_SPEED,
+    MissionSettings,
+    ParamValue,
+    mission_processes,
+    ros_arguments,
+)
 from sar_framework.run.inputs import CheckedInputs, check_inputs, parse_entry
 
 DEFAULT_DOMAIN_ID = 42
 """``ROS_DOMAIN_ID`` when the environment sets none (the Makefile's value too)."""
-DEFAULT_SPEED = 20.0
-"""Simulated seconds per wall second (see ``benchmarks/bench_mission.py``)."""
 DEFAULT_TIMEOUT_S = 300.0
 DEFAULT_PARAMS = "config/mission_params.yaml"
 DEFAULT_REPORT_DIR = "reports/latest"
@@ -31,17 +38,19 @@ class RunUsageError(Exception):
 
 @dataclass(frozen=True)
 class ChildSpec:
-    """One process of the mission.
+    """One process of the mission as ``sar-tree run`` starts it.
 
     Attributes:
         label: Short name used in progress lines and for the log file (``runner.log``).
         module: The Python module run with ``-m``.
         ros_args: Everything after ``--ros-args``.
+        executable: The console script of the same program (what the launch file starts).
     """
 
     label: str
     module: str
     ros_args: tuple[str, ...]
+    executable: str = ""
 
 
 @dataclass
@@ -192,17 +201,27 @@ def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str
     return f"{x:g}:{y:g}:{radius or f'{DEFAULT_NAMED_RADIUS:g}'}"
 
 
-def sim_entries(entries: Sequence[str], zones: dict[str, tuple[float, float]]) -> list[str]:
-    """The ``--sim-param`` entries with mission zone names in ``blocked_zones`` resolved."""
-    resolved = []
+def entry_values(entries: Sequence[str],
+                 zones: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
+    """``NAME:=VALUE`` entries as typed values, read as rcl reads them (the last one wins).
+
+    Mission zone names in a ``blocked_zones`` list become ``x:y:radius`` (the simulator
+    knows its world's markers, not the mission's zones).
+
+    Args:
+        entries: ``--sim-param`` (or ``--detect-param``...) entries, already checked.
+        zones: Mission zone id -> ``(x, y)``.
+    """
+    values: dict[str, ParamValue] = {}
     for entry in entries:
         parsed = parse_entry(entry)
-        if parsed is not None and parsed[0] == "blocked_zones" and isinstance(parsed[1], list):
-            names = [blocked_zone_entry(str(e), zones) for e in parsed[1]]
-            resolved.append("blocked_zones:=[" + ", ".join(repr(n) for n in names) + "]")
-        else:
-            resolved.append(entry)
-    return resolved
+        if parsed is None:
+            continue  # check_config reported it; nothing starts with it
+        name, value = parsed
+        if name == "blocked_zones" and isinstance(value, list):
+            value = [blocked_zone_entry(str(e), zones or {}) for e in value]
+        values[name] = value
+    return values
 
 
 def ros_environment(base: dict[str, str] | None = None, *,
@@ -232,9 +251,36 @@ def ros_environment(base: dict[str, str] | None = None, *,
     return env
 
 
+def mission_settings(config: RunConfig, report_dir: Path,
+                     zones: dict[str, tuple[float, float]] | None = None) -> MissionSettings:
+    """What the mission starts, from ``sar-tree run``'s options.
+
+    The trace, status and report files go into the report folder; the servers and the
+    runner follow ``/clock`` only with the simulator; the runner stays up with
+    ``--keep-alive``; ``--sim-param`` and the like are set last.
+
+    Args:
+        config: The configuration.
+        report_dir: The report folder.
+        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+    """
+    return MissionSettings(
+        tree=config.tree, params_file=config.params, use_sim_time=config.sim,
+        simulator=config.sim, speed=config.speed, trace_file=str(report_dir / "trace.jsonl"),
+        detect_server=config.detect_server, survivors_file=config.survivors or "",
+        report_server=config.report_server, report_file=str(report_dir / "reports.jsonl"),
+        exit_on_completion=not config.keep_alive,
+        status_file=str(report_dir / "status.json"),
+        plugin_paths=tuple(config.plugin_paths), record=config.record or "",
+        extra={"sim": entry_values(config.sim_params, zones),
+               "detect": entry_values(config.detect_params),
+               "report": entry_values(config.report_params),
+               "runner": entry_values(config.runner_params)})
+
+
 def child_specs(config: RunConfig, report_dir: Path,
                 zones: dict[str, tuple[float, float]] | None = None) -> list[ChildSpec]:
-    """The processes of a mission, in start order (the runner last).
+    """The processes of a mission, in start order (the runner last), as command lines.
 
     Args:
         config: The configuration.
@@ -242,37 +288,8 @@ def child_specs(config: RunConfig, report_dir: Path,
         zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
 
     Returns:
-        One spec per child process.
+        One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
+        of :func:`mission_settings`).
     """
-    sim_time = ("-p", f"use_sim_time:={'true' if config.sim else 'false'}")
-
-    def params(entries: Sequence[str]) -> tuple[str, ...]:
-        return tuple(a for entry in entries for a in ("-p", entry))
-
-    specs: list[ChildSpec] = []
-    if config.record:
-        specs.append(ChildSpec("recorder", "sar_framework.recording", (
-            "-p", f"output:={config.record}", "-p", f"tree:={config.tree}",
-            "-p", f"params_file:={config.params}")))
-    if config.sim:
-        specs.append(ChildSpec("sim", "sar_framework.sim", (
-            "-p", f"speed:={config.speed:g}",
-            "-p", f"trace_file:={report_dir / 'trace.jsonl'}",
-            *params(sim_entries(config.sim_params, zones or {})))))
-    if config.detect_server:
-        survivors = ("-p", f"survivors_file:={config.survivors}") if config.survivors else ()
-        specs.append(ChildSpec("detect", "sar_framework.servers.detect_survivor_server", (
-            *sim_time, *survivors, *params(config.detect_params))))
-    if config.report_server:
-        specs.append(ChildSpec("report", "sar_framework.servers.report_survivor_server", (
-            *sim_time, "-p", f"report_file:={report_dir / 'reports.jsonl'}",
-            *params(config.report_params))))
-    plugin_path = (("-p", f"plugin_path:={os.pathsep.join(config.plugin_paths)}")
-                   if config.plugin_paths else ())
-    specs.append(ChildSpec("runner", "sar_framework.ros.runner", (
-        "--params-file", config.params,
-        "-p", f"tree:={config.tree}", *sim_time,
-        "-p", f"exit_on_completion:={'false' if config.keep_alive else 'true'}",
-        "-p", f"status_file:={report_dir / 'status.json'}",
-        *plugin_path, *params(config.runner_params))))
-    return specs
+    return [ChildSpec(p.label, p.module, tuple(ros_arguments(p)), p.executable)
+            for p in mission_processes(mission_settings(config, report_dir, zones))]

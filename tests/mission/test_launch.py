@@ -16,11 +16,17 @@ from pathlib import Path
 import pytest
 import yaml
 
+from sar_framework.mission import processes
 from sar_framework.mission.params_file import check_params_file
+from sar_framework.mission.processes import DEFAULT_SPEED
+from sar_framework.run.config import DEFAULT_PARAMS, RunConfig, check_config, child_specs
 
 REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / "launch" / "search_and_rescue.launch.py"
 NAV2 = REPO / "config" / "nav2_params.yaml"
+TREE = REPO / "trees" / "search_and_rescue.yaml"
+MISSION = REPO / "config" / "mission_params.yaml"
+SURVIVORS = REPO / "config" / "survivors.yaml"
 HAVE_LAUNCH = (importlib.util.find_spec("launch_ros") is not None
                and importlib.util.find_spec("nav2_common") is not None)
 needs_launch = pytest.mark.skipif(
@@ -55,6 +61,9 @@ def test_declared_arguments_and_their_defaults():
     assert (REPO / "trees" / declared["tree"]).is_file()
     for key in ("params_file", "map", "nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
+    # The same defaults as sar-tree run's options.
+    assert declared["params_file"] == DEFAULT_PARAMS
+    assert float(declared["speed"]) == DEFAULT_SPEED
 
 
 # --- evaluated by launch itself ------------------------------------------------------------
@@ -198,6 +207,86 @@ def test_a_tree_path_that_exists_is_used_as_given(tmp_path, monkeypatch):
     runner = parameters(command_line(nodes[-1], context), "sar_mission_runner")
     assert runner["tree"] == str(tmp_path / "mine.yaml")
     assert runner["use_sim_time"] is False
+
+
+# --- one description: the launch file and sar-tree run start the same processes --------------
+
+def launched(report_dir: Path, **arguments: str) -> list[tuple[str, dict]]:
+    """This package's processes as the launch starts them: executable, parameters."""
+    nodes, _includes, context = evaluate(
+        tree=str(TREE), params_file=str(MISSION), report_file=str(report_dir / "reports.jsonl"),
+        **arguments)
+    return [(node.node_executable, parameters(command_line(node, context)))
+            for node in nodes if node.node_package == "sar_framework"]
+
+
+def run_children(report_dir: Path, **options: object) -> list[tuple[str, dict]]:
+    """The processes ``sar-tree run`` starts: executable, parameters of its command line."""
+    config = RunConfig(tree=str(TREE), params=str(MISSION), **options)
+    return [(spec.executable, parameters(list(spec.ros_args)))
+            for spec in child_specs(config, report_dir, check_config(config).zones)]
+
+
+def assert_same_but(launch: list, run: list, *, run_only: dict[str, dict],
+                    launch_only: dict[str, dict] | None = None) -> None:
+    """The same executables with the same parameters, but for the parameters named."""
+    assert [executable for executable, _ in launch] == [executable for executable, _ in run]
+    for (executable, by_launch), (_, by_run) in zip(launch, run, strict=True):
+        assert {**by_launch, **run_only.get(executable, {})} == \
+            {**by_run, **(launch_only or {}).get(executable, {})}, executable
+
+
+@needs_launch
+def test_launch_and_sar_tree_run_start_the_same_processes_with_the_same_parameters(tmp_path):
+    record = str(tmp_path / "mission.mcap")
+    launch = launched(tmp_path, nav2="embedded", survivors_file=str(SURVIVORS), speed="7.5",
+                      tick_rate_hz="4", record=record)
+    run = run_children(tmp_path, survivors=str(SURVIVORS), speed=7.5, record=record,
+                       runner_params=["tick_rate_hz:=4.0"])
+    assert [executable for executable, _ in run] == [
+        "sar-mission-recorder", "sar-sim", "sar-detect-survivor-server",
+        "sar-report-survivor-server", "sar-mission-runner"]
+    assert run[-1][1]["tick_rate_hz"] == 4.0 and run[1][1]["speed"] == 7.5
+    # Only sar-tree run has a report folder: the simulator's trace, the runner's status.
+    assert_same_but(launch, run, run_only={
+        "sar-sim": {"trace_file": str(tmp_path / "trace.jsonl")},
+        "sar-mission-runner": {"status_file": str(tmp_path / "status.json")}})
+
+
+@needs_launch
+def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_differs(tmp_path):
+    launch = launched(tmp_path, nav2="bringup", use_sim_time="false",
+                      survivors_file=str(SURVIVORS))
+    run = run_children(tmp_path, sim=False, survivors=str(SURVIVORS))  # Nav2 already up
+    assert launch[-1][1]["nav2_timeout_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
+    assert "nav2_timeout_s" not in run[-1][1]  # the runner's own bound (or the file's)
+    assert_same_but(
+        launch, run,
+        run_only={"sar-mission-runner": {"status_file": str(tmp_path / "status.json")}},
+        launch_only={"sar-mission-runner": {"nav2_timeout_s": processes.BRINGUP_NAV2_TIMEOUT_S}})
+
+
+@needs_launch
+def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, monkeypatch):
+    def twin(settings: processes.MissionSettings) -> processes.Process:
+        return processes.Process("twin", "sar-detect-survivor-server",
+                                 "sar_framework.servers.detect_survivor_server", (),
+                                 {"service_name": "/detect_again"})
+
+    def simulator(settings: processes.MissionSettings) -> processes.Process | None:
+        process = processes.simulator(settings)
+        if process is not None:  # a list of strings a YAML reader would take for numbers
+            process.parameters["blocked_zones"] = ["1:2:0.5", "zone_b"]
+        return process
+
+    builders = [simulator if b is processes.simulator else b for b in processes.BUILDERS]
+    monkeypatch.setattr(processes, "BUILDERS", (*builders[:-1], twin, builders[-1]))
+    launch = launched(tmp_path, nav2="embedded")
+    run = run_children(tmp_path)
+    for started in (launch, run):
+        assert ("sar-detect-survivor-server", {"service_name": "/detect_again"}) in started
+        assert dict(started)["sar-sim"]["blocked_zones"] == ["1:2:0.5", "zone_b"]
+    assert len(launch) == len(run) == 5
 
 
 # --- config/nav2_params.yaml --------------------------------------------------------------

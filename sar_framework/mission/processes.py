@@ -1,0 +1,243 @@
+"""The mission's processes: which programs start, in which order, with which parameters.
+
+The one description both ``sar-tree run`` and ``launch/search_and_rescue.launch.py`` start
+from (no ROS imported here). Each caller fills a :class:`MissionSettings` from its own
+options, :func:`mission_processes` turns it into :class:`Process` descriptions, and the
+caller only translates those: ``sar-tree run`` into ``--ros-args`` command lines for its
+supervisor (:func:`ros_arguments`), the launch file into ``launch_ros.actions.Node`` actions
+(``parameters=[*params_files, parameters]``).
+
+What the two genuinely do differently is a setting, not a second list:
+
+- ``sar-tree run`` has a report folder, so it sets ``trace_file``, ``status_file`` and
+  ``report_file`` inside it; the launch has none and keeps the report server's file
+  (``~/.ros/sar_reports.jsonl``, its ``report_file`` argument).
+- The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
+  to Gazebo: it sets ``nav2_timeout_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
+  simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the
+  runner's own bound (its default, or the mission parameter file's).
+- ``sar-tree run`` leaves the detect server's ``survivors_file`` unset unless
+  ``--survivors`` is given (the server then reads the repository's table); the launch
+  always names the file of its ``survivors_file`` argument.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import yaml
+
+ParamValue = bool | int | float | str | list[bool] | list[int] | list[float] | list[str]
+"""A ROS parameter value as both ``--ros-args -p`` and launch_ros take it."""
+
+DEFAULT_SPEED = 20.0
+"""Simulated seconds per wall second (``sar-tree run --speed``, the launch's ``speed``)."""
+BRINGUP_NAV2_TIMEOUT_S = 90.0
+"""The runner's bound on the Nav2 start-up when nav2_bringup starts beside the mission."""
+
+
+@dataclass(frozen=True)
+class MissionSettings:
+    """What a mission starts, whoever starts it (``sar-tree run`` or ``ros2 launch``).
+
+    Empty strings and None leave a parameter unset: the process keeps its own default.
+
+    Attributes:
+        tree: The tree file (runner, recorder).
+        params_file: The mission parameter file (the runner's params file; the recorder's).
+        use_sim_time: The servers and the runner follow ``/clock``.
+        simulator: Start the embedded simulator (``sar-sim``).
+        speed: The simulator's speed factor.
+        trace_file: The simulator's JSON Lines trace.
+        detect_server: Start the detect server.
+        survivors_file: The detect server's survivor table.
+        report_server: Start the report server.
+        report_file: The report server's JSON Lines file of acknowledged reports.
+        exit_on_completion: The runner ends when the mission is complete.
+        status_file: The runner's JSON status file.
+        nav2_timeout_s: The runner's bound on the Nav2 start-up.
+        tick_rate_hz: The runner's tick rate (over the parameter file's).
+        plugin_paths: Extra plugin locations for the runner.
+        record: Start the recorder writing this MCAP file.
+        extra: Process label -> parameters set last (``sar-tree run --sim-param`` ...).
+    """
+
+    tree: str
+    params_file: str
+    use_sim_time: bool = True
+    simulator: bool = True
+    speed: float = DEFAULT_SPEED
+    trace_file: str = ""
+    detect_server: bool = True
+    survivors_file: str = ""
+    report_server: bool = True
+    report_file: str = ""
+    exit_on_completion: bool = True
+    status_file: str = ""
+    nav2_timeout_s: float | None = None
+    tick_rate_hz: float | None = None
+    plugin_paths: tuple[str, ...] = ()
+    record: str = ""
+    extra: Mapping[str, Mapping[str, ParamValue]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Process:
+    """One process of the mission.
+
+    Attributes:
+        label: Short name: ``sar-tree run``'s progress lines and log file (``runner.log``).
+        executable: The installed console script (``lib/sar_framework/<executable>``).
+        module: The Python module ``python -m`` runs for the same program.
+        params_files: ROS parameter files, in order (before :attr:`parameters`).
+        parameters: ROS parameters, set after the files.
+    """
+
+    label: str
+    executable: str
+    module: str
+    params_files: tuple[str, ...] = ()
+    parameters: dict[str, ParamValue] = field(default_factory=dict)
+
+
+def _set(parameters: dict[str, ParamValue], name: str, value: ParamValue | None) -> None:
+    """Set ``name`` unless ``value`` is None or an empty string (the process's default)."""
+    if value is not None and value != "":
+        parameters[name] = value
+
+
+def recorder(settings: MissionSettings) -> Process | None:
+    """``sar-mission-recorder``, first: it sees the mission from its first message."""
+    if not settings.record:
+        return None
+    return Process("recorder", "sar-mission-recorder", "sar_framework.recording", (), {
+        "output": settings.record, "tree": settings.tree,
+        "params_file": settings.params_file})
+
+
+def simulator(settings: MissionSettings) -> Process | None:
+    """``sar-sim``, the embedded Nav2 stand-in (it publishes ``/clock``)."""
+    if not settings.simulator:
+        return None
+    parameters: dict[str, ParamValue] = {"speed": float(settings.speed)}
+    _set(parameters, "trace_file", settings.trace_file)
+    return Process("sim", "sar-sim", "sar_framework.sim", (), parameters)
+
+
+def _server(settings: MissionSettings, label: str, executable: str, file_parameter: str,
+            file: str) -> Process:
+    """A mission server, on the runner's clock, with its file (left unset when empty)."""
+    parameters: dict[str, ParamValue] = {"use_sim_time": settings.use_sim_time}
+    _set(parameters, file_parameter, file)
+    module = "sar_framework.servers." + label + "_survivor_server"
+    return Process(label, executable, module, (), parameters)
+
+
+def detect_server(settings: MissionSettings) -> Process | None:
+    """``sar-detect-survivor-server``."""
+    if not settings.detect_server:
+        return None
+    return _server(settings, "detect", "sar-detect-survivor-server", "survivors_file",
+                   settings.survivors_file)
+
+
+def report_server(settings: MissionSettings) -> Process | None:
+    """``sar-report-survivor-server``."""
+    if not settings.report_server:
+        return None
+    return _server(settings, "report", "sar-report-survivor-server", "report_file",
+                   settings.report_file)
+
+
+def runner(settings: MissionSettings) -> Process | None:
+    """``sar-mission-runner``, last: the servers it calls are starting already."""
+    parameters: dict[str, ParamValue] = {
+        "tree": settings.tree, "use_sim_time": settings.use_sim_time,
+        "exit_on_completion": settings.exit_on_completion}
+    _set(parameters, "status_file", settings.status_file)
+    _set(parameters, "nav2_timeout_s", settings.nav2_timeout_s)
+    _set(parameters, "tick_rate_hz", settings.tick_rate_hz)
+    _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
+    return Process("runner", "sar-mission-runner", "sar_framework.ros.runner",
+                   (settings.params_file,), parameters)
+
+
+BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (
+    recorder, simulator, detect_server, report_server, runner)
+"""One function per process, in start order; each returns None when it does not start."""
+
+
+def mission_processes(settings: MissionSettings) -> list[Process]:
+    """The mission's processes in start order (the runner last), each with its parameters.
+
+    Args:
+        settings: What the mission starts.
+
+    Returns:
+        One description per process; ``settings.extra`` is applied last.
+    """
+    processes = []
+    for build in BUILDERS:
+        process = build(settings)
+        if process is not None:
+            extra = settings.extra.get(process.label, {})
+            processes.append(Process(process.label, process.executable, process.module,
+                                     process.params_files, {**process.parameters, **extra}))
+    return processes
+
+
+# -- --ros-args ---------------------------------------------------------------------------
+def _scalar(value: bool | int | float | str, *, in_list: bool = False) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return ".nan"
+        if math.isinf(value):
+            return ".inf" if value > 0 else "-.inf"
+        text = repr(value)
+        mantissa, e, exponent = text.partition("e")
+        return text if "." in mantissa else f"{mantissa}.0{e}{exponent}"
+    if not in_list and value and value.strip() == value:
+        try:
+            if yaml.safe_load(value) == value:
+                return value  # reads back as this string: as a user would type it
+        except yaml.YAMLError:
+            pass
+    return "'" + value.replace("'", "''") + "'"
+
+
+def ros_value(value: ParamValue) -> str:
+    """``value`` as the text of ``-p NAME:=TEXT`` that rcl reads back as ``value``.
+
+    Args:
+        value: A parameter value.
+
+    Returns:
+        YAML: ``true``, ``2``, ``2.0``, a plain or single-quoted string, a flow list.
+    """
+    if isinstance(value, list):
+        return "[" + ", ".join(_scalar(item, in_list=True) for item in value) + "]"
+    return _scalar(value)
+
+
+def ros_arguments(process: Process) -> list[str]:
+    """Everything after ``--ros-args`` for ``process``: its params files, then ``-p``.
+
+    Args:
+        process: The process description.
+
+    Returns:
+        ``["--params-file", FILE, ..., "-p", "NAME:=VALUE", ...]``.
+    """
+    arguments: list[str] = []
+    for file in process.params_files:
+        arguments += ["--params-file", file]
+    for name, value in process.parameters.items():
+        arguments += ["-p", f"{name}:={ros_value(value)}"]
+    return arguments

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
-import importlib.metadata
 import importlib.util
 import pkgutil
 import threading
@@ -27,9 +26,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-import py_trees
-
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
+from sar_framework.engine.entry_points import declared_anywhere
 from sar_framework.engine.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
 from sar_framework.engine.plugin_import import (
@@ -98,6 +96,8 @@ class Registry:
             source: Where it came from, for messages and ``sar-tree plugins``.
             location: Where to report a problem when the class's source is unknown.
         """
+        import py_trees  # only once a plugin module, which imported it, gave a class
+
         spec: PluginSpec = cls.__dict__[PLUGIN_ATTRIBUTE]
         known = self._plugins.get(spec.name)
         if known is not None and same_definition(known.cls, cls):
@@ -258,6 +258,10 @@ class Registry:
 
     def import_entry_points(self) -> None:
         """Register the plugins of every installed ``sar_framework.plugins`` entry point."""
+        if not declared_anywhere(ENTRY_POINT_GROUP):
+            return  # no installed distribution names the group: nothing to load
+        import importlib.metadata
+
         try:
             points = importlib.metadata.entry_points(group=ENTRY_POINT_GROUP)
         except Exception as exc:  # broken metadata of some installed distribution

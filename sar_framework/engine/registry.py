@@ -102,27 +102,18 @@ class Registry:
         known = self._plugins.get(spec.name)
         if known is not None and same_definition(known.cls, cls):
             return  # one definition reached twice (re-export, package and path)
-        where = class_location(cls) or fallback_location(location, source)
         if not issubclass(cls, py_trees.behaviour.Behaviour):
-            self.diagnostics.append(
-                Diagnostic(where, f"plugin '{spec.name}' is not a py_trees behaviour "
-                                  f"(from {source})")
-            )
+            problem = f"plugin '{spec.name}' is not a py_trees behaviour (from {source})"
+        elif spec.name in RESERVED_KINDS:
+            problem = f"plugin name '{spec.name}' is reserved (from {source})"
+        elif known is not None:
+            problem = f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}"
+        else:
+            self._plugins[spec.name] = dataclasses.replace(spec, source=source)
             return
-        if spec.name in RESERVED_KINDS:
-            self.diagnostics.append(
-                Diagnostic(where, f"plugin name '{spec.name}' is reserved (from {source})")
-            )
-            return
-        if known is not None:
-            self.diagnostics.append(
-                Diagnostic(
-                    where,
-                    f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}",
-                )
-            )
-            return
-        self._plugins[spec.name] = dataclasses.replace(spec, source=source)
+        # Finding the class's line reads its file: only for a problem to report.
+        where = class_location(cls) or fallback_location(location, source)
+        self.diagnostics.append(Diagnostic(where, problem))
 
     def add_module(self, module: ModuleType, source: str | None = None) -> int:
         """Register every plugin class defined in (or re-exported by) a module.

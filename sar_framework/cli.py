@@ -350,9 +350,8 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     """Return the ``sar-tree`` argument parser.
 
     Args:
-        argv: The arguments about to be parsed: when their first word names a subcommand,
-            only that subcommand is set up (so ``validate`` never imports what ``run``
-            needs, nor spends time on the others' parsers). None: all.
+        argv: The arguments about to be parsed: only the subcommand their first word names
+            is set up (so ``validate`` never imports what ``run`` needs). None: all.
 
     Returns:
         The parser.

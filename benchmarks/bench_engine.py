@@ -4,8 +4,13 @@ Rows (median of the runs; the minimum beside it, what the code costs when nothin
 competes for the CPU):
 
 * ``sar-tree validate`` of trees/search_and_rescue.yaml, the whole process, against
-  ``python -c "import yaml, jsonschema"`` (the two libraries validation needs), the two
-  commands alternating so that they share the machine's noise; goal: ratio <= 1.3;
+  ``python -c "import yaml, jsonschema"`` (the two libraries validation needs), the
+  commands alternating so that they share the machine's noise; goal: ratio <= 1.3. Twice:
+  without ``.pyc`` files for sources that have none (``PYTHONDONTWRITEBYTECODE=1`` and an
+  editable install: ours are compiled on every run) and with them (as a regular install
+  has). Beside it, for scale: the floor plus the built-in plugins (what validating must
+  import, since it imports every plugin module to read its declarations), the floor plus
+  py_trees, the bare interpreter and, with ``--baseline``, another ``sar-tree``;
 * ``load_tree`` (read + validate + build, in-process) of the reference tree (goal <= 5 ms)
   and of a synthetic 100-node tree (goal <= 25 ms);
 * the same for 1,000 nodes, with the time per node against the 100-node tree (linearity;
@@ -16,13 +21,15 @@ competes for the CPU):
 Run::
 
     .venv/bin/python benchmarks/bench_engine.py
-    .venv/bin/python benchmarks/bench_engine.py --runs 50 --process-runs 20
+    .venv/bin/python benchmarks/bench_engine.py --runs 50 --process-runs 30
+    .venv/bin/python benchmarks/bench_engine.py --process-only --baseline ../main/.venv/bin/sar-tree
 """
 
 from __future__ import annotations
 
 import argparse
 import gc
+import os
 import statistics
 import subprocess
 import sys
@@ -210,27 +217,84 @@ def timed_ms(fn: Callable[[], Any], runs: int, warmup: int = 3) -> tuple[float, 
     return statistics.median(times) * 1000.0, min(times) * 1000.0
 
 
-def process_ratio(runs: int) -> tuple[float, float, float]:
-    """Wall seconds (median) of ``sar-tree validate`` and of the import floor, and the ratio.
+def process_times(runs: int, bytecode: bool,
+                  baseline: Path | None = None) -> dict[str, list[float]]:
+    """Wall seconds of each whole-process command, the commands alternating run by run.
 
-    The two commands alternate, so both see the same load on the machine.
+    Args:
+        runs: Runs of each command.
+        bytecode: Whether Python may keep compiled modules: True gives every module a
+            ``.pyc`` (in a temporary ``PYTHONPYCACHEPREFIX``, written on the warm-up run),
+            as a regular install has; False sets ``PYTHONDONTWRITEBYTECODE=1``, so sources
+            without a ``.pyc`` (an editable install's) are compiled on every run.
+        baseline: Another ``sar-tree`` (say, main's checkout) timed in the same rounds.
+
+    Returns:
+        Command label -> its wall times.
     """
-    command = [str(SAR_TREE), "validate", "-q", str(REFERENCE)]
-    floor = [sys.executable, "-c", "import yaml, jsonschema"]
+    tree = str(REFERENCE)
+    commands = {
+        "pass": [sys.executable, "-c", "pass"],
+        "floor": [sys.executable, "-c", "import yaml, jsonschema"],
+        "floor+py_trees": [sys.executable, "-c", "import yaml, jsonschema, py_trees"],
+        "floor+plugins": [sys.executable, "-c", "import importlib, pkgutil, yaml, jsonschema, "
+                          "sar_plugins\nfor m in pkgutil.iter_modules(sar_plugins.__path__):\n"
+                          "    importlib.import_module('sar_plugins.' + m.name)"],
+        "validate": [str(SAR_TREE), "validate", "-q", tree],
+    }
+    if baseline is not None:
+        commands["baseline"] = [str(baseline), "validate", "-q", tree]
+    env = dict(os.environ)
+    with tempfile.TemporaryDirectory() as cache:
+        if bytecode:
+            env.pop("PYTHONDONTWRITEBYTECODE", None)
+            env["PYTHONPYCACHEPREFIX"] = cache
+        else:
+            env["PYTHONDONTWRITEBYTECODE"] = "1"
 
-    def wall(argv: list[str]) -> float:
-        start = time.perf_counter()
-        subprocess.run(argv, check=True, capture_output=True)
-        return time.perf_counter() - start
+        def wall(argv: list[str]) -> float:
+            start = time.perf_counter()
+            subprocess.run(argv, check=True, capture_output=True, env=env)
+            return time.perf_counter() - start
 
-    wall(command)
-    wall(floor)
-    ours, base = [], []
-    for _ in range(runs):
-        ours.append(wall(command))
-        base.append(wall(floor))
-    return statistics.median(ours), statistics.median(base), \
-        statistics.median(ours) / statistics.median(base)
+        for argv in commands.values():
+            wall(argv)
+        times: dict[str, list[float]] = {label: [] for label in commands}
+        for _ in range(runs):
+            for label, argv in commands.items():
+                times[label].append(wall(argv))
+    return times
+
+
+def ratio_row(
+    label: str, times: dict[str, list[float]], key: str, goal: float | None
+) -> tuple[str, str, str]:
+    """One whole-process row: the median of ``key`` over the median of the floor."""
+    ours, floor = statistics.median(times[key]), statistics.median(times["floor"])
+    low = min(times[key]) / min(times["floor"])
+    return (f"{label} / import yaml, jsonschema",
+            f"{ours * 1000:.0f} ms / {floor * 1000:.0f} ms = {ours / floor:.2f}",
+            f"{verdict(ours / floor, goal)}; minimums {low:.2f}")
+
+
+def process_rows(runs: int, baseline: Path | None) -> list[tuple[str, str, str]]:
+    """The whole-process rows, without and with compiled bytecode for every module."""
+    rows = []
+    for bytecode in (False, True):
+        times = process_times(runs, bytecode, baseline)
+        mode = "with .pyc" if bytecode else "no .pyc"
+        rows.append(ratio_row(f"sar-tree validate, reference tree ({mode})", times,
+                              "validate", 1.3))
+        if baseline is not None:
+            rows.append(ratio_row(f"  baseline {baseline} ({mode})", times, "baseline", None))
+        rows += [
+            ratio_row(f"  import yaml, jsonschema + every built-in plugin module ({mode})", times,
+                      "floor+plugins", None),
+            ratio_row(f"  python -c 'import yaml, jsonschema, py_trees' ({mode})", times,
+                      "floor+py_trees", None),
+            ratio_row(f"  python -c pass: interpreter and site ({mode})", times, "pass", None),
+        ]
+    return rows
 
 
 def tick_ratio(loaded: Behaviour, by_hand: Behaviour, rounds: int) -> tuple[float, float, float]:
@@ -259,13 +323,22 @@ def verdict(value: float, goal: float | None) -> str:
     return f"{'ok' if value <= goal else 'MISSED'} (goal <= {goal:g})"
 
 
-def run(runs: int, process_runs: int) -> None:
+def print_table(rows: list[tuple[str, str, str]]) -> None:
+    """Print rows of (figure, measured, verdict) as a table."""
+    width = max(len(r[0]) for r in rows)
+    value_width = max(len(r[1]) for r in rows)
+    print(f"{'figure':<{width}}  {'measured':<{value_width}}  verdict")
+    print(f"{'-' * width}  {'-' * value_width}  -------")
+    for name, value, note in rows:
+        print(f"{name:<{width}}  {value:<{value_width}}  {note}")
+
+
+def run(runs: int, process_runs: int, baseline: Path | None, process_only: bool) -> None:
     """Print the benchmark table."""
-    rows: list[tuple[str, str, str]] = []
-    ours, floor, ratio = process_ratio(process_runs)
-    rows.append(("sar-tree validate (reference tree) / import yaml, jsonschema",
-                 f"{ours * 1000:.0f} ms / {floor * 1000:.0f} ms = {ratio:.2f}",
-                 verdict(ratio, 1.3)))
+    rows = process_rows(process_runs, baseline)
+    if process_only:
+        print_table(rows)
+        return
 
     def reference() -> Any:
         return load_tree(REFERENCE, context={"zone_manager": ZoneManager(ZONES, BASE)})
@@ -299,22 +372,21 @@ def run(runs: int, process_runs: int) -> None:
                  f"{tick_loaded * 1000:.1f} us / {tick_hand * 1000:.1f} us = "
                  f"{tick_loaded / tick_hand:.3f}",
                  verdict(min_ratio, 1.02) + f" on minimums ({min_ratio:.3f})"))
-    width = max(len(r[0]) for r in rows)
-    value_width = max(len(r[1]) for r in rows)
-    print(f"{'figure':<{width}}  {'measured':<{value_width}}  verdict")
-    print(f"{'-' * width}  {'-' * value_width}  -------")
-    for name, value, note in rows:
-        print(f"{name:<{width}}  {value:<{value_width}}  {note}")
+    print_table(rows)
 
 
 def main() -> None:
     """Parse the options and print the table."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=30, help="in-process runs per row")
-    parser.add_argument("--process-runs", type=int, default=10,
-                        help="runs of each command for the whole-process row")
+    parser.add_argument("--process-runs", type=int, default=20,
+                        help="runs of each command for the whole-process rows")
+    parser.add_argument("--baseline", type=Path, default=None,
+                        help="another sar-tree (e.g. main's .venv/bin/sar-tree) to time alongside")
+    parser.add_argument("--process-only", action="store_true",
+                        help="only the whole-process rows")
     args = parser.parse_args()
-    run(args.runs, args.process_runs)
+    run(args.runs, args.process_runs, args.baseline, args.process_only)
 
 
 if __name__ == "__main__":

@@ -2,8 +2,8 @@
 
 Each subcommand is a :class:`Command` (its arguments and a function returning the
 exit code) registered in :data:`_COMMANDS`; each imports what it needs inside its
-functions, and only the subcommand named on the command line gets its arguments
-configured, so ``sar-tree validate`` imports neither the runner nor graphviz.
+functions, and only the subcommand named on the command line is set up, so
+``sar-tree validate`` imports neither the runner nor graphviz.
 
 Exit codes: 0 clean, 1 errors in the input (printed GCC style), 2 usage errors.
 No traceback is ever printed unless ``--debug`` is given.
@@ -12,9 +12,7 @@ No traceback is ever printed unless ``--debug`` is given.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -228,6 +226,8 @@ def _run_plugins(args: argparse.Namespace) -> int:
     registry = extend(default_registry().copy(), args.plugin_path)
     errors = _print_diagnostics(registry.diagnostics)
     if args.json:
+        import json
+
         json.dump([plugin_info(p) for p in registry], sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
@@ -350,25 +350,26 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     """Return the ``sar-tree`` argument parser.
 
     Args:
-        argv: The arguments about to be parsed: only the subcommand they name gets its
-            own arguments (so ``validate`` never imports what ``run`` needs). None: all.
+        argv: The arguments about to be parsed: only the subcommand their first word names
+            is set up (so ``validate`` never imports what ``run`` needs). None: all.
 
     Returns:
         The parser.
     """
-    chosen = next((a for a in argv if a in _COMMANDS), None) if argv is not None else None
+    first = next((a for a in argv if not a.startswith("-")), None) if argv is not None else None
+    chosen = first if first in _COMMANDS else None
     parser = argparse.ArgumentParser(
         prog="sar-tree", description="Schema-checked YAML behaviour trees (py_trees)."
     )
     parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for command in _COMMANDS.values():
+    for command in _COMMANDS.values() if chosen is None else [_COMMANDS[chosen]]:
         sub_parser = sub.add_parser(command.name, help=command.help, description=command.help)
         # `--debug` is accepted after the subcommand too (SUPPRESS keeps the global value).
         sub_parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                                 help="show tracebacks of internal errors")
-        if argv is None or command.name == chosen:
+        if argv is None or chosen is not None:
             command.configure(sub_parser)
         sub_parser.set_defaults(_command=command)
     return parser
@@ -400,6 +401,8 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_OK
     except Exception as exc:
         if args.debug:
+            import traceback
+
             traceback.print_exc()
         _complain(
             f"sar-tree: internal error: {type(exc).__name__}: {exc}"

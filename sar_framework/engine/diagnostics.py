@@ -11,7 +11,6 @@ at once so a user fixes a file in one go instead of one error per run.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -93,5 +92,7 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> str:
     Returns:
         ``" (did you mean 'X'?)"`` or an empty string when nothing is close.
     """
+    import difflib  # only when a name is unknown
+
     close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
     return f" (did you mean '{close[0]}'?)" if close else ""

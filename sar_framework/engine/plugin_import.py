@@ -7,11 +7,8 @@ there is one; two classes are one plugin when they are one definition.
 
 from __future__ import annotations
 
-import hashlib
 import importlib.util
-import inspect
 import sys
-import traceback
 from pathlib import Path
 from types import ModuleType
 
@@ -33,6 +30,8 @@ def failure_location(
     if isinstance(exc, SyntaxError) and exc.filename and exc.lineno:
         return SourceLocation(display_path(exc.filename), exc.lineno, max(exc.offset or 1, 1))
     if file:
+        import traceback  # only when a plugin failed
+
         target = str(Path(file).resolve())
         for frame in reversed(traceback.extract_tb(exc.__traceback__)):
             if frame.filename and str(Path(frame.filename).resolve()) == target and frame.lineno:
@@ -49,6 +48,8 @@ def exception_text(exc: BaseException) -> str:
 
 def class_location(cls: type) -> SourceLocation | None:
     """Return where a class is defined, or None when its source is unknown."""
+    import inspect  # only when a plugin class is registered
+
     try:
         file = inspect.getsourcefile(cls)
         line = inspect.getsourcelines(cls)[1]
@@ -96,6 +97,8 @@ def is_module_name(text: str) -> bool:
 
 def exec_file(path: Path) -> ModuleType | BaseException:
     """Import ``path`` under a unique private module name; return it or the failure."""
+    import hashlib  # only for local plugin files
+
     digest = hashlib.sha1(str(path).encode()).hexdigest()[:10]
     stem = "".join(c if c.isalnum() else "_" for c in path.stem)
     name = f"{LOCAL_PREFIX}.{stem}_{digest}"

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
-import importlib.metadata
 import importlib.util
 import pkgutil
 import threading
@@ -27,9 +26,8 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-import py_trees
-
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
+from sar_framework.engine.entry_points import declared_anywhere
 from sar_framework.engine.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
 from sar_framework.engine.plugin_import import (
@@ -98,31 +96,24 @@ class Registry:
             source: Where it came from, for messages and ``sar-tree plugins``.
             location: Where to report a problem when the class's source is unknown.
         """
+        import py_trees  # only once a plugin module, which imported it, gave a class
+
         spec: PluginSpec = cls.__dict__[PLUGIN_ATTRIBUTE]
         known = self._plugins.get(spec.name)
         if known is not None and same_definition(known.cls, cls):
             return  # one definition reached twice (re-export, package and path)
-        where = class_location(cls) or fallback_location(location, source)
         if not issubclass(cls, py_trees.behaviour.Behaviour):
-            self.diagnostics.append(
-                Diagnostic(where, f"plugin '{spec.name}' is not a py_trees behaviour "
-                                  f"(from {source})")
-            )
+            problem = f"plugin '{spec.name}' is not a py_trees behaviour (from {source})"
+        elif spec.name in RESERVED_KINDS:
+            problem = f"plugin name '{spec.name}' is reserved (from {source})"
+        elif known is not None:
+            problem = f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}"
+        else:
+            self._plugins[spec.name] = dataclasses.replace(spec, source=source)
             return
-        if spec.name in RESERVED_KINDS:
-            self.diagnostics.append(
-                Diagnostic(where, f"plugin name '{spec.name}' is reserved (from {source})")
-            )
-            return
-        if known is not None:
-            self.diagnostics.append(
-                Diagnostic(
-                    where,
-                    f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}",
-                )
-            )
-            return
-        self._plugins[spec.name] = dataclasses.replace(spec, source=source)
+        # Finding the class's line reads its file: only for a problem to report.
+        where = class_location(cls) or fallback_location(location, source)
+        self.diagnostics.append(Diagnostic(where, problem))
 
     def add_module(self, module: ModuleType, source: str | None = None) -> int:
         """Register every plugin class defined in (or re-exported by) a module.
@@ -258,6 +249,10 @@ class Registry:
 
     def import_entry_points(self) -> None:
         """Register the plugins of every installed ``sar_framework.plugins`` entry point."""
+        if not declared_anywhere(ENTRY_POINT_GROUP):
+            return  # no installed distribution names the group: nothing to load
+        import importlib.metadata
+
         try:
             points = importlib.metadata.entry_points(group=ENTRY_POINT_GROUP)
         except Exception as exc:  # broken metadata of some installed distribution

@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE = 0, 1, 2
@@ -78,6 +77,8 @@ def configure_import(parser: argparse.ArgumentParser) -> None:
 
 def run_import(args: argparse.Namespace) -> int:
     """Convert BT.CPP 4 XML to a tree file, validated by our loader before it is written."""
+    import tempfile
+
     from sar_framework.engine.api import validate
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.interop.btcpp_import import document_yaml, import_btcpp

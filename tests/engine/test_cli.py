@@ -60,7 +60,7 @@ def test_validate_several_files(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "args",
     [[], ["validate"], ["validate", "missing.yaml"], ["frobnicate"], ["validate", "--bogus", "x"],
-     ["render", "good.yaml", "-o", "out.svg", "--format", "ascii"]],
+     ["render", "good.yaml", "-o", "out.svg", "--format", "ascii"], ["--debug", "validate"]],
 )
 def test_usage_errors_exit_2(tmp_path: Path, args: list[str]) -> None:
     write(tmp_path, "good.yaml", GOOD)
@@ -68,6 +68,12 @@ def test_usage_errors_exit_2(tmp_path: Path, args: list[str]) -> None:
     assert run.returncode == 2, run.stderr
     assert run.stderr
     no_traceback(run)
+
+
+def test_an_unknown_subcommand_lists_every_subcommand(tmp_path: Path) -> None:
+    run = sar_tree("--debug", "frobnicate", cwd=tmp_path)
+    assert run.returncode == 2
+    assert "invalid choice: 'frobnicate' (choose from 'validate', 'render', 'plugins'" in run.stderr
 
 
 def test_validate_directory_is_usage_error(tmp_path: Path) -> None:

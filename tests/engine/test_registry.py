@@ -89,6 +89,19 @@ def test_reserved_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     assert messages(reg) == ["r.py:4:1: error: plugin name 'sequence' is reserved (from r.py)"]
 
 
+def test_a_leaf_that_is_not_a_behaviour_is_reported_at_its_class(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path, "plain.py", "from sar_framework.engine.plugin import leaf\n\n\n"
+          "@leaf()\nclass Plain:\n    \"\"\"Not a behaviour.\"\"\"\n")
+    reg = discover(["plain.py"], builtins=False, entry_points=False)
+    assert reg.names() == []
+    assert messages(reg) == [
+        "plain.py:4:1: error: plugin 'Plain' is not a py_trees behaviour (from plain.py)"
+    ]
+
+
 def test_subclass_is_not_the_same_plugin(tmp_path: Path) -> None:
     write(tmp_path, "sub.py", PLUGIN.format(name="Base") + textwrap.dedent("""
         class Derived(Base):

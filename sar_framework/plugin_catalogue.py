@@ -1,0 +1,68 @@
+"""What ``sar-tree plugins`` says about each registered plugin, for people and as JSON."""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def param_text(param: Any) -> str:
+    """One line for a parameter: name, type, default or (required), bounds, description.
+
+    Args:
+        param: A :class:`~sar_framework.engine.plugin.Param`.
+    """
+    from sar_framework.engine.plugin import REQUIRED
+
+    kind = f"ref {param.ref}" if param.ref is not None else param.type.__name__
+    parts = [f"{param.name}: {kind}"]
+    parts.append("(required)" if param.default is REQUIRED else f"= {param.default!r}")
+    bounds = []
+    if param.minimum is not None:
+        bounds.append(f">= {param.minimum}")
+    if param.exclusive_minimum is not None:
+        bounds.append(f"> {param.exclusive_minimum}")
+    if param.maximum is not None:
+        bounds.append(f"<= {param.maximum}")
+    if param.enum is not None:
+        bounds.append("one of " + ", ".join(str(v) for v in param.enum))
+    if bounds:
+        parts.append(f"[{'; '.join(bounds)}]")
+    text = " ".join(parts)
+    return f"{text}  {param.description}" if param.description else text
+
+
+def plugin_info(plugin: Any) -> dict[str, Any]:
+    """Describe a plugin as JSON-ready data (``sar-tree plugins --json``).
+
+    Args:
+        plugin: A :class:`~sar_framework.engine.plugin.PluginSpec`.
+
+    Returns:
+        Name, source, description, params and context keys.
+    """
+    from sar_framework.engine.plugin import REQUIRED
+
+    params = []
+    for p in plugin.params:
+        entry: dict[str, Any] = {
+            "name": p.name,
+            "type": "reference" if p.ref is not None else p.type.__name__,
+            "required": p.default is REQUIRED,
+            "description": p.description,
+        }
+        if p.default is not REQUIRED:
+            entry["default"] = p.default
+        for key in ("minimum", "maximum", "exclusive_minimum", "ref"):
+            if getattr(p, key) is not None:
+                entry[key] = getattr(p, key)
+        if p.enum is not None:
+            entry["enum"] = list(p.enum)
+        params.append(entry)
+    return {
+        "name": plugin.name,
+        "source": plugin.source,
+        "class": f"{plugin.cls.__module__}.{plugin.cls.__qualname__}",
+        "description": plugin.description,
+        "params": params,
+        "context": list(plugin.context),
+    }

@@ -65,6 +65,7 @@ from sourced_ros import (
 )
 
 REQUIRED_PYTHON = (3, 11)  # the ROS 2 Jazzy wheels on PyPI are built for CPython 3.11 only
+WHEELS_PYTHON = ".".join(map(str, REQUIRED_PYTHON))  # "3.11"
 STAND_INS = ("nav2_msgs", "tf2_msgs")
 PACKAGE = "sar_framework"
 PACKAGE_SHARE = ("launch", "config", "maps", "trees")  # share/sar_framework, as setup.py
@@ -118,12 +119,6 @@ def ensure_system_tools(python: str) -> None:
 
 
 # ---------------------------------------------------------------- 2. venv + wheels
-def python_version(python: str) -> str:
-    """``3.11``: the major and minor version of an interpreter."""
-    return run([python, "-c", "import sys; print('%d.%d' % sys.version_info[:2])"],
-               what=f"asking {python} for its version").strip()
-
-
 def venv_matches(venv: Path, version: str, system_site: bool) -> bool:
     """Whether ``venv`` runs Python ``version`` and sees system site-packages as wanted."""
     vpy = venv_python(venv)
@@ -136,7 +131,8 @@ def venv_matches(venv: Path, version: str, system_site: bool) -> bool:
 
 
 def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequence[str] = (),
-                *, system_site: bool = False) -> Stamps:
+                *, version: str = WHEELS_PYTHON, system_site: bool = False
+                ) -> Stamps:
     """Create the venv (replacing a broken or different one) and install pinned requirements.
 
     Args:
@@ -144,9 +140,10 @@ def ensure_venv(python: str, venv: Path, requirements: list[Path], extra: Sequen
         venv: Where.
         requirements: Pinned requirement files to install.
         extra: More ``pip install`` arguments.
+        version: ``python``'s ``major.minor``; a venv of another version is replaced.
         system_site: See the interpreter's own site-packages (a sourced ROS's Debian ones).
     """
-    if venv.exists() and not venv_matches(venv, python_version(python), system_site):
+    if venv.exists() and not venv_matches(venv, version, system_site):
         log(f"replacing virtual environment {venv} (broken, or made for another set-up)")
         shutil.rmtree(venv)
     if not venv.exists():
@@ -331,7 +328,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 lacking = requirements_not_provided(
                     [req / "python.txt", req / "dev.txt"], provided_distributions(python),
                     Path(scratch) / "requirements-sourced.txt")
-                stamps = ensure_venv(python, venv, [lacking], system_site=True)
+                stamps = ensure_venv(python, venv, [lacking], version=sourced.version,
+                                     system_site=True)
             install_library_path_hook(venv)
         else:
             main_reqs = [req / "ros.txt", req / "ros-stack.txt", req / "python.txt",
@@ -345,7 +343,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         install_project(venv, stamps)
         if not args.no_compat:
             compat = args.compat_venv.resolve()
-            compat_stamps = ensure_venv(python, compat, [req / "compat.txt"])
+            compat_stamps = ensure_venv(python, compat, [req / "compat.txt"],
+                                        **({"version": sourced.version} if sourced else {}))
             install_project(compat, compat_stamps)
     except SetupError as err:
         print(f"[bootstrap] error: {err}", file=sys.stderr)

@@ -34,10 +34,12 @@ class SourcedRos:
     Attributes:
         prefix: The ament prefix that provides launch_ros (e.g. ``/opt/ros/jazzy``).
         python: The interpreter that imports its rclpy (``python3`` on ``PATH``).
+        version: That interpreter's ``major.minor`` (``3.12`` on Ubuntu 24.04).
     """
 
     prefix: str
     python: str
+    version: str
 
 
 def sourced_ros_prefix() -> str | None:
@@ -63,14 +65,15 @@ def detect_sourced_ros() -> SourcedRos | None:
     if python is None:
         raise SetupError(f"ROS 2 Jazzy is sourced ({prefix}) but there is no python3 on PATH")
     try:
-        run([python, "-c", "import rclpy"], what=f"importing rclpy with {python}")
+        out = run([python, "-c", "import rclpy, sys; print('%d.%d' % sys.version_info[:2])"],
+                  what=f"importing rclpy with {python}")
     except SetupError as err:
         reason = [line for line in str(err).splitlines() if line.strip()][-1:]
         raise SetupError(
             f"ROS 2 Jazzy is sourced ({prefix}) but {python} cannot import rclpy "
             f"({''.join(reason).strip()}): source {prefix}/setup.bash in this shell again, "
             "or unset ROS_DISTRO to use the PyPI wheels instead.") from None
-    return SourcedRos(prefix=prefix, python=python)
+    return SourcedRos(prefix=prefix, python=python, version=out.strip().splitlines()[-1])
 
 
 def normalised(name: str) -> str:

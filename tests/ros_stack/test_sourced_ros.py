@@ -89,10 +89,6 @@ def sourced(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, s
     return venv, env, done.stdout + done.stderr
 
 
-def sourced_prefix(env: dict[str, str]) -> str:
-    return env["AMENT_PREFIX_PATH"]
-
-
 def run_in(venv: Path, env: dict[str, str], *args: str) -> str:
     done = subprocess.run([str(venv / "bin" / args[0]), *args[1:]], env=env, cwd=ROOT,
                           capture_output=True, text=True, timeout=120, check=False)
@@ -103,7 +99,7 @@ def run_in(venv: Path, env: dict[str, str], *args: str) -> str:
 def test_setup_uses_the_sourced_ros_and_installs_no_ros_wheels(sourced) -> None:
     print("tier: a sourced ROS 2 Jazzy (this venv standing in for /opt/ros/jazzy)")
     venv, env, log = sourced
-    assert f"using the sourced ROS 2 Jazzy at {sourced_prefix(env)}" in log
+    assert f"using the sourced ROS 2 Jazzy at {env['AMENT_PREFIX_PATH']}" in log
     assert "ros.txt" not in log and "colcon" not in log, log
     assert "stand_ins" not in log and "building interface package nav2_msgs" not in log
     assert "include-system-site-packages = true" in (venv / "pyvenv.cfg").read_text()

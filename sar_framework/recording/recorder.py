@@ -17,13 +17,11 @@ introspection events (``/<service>/_service_event``; :mod:`.introspection`).
 from __future__ import annotations
 
 import importlib
-import signal
 import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from types import FrameType
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.recording.bag_writer import BagWriter
@@ -194,16 +192,12 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
-    stop: list[str] = []
-
-    def request_stop(signum: int, _frame: FrameType | None) -> None:
-        stop.append(signal.Signals(signum).name)
+    from sar_framework.ros.stop_signals import stop_on_signals
 
     # Our own handlers: the context stays valid while the file is closed after a signal.
     rclpy.init(args=list(sys.argv if argv is None else argv),
                signal_handler_options=SignalHandlerOptions.NO)
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, request_stop)
+    stop, _previous = stop_on_signals()
     node = Node(NODE_NAME)
     writer: BagWriter | None = None
     try:

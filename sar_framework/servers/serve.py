@@ -31,7 +31,6 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     Returns:
         The process exit code: 0 after SIGINT or SIGTERM, 2 for a bad configuration.
     """
-    import signal
     import sys
 
     import rclpy
@@ -39,13 +38,9 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.recording.introspection import enable_service_introspection
+    from sar_framework.ros.stop_signals import stop_on_signals
 
-    # Our own handlers set a flag that the spin loop checks. rclpy's raise KeyboardInterrupt
-    # wherever the main thread is, and shut the context down under the executor: a loaded
-    # machine then printed a traceback from a take (or a half-made Task) at every Ctrl-C.
-    stop: list[int] = []
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda signum, _frame: stop.append(signum))
+    stop, _previous = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers
     rclpy.init(args=list(sys.argv if argv is None else argv),
                signal_handler_options=SignalHandlerOptions.NO)
     node = None

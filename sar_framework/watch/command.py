@@ -17,7 +17,6 @@ import sys
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from types import FrameType
 from typing import Any
 
 from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
@@ -106,17 +105,13 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     from rich.live import Live
     from std_msgs.msg import String
 
+    from sar_framework.ros.stop_signals import stop_on_signals
     from sar_framework.watch.snapshot_source import snapshots_available
     from sar_framework.watch.view import frame
 
     console = console or Console()
-    stop: list[int] = []
-
-    def request_stop(signum: int, _frame: FrameType | None) -> None:
-        stop.append(signum)
-
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
-    previous = {s: signal.signal(s, request_stop) for s in (signal.SIGINT, signal.SIGTERM)}
+    stop, previous = stop_on_signals()
     node = Node("sar_tree_watch")
     state = WatchState()
     node.create_subscription(String, STATUS_TOPIC,

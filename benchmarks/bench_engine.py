@@ -10,7 +10,8 @@ competes for the CPU):
   editable install: ours are compiled on every run) and with them (as a regular install
   has). Beside it, for scale: the floor plus the built-in plugins (what validating must
   import, since it imports every plugin module to read its declarations), the floor plus
-  py_trees, the bare interpreter and, with ``--baseline``, another ``sar-tree``;
+  py_trees, the floor plus the engine's and CLI's own modules (no plugin, no py_trees), the
+  bare interpreter and, with ``--baseline``, another ``sar-tree``;
 * ``load_tree`` (read + validate + build, in-process) of the reference tree (goal <= 5 ms)
   and of a synthetic 100-node tree (goal <= 25 ms);
 * the same for 1,000 nodes, with the time per node against the 100-node tree (linearity;
@@ -237,6 +238,8 @@ def process_times(runs: int, bytecode: bool,
         "pass": [sys.executable, "-c", "pass"],
         "floor": [sys.executable, "-c", "import yaml, jsonschema"],
         "floor+py_trees": [sys.executable, "-c", "import yaml, jsonschema, py_trees"],
+        "floor+engine": [sys.executable, "-c", "import yaml, jsonschema, sar_framework.cli, "
+                         "sar_framework.engine.api, sar_framework.engine.registry"],
         "floor+plugins": [sys.executable, "-c", "import importlib, pkgutil, yaml, jsonschema, "
                           "sar_plugins\nfor m in pkgutil.iter_modules(sar_plugins.__path__):\n"
                           "    importlib.import_module('sar_plugins.' + m.name)"],
@@ -292,6 +295,8 @@ def process_rows(runs: int, baseline: Path | None) -> list[tuple[str, str, str]]
                       "floor+plugins", None),
             ratio_row(f"  python -c 'import yaml, jsonschema, py_trees' ({mode})", times,
                       "floor+py_trees", None),
+            ratio_row(f"  import yaml, jsonschema + the engine's and CLI's modules ({mode})",
+                      times, "floor+engine", None),
             ratio_row(f"  python -c pass: interpreter and site ({mode})", times, "pass", None),
         ]
     return rows

@@ -107,3 +107,30 @@ def test_recorder_names_an_output_it_cannot_write(tmp_path: Path) -> None:
     assert result.returncode == 2
     assert f"cannot write the recording '{target}'" in result.stdout + result.stderr
     assert "Traceback" not in result.stdout + result.stderr
+
+
+def test_every_recorded_type_decodes_with_mcap_ros2_and_rosbags(tmp_path: Path) -> None:
+    """One message of each recorded topic, written as the recorder writes it, decodes with
+    both independent readers (``mcap_ros2`` refused ``..._FeedbackMessage`` once)."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    from rclpy.serialization import serialize_message
+    from rosbags.highlevel import AnyReader
+
+    from sar_framework.recording.recorder import RECORDED_TOPICS, message_class
+
+    path = tmp_path / "all.mcap"
+    writer = BagWriter(path)
+    for topic in RECORDED_TOPICS:
+        writer.add_topic(topic.name, topic.type_name)
+        writer.write(topic.name, serialize_message(message_class(topic.type_name)()))
+    writer.close()
+    with path.open("rb") as stream:
+        decoded = [channel.topic for _schema, channel, _message, _decoded in
+                   make_reader(stream, decoder_factories=[DecoderFactory()])
+                   .iter_decoded_messages()]
+    assert sorted(decoded) == sorted(t.name for t in RECORDED_TOPICS)
+    with AnyReader([path]) as reader:
+        topics = [c.topic for c, _t, raw in reader.messages()
+                  if reader.deserialize(raw, c.msgtype) is not None]
+    assert sorted(topics) == sorted(t.name for t in RECORDED_TOPICS)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sar_framework.recording.bag_writer import ROS_TYPE_KEY
 from sar_framework.recording.recorder import (
     ATTACHMENT_PARAMS,
     ATTACHMENT_TREE,
@@ -141,9 +142,10 @@ def read_recording(path: str | Path) -> Recording:
             for schema, channel, message in reader.iter_messages(log_time_order=True):
                 if schema is None or channel.topic not in DECODED_TOPICS:
                     continue
-                if schema.name not in classes:
-                    classes[schema.name] = message_class(schema.name)
-                msg = deserialize_message(message.data, classes[schema.name])
+                type_name = channel.metadata.get(ROS_TYPE_KEY, schema.name)
+                if type_name not in classes:
+                    classes[type_name] = message_class(type_name)
+                msg = deserialize_message(message.data, classes[type_name])
                 first_ns = message.log_time if first_ns is None else first_ns
                 last_ns = max(last_ns, message.log_time)
                 if channel.topic == STATUS_TOPIC:

@@ -1,21 +1,11 @@
 """Schemas of a recording: the name each ROS type is stored under, and its definition.
 
-**Names every reader accepts.** A channel's schema name is the ROS type name
-(``pkg/msg/Name``), except for the types rosidl generates around services and actions
-whose names readers refuse: ``mcap_ros2`` (and rosidl's own name check) allows no
-underscore in a message name beyond the ``_Request`` / ``_Response`` / ``_Goal`` /
-``_Result`` / ``_Feedback`` parts, and ``rosbags`` knows only ``msg`` and ``action``
-types. A service event ``pkg/srv/Name_Event`` is therefore stored as the message
-``pkg/msg/NameEvent`` and an action's feedback message
-``pkg/action/Name_FeedbackMessage`` as ``pkg/msg/NameFeedbackMessage``: the same fields
-and the same CDR bytes under a name every reader decodes (:func:`schema_name`; the
-recorder keeps the ROS name in the channel's metadata).
-
-**Definitions by rosbags.** The types are read from the interface files installed with
-their packages (``<prefix>/share/<pkg>/msg/<Name>.msg``, and the ``---``-separated parts
-of ``srv/<Name>.srv`` and ``action/<Name>.action``) into a ``rosbags`` type store, which
-writes the ``ros2msg`` text: the type's fields, then each type it uses after a separator
-line and ``MSG: pkg/Name``.
+Names: a message keeps its type name; a service event ``pkg/srv/Name_Event`` and an
+action's ``pkg/action/Name_FeedbackMessage``, which ``mcap_ros2`` and ``rosbags`` refuse,
+are stored as ``pkg/msg/NameEvent`` and ``pkg/msg/NameFeedbackMessage`` (same fields, same
+bytes; docs/watch-and-record.md says why). Definitions: the installed interface files
+(``share/<pkg>/msg/<Name>.msg``; the ``---``-separated parts of ``.srv`` and ``.action``
+files) go into a ``rosbags`` type store, which writes the ``ros2msg`` text.
 """
 
 from __future__ import annotations

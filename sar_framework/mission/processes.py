@@ -60,7 +60,7 @@ class MissionSettings:
         status_file: The runner's JSON status file.
         nav2_timeout_s: The runner's bound on the Nav2 start-up.
         tick_rate_hz: The runner's tick rate (over the parameter file's).
-        plugin_paths: Extra plugin locations for the runner.
+        plugin_paths: Extra plugin locations for the runner (the recorder keeps their files).
         record: Start the recorder writing this MCAP file.
         extra: Process label -> parameters set last (``sar-tree run --sim-param`` ...).
     """
@@ -113,9 +113,10 @@ def recorder(settings: MissionSettings) -> Process | None:
     """``sar-mission-recorder``, first: it sees the mission from its first message."""
     if not settings.record:
         return None
-    return Process("recorder", "sar-mission-recorder", "sar_framework.recording", (), {
-        "output": settings.record, "tree": settings.tree,
-        "params_file": settings.params_file})
+    parameters: dict[str, ParamValue] = {
+        "output": settings.record, "tree": settings.tree, "params_file": settings.params_file}
+    _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
+    return Process("recorder", "sar-mission-recorder", "sar_framework.recording", (), parameters)
 
 
 def simulator(settings: MissionSettings) -> Process | None:

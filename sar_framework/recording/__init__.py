@@ -4,6 +4,7 @@
   the runner; also what ``sar-tree watch`` shows);
 - :mod:`.recorder`: the recorder process (``python -m sar_framework.recording``);
 - :mod:`.bag_writer`, :mod:`.msgdefs`: the MCAP file and its schemas;
+- :mod:`.sources`: the run's tree files and local plugin sources, kept in the recording;
 - :mod:`.introspection`: service request/answer events of the mission's servers;
 - :mod:`.readback`, :mod:`.replay`: reading a recording back, ``sar-tree replay``.
 """

@@ -2,8 +2,10 @@
 
 What rosbag2's MCAP storage plugin writes, and what Foxglove, ``ros2 bag`` and the
 ``rosbags`` / ``mcap-ros2-support`` readers open: one schema per message type (its name
-``pkg/msg/Name``, its data the full definition text of :mod:`.msgdefs`), one channel per
-topic, each message the CDR bytes as received from the middleware. Plain Python (no ROS).
+``pkg/msg/Name`` as :func:`.msgdefs.schema_name` gives it, its data the full definition
+text of :mod:`.msgdefs`), one channel per topic with the ROS type name in its metadata
+(``ros_type``), each message the CDR bytes as received from the middleware. Plain Python
+(no ROS).
 """
 
 from __future__ import annotations
@@ -14,12 +16,14 @@ from typing import IO
 
 from mcap.writer import CompressionType, Writer
 
-from sar_framework.recording.msgdefs import message_definition
+from sar_framework.recording.msgdefs import message_definition, schema_name
 
 PROFILE = "ros2"
 SCHEMA_ENCODING = "ros2msg"
 MESSAGE_ENCODING = "cdr"
 LIBRARY = "sar_framework recorder"
+#: The channel metadata key naming the ROS type of a topic (where the schema name differs).
+ROS_TYPE_KEY = "ros_type"
 
 
 class BagWriter:
@@ -57,8 +61,9 @@ class BagWriter:
         if type_name not in self._schemas:
             definition = message_definition(type_name)
             self._schemas[type_name] = self._writer.register_schema(
-                type_name, SCHEMA_ENCODING, definition.encode("utf-8"))
+                schema_name(type_name), SCHEMA_ENCODING, definition.encode("utf-8"))
         metadata = {"offered_qos_profiles": offered_qos} if offered_qos else {}
+        metadata[ROS_TYPE_KEY] = type_name
         self._channels[topic] = self._writer.register_channel(
             topic, MESSAGE_ENCODING, self._schemas[type_name], metadata)
         self._sequence[topic] = 0

@@ -1,12 +1,11 @@
-"""Message definition text for MCAP schemas, as rosbag2 writes it (encoding ``ros2msg``).
+"""Schemas of a recording: the name each ROS type is stored under, and its definition.
 
-A definition is the type's own ``.msg`` text followed by every type it uses, each after a
-separator line and ``MSG: pkg/Name``. The text comes from the interface files installed
-with the packages (``<prefix>/share/<pkg>/msg/<Name>.msg``, ``srv/``, ``action/``), the
-files a ROS install or this project's ``.venv`` holds. Service events
-(``pkg/srv/Name_Event``) and action feedback messages
-(``pkg/action/Name_FeedbackMessage``) are built from the ``.srv`` / ``.action`` parts the
-way rosidl generates them.
+Names: a message keeps its type name; a service event ``pkg/srv/Name_Event`` and an
+action's ``pkg/action/Name_FeedbackMessage``, which ``mcap_ros2`` and ``rosbags`` refuse,
+are stored as ``pkg/msg/NameEvent`` and ``pkg/msg/NameFeedbackMessage`` (same fields, same
+bytes; docs/watch-and-record.md says why). Definitions: the installed interface files
+(``share/<pkg>/msg/<Name>.msg``; the ``---``-separated parts of ``.srv`` and ``.action``
+files) go into a ``rosbags`` type store, which writes the ``ros2msg`` text.
 """
 
 from __future__ import annotations
@@ -16,13 +15,16 @@ import re
 import sys
 from functools import cache
 from pathlib import Path
+from typing import Any
 
-SEPARATOR = "=" * 80
-_PRIMITIVES = frozenset({
-    "bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16",
-    "int32", "uint32", "int64", "uint64", "string", "wstring",
-})
-_FIELD = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_/]*)(\[[^\]]*\])?(<=\d+)?\s+\w+")
+#: The parts of a ``.srv`` / ``.action`` file, by the suffix rosidl gives their types.
+PARTS = {"srv": ("Request", "Response"), "action": ("Goal", "Result", "Feedback")}
+#: The types rosidl wraps around a service's or an action's parts: suffix -> fields.
+WRAPPERS = {
+    "Event": "service_msgs/ServiceEventInfo info\n{base}_Request[<=1] request\n"
+             "{base}_Response[<=1] response\n",
+    "FeedbackMessage": "unique_identifier_msgs/UUID goal_id\n{base}_Feedback feedback\n",
+}
 
 
 class DefinitionError(LookupError):
@@ -36,7 +38,23 @@ def share_dirs() -> list[Path]:
     return [Path(p) / "share" for p in dict.fromkeys(prefixes)]
 
 
-@cache
+def schema_name(type_name: str) -> str:
+    """The name a ROS type is stored under in a recording (see the module docstring).
+
+    Args:
+        type_name: A full ROS type name, e.g. ``sar_interfaces/srv/ReportSurvivor_Event``.
+
+    Returns:
+        ``type_name`` itself for a plain message, else the wrapper's ``pkg/msg/`` name
+        without its underscore (``sar_interfaces/msg/ReportSurvivorEvent``).
+    """
+    package, kind, name = type_name.split("/")
+    base, _, suffix = name.rpartition("_")
+    if kind != "msg" and suffix in WRAPPERS:
+        return f"{package}/msg/{base}{suffix}"
+    return type_name
+
+
 def _interface_text(package: str, kind: str, name: str) -> str:
     for share in share_dirs():
         path = share / package / kind / f"{name}.{kind}"
@@ -46,96 +64,73 @@ def _interface_text(package: str, kind: str, name: str) -> str:
                           f"(searched {', '.join(str(s) for s in share_dirs())})")
 
 
-def _parts(package: str, kind: str, name: str) -> list[str]:
-    """The ``---``-separated parts of a ``.srv`` or ``.action`` file."""
-    return re.split(r"^---\s*$", _interface_text(package, kind, name), flags=re.MULTILINE)
-
-
-def own_text(type_name: str) -> str:
-    """The ``.msg``-style text of one type (``pkg/msg/Name``, ``pkg/srv/Name_Request``...).
-
-    Args:
-        type_name: A full type name.
-
-    Returns:
-        The type's fields as ``.msg`` text.
-
-    Raises:
-        DefinitionError: The interface file is not installed.
-    """
-    package, kind, name = type_name.split("/")
+def _source_text(store_name: str) -> str:
+    """The ``.msg`` text of a type named ``pkg/msg/Name`` in the type store."""
+    package, _, name = store_name.split("/")
+    base, _, suffix = name.rpartition("_")
+    kind = next((k for k, parts in PARTS.items() if base and suffix in parts), "msg")
     if kind == "msg":
         return _interface_text(package, "msg", name)
-    base, _, suffix = name.rpartition("_")
-    if kind == "srv":
-        if suffix in ("Request", "Response"):
-            return _parts(package, "srv", base)[0 if suffix == "Request" else 1]
-        if suffix == "Event":
-            return (f"service_msgs/ServiceEventInfo info\n"
-                    f"{package}/{base}_Request[<=1] request\n"
-                    f"{package}/{base}_Response[<=1] response\n")
-    if kind == "action":
-        parts = {"Goal": 0, "Result": 1, "Feedback": 2}
-        if suffix in parts:
-            return _parts(package, "action", base)[parts[suffix]]
-        if name.endswith("_FeedbackMessage"):
-            base = name[: -len("_FeedbackMessage")]
-            return (f"unique_identifier_msgs/UUID goal_id\n"
-                    f"{package}/{base}_Feedback feedback\n")
-    raise DefinitionError(f"unsupported interface type {type_name!r}")
+    sections = re.split(r"^---\s*$", _interface_text(package, kind, base), flags=re.MULTILINE)
+    return sections[PARTS[kind].index(suffix)]
 
 
-def _kind_of(name: str) -> str:
-    """``srv`` or ``action`` for the parts rosidl generates from those files, else ``msg``."""
-    suffix = name.rpartition("_")[2]
-    if suffix in ("Request", "Response"):
-        return "srv"
-    return "action" if suffix in ("Goal", "Result", "Feedback") else "msg"
+def _used(store: Any, store_name: str) -> list[str]:
+    """The message types the fields of ``store_name`` use."""
+    from rosbags.interfaces import Nodetype
 
-
-def _used_types(text: str, package: str, kind: str) -> list[str]:
-    """Full names of the non-primitive field types in ``text`` (in order, no repeats)."""
-    used: list[str] = []
-    for line in text.splitlines():
-        match = _FIELD.match(line.split("#", 1)[0])
-        if not match:
-            continue
-        field_type = match.group(1)
-        if field_type in _PRIMITIVES:
-            continue
-        if "/" in field_type:
-            dep_package, dep_name = field_type.split("/")[0], field_type.split("/")[-1]
-            full = f"{dep_package}/{_kind_of(dep_name)}/{dep_name}"
-        else:
-            full = f"{package}/{kind}/{field_type}"
-        if full not in used:
-            used.append(full)
+    used = []
+    for _field, (node, args) in store.fielddefs[store_name][1]:
+        element, ref = args[0] if node in (Nodetype.ARRAY, Nodetype.SEQUENCE) else (node, args)
+        if element == Nodetype.NAME:
+            used.append(ref)
     return used
 
 
+@cache
+def _typestore() -> Any:
+    from rosbags.typesys import Stores, get_typestore
+
+    return get_typestore(Stores.EMPTY)
+
+
+def _register(store_name: str, text: str) -> None:
+    """Register a type and, from the installed files, every type it uses."""
+    from rosbags.typesys import get_types_from_msg
+
+    store = _typestore()
+    pending = [(store_name, text)]
+    while pending:
+        name, source = pending.pop()
+        if name in store.fielddefs:
+            continue
+        store.register(get_types_from_msg(source, name))
+        pending.extend((dep, _source_text(dep)) for dep in _used(store, name)
+                       if dep not in store.fielddefs)
+
+
 def message_definition(type_name: str) -> str:
-    """The full ``ros2msg`` definition of ``type_name`` (the type, then its dependencies).
+    """The full ``ros2msg`` definition stored for ``type_name`` (the type, then its uses).
 
     Args:
-        type_name: For example ``tf2_msgs/msg/TFMessage``.
+        type_name: A full ROS type name, e.g. ``tf2_msgs/msg/TFMessage`` or
+            ``nav2_msgs/action/NavigateToPose_FeedbackMessage``.
 
     Returns:
-        The concatenated definition text.
+        The definition text of :func:`schema_name` ``(type_name)``.
 
     Raises:
-        DefinitionError: An interface file is not installed.
+        DefinitionError: An interface file is not installed, or the type is not one a
+            recording holds.
     """
-    sections = [own_text(type_name).strip()]
-    seen = {type_name}
-    package, kind, _ = type_name.split("/")
-    queue = _used_types(sections[0], package, kind)
-    while queue:
-        dep = queue.pop(0)
-        if dep in seen:
-            continue
-        seen.add(dep)
-        text = own_text(dep).strip()
-        dep_package, dep_kind, dep_name = dep.split("/")
-        sections.append(f"{SEPARATOR}\nMSG: {dep_package}/{dep_name}\n{text}")
-        queue.extend(_used_types(text, dep_package, dep_kind))
-    return "\n".join(sections) + "\n"
+    package, kind, name = type_name.split("/")
+    stored = schema_name(type_name)
+    base, _, suffix = name.rpartition("_")
+    if stored != type_name:
+        text = WRAPPERS[suffix].format(base=f"{package}/{base}")
+    elif kind == "msg":
+        text = _source_text(type_name)
+    else:
+        raise DefinitionError(f"unsupported interface type {type_name!r}")
+    _register(stored, text)
+    return str(_typestore().generate_msgdef(stored, ros_version=2)[0])

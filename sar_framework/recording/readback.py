@@ -18,12 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from sar_framework.recording.recorder import (
-    ATTACHMENT_PARAMS,
-    ATTACHMENT_TREE,
-    METADATA_NAME,
-    message_class,
-)
+from sar_framework.recording.bag_writer import ROS_TYPE_KEY
+from sar_framework.recording.recorder import ATTACHMENT_PARAMS, METADATA_NAME, message_class
 from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 
 GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
@@ -53,7 +49,8 @@ class Recording:
         poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
         goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
         reports: The report service's requests with the answer (``acknowledged``).
-        attachments: Attachment name -> bytes (the tree and parameter files).
+        attachments: Attachment name -> bytes (the tree files, plugin sources and
+            parameter file).
         metadata: The recorder's metadata (original tree and parameter paths).
         wall_duration_s: Seconds from the first to the last message.
     """
@@ -141,9 +138,10 @@ def read_recording(path: str | Path) -> Recording:
             for schema, channel, message in reader.iter_messages(log_time_order=True):
                 if schema is None or channel.topic not in DECODED_TOPICS:
                     continue
-                if schema.name not in classes:
-                    classes[schema.name] = message_class(schema.name)
-                msg = deserialize_message(message.data, classes[schema.name])
+                type_name = channel.metadata.get(ROS_TYPE_KEY, schema.name)
+                if type_name not in classes:
+                    classes[type_name] = message_class(type_name)
+                msg = deserialize_message(message.data, classes[type_name])
                 first_ns = message.log_time if first_ns is None else first_ns
                 last_ns = max(last_ns, message.log_time)
                 if channel.topic == STATUS_TOPIC:
@@ -264,8 +262,8 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
         folder: The report folder (created).
 
     Returns:
-        ``{"tree": ..., "params": ...}``: the attached tree and parameter files, written
-        into ``folder`` (a key is missing when the recording has no such attachment).
+        ``{"params": ...}``: the attached parameter file, written into ``folder`` (none
+        when the recording has no such attachment).
     """
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "status.json").write_text(json.dumps(status_document(recording), indent=1),
@@ -281,8 +279,7 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
                 "not acknowledged\n" for r in recording.reports if not r["acknowledged"]),
         encoding="utf-8")
     files: dict[str, Path] = {}
-    for key, name in (("tree", ATTACHMENT_TREE), ("params", ATTACHMENT_PARAMS)):
-        if name in recording.attachments:
-            files[key] = folder / name
-            files[key].write_bytes(recording.attachments[name])
+    if ATTACHMENT_PARAMS in recording.attachments:
+        files["params"] = folder / ATTACHMENT_PARAMS
+        files["params"].write_bytes(recording.attachments[ATTACHMENT_PARAMS])
     return files

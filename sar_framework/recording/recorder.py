@@ -3,12 +3,14 @@
 ::
 
     python -m sar_framework.recording --ros-args -p output:=mission.mcap \
-        -p tree:=trees/search_and_rescue.yaml -p params_file:=config/mission_params.yaml
+        -p tree:=trees/search_and_rescue.yaml -p params_file:=config/mission_params.yaml \
+        [-p plugin_path:=DIR_OR_FILE[:...]]
 
 Subscribes to :data:`RECORDED_TOPICS` with ``raw=True`` (the CDR bytes as the middleware
-delivered them, never deserialised) and writes each message as it arrives; the tree file
-and the parameter file go into the recording as attachments, so ``sar-tree replay`` needs
-nothing else. SIGINT or SIGTERM close the file (summary and index written).
+delivered them, never deserialised) and writes each message as it arrives; the tree files
+(the main one and its includes), the local plugin sources (:mod:`.sources`) and the
+parameter file go into the recording as attachments, so ``sar-tree replay`` needs nothing
+else. SIGINT or SIGTERM close the file (summary and index written).
 
 The detect and report servers publish their requests and answers as ROS 2 service
 introspection events (``/<service>/_service_event``; :mod:`.introspection`).
@@ -17,6 +19,7 @@ introspection events (``/<service>/_service_event``; :mod:`.introspection`).
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -25,13 +28,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.recording.bag_writer import BagWriter
+from sar_framework.recording.sources import RunSources, collect, media_type
 from sar_framework.recording.tree_status import STATUS_TOPIC, STATUS_TYPE
 
 if TYPE_CHECKING:
     from rclpy.node import Node
 
 NODE_NAME = "sar_recorder"
-ATTACHMENT_TREE = "tree.yaml"
 ATTACHMENT_PARAMS = "mission_params.yaml"
 METADATA_NAME = "sar_framework"
 #: Messages each subscription holds while the recorder is busy: the middleware takes them
@@ -174,9 +177,23 @@ def drain(executor: Any, writer: BagWriter) -> None:
                 return
 
 
-def _attach_file(writer: BagWriter, name: str, path: str) -> None:
-    if path and Path(path).is_file():
-        writer.attach(name, Path(path).read_bytes(), "application/yaml")
+def attach_run_files(writer: BagWriter, tree: str, params_file: str,
+                     plugin_paths: Sequence[str]) -> None:
+    """Attach the tree files, local plugin sources and parameter file, with their metadata.
+
+    Args:
+        writer: The open recording.
+        tree: The main tree file.
+        params_file: The mission parameter file ("" for none).
+        plugin_paths: The run's extra plugin paths (relative to the working folder).
+    """
+    run_files = collect(tree, plugin_paths) if tree else RunSources()
+    for name, path in run_files.attachments.items():
+        writer.attach(name, path.read_bytes(), media_type(path))
+    if params_file and Path(params_file).is_file():
+        writer.attach(ATTACHMENT_PARAMS, Path(params_file).read_bytes(), "application/yaml")
+    writer.add_metadata(METADATA_NAME, {"tree": tree, "params_file": params_file,
+                                        **run_files.metadata})
 
 
 def run(argv: Sequence[str] | None = None) -> int:
@@ -204,6 +221,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         output = str(node.declare_parameter("output", "").value)
         tree = str(node.declare_parameter("tree", "").value)
         params_file = str(node.declare_parameter("params_file", "").value)
+        plugin_paths = str(node.declare_parameter("plugin_path", "").value).split(os.pathsep)
         if not output:
             node.get_logger().error("parameter 'output' (the .mcap file to write) is not set")
             return 2
@@ -212,9 +230,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         except OSError as err:
             node.get_logger().error(f"cannot write the recording '{output}': {err.strerror}")
             return 2
-        writer.add_metadata(METADATA_NAME, {"tree": tree, "params_file": params_file})
-        _attach_file(writer, ATTACHMENT_TREE, tree)
-        _attach_file(writer, ATTACHMENT_PARAMS, params_file)
+        attach_run_files(writer, tree, params_file, plugin_paths)
         MissionRecorder(node, writer)
         node.get_logger().info(f"recording {len(RECORDED_TOPICS)} topics into {output}")
         executor = SingleThreadedExecutor()

@@ -2,9 +2,9 @@
 
 The recording is decoded (:mod:`.readback`) into the files a live run leaves, then
 :func:`sar_framework.report.write_report` writes ``mission.json``, ``mission.png`` and
-``tree.svg`` exactly as after ``sar-tree run``. The tree and the parameter file come from
-the recording's attachments (the original tree file is used instead when it is still
-there unchanged, so its includes and plugins resolve).
+``tree.svg`` exactly as after ``sar-tree run``. The tree, its includes, its local plugins
+and the parameter file come from the recording's attachments alone: they are written
+into ``DIR/recorded_files/`` (:mod:`.sources`) and the tree is built from there.
 """
 
 from __future__ import annotations
@@ -21,10 +21,13 @@ from sar_framework.recording.readback import (
     status_document,
     write_report_inputs,
 )
+from sar_framework.recording.sources import SourcesError, extract
 
 EXIT_OK = 0
 EXIT_FAILURE = 1
 EXIT_USAGE = 2
+#: The folder of the report where the recorded tree files and plugin sources are written.
+SOURCES_FOLDER = "recorded_files"
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -41,20 +44,26 @@ def outcome_of(status: dict[str, Any]) -> str:
     return "INTERRUPTED"
 
 
-def _tree_spec(recording: Recording, attached: Path | None) -> tuple[str, Any]:
-    """The tree file to name and its spec (None when it does not validate here)."""
+def _tree_spec(recording: Recording, folder: Path) -> tuple[str, Any]:
+    """The tree file to name and its spec, built from the recording's files alone.
+
+    The spec is None when the recording holds no tree, or the tree does not validate here.
+    """
     from sar_framework.engine.api import validate
 
-    original = Path(recording.metadata.get("tree", ""))
-    if attached is None:
-        return str(original), None
-    tree = attached
-    if original.is_file() and original.read_bytes() == attached.read_bytes():
-        tree = original
-    result = validate(tree)
+    try:
+        files = extract(recording.attachments, recording.metadata, folder / SOURCES_FOLDER)
+    except SourcesError as err:
+        raise RecordingError(f"{recording.path}: {err}") from None
+    original = recording.metadata.get("tree", "")
+    if files.tree is None:
+        sys.stderr.write("sar-tree replay: warning: the recording holds no tree file; "
+                         "tree.svg is not drawn\n")
+        return original, None
+    result = validate(files.tree, plugin_paths=files.plugin_paths)
     for diagnostic in result.diagnostics if result.spec is None else ():
         sys.stderr.write(f"sar-tree replay: warning: {diagnostic}\n")
-    return str(recording.metadata.get("tree") or tree), result.spec
+    return original or str(files.tree), result.spec
 
 
 def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]:
@@ -79,7 +88,7 @@ def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]
     folder = Path(report_dir) if report_dir else \
         Path(path).with_name(f"{Path(path).stem}_replay")
     files = write_report_inputs(recording, folder)
-    tree, spec = _tree_spec(recording, files.get("tree"))
+    tree, spec = _tree_spec(recording, folder)
     status = status_document(recording)
     inputs = MissionInputs(
         report_dir=folder, tree=tree, params_file=str(files.get("params", "")), spec=spec,

@@ -7,6 +7,7 @@ test_launch.py.
 from __future__ import annotations
 
 import importlib
+import os
 import subprocess
 import sys
 from dataclasses import replace
@@ -70,6 +71,13 @@ def test_unset_settings_leave_the_processes_their_own_defaults() -> None:
                                              "exit_on_completion": True}
     assert by_label["recorder"].parameters == {"output": "/tmp/m.mcap", "tree": str(TREE),
                                                "params_file": str(PARAMS)}
+
+
+def test_the_recorder_gets_the_runners_plugin_paths_to_keep_their_sources() -> None:
+    settings = replace(EVERYTHING, plugin_paths=("plugins/a.py", "more"))
+    by_label = {p.label: p for p in mission_processes(settings)}
+    assert by_label["recorder"].parameters["plugin_path"] == \
+        by_label["runner"].parameters["plugin_path"] == f"plugins/a.py{os.pathsep}more"
 
 
 def test_extra_parameters_are_set_last_and_override() -> None:

@@ -1,5 +1,6 @@
-"""``sar-tree run --record``: a real mission recorded, read back by an independent reader
-(``rosbags``), and ``sar-tree replay`` drawing its report again from the file alone."""
+"""``sar-tree run --record``: a real mission recorded, read back by two independent readers
+(``rosbags`` and ``mcap_ros2``) with nothing skipped, and ``sar-tree replay`` drawing its
+report again from the file alone."""
 
 from __future__ import annotations
 
@@ -13,32 +14,47 @@ from typing import Any
 import pytest
 from e2e.helpers import DEFAULT_TREE, FAST, REPO, read_json, run_to_end
 
+from sar_framework.recording.recorder import RECORDED_TOPICS
+
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 REACHED = re.compile(r"^Reached (.+)\.$")
 
 
 def read_with_rosbags(path: Path) -> dict[str, list[tuple[int, Any]]]:
-    """Every message of the recording, deserialised by ``rosbags`` from the file's schemas.
-
-    rosbags names every type ``pkg/msg/Name`` and so cannot look up a service event
-    type (``pkg/srv/Name_Event``) by its own name: those are registered under a ``msg``
-    name from the same schema text the file holds.
-    """
+    """Every message of the recording, deserialised by ``rosbags`` from the file's schemas
+    (``AnyReader`` as its documentation shows, nothing registered by hand)."""
     from rosbags.highlevel import AnyReader
-    from rosbags.typesys import get_types_from_msg
 
     topics: dict[str, list[tuple[int, Any]]] = {}
     with AnyReader([path]) as reader:
-        for connection in reader.connections:
-            if "/srv/" in connection.msgtype:
-                alias = connection.msgtype.replace("/srv/", "/msg/")
-                reader.typestore.register(get_types_from_msg(connection.msgdef.data, alias))
         for connection, stamp, raw in reader.messages():
-            msgtype = connection.msgtype.replace("/srv/", "/msg/")
-            message = reader.typestore.deserialize_cdr(raw, msgtype)
+            message = reader.deserialize(raw, connection.msgtype)
             topics.setdefault(connection.topic, []).append((stamp, message))
     return topics
+
+
+def read_with_mcap_ros2(path: Path) -> dict[str, list[Any]]:
+    """Every message of the recording, decoded by ``mcap_ros2`` (Foxglove's Python decoder)."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    topics: dict[str, list[Any]] = {}
+    with path.open("rb") as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        for _schema, channel, _message, decoded in reader.iter_decoded_messages():
+            topics.setdefault(channel.topic, []).append(decoded)
+    return topics
+
+
+def message_counts(path: Path) -> dict[str, int]:
+    """Messages per topic, from the file's summary statistics."""
+    from mcap.reader import make_reader
+
+    with path.open("rb") as stream:
+        summary = make_reader(stream).get_summary()
+    return {summary.channels[c].topic: n
+            for c, n in summary.statistics.channel_message_counts.items()}
 
 
 def robot_path(tf_messages: list[tuple[int, Any]]) -> list[tuple[float, float]]:
@@ -120,6 +136,24 @@ def test_an_independent_reader_rebuilds_path_zones_and_survivors(recorded) -> No
     assert sum(e.response[0].found for e in detections) == 2
 
 
+def test_both_independent_readers_decode_every_message(recorded) -> None:
+    record, _mission = recorded
+    counts = message_counts(record)
+    assert len(counts) == len(RECORDED_TOPICS)
+    assert all(counts.values()), counts
+    for topics in (read_with_mcap_ros2(record), read_with_rosbags(record)):
+        assert {topic: len(messages) for topic, messages in topics.items()} == counts
+    # the hidden action topic, by both, with its goal ids and the robot's progress
+    feedback = read_with_mcap_ros2(record)["/navigate_to_pose/_action/feedback"]
+    rosbags_feedback = [m for _s, m in read_with_rosbags(record)[
+        "/navigate_to_pose/_action/feedback"]]
+    assert [bytes(m.goal_id.uuid) for m in feedback] == \
+        [bytes(m.goal_id.uuid) for m in rosbags_feedback]
+    assert [m.feedback.distance_remaining for m in feedback] == \
+        [m.feedback.distance_remaining for m in rosbags_feedback]
+    assert any(m.feedback.distance_remaining > 0.5 for m in feedback)
+
+
 def test_the_recording_is_a_rosbag2_mcap_file(recorded) -> None:
     from mcap.reader import make_reader
 
@@ -140,7 +174,7 @@ def test_the_recording_is_a_rosbag2_mcap_file(recorded) -> None:
         assert counts.get(topic, 0) > 0, topic
     # one status per tick, from about the first tick on
     assert counts["/sar_tree/status"] >= 0.9 * mission["ticks"]
-    assert attachments["tree.yaml"] == DEFAULT_TREE.read_bytes()
+    assert attachments["files/search_and_rescue.yaml"] == DEFAULT_TREE.read_bytes()
     assert attachments["mission_params.yaml"] == \
         (REPO / "config" / "mission_params.yaml").read_bytes()
 

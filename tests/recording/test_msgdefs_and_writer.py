@@ -1,25 +1,37 @@
-"""Schemas and the MCAP writer: rclpy's CDR bytes, decoded by rosbags from our definitions."""
+"""Schemas and the MCAP writer: rclpy's CDR bytes, decoded by rosbags and mcap_ros2 from our
+definitions."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from sar_framework.recording.bag_writer import BagWriter
-from sar_framework.recording.msgdefs import DefinitionError, message_definition
+from sar_framework.recording.msgdefs import DefinitionError, message_definition, schema_name
 
 pytestmark = pytest.mark.ros
 
 
-def decode(definition: str, type_name: str, data: bytes):
-    """Deserialise ``data`` with a rosbags typestore that knows only ``definition``."""
+def decode(type_name: str, data: bytes) -> list[Any]:
+    """Deserialise ``data`` as stored, by a rosbags typestore that knows only the stored
+    definition and by mcap_ros2's decoder made from the same text."""
+    from mcap_ros2._dynamic import generate_dynamic
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+    name, definition = schema_name(type_name), message_definition(type_name)
     store = get_typestore(Stores.EMPTY)
-    name = type_name.replace("/srv/", "/msg/")  # rosbags names every type pkg/msg/Name
     store.register(get_types_from_msg(definition, name))
-    return store.deserialize_cdr(data, name)
+    return [store.deserialize_cdr(data, name), generate_dynamic(name, definition)[name](data)]
+
+
+def test_service_event_and_action_feedback_are_stored_under_msg_names() -> None:
+    assert schema_name("sar_interfaces/srv/ReportSurvivor_Event") == \
+        "sar_interfaces/msg/ReportSurvivorEvent"
+    assert schema_name("nav2_msgs/action/NavigateToPose_FeedbackMessage") == \
+        "nav2_msgs/msg/NavigateToPoseFeedbackMessage"
+    assert schema_name("tf2_msgs/msg/TFMessage") == "tf2_msgs/msg/TFMessage"
 
 
 def test_tf_definition_lists_each_dependency_once() -> None:
@@ -44,12 +56,12 @@ def test_service_event_round_trip() -> None:
     event.info.event_type = 1
     event.info.sequence_number = 42
     type_name = "sar_interfaces/srv/ReportSurvivor_Event"
-    decoded = decode(message_definition(type_name), type_name, serialize_message(event))
-    assert decoded.info.sequence_number == 42
-    assert decoded.request[0].survivor_id == "survivor_7"
-    assert (decoded.request[0].location.point.x, decoded.request[0].location.point.y) == \
-        (1.5, -2.25)
-    assert len(decoded.response) == 0
+    for decoded in decode(type_name, serialize_message(event)):
+        assert decoded.info.sequence_number == 42
+        assert decoded.request[0].survivor_id == "survivor_7"
+        assert (decoded.request[0].location.point.x, decoded.request[0].location.point.y) == \
+            (1.5, -2.25)
+        assert len(decoded.response) == 0
 
 
 def test_action_feedback_round_trip() -> None:
@@ -61,10 +73,10 @@ def test_action_feedback_round_trip() -> None:
     message.feedback.distance_remaining = 3.5
     message.feedback.current_pose.pose.position.x = -1.0
     type_name = "nav2_msgs/action/NavigateToPose_FeedbackMessage"
-    decoded = decode(message_definition(type_name), type_name, serialize_message(message))
-    assert list(decoded.goal_id.uuid) == list(range(16))
-    assert decoded.feedback.distance_remaining == 3.5
-    assert decoded.feedback.current_pose.pose.position.x == -1.0
+    for decoded in decode(type_name, serialize_message(message)):
+        assert list(decoded.goal_id.uuid) == list(range(16))
+        assert decoded.feedback.distance_remaining == 3.5
+        assert decoded.feedback.current_pose.pose.position.x == -1.0
 
 
 def test_a_type_that_is_not_installed_is_named() -> None:
@@ -107,3 +119,30 @@ def test_recorder_names_an_output_it_cannot_write(tmp_path: Path) -> None:
     assert result.returncode == 2
     assert f"cannot write the recording '{target}'" in result.stdout + result.stderr
     assert "Traceback" not in result.stdout + result.stderr
+
+
+def test_every_recorded_type_decodes_with_mcap_ros2_and_rosbags(tmp_path: Path) -> None:
+    """One message of each recorded topic, written as the recorder writes it, decodes with
+    both independent readers (``mcap_ros2`` refused ``..._FeedbackMessage`` once)."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    from rclpy.serialization import serialize_message
+    from rosbags.highlevel import AnyReader
+
+    from sar_framework.recording.recorder import RECORDED_TOPICS, message_class
+
+    path = tmp_path / "all.mcap"
+    writer = BagWriter(path)
+    for topic in RECORDED_TOPICS:
+        writer.add_topic(topic.name, topic.type_name)
+        writer.write(topic.name, serialize_message(message_class(topic.type_name)()))
+    writer.close()
+    with path.open("rb") as stream:
+        decoded = [channel.topic for _schema, channel, _message, _decoded in
+                   make_reader(stream, decoder_factories=[DecoderFactory()])
+                   .iter_decoded_messages()]
+    assert sorted(decoded) == sorted(t.name for t in RECORDED_TOPICS)
+    with AnyReader([path]) as reader:
+        topics = [c.topic for c, _t, raw in reader.messages()
+                  if reader.deserialize(raw, c.msgtype) is not None]
+    assert sorted(topics) == sorted(t.name for t in RECORDED_TOPICS)

@@ -73,7 +73,7 @@ def parse(text: str, enums: Mapping[str, int]) -> Parsed:
 def _end_position(text: str) -> tuple[int, int]:
     body = text.rstrip()
     line = body.count("\n") + 1
-    return line, len(body) - (body.rfind("\n") + 1) + 1
+    return line, len(body) - (body.rfind("\n") + 1)
 
 
 def _syntax_error(text: str, error: UnexpectedInput) -> ScriptError:

@@ -67,6 +67,8 @@ def parse(text: str, enums: Mapping[str, int]) -> Parsed:
                       if not (isinstance(child, Token) and child.type == "SEMI")]
     except ScriptError as error:
         raise error.in_script(text) from None
+    except RecursionError:
+        raise ScriptError("the script is nested too deeply", 1, 1, text) from None
     return Parsed(statements, builder.reads, builder.writes)
 
 

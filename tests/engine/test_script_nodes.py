@@ -283,6 +283,24 @@ def test_skip_if_is_not_evaluated_while_running_bt_cpp() -> None:
     assert keep.ticks == 2
 
 
+def test_skipping_in_a_sequence_bt_cpp() -> None:
+    # BT.CPP: SkippingLogic.Sequence and SkippingLogic.WhileSkip
+    v = DictVariables()
+    a, b = Leaf("TestA"), Leaf("TestB")
+    root = sequence(Script("init", S("A:=1"), v),
+                    PrePostConditions("a", a, v, success_if=S("A==2"), failure_if=S("A!=1"),
+                                      skip_if=S("A==1")),
+                    b)
+    assert tick(root) == Status.SUCCESS
+    assert (a.ticks, b.ticks) == (0, 1)
+    for doit, ticks in (("true", 1), ("false", 0)):
+        leaf = Leaf("Test")
+        root = sequence(Script("init", S(f" doit:={doit} "), v),
+                        sequence(PrePostConditions("t", leaf, v, while_=S("doit"))))
+        assert tick(root) == Status.SUCCESS
+        assert leaf.ticks == ticks
+
+
 def test_the_order_is_failure_success_skip_while() -> None:
     v = DictVariables(f=True, s=True, k=True, w=False)
     child = Leaf("child")

@@ -52,6 +52,7 @@ from sar_framework.mission.processes import (
     Process,
     mission_processes,
 )
+from sar_framework.sim.params import SPEED
 
 PACKAGE = "sar_framework"
 NAV2_MODES = ("bringup", "embedded")
@@ -78,8 +79,9 @@ ARGUMENTS = [
     DeclareLaunchArgument("use_sim_time", default_value="true",
                           description="Follow /clock (Gazebo, the simulator); false on the "
                           "real robot."),
-    DeclareLaunchArgument("speed", default_value="20.0",
-                          description="Simulated seconds per wall second (embedded)."),
+    DeclareLaunchArgument("speed", default_value=str(SPEED.default),
+                          description=f"The simulator's speed: {SPEED.description.split(';')[0]} "
+                          "(embedded)."),
     DeclareLaunchArgument("rviz", default_value="false",
                           description="Start RViz with Nav2's default view (bringup)."),
     DeclareLaunchArgument("record", default_value="",

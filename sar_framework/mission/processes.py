@@ -33,8 +33,6 @@ import yaml
 ParamValue = bool | int | float | str | list[bool] | list[int] | list[float] | list[str]
 """A ROS parameter value as both ``--ros-args -p`` and launch_ros take it."""
 
-DEFAULT_SPEED = 20.0
-"""Simulated seconds per wall second (``sar-tree run --speed``, the launch's ``speed``)."""
 BRINGUP_NAV2_TIMEOUT_S = 90.0
 """The runner's bound on the Nav2 start-up when nav2_bringup starts beside the mission."""
 
@@ -50,7 +48,7 @@ class MissionSettings:
         params_file: The mission parameter file (the runner's params file; the recorder's).
         use_sim_time: The servers and the runner follow ``/clock``.
         simulator: Start the embedded simulator (``sar-sim``).
-        speed: The simulator's speed factor.
+        speed: The simulator's speed factor (None: the simulator's default).
         trace_file: The simulator's JSON Lines trace.
         detect_server: Start the detect server.
         survivors_file: The detect server's survivor table.
@@ -69,7 +67,7 @@ class MissionSettings:
     params_file: str
     use_sim_time: bool = True
     simulator: bool = True
-    speed: float = DEFAULT_SPEED
+    speed: float | None = None
     trace_file: str = ""
     detect_server: bool = True
     survivors_file: str = ""
@@ -122,7 +120,8 @@ def simulator(settings: MissionSettings) -> Process | None:
     """``sar-sim``, the embedded Nav2 stand-in (it publishes ``/clock``)."""
     if not settings.simulator:
         return None
-    parameters: dict[str, ParamValue] = {"speed": float(settings.speed)}
+    parameters: dict[str, ParamValue] = {}
+    _set(parameters, "speed", None if settings.speed is None else float(settings.speed))
     _set(parameters, "trace_file", settings.trace_file)
     return Process("sim", "sar-sim", "sar_framework.sim", (), parameters)
 

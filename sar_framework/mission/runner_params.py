@@ -17,9 +17,9 @@ DEFAULT_TREE = "trees/search_and_rescue.yaml"
 
 
 def _pose(prefix: str, what: str, default: object) -> tuple[Param, ...]:
-    return (Param(f"{prefix}.x", float, default, f"{what} x (map frame)", unit="m"),
-            Param(f"{prefix}.y", float, default, f"{what} y (map frame)", unit="m"),
-            Param(f"{prefix}.yaw", float, default, f"{what} heading", unit="rad"))
+    return (Param(f"{prefix}.x", float, default, f"{what}: x (map frame)", unit="m"),
+            Param(f"{prefix}.y", float, default, f"{what}: y (map frame)", unit="m"),
+            Param(f"{prefix}.yaw", float, default, f"{what}: heading", unit="rad"))
 
 
 TICK_RATE_HZ = Param("tick_rate_hz", float, 2.0, "tree ticks per second (ROS time)",
@@ -27,7 +27,7 @@ TICK_RATE_HZ = Param("tick_rate_hz", float, 2.0, "tree ticks per second (ROS tim
 
 RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("zone_order", list[str], REQUIRED, "the zone ids to visit, in order"),
-    *_pose("zones.*", "zone position", REQUIRED),
+    *_pose("zones.*", "a zone", REQUIRED),
     *_pose("base_station", "base station", 0.0),
     TICK_RATE_HZ,
     Param("completion", str, DEFAULT_COMPLETION, "how the mission ends: once, rest, forever, "

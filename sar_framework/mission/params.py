@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.mission.params_file import KeyLocation, ParamsError
-from sar_framework.mission.runner_params import TICK_RATE_HZ
+from sar_framework.mission.runner_params import RUNNER_PARAMETERS, TICK_RATE_HZ
 from sar_framework.mission.zone_manager import ZoneManager
 
 if TYPE_CHECKING:
@@ -201,9 +201,9 @@ def read_mission_params(node: Node, *, source: str = "mission parameters",
         ParamsError: The first problem found, naming the file and key.
     """
     reader = _Reader(node, source, locations or {})
-    declare_default(node, "tick_rate_hz", DEFAULT_TICK_RATE_HZ)
-    for key in _POSE_KEYS:
-        declare_default(node, f"base_station.{key}", 0.0)
+    for param in RUNNER_PARAMETERS:  # the mission's defaults, from the runner's table
+        if param.name == TICK_RATE_HZ.name or param.name.startswith("base_station."):
+            declare_default(node, param.name, param.default)
 
     order = reader.zone_order()
     zones = []

@@ -37,8 +37,8 @@ def usage() -> str:
         default = "(unset)" if p.default is None else p.default
         unit = f" [{p.unit}]" if p.unit else ""
         bounds = f" ({p.bounds()})" if p.bounds() else ""
-        lines.append(f"  {p.name:<20} {type_name(p.type):<9} {default!s:<12} "
-                     f"{p.description}{unit}{bounds}")
+        lines.append(f"  {p.name:<20} {type_name(p.type):<9} {default!s}\n"
+                     f"      {p.description}{unit}{bounds}")
     return "\n".join(lines) + "\n"
 
 

@@ -54,7 +54,8 @@ def test_sar_sim_help_lists_every_simulator_parameter() -> None:
     text = usage()
     for param in NODE_PARAMETERS["sim"]:
         assert re.search(rf"^  {re.escape(param.name)} ", text, re.M), param.name
-    assert "speed                float     20.0" in text
+        assert param.description in text
+    assert "  speed                float     20.0\n" in text
 
 
 def test_defaults_as_the_docs_show_them() -> None:

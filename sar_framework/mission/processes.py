@@ -10,8 +10,8 @@ supervisor (:func:`ros_arguments`), the launch file into ``launch_ros.actions.No
 What the two genuinely do differently is a setting, not a second list:
 
 - ``sar-tree run`` has a report folder, so it sets ``trace_file``, ``status_file`` and
-  ``report_file`` inside it; the launch has none and keeps the report server's file
-  (``~/.ros/sar_reports.jsonl``, its ``report_file`` argument).
+  ``report_file`` inside it; the launch has none and keeps the report server's own
+  default (``$ROS_HOME/sar_reports.jsonl``) unless its ``report_file`` argument names one.
 - The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
   to Gazebo: it sets ``nav2_timeout_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
   simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the

@@ -71,7 +71,9 @@ def test_declared_arguments_and_their_defaults():
         assert (REPO / declared[key]).is_file(), declared[key]
     # The same defaults as sar-tree run's options.
     assert declared["params_file"] == DEFAULT_PARAMS
-    assert declared["speed"] == "str(SPEED.default)"  # the simulator's table, not a copy
+    # The nodes' tables, not copies.
+    assert declared["speed"] == "str(SPEED.default)"
+    assert declared["report_file"] == "REPORT_FILE.default"
     assert SPEED.default == 20.0
 
 

@@ -52,6 +52,10 @@ from sar_framework.mission.processes import (
     Process,
     mission_processes,
 )
+from sar_framework.servers.params import REPORT_PARAMETERS
+from sar_framework.sim.params import SPEED
+
+REPORT_FILE = next(p for p in REPORT_PARAMETERS if p.name == "report_file")
 
 PACKAGE = "sar_framework"
 NAV2_MODES = ("bringup", "embedded")
@@ -67,8 +71,8 @@ ARGUMENTS = [
                           description="Mission parameters (zones, base station, tick rate)."),
     DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
                           description="Survivor table the detect server answers from."),
-    DeclareLaunchArgument("report_file", default_value="~/.ros/sar_reports.jsonl",
-                          description="JSON Lines file of acknowledged survivor reports."),
+    DeclareLaunchArgument("report_file", default_value=REPORT_FILE.default,
+                          description=f"The report server's {REPORT_FILE.description}."),
     DeclareLaunchArgument("tick_rate_hz", default_value="",
                           description="Override the tick rate of params_file (empty: keep)."),
     DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
@@ -78,8 +82,9 @@ ARGUMENTS = [
     DeclareLaunchArgument("use_sim_time", default_value="true",
                           description="Follow /clock (Gazebo, the simulator); false on the "
                           "real robot."),
-    DeclareLaunchArgument("speed", default_value="20.0",
-                          description="Simulated seconds per wall second (embedded)."),
+    DeclareLaunchArgument("speed", default_value=str(SPEED.default),
+                          description=f"The simulator's speed: {SPEED.description.split(';')[0]} "
+                          "(embedded)."),
     DeclareLaunchArgument("rviz", default_value="false",
                           description="Start RViz with Nav2's default view (bringup)."),
     DeclareLaunchArgument("record", default_value="",
@@ -138,7 +143,7 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         simulator=embedded,
         speed=float(arg("speed")),
         survivors_file=package_file(arg("survivors_file")),
-        report_file=str(Path(arg("report_file")).expanduser()),
+        report_file=str(Path(arg("report_file")).expanduser()) if arg("report_file") else "",
         exit_on_completion=True,
         # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
         nav2_timeout_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,

@@ -230,7 +230,7 @@ def _configure_faults(parser: argparse.ArgumentParser) -> None:
 
 
 def _run_faults(args: argparse.Namespace) -> int:
-    from sar_framework.sim.faults import faults_table
+    from sar_framework.run.faults import faults_table
 
     sys.stdout.write(faults_table())
     return EXIT_OK

@@ -1,7 +1,8 @@
 """Leaf plugins: a py_trees behaviour plus one declaration of its params.
 
 A plugin is an ordinary :class:`py_trees.behaviour.Behaviour` subclass marked
-with :func:`leaf`. The declaration is the single source for validation, the
+with :func:`leaf`. The declaration (:class:`~sar_framework.engine.param.Param`, the type
+every node parameter is declared with too) is the single source for validation, the
 JSON Schema fragment, ``sar-tree plugins`` and the constructor's kwargs::
 
     @leaf(
@@ -27,68 +28,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, TypeVar
+from typing import TypeVar
+
+from sar_framework.engine.param import PARAM_TYPES, REQUIRED, Param
+
+__all__ = ["PARAM_TYPES", "PLUGIN_ATTRIBUTE", "REQUIRED", "Param", "PluginSpec", "leaf"]
 
 #: The attribute :func:`leaf` sets on a class; discovery looks for it.
 PLUGIN_ATTRIBUTE = "__sar_plugin__"
-
-
-class _Required:
-    """Sentinel type for a param without a default."""
-
-    def __repr__(self) -> str:
-        return "REQUIRED"
-
-
-#: Default of a param that the tree must give.
-REQUIRED: Any = _Required()
-
-#: Python types a param may have, with the JSON Schema type each maps to.
-PARAM_TYPES: dict[type, str] = {str: "string", int: "integer", float: "number", bool: "boolean"}
-
-
-@dataclass(frozen=True)
-class Param:
-    """Declaration of one plugin parameter.
-
-    Attributes:
-        name: The key in the tree file and the constructor kwarg.
-        type: One of ``str``, ``int``, ``float``, ``bool``. Ignored for references.
-        default: The value when the tree omits the key; :data:`REQUIRED` if it must be given.
-        description: One line for docs, schema and editor hover text.
-        minimum: Inclusive lower bound for numbers.
-        maximum: Inclusive upper bound for numbers.
-        exclusive_minimum: Exclusive lower bound for numbers (e.g. a rate > 0).
-        enum: The allowed values, when the set is closed.
-        ref: For a reference param: the plugin name the referenced leaf must have.
-            The value in the tree is that leaf's ``id``.
-    """
-
-    name: str
-    type: type = str
-    default: Any = REQUIRED
-    description: str = ""
-    minimum: float | None = None
-    maximum: float | None = None
-    exclusive_minimum: float | None = None
-    enum: tuple[Any, ...] | None = None
-    ref: str | None = None
-
-    def __post_init__(self) -> None:
-        if self.ref is None and self.type not in PARAM_TYPES:
-            raise TypeError(f"param {self.name!r}: unsupported type {self.type!r}")
-        if self.ref is not None and self.default is not REQUIRED and self.default is not None:
-            raise TypeError(f"param {self.name!r}: a reference can only default to None")
-
-    @property
-    def required(self) -> bool:
-        """Whether the tree must give this param."""
-        return self.default is REQUIRED
-
-    @property
-    def is_reference(self) -> bool:
-        """Whether the value names another leaf's ``id``."""
-        return self.ref is not None
 
 
 @dataclass(frozen=True)
@@ -141,7 +88,8 @@ def leaf(
         A class decorator that records a :class:`PluginSpec` on the class and returns it.
 
     Raises:
-        TypeError: On a declaration that cannot work (duplicate or reserved param names).
+        TypeError: On a declaration that cannot work (duplicate or reserved param names, or
+            a type a tree file cannot give: lists are for node parameters).
     """
     reserved = {"name", "id"}
 
@@ -151,6 +99,9 @@ def leaf(
             if p.name in reserved or p.name in seen or p.name in context:
                 raise TypeError(f"{cls.__name__}: param name {p.name!r} is reserved or repeated")
             seen.add(p.name)
+            if p.ref is None and p.type not in PARAM_TYPES:
+                raise TypeError(f"{cls.__name__}: param {p.name!r}: a leaf param is a str, "
+                                "int, float or bool")
         doc = (cls.__doc__ or "").strip().split("\n\n")[0]
         text = description if description is not None else " ".join(doc.split())
         spec = PluginSpec(

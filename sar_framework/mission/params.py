@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.mission.params_file import KeyLocation, ParamsError
+from sar_framework.mission.runner_params import RUNNER_PARAMETERS, TICK_RATE_HZ
 from sar_framework.mission.zone_manager import ZoneManager
 
 if TYPE_CHECKING:
@@ -43,8 +44,8 @@ __all__ = [
     "read_mission_params",
 ]
 
-#: Tick rate when the parameter file does not set ``tick_rate_hz``.
-DEFAULT_TICK_RATE_HZ = 2.0
+#: Tick rate when the parameter file does not set ``tick_rate_hz`` (from the runner's table).
+DEFAULT_TICK_RATE_HZ: float = TICK_RATE_HZ.default
 _POSE_KEYS = ("x", "y", "yaw")
 
 
@@ -200,9 +201,9 @@ def read_mission_params(node: Node, *, source: str = "mission parameters",
         ParamsError: The first problem found, naming the file and key.
     """
     reader = _Reader(node, source, locations or {})
-    declare_default(node, "tick_rate_hz", DEFAULT_TICK_RATE_HZ)
-    for key in _POSE_KEYS:
-        declare_default(node, f"base_station.{key}", 0.0)
+    for param in RUNNER_PARAMETERS:  # the mission's defaults, from the runner's table
+        if param.name == TICK_RATE_HZ.name or param.name.startswith("base_station."):
+            declare_default(node, param.name, param.default)
 
     order = reader.zone_order()
     zones = []
@@ -214,8 +215,9 @@ def read_mission_params(node: Node, *, source: str = "mission parameters",
         zones.append(zone)
     base = {key: reader.number(f"base_station.{key}", "missing") for key in _POSE_KEYS}
     tick_rate_hz = reader.number("tick_rate_hz", "missing")
-    if tick_rate_hz <= 0.0:
-        raise reader.error("tick_rate_hz", f"must be > 0, got {tick_rate_hz:g}")
+    problem = TICK_RATE_HZ.problem(reader.raw("tick_rate_hz"))
+    if problem is not None:
+        raise reader.error("tick_rate_hz", problem)
 
     listed = node.list_parameters(["zones"], 0).names  # depth 0: recursive
     defined = {name.split(".")[1] for name in listed if name.count(".") >= 2}

@@ -10,8 +10,8 @@ supervisor (:func:`ros_arguments`), the launch file into ``launch_ros.actions.No
 What the two genuinely do differently is a setting, not a second list:
 
 - ``sar-tree run`` has a report folder, so it sets ``trace_file``, ``status_file`` and
-  ``report_file`` inside it; the launch has none and keeps the report server's file
-  (``~/.ros/sar_reports.jsonl``, its ``report_file`` argument).
+  ``report_file`` inside it; the launch has none and keeps the report server's own
+  default (``$ROS_HOME/sar_reports.jsonl``) unless its ``report_file`` argument names one.
 - The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
   to Gazebo: it sets ``nav2_timeout_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
   simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the
@@ -33,8 +33,6 @@ import yaml
 ParamValue = bool | int | float | str | list[bool] | list[int] | list[float] | list[str]
 """A ROS parameter value as both ``--ros-args -p`` and launch_ros take it."""
 
-DEFAULT_SPEED = 20.0
-"""Simulated seconds per wall second (``sar-tree run --speed``, the launch's ``speed``)."""
 BRINGUP_NAV2_TIMEOUT_S = 90.0
 """The runner's bound on the Nav2 start-up when nav2_bringup starts beside the mission."""
 
@@ -50,7 +48,7 @@ class MissionSettings:
         params_file: The mission parameter file (the runner's params file; the recorder's).
         use_sim_time: The servers and the runner follow ``/clock``.
         simulator: Start the embedded simulator (``sar-sim``).
-        speed: The simulator's speed factor.
+        speed: The simulator's speed factor (None: the simulator's default).
         trace_file: The simulator's JSON Lines trace.
         detect_server: Start the detect server.
         survivors_file: The detect server's survivor table.
@@ -69,7 +67,7 @@ class MissionSettings:
     params_file: str
     use_sim_time: bool = True
     simulator: bool = True
-    speed: float = DEFAULT_SPEED
+    speed: float | None = None
     trace_file: str = ""
     detect_server: bool = True
     survivors_file: str = ""
@@ -123,7 +121,8 @@ def simulator(settings: MissionSettings) -> Process | None:
     """``sar-sim``, the embedded Nav2 stand-in (it publishes ``/clock``)."""
     if not settings.simulator:
         return None
-    parameters: dict[str, ParamValue] = {"speed": float(settings.speed)}
+    parameters: dict[str, ParamValue] = {}
+    _set(parameters, "speed", None if settings.speed is None else float(settings.speed))
     _set(parameters, "trace_file", settings.trace_file)
     return Process("sim", "sar-sim", "sar_framework.sim", (), parameters)
 

@@ -199,7 +199,8 @@ def attach_run_files(writer: BagWriter, tree: str, params_file: str,
 def run(argv: Sequence[str] | None = None) -> int:
     """Record until SIGINT/SIGTERM; return the exit code.
 
-    0 after a signal, 2 when ``output`` is missing or cannot be written.
+    0 after a signal, 2 when ``output`` is missing or cannot be written, or a parameter
+    breaks its rule (:data:`~sar_framework.recording.params.RECORDER_PARAMETERS`).
 
     Args:
         argv: The command line (``sys.argv`` when None), ROS arguments included.
@@ -209,6 +210,9 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
+    from sar_framework.mission.params_file import ParamsError
+    from sar_framework.recording.params import RECORDER_PARAMETERS
+    from sar_framework.ros.parameters import declare_table
     from sar_framework.ros.stop_signals import stop_on_signals
 
     # Our own handlers: the context stays valid while the file is closed after a signal.
@@ -218,10 +222,15 @@ def run(argv: Sequence[str] | None = None) -> int:
     node = Node(NODE_NAME)
     writer: BagWriter | None = None
     try:
-        output = str(node.declare_parameter("output", "").value)
-        tree = str(node.declare_parameter("tree", "").value)
-        params_file = str(node.declare_parameter("params_file", "").value)
-        plugin_paths = str(node.declare_parameter("plugin_path", "").value).split(os.pathsep)
+        try:
+            values = declare_table(node, RECORDER_PARAMETERS)
+        except ParamsError as err:
+            node.get_logger().error(str(err))
+            return 2
+        output, tree, params_file = values["output"], values["tree"], values["params_file"]
+        plugin_path = values["plugin_path"]
+        plugin_paths = (plugin_path.split(os.pathsep) if isinstance(plugin_path, str)
+                        else list(plugin_path))
         if not output:
             node.get_logger().error("parameter 'output' (the .mcap file to write) is not set")
             return 2

@@ -1,25 +1,14 @@
-"""The runner's own parameters (besides the mission's), read with guarded declarations.
+"""The runner's own settings (besides the mission's), read from its parameter table.
 
-| parameter | type | default | meaning |
-| --- | --- | --- | --- |
-| ``tree`` | str | ``trees/search_and_rescue.yaml`` | the tree file |
-| ``plugin_path`` | str | ``""`` | extra plugin files/dirs/modules, ``os.pathsep``-separated |
-| ``exit_on_completion`` | bool | false | end once the mission is complete: 0 SUCCESS, 1 FAILURE |
-| ``completion`` | str | ``auto`` | ``auto``, ``once``, ``rest`` or ``forever`` (below) |
-| ``print_tree`` | bool | false | log the unicode tree whenever a status changes |
-| ``status_file`` | str | ``""`` | JSON status file (off when empty) |
-| ``seed_amcl`` | bool | true | seed AMCL and wait for Nav2 before ticking |
-| ``nav2_timeout_s`` | float | 30.0 | bound of the Nav2 start-up |
-| ``setup_timeout_s`` | float | 15.0 | bound of the tree's ``setup()`` |
-| ``initial_pose.{x,y,yaw}`` | float | 0.0 | the AMCL seed (spawn pose), frame ``map`` |
+Every parameter, its type, default, unit and range is declared once, in
+:data:`sar_framework.mission.runner_params.RUNNER_PARAMETERS` (listed in docs/parameters.md);
+:func:`read_runner_settings` declares the table on the node and turns it into
+:class:`RunnerSettings`.
 
 ``completion`` (:mod:`sar_framework.mission.completion`): ``once`` ends the mission the
 first tick the root is SUCCESS or FAILURE; ``rest`` when the tree is at rest (the root keeps
 one terminal status over two ticks and nothing changes); ``forever`` never; ``auto`` is
 ``rest`` for a tree that ends with a ``one_shot``, else ``once``.
-
-``tick_rate_hz`` and the zones come from the mission parameters
-(:mod:`sar_framework.mission.params`); ``use_sim_time`` is ROS's own.
 """
 
 from __future__ import annotations
@@ -30,21 +19,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sar_framework.mission.completion import COMPLETION_MODES, DEFAULT_COMPLETION
-from sar_framework.mission.params import ParamReader, declare_default
-from sar_framework.mission.params_file import KeyLocation
+from sar_framework.mission.params_file import KeyLocation, ParamsError
+from sar_framework.mission.runner_params import DEFAULT_TREE, RUNNER_PARAMETERS
 from sar_framework.ros.nav2_startup import InitialPose
+from sar_framework.ros.parameters import declare_table
 
 if TYPE_CHECKING:
     from rclpy.node import Node
 
-DEFAULT_TREE = "trees/search_and_rescue.yaml"
 _REPO_TREE = Path(__file__).resolve().parents[2] / DEFAULT_TREE
 
 
 @dataclass(frozen=True)
 class RunnerSettings:
-    """What the runner was asked to do (see the module's table).
+    """What the runner was asked to do (see :data:`RUNNER_PARAMETERS`).
 
     Attributes:
         tree: The tree file, as given.
@@ -80,40 +68,9 @@ def default_tree() -> str:
     return DEFAULT_TREE
 
 
-class _Typed(ParamReader):
-    """Guarded declaration plus a type check that names the key in its error."""
-
-    def flag(self, key: str, default: bool) -> bool:
-        value = declare_default(self._node, key, default)
-        if not isinstance(value, bool):
-            raise self.error(key, f"must be true or false, got {value!r}")
-        return value
-
-    def text(self, key: str, default: str) -> str:
-        value = declare_default(self._node, key, default)
-        if not isinstance(value, str):
-            raise self.error(key, f"must be a string, got {value!r}")
-        return value
-
-    def number(self, key: str, default: float, *, positive: bool = False) -> float:
-        number = self.finite_number(key, declare_default(self._node, key, default))
-        if positive and number <= 0:
-            raise self.error(key, f"must be > 0, got {number:g}")
-        return number
-
-    def paths(self, key: str) -> tuple[str, ...]:
-        value = declare_default(self._node, key, "")
-        if isinstance(value, str):
-            return tuple(p for p in value.split(os.pathsep) if p)
-        if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
-            return tuple(v for v in value if v)
-        raise self.error(key, f"must be a string ({os.pathsep}-separated) or a list of "
-                               f"strings, got {value!r}")
-
-
 def read_runner_settings(node: Node, *, source: str = "runner parameters",
                          locations: Mapping[str, KeyLocation] | None = None) -> RunnerSettings:
-    """Declare (guarded) and read the runner's parameters.
+    """Declare the runner's parameter table and read its settings.
 
     Args:
         node: The runner node (auto-declaring parameter overrides).
@@ -126,28 +83,28 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
     Raises:
         ParamsError: A parameter has the wrong type or an impossible value.
     """
-    read = _Typed(node, source, locations or {})
-    tree = read.text("tree", default_tree())
+    values = declare_table(node, RUNNER_PARAMETERS, source=source, locations=locations)
+    tree = values["tree"]
+    if tree == DEFAULT_TREE:
+        tree = default_tree()
     if not tree:
-        raise read.error("tree", "empty: name a tree file")
-    completion = read.text("completion", DEFAULT_COMPLETION)
-    if completion not in COMPLETION_MODES:
-        raise read.error("completion", f"must be one of {', '.join(COMPLETION_MODES)}, "
-                                       f"got {completion!r}")
+        at = (locations or {}).get("tree")
+        raise ParamsError(at.file if at else source, "tree", "empty: name a tree file",
+                          at.line if at else None, at.col if at else None)
+    paths = values["plugin_path"]
+    if isinstance(paths, str):
+        paths = paths.split(os.pathsep)
     return RunnerSettings(
         tree=tree,
-        plugin_paths=read.paths("plugin_path"),
-        exit_on_completion=read.flag("exit_on_completion", False),
-        completion=completion,
-        print_tree=read.flag("print_tree", False),
-        status_file=read.text("status_file", ""),
-        seed_amcl=read.flag("seed_amcl", True),
-        nav2_timeout_s=read.number("nav2_timeout_s", 30.0, positive=True),
-        setup_timeout_s=read.number("setup_timeout_s", 15.0, positive=True),
-        initial_pose=InitialPose(
-            read.number("initial_pose.x", 0.0),
-            read.number("initial_pose.y", 0.0),
-            read.number("initial_pose.yaw", 0.0),
-        ),
-        use_sim_time=bool(node.get_parameter("use_sim_time").value),
+        plugin_paths=tuple(p for p in paths if p),
+        exit_on_completion=values["exit_on_completion"],
+        completion=values["completion"],
+        print_tree=values["print_tree"],
+        status_file=values["status_file"],
+        seed_amcl=values["seed_amcl"],
+        nav2_timeout_s=float(values["nav2_timeout_s"]),
+        setup_timeout_s=float(values["setup_timeout_s"]),
+        initial_pose=InitialPose(*(float(values[f"initial_pose.{k}"])
+                                   for k in ("x", "y", "yaw"))),
+        use_sim_time=bool(values["use_sim_time"]),
     )

@@ -16,13 +16,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from sar_framework.mission.processes import (
-    DEFAULT_SPEED,
     MissionSettings,
     ParamValue,
     mission_processes,
     ros_arguments,
 )
 from sar_framework.run.inputs import CheckedInputs, check_inputs, parse_entry
+from sar_framework.sim.params import SPEED
 
 DEFAULT_DOMAIN_ID = 42
 """``ROS_DOMAIN_ID`` when the environment sets none (the Makefile's value too)."""
@@ -82,7 +82,7 @@ class RunConfig:
     params: str = DEFAULT_PARAMS
     survivors: str | None = None
     sim: bool = True
-    speed: float = DEFAULT_SPEED
+    speed: float = SPEED.default
     report_dir: str = DEFAULT_REPORT_DIR
     timeout_s: float = DEFAULT_TIMEOUT_S
     keep_alive: bool = False
@@ -120,8 +120,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
                      help="run the embedded simulator (default)")
     sim.add_argument("--no-sim", dest="sim", action="store_false",
                      help="do not start the simulator: real Nav2 must be running")
-    parser.add_argument("--speed", type=float, default=DEFAULT_SPEED, metavar="X",
-                        help=f"simulated seconds per wall second (default: {DEFAULT_SPEED:g})")
+    parser.add_argument("--speed", type=float, default=SPEED.default, metavar="X",
+                        help=f"the simulator's speed: {SPEED.description.split(';')[0]}, "
+                        f"{SPEED.bounds()} (default: {SPEED.default:g})")
     parser.add_argument("--report-dir", default=DEFAULT_REPORT_DIR, metavar="DIR",
                         help=f"logs and mission report (default: {DEFAULT_REPORT_DIR})")
     parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, metavar="S",
@@ -137,7 +138,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     for who in ("sim", "detect", "report", "runner"):
         parser.add_argument(f"--{who}-param", dest=f"{who}_params", action="append",
                             default=[], metavar="NAME:=VALUE",
-                            help=f"extra ROS parameter for the {who} (repeatable)")
+                            help=f"extra ROS parameter for the {who} (repeatable; "
+                            "docs/parameters.md lists each node's)")
     parser.add_argument("--plugin-path", action="append", default=[], metavar="P",
                         help="extra plugin .py file, directory or module name (repeatable)")
     parser.add_argument("--record", metavar="FILE.mcap",
@@ -192,7 +194,7 @@ def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str
         entry: ``zone_b``, ``zone_b:0.8``, a world marker name or ``x:y:radius``.
         zones: Mission zone id -> ``(x, y)``.
     """
-    from sar_framework.sim.faults import DEFAULT_NAMED_RADIUS
+    from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
 
     name, _, radius = entry.strip().partition(":")
     if name not in zones:

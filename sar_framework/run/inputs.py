@@ -1,12 +1,16 @@
 """Every input of ``sar-tree run`` checked before anything starts, all problems at once.
 
-Checked: the files exist; ``--speed`` and ``--timeout``; the tree (every diagnostic); the
-mission parameter file (rcl's structure, then each key's name, type and value against
-:data:`~sar_framework.mission.params_check.RUNNER_PARAMETERS`, then the zones); the
-survivor table; and each ``--sim-param``/``--detect-param``/``--report-param``/
-``--runner-param NAME:=VALUE`` (known name, did-you-mean, type; ``blocked_zones`` entries
-parsed, with the mission's zone names accepted). Problems are GCC style, one a line
-(``file:line:col: key: problem`` where a position is known).
+Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule) and ``--timeout``;
+the tree (every diagnostic); the mission parameter file (rcl's structure, then each key's
+name, type and value against the runner's table, then the zones); the survivor table; and
+each ``--sim-param``/``--detect-param``/``--report-param``/``--runner-param NAME:=VALUE``
+(known name, did-you-mean, type and range, from each node's table in
+:data:`NODE_PARAMETERS`; ``blocked_zones`` entries parsed, with the mission's zone names
+accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
+position is known).
+
+No ROS is imported here: the tables live in ROS-free modules, so a bad input is reported
+even where rclpy or a message package cannot be imported.
 """
 
 from __future__ import annotations
@@ -17,48 +21,27 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from sar_framework.mission.params_check import (
-    RUNNER_PARAMETERS,
-    ParamInfo,
-    check_values,
-    mission_problems,
-    zone_positions,
-)
+from sar_framework.engine.param import Param
+from sar_framework.mission.params_check import check_values, mission_problems, zone_positions
+from sar_framework.mission.runner_params import RUNNER_PARAMETERS
+from sar_framework.recording.params import RECORDER_PARAMETERS
+from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
+from sar_framework.sim.params import SIM_PARAMETERS, SPEED
 
 if TYPE_CHECKING:
     from sar_framework.run.config import RunConfig
 
 CHILDREN = ("sim", "detect", "report", "runner")
-_SIM_TIME = ParamInfo("use_sim_time", "bool", "follow /clock")
-SERVER_PARAMETERS: dict[str, tuple[ParamInfo, ...]] = {
-    # As declared in sar_framework/servers/detect_survivor_server.py and
-    # report_survivor_server.py (a test compares the names).
-    "detect": (
-        ParamInfo("survivors_file", "str", "survivor table (YAML)"),
-        ParamInfo("service_name", "str", "the service's name"),
-        ParamInfo("answer_delay_s", "float", "fault: wall seconds before each answer"),
-        _SIM_TIME,
-    ),
-    "report": (
-        ParamInfo("report_file", "str", "JSON Lines file of acknowledged reports"),
-        ParamInfo("service_name", "str", "the service's name"),
-        ParamInfo("global_frame", "str", "frame of the reported positions"),
-        ParamInfo("refuse_all", "bool", "fault: refuse every report"),
-        ParamInfo("answer_delay_s", "float", "fault: wall seconds before each answer"),
-        _SIM_TIME,
-    ),
-}
+"""The children ``sar-tree run`` takes parameters for (``--sim-param`` ...)."""
+NODE_PARAMETERS: dict[str, tuple[Param, ...]] = {
+    "sim": SIM_PARAMETERS, "detect": DETECT_PARAMETERS, "report": REPORT_PARAMETERS,
+    "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS}
+"""Each process label (:mod:`sar_framework.mission.processes`) -> its node's parameter table."""
 
 
-def child_parameters(who: str) -> tuple[ParamInfo, ...]:
+def child_parameters(who: str) -> tuple[Param, ...]:
     """The parameters child ``who`` (``sim``, ``detect``, ``report``, ``runner``) reads."""
-    if who == "runner":
-        return RUNNER_PARAMETERS
-    if who == "sim":
-        from sar_framework.sim.sim_node import PARAMETERS
-
-        return (*(ParamInfo(p.name, p.kind, p.doc) for p in PARAMETERS), _SIM_TIME)
-    return SERVER_PARAMETERS[who]
+    return NODE_PARAMETERS[who]
 
 
 def parse_entry(entry: str) -> tuple[str, Any] | None:
@@ -97,8 +80,9 @@ def _option_problems(config: RunConfig) -> list[str]:
                         ("survivor table", config.survivors)):
         if path is not None and not Path(path).is_file():
             problems.append(f"{label} not found: '{path}'")
-    if not (config.speed > 0 and config.speed < 1e6):
-        problems.append(f"--speed must be a positive number, got {config.speed:g}")
+    speed = SPEED.problem(config.speed)
+    if speed is not None:
+        problems.append(f"--speed {speed}")
     if not config.timeout_s > 0:
         problems.append(f"--timeout must be positive, got {config.timeout_s:g}")
     return problems
@@ -141,10 +125,8 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
     return tuple(areas)
 
 
-def _default_world() -> Path:
-    from sar_framework.sim.world import DEFAULT_WORLD_PATH
-
-    return Path(DEFAULT_WORLD_PATH)
+def _default_world() -> str:
+    return next(p.default for p in SIM_PARAMETERS if p.name == "world")
 
 
 def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:

@@ -1,10 +1,8 @@
 """``/detect_survivor``: answers whether a zone hides a survivor, from a table.
 
-Parameters:
-    survivors_file (str): YAML survivor table (see :mod:`.survivors`); empty for the
-        repository's ``config/survivors.yaml``, or the spec's table when that is absent.
-    service_name (str): Default ``/detect_survivor``.
-    answer_delay_s (float): Fault injection for tests: wait this long before answering.
+Parameters: :data:`~sar_framework.servers.params.DETECT_PARAMETERS` (``survivors_file``,
+``service_name``, ``answer_delay_s``); an empty ``survivors_file`` is the repository's
+``config/survivors.yaml``, or the spec's table when that is absent.
 
 Logs ``Detection request for zone_a: FOUND at (-2.50, 3.20)`` or
 ``Detection request for zone_b: no survivor`` per request, and ``ready: ...`` once serving.
@@ -22,7 +20,9 @@ from collections.abc import Sequence
 from rclpy.node import Node
 from sar_interfaces.srv import DetectSurvivor
 
-from sar_framework.servers.serve import ServerConfigError, serve
+from sar_framework.ros.parameters import declare_table
+from sar_framework.servers.params import DETECT_PARAMETERS
+from sar_framework.servers.serve import serve
 from sar_framework.servers.survivors import default_survivors_source, load_survivors
 
 NODE_NAME = "detect_survivor_server"
@@ -32,16 +32,15 @@ class DetectSurvivorServer(Node):
     """Serves ``sar_interfaces/srv/DetectSurvivor`` from a survivor table.
 
     Raises:
-        ServerConfigError: The survivor table is malformed or a parameter is invalid.
+        ValueError: The survivor table is malformed (``SurvivorsFileError``) or a parameter
+            is invalid (``ParamsError``).
     """
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        file = str(self.declare_parameter("survivors_file", "").value)
-        service = str(self.declare_parameter("service_name", "/detect_survivor").value)
-        self._delay_s = float(self.declare_parameter("answer_delay_s", 0.0).value)
-        if self._delay_s < 0.0:
-            raise ServerConfigError(f"answer_delay_s: must be >= 0, got {self._delay_s}")
+        values = declare_table(self, DETECT_PARAMETERS)
+        file, service = values["survivors_file"], values["service_name"]
+        self._delay_s = float(values["answer_delay_s"])
         if file:
             self._table, source = load_survivors(file), file
         else:

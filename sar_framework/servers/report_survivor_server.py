@@ -7,13 +7,8 @@ JSON Lines file and fsync-ed *before* the answer leaves, so nothing acknowledged
 a survivor id reported again is acknowledged again but not written twice (ids already in
 the file count too, so this holds across restarts).
 
-Parameters:
-    report_file (str): The JSON Lines file; default ``$ROS_HOME/sar_reports.jsonl``
-        (``~/.ros/sar_reports.jsonl``).
-    service_name (str): Default ``/report_survivor``.
-    global_frame (str): The frame reports must use; default ``map``.
-    refuse_all (bool): Fault injection for tests: refuse every report.
-    answer_delay_s (float): Fault injection for tests: wait this long before answering.
+Parameters: :data:`~sar_framework.servers.params.REPORT_PARAMETERS` (``report_file``,
+``service_name``, ``global_frame``, ``refuse_all``, ``answer_delay_s``).
 
 Logs ``Report received: survivor_1 at (-2.50, 3.20). Acknowledged.`` per new report and
 ``ready: ...`` once serving.
@@ -33,6 +28,8 @@ from typing import Any
 from rclpy.node import Node
 from sar_interfaces.srv import ReportSurvivor
 
+from sar_framework.ros.parameters import declare_table
+from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.servers.report_log import ReportLog
 from sar_framework.servers.serve import ServerConfigError, serve
 
@@ -79,13 +76,12 @@ class ReportSurvivorServer(Node):
 
     def __init__(self) -> None:
         super().__init__(NODE_NAME)
-        file = str(self.declare_parameter("report_file", "").value) or str(default_report_file())
-        service = str(self.declare_parameter("service_name", "/report_survivor").value)
-        self._frame = str(self.declare_parameter("global_frame", "map").value)
-        self._refuse_all = bool(self.declare_parameter("refuse_all", False).value)
-        self._delay_s = float(self.declare_parameter("answer_delay_s", 0.0).value)
-        if self._delay_s < 0.0:
-            raise ServerConfigError(f"answer_delay_s: must be >= 0, got {self._delay_s}")
+        values = declare_table(self, REPORT_PARAMETERS)
+        file = values["report_file"] or str(default_report_file())
+        service = values["service_name"]
+        self._frame = values["global_frame"]
+        self._refuse_all = values["refuse_all"]
+        self._delay_s = float(values["answer_delay_s"])
         self._log = ReportLog(file)
         try:
             opened = self._log.open()

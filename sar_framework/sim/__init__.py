@@ -8,13 +8,14 @@ ROS-free core (plain Python + numpy)::
     drive       differential-drive model and path follower, stepped by dt
     clock       simulated time paced by a speed factor
     faults      fault-injection params (reject, abort Nth, delay, blocked zones)
+    params      the simulator's parameter table (SPEED: the speed's one default and rule)
     navigation  one goal at a time: plan, drive, decide the outcome as Nav2 would
     trace       JSON Lines trace of the robot's path and goal events
 
 ROS nodes (rclpy)::
 
     sim_node           the simulator: physics thread, /clock, /tf, /odometry/filtered
-    settings           its parameters, validated
+    settings           its parameters declared from the table, validated
     lifecycle          Nav2LifecycleNode: rclpy lifecycle, action servers need ACTIVE
     lifecycle_manager  lifecycle_manager_localization / _navigation (manage_nodes, is_active)
     goal_actions       serve a navigator goal as an action (feedback, cancel, result)

@@ -23,7 +23,8 @@ RESULT_FLUSH_S = 0.15
 
 def usage() -> str:
     """Return the ``--help`` text: the command line and the parameter table."""
-    from sar_framework.sim.settings import PARAMETERS
+    from sar_framework.engine.param import type_name
+    from sar_framework.sim.params import SIM_PARAMETERS
 
     lines = [
         "usage: sar-sim [--ros-args -p NAME:=VALUE ...]",
@@ -32,10 +33,12 @@ def usage() -> str:
         "/clock, /tf, /odometry/filtered, /map, /amcl_pose, on simulated time. Parameters:",
         "",
     ]
-    for p in PARAMETERS:
-        default = "(world file)" if p.default is None and p.kind == "float" else p.default
-        default = "[]" if default is None else default
-        lines.append(f"  {p.name:<20} {p.kind:<6} {default!s:<12} {p.doc}")
+    for p in SIM_PARAMETERS:
+        default = "(unset)" if p.default is None else p.default
+        unit = f" [{p.unit}]" if p.unit else ""
+        bounds = f" ({p.bounds()})" if p.bounds() else ""
+        lines.append(f"  {p.name:<20} {type_name(p.type):<9} {default!s}\n"
+                     f"      {p.description}{unit}{bounds}")
     return "\n".join(lines) + "\n"
 
 

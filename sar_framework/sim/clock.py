@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 
+from sar_framework.sim.params import SPEED
+
 NS_PER_S = 1_000_000_000
 
 
@@ -29,18 +31,21 @@ class SimClock:
 
     Args:
         step_s: Physics step, simulated seconds (e.g. 0.02 for 50 Hz).
-        speed: Simulated seconds per wall second (1.0 real time, 20.0 twenty times faster).
+        speed: Simulated seconds per wall second (1.0 real time, 20.0 twenty times faster);
+            the rule is the ``speed`` parameter's (:data:`~.params.SPEED`).
         start_s: Simulated time at start, seconds.
         max_lag_steps: Largest backlog, in steps, that :meth:`due_steps` will report.
 
     Raises:
-        ValueError: If ``step_s`` or ``speed`` is not a positive finite number.
+        ValueError: If ``step_s`` is not a positive finite number, or ``speed`` breaks
+            :data:`~.params.SPEED`'s rule.
     """
 
     def __init__(
         self,
         step_s: float = 0.02,
-        speed: float = 1.0,
+        *,
+        speed: float,
         start_s: float = 0.0,
         max_lag_steps: int = 200,
     ) -> None:
@@ -81,8 +86,9 @@ class SimClock:
 
     @speed.setter
     def speed(self, value: float) -> None:
-        if not (math.isfinite(value) and value > 0.0):
-            raise ValueError(f"speed must be a positive number, got {value!r}")
+        problem = SPEED.problem(value)
+        if problem is not None:
+            raise ValueError(f"speed {problem}")
         self._speed = float(value)
         self._anchor_wall = None  # re-anchor at the next due_steps() call
 

@@ -1,6 +1,7 @@
 """Fault injection: rejected, aborted and late goals, blocked areas of the map.
 
-:data:`FAULT_PARAMETERS` lists every fault ``sar-tree run`` can inject (``sar-tree faults``).
+``sar-tree faults`` lists every fault ``sar-tree run`` can inject
+(:mod:`sar_framework.run.faults`, from the parameter tables).
 
 Plain Python (no ROS). The simulator node reads these settings from its parameters:
 
@@ -25,67 +26,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sar_framework.sim.occupancy import OCCUPIED, OccupancyGrid
+from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
 
-DEFAULT_NAMED_RADIUS = 0.6
-"""Radius, metres, of a blocked zone given only by a marker name."""
+__all__ = ["DEFAULT_NAMED_RADIUS", "BlockedZone", "FaultConfigError", "Faults", "make_faults",
+           "parse_blocked_zone", "with_blocked_zones"]
 
 _SEPARATORS = re.compile(r"[:,\s]+")
-
-
-@dataclass(frozen=True)
-class FaultParam:
-    """One fault ``sar-tree run`` can inject (listed by ``sar-tree faults``).
-
-    Attributes:
-        option: How to set it: ``--sim-param``, ``--detect-param``, a flag...
-        name: The parameter name ("" for a flag).
-        unit: Its unit or type.
-        meaning: What it does.
-        example: A command-line example.
-    """
-
-    option: str
-    name: str
-    unit: str
-    meaning: str
-    example: str
-
-
-FAULT_PARAMETERS: tuple[FaultParam, ...] = (
-    FaultParam("--sim-param", "reject_goals", "bool",
-               "the navigation server rejects every goal", "reject_goals:=true"),
-    FaultParam("--sim-param", "abort_goal_numbers", "list of int (1-based)",
-               "these accepted goals abort after abort_delay_s", "abort_goal_numbers:=[2]"),
-    FaultParam("--sim-param", "abort_delay_s", "s (simulated)",
-               "how long an aborted goal runs first (default 1.0)", "abort_delay_s:=3.0"),
-    FaultParam("--sim-param", "accept_delay_s", "s (wall)",
-               "the server answers a goal request this late", "accept_delay_s:=2.0"),
-    FaultParam("--sim-param", "blocked_zones", "list of 'x:y:radius' (m) or 'name[:radius]'",
-               "circles added to the map as obstacles; a name is a mission zone or a world "
-               f"marker (radius {DEFAULT_NAMED_RADIUS} m unless given)",
-               "blocked_zones:=['zone_b']"),
-    FaultParam("--sim-param", "speed_scale", "factor",
-               "scales both velocity limits (a slow robot)", "speed_scale:=0.5"),
-    FaultParam("--detect-param", "answer_delay_s", "s (wall)",
-               "the detect service answers this late", "answer_delay_s:=5.0"),
-    FaultParam("--report-param", "answer_delay_s", "s (wall)",
-               "the report service answers this late", "answer_delay_s:=5.0"),
-    FaultParam("--report-param", "refuse_all", "bool",
-               "the report service refuses every survivor", "refuse_all:=true"),
-    FaultParam("--no-detect-server", "", "flag", "the detect service is never available", ""),
-    FaultParam("--no-report-server", "", "flag", "the report service is never available", ""),
-)
-"""Every fault ``sar-tree run`` can inject, with its unit and meaning."""
-
-
-def faults_table() -> str:
-    """The faults as a plain-text table, one a line (``sar-tree faults``)."""
-    lines = []
-    for fault in FAULT_PARAMETERS:
-        setting = f"{fault.option} {fault.example}".strip()
-        lines.append(f"{setting}\n    {fault.name or fault.option} [{fault.unit}]: "
-                     f"{fault.meaning}")
-    return "\n".join(lines) + "\n"
 
 
 class FaultConfigError(ValueError):

@@ -46,20 +46,13 @@ from sar_framework.sim.map_server import MapServer
 from sar_framework.sim.motion_servers import BehaviorServer, ControllerServer, WaypointFollower
 from sar_framework.sim.nav_server import BtNavigator
 from sar_framework.sim.navigation import Navigator
+from sar_framework.sim.params import SIM_PARAMETERS, SPEED
 from sar_framework.sim.planner import GridPlanner
 from sar_framework.sim.planning_servers import PlannerServer, SmootherServer
-from sar_framework.sim.settings import (
-    DEFAULT_MAP_YAML,
-    PARAMETERS,
-    SimConfigError,
-    SimSettings,
-    number,
-    read_settings,
-)
+from sar_framework.sim.settings import DEFAULT_MAP_YAML, SimConfigError, SimSettings, read_settings
 from sar_framework.sim.trace import TraceWriter
 
-__all__ = ["DEFAULT_MAP_YAML", "NODE_NAME", "PARAMETERS", "SimConfigError", "SimSettings",
-           "Simulator"]
+__all__ = ["DEFAULT_MAP_YAML", "NODE_NAME", "SimConfigError", "SimSettings", "Simulator"]
 
 NODE_NAME = "sar_sim"
 
@@ -313,17 +306,17 @@ class Simulator:
 
     def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
         """Allow ``speed`` to change at run time; every other simulator parameter is fixed."""
-        fixed = {p.name for p in PARAMETERS} - {"speed"}
+        fixed = {p.name for p in SIM_PARAMETERS} - {SPEED.name, "use_sim_time"}
         for param in params:
             if param.name in fixed:
                 return SetParametersResult(
                     successful=False, reason=f"{param.name} cannot change at run time"
                 )
-            if param.name == "speed":
-                try:
-                    speed = number("speed", param.value)
-                except SimConfigError as exc:
-                    return SetParametersResult(successful=False, reason=str(exc))
+            if param.name == SPEED.name:
+                problem = SPEED.problem(param.value)
+                if problem is not None:
+                    return SetParametersResult(successful=False, reason=f"speed: {problem}")
+                speed = float(param.value)
                 self._new_speed = speed  # applied by the physics thread
                 self.node.get_logger().info(f"Speed set to {speed:g}x real time.")
         return SetParametersResult(successful=True)

@@ -30,20 +30,21 @@ class MissionStack:
     Args:
         log_dir: Where each process's log (``sim.log``, ``detect.log``, ``report.log``) and
             the report server's ``reports.jsonl`` go.
-        speed: Simulated seconds per wall second.
+        speed: Simulated seconds per wall second (None: the simulator's own default).
         survivors: A survivors file for the detect server (default: its built-in table).
     """
 
-    def __init__(self, log_dir: Path, *, speed: float = 20.0,
+    def __init__(self, log_dir: Path, *, speed: float | None = None,
                  survivors: Path | None = None) -> None:
         self.log_dir = Path(log_dir)
         self.log_dir.mkdir(parents=True, exist_ok=True)
         self.report_file = self.log_dir / "reports.jsonl"
         sim_time = ["-p", "use_sim_time:=true"]
         detect = ["-p", f"survivors_file:={survivors}"] if survivors else []
+        sim = ["-p", f"speed:={float(speed)!r}"] if speed is not None else []
         self.processes = [
-            NodeProcess(["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={speed:g}"],
-                        "sim", log_dir=self.log_dir),
+            NodeProcess(["-m", "sar_framework.sim", "--ros-args", *sim], "sim",
+                        log_dir=self.log_dir),
             NodeProcess(["-m", "sar_framework.servers.detect_survivor_server", "--ros-args",
                          *sim_time, *detect], "detect", log_dir=self.log_dir),
             NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",

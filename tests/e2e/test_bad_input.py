@@ -55,7 +55,7 @@ def test_missing_params_file(tmp_path: Path) -> None:
 
 
 def test_bad_option_values(tmp_path: Path) -> None:
-    assert "--speed must be a positive number" in _assert_rejected(
+    assert "--speed must be > 0 and <= 1000, got 0.0" in _assert_rejected(
         _run(str(DEFAULT_TREE), "--speed", "0"))
     assert "expected NAME:=VALUE" in _assert_rejected(
         _run(str(DEFAULT_TREE), "--sim-param", "speed=3"))

@@ -18,8 +18,8 @@ import yaml
 
 from sar_framework.mission import processes
 from sar_framework.mission.params_file import check_params_file
-from sar_framework.mission.processes import DEFAULT_SPEED
 from sar_framework.run.config import DEFAULT_PARAMS, RunConfig, check_config, child_specs
+from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / "launch" / "search_and_rescue.launch.py"
@@ -43,8 +43,16 @@ def declared_arguments() -> dict[str, str]:
         if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "DeclareLaunchArgument":
             name = ast.literal_eval(node.args[0])
             defaults = [k.value for k in node.keywords if k.arg == "default_value"]
-            found[name] = ast.literal_eval(defaults[0]) if defaults else None
+            found[name] = _literal(defaults[0]) if defaults else None
     return found
+
+
+def _literal(node: ast.expr) -> str:
+    """A literal's value; any other expression as its source text."""
+    try:
+        return ast.literal_eval(node)
+    except ValueError:
+        return ast.unparse(node)
 
 
 def test_launch_file_compiles(tmp_path):
@@ -63,7 +71,10 @@ def test_declared_arguments_and_their_defaults():
         assert (REPO / declared[key]).is_file(), declared[key]
     # The same defaults as sar-tree run's options.
     assert declared["params_file"] == DEFAULT_PARAMS
-    assert float(declared["speed"]) == DEFAULT_SPEED
+    # The nodes' tables, not copies.
+    assert declared["speed"] == "str(SPEED.default)"
+    assert declared["report_file"] == "REPORT_FILE.default"
+    assert SPEED.default == 20.0
 
 
 # --- evaluated by launch itself ------------------------------------------------------------

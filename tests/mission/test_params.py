@@ -184,7 +184,7 @@ def test_command_line_override_wins(tmp_path):
          "{file}:6: zones.zone_b.yaw: must be a number, got True"),
         ("zone_a: {x: -3.0,", "zone_a: {x: .nan,",
          "{file}:5: zones.zone_a.x: must be finite, got nan"),
-        ("tick_rate_hz: 2.0", "tick_rate_hz: 0.0", "{file}:8: tick_rate_hz: must be > 0, got 0"),
+        ("tick_rate_hz: 2.0", "tick_rate_hz: 0.0", "{file}:8: tick_rate_hz: must be > 0, got 0.0"),
         ("tick_rate_hz: 2.0", "tick_rate_hz: -1", "{file}:8: tick_rate_hz: must be > 0, got -1"),
         ('zone_order: ["zone_a", "zone_b"]', 'zone_order: ["zone_a", "zone_a"]',
          "{file}:3: zone_order: zone_a is listed twice"),

@@ -63,7 +63,7 @@ def test_each_executable_is_the_console_script_of_its_module(process) -> None:
 
 def test_unset_settings_leave_the_processes_their_own_defaults() -> None:
     by_label = {p.label: p for p in mission_processes(EVERYTHING)}
-    assert by_label["sim"].parameters == {"speed": 20.0}
+    assert by_label["sim"].parameters == {}  # speed: the simulator's own default
     assert by_label["detect"].parameters == {"use_sim_time": True}
     assert by_label["report"].parameters == {"use_sim_time": True}
     assert by_label["runner"].params_files == (str(PARAMS),)

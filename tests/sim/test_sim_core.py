@@ -42,7 +42,7 @@ def test_clock_paces_steps_by_speed() -> None:
 
 
 def test_clock_keeps_exact_nanoseconds_over_many_steps() -> None:
-    clock = SimClock(step_s=0.02)
+    clock = SimClock(step_s=0.02, speed=1.0)
     for _ in range(100_000):
         clock.advance()
     assert clock.now_ns == 2_000 * NS_PER_S
@@ -76,9 +76,14 @@ def test_clock_speed_change_reanchors() -> None:
     assert clock.due_steps(1.5) == 20
 
 
-@pytest.mark.parametrize("kwargs", [{"step_s": 0.0}, {"speed": -1.0}, {"speed": math.inf}])
-def test_clock_rejects_bad_settings(kwargs: dict) -> None:
-    with pytest.raises(ValueError, match="positive"):
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"step_s": 0.0, "speed": 1.0}, "step_s must be a positive number"),
+    ({"speed": -1.0}, "speed must be > 0 and <= 1000, got -1.0"),
+    ({"speed": math.inf}, "speed must be finite"),
+    ({"speed": 0}, "speed must be > 0 and <= 1000, got 0")])
+def test_clock_rejects_bad_settings(kwargs: dict, message: str) -> None:
+    """The clock's rule for speed is the simulator's parameter's (sim/params.py: SPEED)."""
+    with pytest.raises(ValueError, match=message):
         SimClock(**kwargs)
 
 

@@ -216,7 +216,7 @@ class TestLocalisation:
 @pytest.mark.parametrize(
     ("param", "message"),
     [
-        ("speed:=-2.0", "parameter speed: expected a positive number"),
+        ("speed:=-2.0", "parameter speed: must be > 0 and <= 1000, got -2.0"),
         ("blocked_zones:=['nowhere']", "blocked_zones: 'nowhere'"),
         ("map_yaml:=/no/such/map.yaml", "cannot read map yaml"),
         ("trace_file:=/proc/no/trace.jsonl", "parameter trace_file: cannot write"),

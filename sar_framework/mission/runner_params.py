@@ -1,0 +1,52 @@
+"""The tree runner's parameters (``sar_mission_runner``): the mission's and its own, once.
+
+No ROS here: :data:`RUNNER_PARAMETERS` is read by the runner
+(:mod:`sar_framework.ros.runner_settings`, :mod:`.params`), by ``sar-tree run``'s
+checks of the parameter file and of ``--runner-param``, and by the documentation
+(docs/parameters.md, checked by a test).
+"""
+
+from __future__ import annotations
+
+from sar_framework.engine.param import REQUIRED, Param
+from sar_framework.mission.completion import COMPLETION_MODES, DEFAULT_COMPLETION
+from sar_framework.mission.params_check import USE_SIM_TIME
+
+DEFAULT_TREE = "trees/search_and_rescue.yaml"
+"""The tree file when none is named (the checkout's copy when the working folder has none)."""
+
+
+def _pose(prefix: str, what: str, default: object) -> tuple[Param, ...]:
+    return (Param(f"{prefix}.x", float, default, f"{what}: x (map frame)", unit="m"),
+            Param(f"{prefix}.y", float, default, f"{what}: y (map frame)", unit="m"),
+            Param(f"{prefix}.yaw", float, default, f"{what}: heading", unit="rad"))
+
+
+TICK_RATE_HZ = Param("tick_rate_hz", float, 2.0, "tree ticks per second (ROS time)",
+                     exclusive_minimum=0.0, unit="Hz")
+
+RUNNER_PARAMETERS: tuple[Param, ...] = (
+    Param("zone_order", list[str], REQUIRED, "the zone ids to visit, in order"),
+    *_pose("zones.*", "a zone", REQUIRED),
+    *_pose("base_station", "base station", 0.0),
+    TICK_RATE_HZ,
+    Param("completion", str, DEFAULT_COMPLETION, "how the mission ends: once, rest, forever, "
+          "or auto (rest for a tree that ends with a one_shot, else once)",
+          enum=COMPLETION_MODES),
+    Param("tree", str, DEFAULT_TREE, "the tree file"),
+    Param("plugin_path", str | list[str], "", "extra plugin files, directories or modules "
+          "(a list, or one string separated by the OS path separator)"),
+    Param("exit_on_completion", bool, False,
+          "end the runner once the mission is complete: exit 0 on SUCCESS, 1 on FAILURE"),
+    Param("print_tree", bool, False, "log the tree whenever a status changes"),
+    Param("status_file", str, "", "JSON status file, kept current ('' = none)"),
+    Param("seed_amcl", bool, True, "seed AMCL with initial_pose and wait for Nav2 before "
+          "ticking"),
+    Param("nav2_timeout_s", float, 30.0, "bound of the Nav2 start-up", exclusive_minimum=0.0,
+          unit="s"),
+    Param("setup_timeout_s", float, 15.0, "bound of the tree's setup()",
+          exclusive_minimum=0.0, unit="s"),
+    *_pose("initial_pose", "AMCL seed (spawn pose)", 0.0),
+    USE_SIM_TIME,
+)
+"""Every parameter ``sar_mission_runner`` reads (mission and runner settings)."""

@@ -1,0 +1,86 @@
+"""docs/parameters.md, generated from every node's parameter table.
+
+``python -m sar_framework.run.parameter_docs > docs/parameters.md`` writes it; a test
+fails when the committed file and the tables disagree.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+from sar_framework.engine.param import REQUIRED, Param, type_name
+from sar_framework.mission.processes import MissionSettings, mission_processes
+from sar_framework.run.inputs import NODE_PARAMETERS
+
+_ROOT = str(Path(__file__).resolve().parents[2]) + "/"
+
+INTRO = """\
+# Node parameters
+
+Generated from each node's parameter table by
+`python -m sar_framework.run.parameter_docs > docs/parameters.md` (a test fails when this
+file and the tables disagree). Each table is declared once, in a module without ROS, as
+`sar_framework.engine.param.Param` entries (the type leaf params are declared with too), and
+read by the node's ROS declarations (descriptors with ranges: `ros2 param describe`), by
+`sar-tree run`'s checks of the parameter file and of `--sim-param`, `--detect-param`,
+`--report-param`, `--runner-param`, by the launch file's defaults, by `sar-tree faults` and
+`sar-sim --help`. `*` in a name stands for one segment (a zone id). A number accepts an
+integer (`speed:=20`).
+"""
+
+_TITLES = {
+    "runner": ("the tree runner", "sar_framework/mission/runner_params.py",
+               "the mission parameter file (zones, base station, tick rate) and the runner's "
+               "own settings"),
+    "sim": ("the embedded simulator", "sar_framework/sim/params.py",
+            "`sar-tree run --speed` and the launch's `speed` set `speed`"),
+    "detect": ("the detect server", "sar_framework/servers/params.py", ""),
+    "report": ("the report server", "sar_framework/servers/params.py", ""),
+    "recorder": ("the recorder", "sar_framework/recording/params.py",
+                 "`sar-tree run --record FILE` and the launch's `record` set `output`"),
+}
+
+
+def default_text(param: Param) -> str:
+    """A default as the docs show it: ``true``, ``2.0``, ``'map'``, (required), (unset)."""
+    value: Any = param.default
+    if value is REQUIRED:
+        return "(required)"
+    if value is None:
+        return "(unset)"
+    if isinstance(value, bool):
+        return "`true`" if value else "`false`"
+    if isinstance(value, str):
+        return f"`'{value.removeprefix(_ROOT)}'`"
+    return f"`{value!r}`"
+
+
+def markdown_table(table: tuple[Param, ...]) -> str:
+    """One node's parameters as a Markdown table."""
+    rows = ["| parameter | type | default | unit | range | meaning |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for p in table:
+        choices = f"one of {', '.join(p.enum)}" if p.enum else ""
+        rows.append(f"| `{p.name}` | {type_name(p.type).replace('|', 'or')} | "
+                    f"{default_text(p)} | {p.unit} | {p.bounds() or choices} | "
+                    f"{p.description.replace('|', '/')} |")
+    return "\n".join(rows) + "\n"
+
+
+def document() -> str:
+    """The whole of docs/parameters.md."""
+    executables = {p.label: p.executable for p in mission_processes(
+        MissionSettings(tree="t", params_file="p", record="r"))}
+    parts = [INTRO]
+    for label, table in NODE_PARAMETERS.items():
+        title, module, note = _TITLES[label]
+        lead = f"`{executables[label]}`, {title}; declared in `{module}`."
+        parts.append(f"\n## {label}\n\n{lead}" + (f" {note[0].upper()}{note[1:]}." if note
+                                                  else "") + "\n\n" + markdown_table(table))
+    return "".join(parts)
+
+
+if __name__ == "__main__":
+    sys.stdout.write(document())

@@ -1,0 +1,73 @@
+"""The simulator's parameters (``sar_sim``), declared once; no ROS here.
+
+:data:`SIM_PARAMETERS` is what :mod:`.settings` declares on the node and validates, what
+``sar-sim --help`` and ``sar-tree faults`` print, what ``sar-tree run`` checks
+``--sim-param`` against, and where the launch file and ``sar-tree run --speed`` take the
+speed's default from. Integers are accepted where a number is expected (``speed:=20``).
+"""
+
+from __future__ import annotations
+
+from sar_framework.engine.param import Param
+from sar_framework.mission.params_check import USE_SIM_TIME
+from sar_framework.sim.world import DEFAULT_WORLD_PATH
+
+DEFAULT_MAP_YAML = DEFAULT_WORLD_PATH.parent / "final_project_map.yaml"
+"""The committed course map (``maps/final_project_map.yaml``)."""
+DEFAULT_NAMED_RADIUS = 0.6
+"""Radius, metres, of a blocked zone given only by a marker or zone name."""
+
+SPEED = Param("speed", float, 20.0, "simulated seconds per wall second (20 = 20x real time); "
+              "the only parameter that may change at run time",
+              exclusive_minimum=0.0, maximum=1000.0)
+"""The speed factor: its one default and its one rule (the simulator's, ``sar-tree run
+--speed``'s, the launch file's ``speed``'s and :class:`~.clock.SimClock`'s)."""
+
+
+def _rate(name: str, default: float, description: str, unit: str = "Hz") -> Param:
+    return Param(name, float, default, description, exclusive_minimum=0.0, unit=unit)
+
+
+SIM_PARAMETERS: tuple[Param, ...] = (
+    Param("map_yaml", str, str(DEFAULT_MAP_YAML), "map_server yaml the planner and /map use"),
+    Param("world", str, str(DEFAULT_WORLD_PATH), "world file (spawn, footprint, markers)"),
+    SPEED,
+    _rate("physics_hz", 50.0, "physics steps per simulated second"),
+    _rate("max_update_hz", 100.0, "wall-clock cap on /clock, /tf and odometry updates"),
+    _rate("publish_hz", 30.0, "odometry and /tf rate, per simulated second"),
+    _rate("feedback_hz", 10.0, "action feedback rate, per simulated second"),
+    _rate("max_linear", 0.5, "linear velocity limit", "m/s"),
+    _rate("max_angular", 1.0, "angular velocity limit", "rad/s"),
+    _rate("speed_scale", 1.0, "fault: factor on both velocity limits (a slow robot)", ""),
+    _rate("xy_goal_tolerance", 0.25, "goal position tolerance", "m"),
+    _rate("yaw_goal_tolerance", 0.25, "goal heading tolerance", "rad"),
+    Param("robot_radius", float, None, "inflation radius (unset: the world's footprint)",
+          exclusive_minimum=0.0, unit="m"),
+    Param("spawn_x", float, None, "spawn x (unset: the world's spawn)", unit="m"),
+    Param("spawn_y", float, None, "spawn y (unset: the world's spawn)", unit="m"),
+    Param("spawn_yaw", float, None, "spawn heading (unset: the world's spawn)", unit="rad"),
+    Param("auto_localize", bool, True,
+          "publish map->odom from the start; false: only after /initialpose, as AMCL"),
+    Param("autostart", bool, True,
+          "lifecycle managers bring the Nav2 nodes up at start (Nav2 bringup's autostart)"),
+    Param("odom_topic", str, "/odometry/filtered",
+          "odometry topic (the ROSbot's fused odometry, which Nav2's params read)"),
+    Param("global_frame", str, "map", "map frame"),
+    Param("odom_frame", str, "odom", "odometry frame"),
+    Param("base_frame", str, "base_link", "robot frame"),
+    Param("trace_file", str, "", "JSON Lines trace of poses and goal events ('' = off)"),
+    _rate("trace_period_s", 0.2, "simulated seconds between trace pose lines", "s"),
+    Param("reject_goals", bool, False, "fault: the navigation server rejects every goal"),
+    Param("abort_goal_numbers", list[int], None,
+          "fault: these accepted goals (1-based) abort after abort_delay_s"),
+    Param("abort_delay_s", float, 1.0, "fault: how long an aborted goal runs first "
+          "(simulated)", minimum=0.0, unit="s"),
+    Param("accept_delay_s", float, 0.0, "fault: the server answers a goal request this late "
+          "(wall clock)", minimum=0.0, unit="s"),
+    Param("blocked_zones", list[str], None,
+          "fault: circles added to the map as obstacles: 'x:y:radius' (m) or 'name[:radius]', "
+          "a mission zone or world marker (radius "
+          f"{DEFAULT_NAMED_RADIUS:g} m unless given)"),
+    USE_SIM_TIME,
+)
+"""Every parameter ``sar_sim`` reads."""

@@ -1,0 +1,66 @@
+"""docs/parameters.md and the other places that show a node's parameters agree with its table."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+from sar_framework.run.inputs import NODE_PARAMETERS
+from sar_framework.run.parameter_docs import default_text, document, markdown_table
+from sar_framework.sim.params import SPEED
+
+REPO = Path(__file__).resolve().parents[2]
+DOC = REPO / "docs" / "parameters.md"
+TABLE_MODULES = ("sar_framework.mission.runner_params", "sar_framework.sim.params",
+                 "sar_framework.servers.params", "sar_framework.recording.params",
+                 "sar_framework.run.inputs", "sar_framework.run.parameter_docs")
+
+
+def test_docs_parameters_md_is_generated_from_the_tables() -> None:
+    assert DOC.read_text() == document(), (
+        "docs/parameters.md is stale: python -m sar_framework.run.parameter_docs "
+        "> docs/parameters.md")
+
+
+def test_a_changed_table_shows_in_the_docs() -> None:
+    """The comparison above can fail: a different default is a different table."""
+    sim = NODE_PARAMETERS["sim"]
+    changed = tuple(p if p is not SPEED else type(p)(**{**p.__dict__, "default": 7.0})
+                    for p in sim)
+    assert markdown_table(changed) != markdown_table(sim)
+    assert markdown_table(sim) in DOC.read_text()
+
+
+def test_readme_launch_table_gives_the_tables_speed() -> None:
+    row = next(line for line in (REPO / "README.md").read_text().splitlines()
+               if line.startswith("| `speed` |"))
+    assert row.split("|")[2].strip() == f"`{SPEED.default!r}`"
+
+
+def test_every_table_module_imports_no_ros() -> None:
+    code = ("import sys\n" + "".join(f"import {m}\n" for m in TABLE_MODULES)
+            + "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+              "('rclpy', 'rcl_interfaces', 'nav2_msgs', 'sar_interfaces', 'launch')))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            cwd=REPO, timeout=60, check=True)
+    assert result.stdout.strip() == "[]"
+
+
+def test_sar_sim_help_lists_every_simulator_parameter() -> None:
+    from sar_framework.sim.__main__ import usage
+
+    text = usage()
+    for param in NODE_PARAMETERS["sim"]:
+        assert re.search(rf"^  {re.escape(param.name)} ", text, re.M), param.name
+        assert param.description in text
+    assert "  speed                float     20.0\n" in text
+
+
+def test_defaults_as_the_docs_show_them() -> None:
+    by_name = {p.name: p for p in NODE_PARAMETERS["runner"]}
+    assert [default_text(by_name[n]) for n in ("zone_order", "seed_amcl", "tree",
+                                                "tick_rate_hz")] == [
+        "(required)", "`true`", "`'trees/search_and_rescue.yaml'`", "`2.0`"]
+    assert "/work/" not in DOC.read_text() and str(REPO) not in DOC.read_text()

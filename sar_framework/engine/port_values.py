@@ -6,12 +6,20 @@ port's type at validation) or the value of the entry the port is bound to; ``set
 value)`` writes an output's entry. Entries are read and written through a
 :class:`~.variables.BlackboardVariables` (py_trees' own blackboard, its access control
 and activity stream), one client per leaf, made once when the tree is built.
+
+While py_trees' activity stream is off (its default), a read or write goes straight to
+``Blackboard.storage`` under the key the client registered: exactly what the client
+does then, once its access checks have passed, and those are settled when the client is
+made (a port reads what it may read, ``set`` writes only outputs). With the stream on,
+every access goes through the client, so py_trees records it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
+
+from py_trees.blackboard import Blackboard
 
 from sar_framework.engine.ports import NO_DEFAULT, PortBinding, convert
 from sar_framework.engine.variables import BlackboardVariables
@@ -49,14 +57,17 @@ class PortValues:
         literals = self.literals
         if name in literals:
             return literals[name]
-        variables = self.variables
-        if variables is None or name not in self.keys:
+        key = self.keys.get(name)
+        if key is None:
             what = "is not bound" if name in self.bindings else "is not a port of this leaf"
             raise KeyError(f"port '{name}' {what}")
         try:
-            value = variables.get(name)
+            if Blackboard.activity_stream is None:
+                value = Blackboard.storage[key]
+            else:
+                value = self.variables.get(name)  # type: ignore[union-attr]
         except KeyError:
-            raise KeyError(f"port '{name}': entry '{self.keys[name]}' has no value") from None
+            raise KeyError(f"port '{name}': entry '{key}' has no value") from None
         if type(value) is str:
             type_ = self.bindings[name].port.type
             if type_ in _CONVERTED:
@@ -72,8 +83,13 @@ class PortValues:
         binding = self.bindings.get(name)
         if binding is None or not binding.port.direction.writes:
             raise KeyError(f"'{name}' is not an output port of this leaf")
-        if self.variables is not None and name in self.keys:
-            self.variables.set(name, value)
+        key = self.keys.get(name)
+        if key is None:
+            return
+        if Blackboard.activity_stream is None:
+            Blackboard.storage[key] = value
+        else:
+            self.variables.set(name, value)  # type: ignore[union-attr]
 
     def key(self, name: str) -> str | None:
         """Return the absolute key the port is bound to (None for a literal or nothing)."""

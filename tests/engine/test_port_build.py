@@ -139,3 +139,21 @@ def test_unbound_output_is_dropped(tree_dir: Path, registry: Registry) -> None:
                      registry=registry)
     tree.root.tick_once()
     assert tree.root.status is Status.SUCCESS and tree.entries == {}
+
+
+def test_activity_stream_sees_port_access() -> None:
+    value = InputPort("value", int)
+    out = OutputPort("out", int)
+    ports = PortValues("Leaf", {"value": PortBinding(value, key="/v"),
+                                "out": PortBinding(out, key="/o")})
+    Blackboard.enable_activity_stream(100)
+    try:
+        ports.set("out", 3)
+        Blackboard.set("/v", 2)
+        assert ports.get("value") == 2
+        stream = Blackboard.activity_stream
+        assert stream is not None
+        seen = [(item.client_name, item.key, item.activity_type) for item in stream.data]
+    finally:
+        Blackboard.disable_activity_stream()
+    assert ("Leaf", "/o", "INITIALISED") in seen and ("Leaf", "/v", "READ") in seen

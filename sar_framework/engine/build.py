@@ -25,6 +25,7 @@ from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.port_values import PortValues, write_initial
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
+from sar_framework.engine.scripted_build import SCRIPTED, build_scripted, with_conditions
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -77,7 +78,7 @@ _BUILDERS: dict[str, _Builder] = {
     "condition": _decorator("Condition", status=compat.status),
 }
 for _key, _kind in KINDS.items():
-    if _key not in _BUILDERS:
+    if _key not in _BUILDERS and _kind.category is Category.DECORATOR and _key not in SCRIPTED:
         _BUILDERS[_key] = _decorator(_kind.class_name)
 
 
@@ -115,7 +116,8 @@ def build(
         context: Shared objects plugins declared they need, by name.
 
     Returns:
-        The root behaviour and the ``NodeSpec.uid -> behaviour`` map.
+        The root behaviour and the ``NodeSpec.uid -> behaviour`` map (a node with
+        pre/post-conditions maps to their wrapper; its ``decorated`` is the node).
 
     Raises:
         TreeLoadError: Context objects are missing (one diagnostic per leaf and key),
@@ -126,7 +128,7 @@ def build(
     if builder.problems or root is None:
         raise TreeLoadError(builder.problems)
     write_initial({k: e.initial for k, e in spec.entries.items() if e.initial is not NO_DEFAULT})
-    return root, builder.built
+    return root, {**builder.built, **builder.wrapped}
 
 
 class _Builder:
@@ -139,6 +141,7 @@ class _Builder:
         self.built: dict[str, Behaviour] = {}
         self.failed: set[str] = set()  # leaves already reported: a reference must not retry
         self.problems: list[Diagnostic] = []
+        self.wrapped: dict[str, Behaviour] = {}  # uid -> its pre/post-condition wrapper
 
     def leaf(self, node: NodeSpec) -> Behaviour | None:
         done = self.built.get(node.uid)
@@ -193,7 +196,30 @@ class _Builder:
         )
 
     def make(self, node: NodeSpec) -> Behaviour | None:
-        if node.category is _LEAF_CATEGORY:
+        """Build ``node`` and its children; wrap it in its pre/post-conditions, if any."""
+        behaviour = self.make_node(node)
+        if behaviour is None or not node.scripts or node.kind in SCRIPTED:
+            return behaviour
+        wrapped = with_conditions(node, behaviour)
+        if wrapped is not behaviour:
+            self.wrapped[node.uid] = wrapped
+        return wrapped
+
+    def scripted(self, node: NodeSpec) -> Behaviour | None:
+        """Build a Script, ScriptCondition or Precondition node (with its conditions)."""
+        children = [self.make(child) for child in node.children]
+        if self.problems:
+            return None
+        behaviour = build_scripted(node, children)
+        self.built[node.uid] = behaviour
+        wrapped = with_conditions(node, behaviour)
+        if wrapped is not behaviour:
+            self.wrapped[node.uid] = wrapped
+        return wrapped
+
+    def make_node(self, node: NodeSpec) -> Behaviour | None:
+        """Build ``node`` and its children, without its pre/post-conditions."""
+        if node.kind not in SCRIPTED and node.category is _LEAF_CATEGORY:
             plan = self.plans.get(node.kind)
             if plan is None or not plan.plain:
                 return self.leaf(node)
@@ -209,6 +235,8 @@ class _Builder:
                 return None
             self.built[node.uid] = behaviour
             return behaviour
+        if node.kind in SCRIPTED:
+            return self.scripted(node)
         make = self.make
         children = [make(child) for child in node.children]
         if self.problems:

@@ -152,7 +152,8 @@ class Entries:
         self.initial[key] = value
 
     def resolve(
-        self, scope: DataScope, ref: EntryRef, where: SourceLocation, what: str
+        self, scope: DataScope, ref: EntryRef, where: SourceLocation, what: str,
+        shown: str = "",
     ) -> str | None:
         """Return the absolute key of ``ref`` in ``scope``; report a name it does not declare.
 
@@ -161,6 +162,7 @@ class Entries:
             ref: The entry as written.
             where: Where it is written.
             what: What names it, for the message (``port 'goal'``).
+            shown: The name as written, when not ``{name}`` (a script's ``@name``).
 
         Returns:
             The key, or None after reporting an undeclared name.
@@ -173,7 +175,7 @@ class Entries:
             names = list(home.declared)
             hint = did_you_mean(ref.name, names) or (
                 f" (declared: {', '.join(names)})" if names else " (it declares none)")
-            self.report(where, f"{what}: '{ref}' is not an entry of {home.label}{hint}")
+            self.report(where, f"{what}: '{shown or ref}' is not an entry of {home.label}{hint}")
             return None
         return f"/{ref.name}" if ref.root else scope.key(ref.name)  # None: reported
 

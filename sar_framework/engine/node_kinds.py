@@ -40,6 +40,7 @@ class AttrType(str, Enum):
     NODES = "nodes"
     STRINGS = "strings"
     PORT = "port"
+    SCRIPT = "script"
 
 
 #: Python param type -> attribute type.
@@ -158,6 +159,22 @@ _MEMORY = Attr(
 )
 
 
+#: BT.CPP's pre- and post-condition attributes, each a script; every node takes them.
+CONDITION_ATTRS: tuple[Attr, ...] = tuple(
+    Attr(name, AttrType.SCRIPT, min_length=1, description=f"Script: {text}")
+    for name, text in (
+        ("_failureIf", "if true before the node starts, FAILURE without ticking it."),
+        ("_successIf", "if true before the node starts, SUCCESS without ticking it."),
+        ("_skipIf", "if true before the node starts, SKIPPED without ticking it."),
+        ("_while", "checked before and while the node runs: false skips it or halts it."),
+        ("_onSuccess", "run when the node succeeds."),
+        ("_onFailure", "run when the node fails."),
+        ("_onHalted", "run when the node is halted while RUNNING."),
+        ("_post", "run when the node succeeds or fails."),
+    )
+)
+
+
 def _composite(
     key: str, class_name: str, description: str, *extra: Attr, rules: tuple[Rule, ...] = ()
 ) -> NodeKind:
@@ -166,7 +183,7 @@ def _composite(
         Category.COMPOSITE,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILDREN),
+        (_name_attr(class_name), *extra, _CHILDREN, *CONDITION_ATTRS),
         rules,
     )
 
@@ -179,7 +196,7 @@ def _decorator(
         Category.DECORATOR,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILD),
+        (_name_attr(class_name), *extra, _CHILD, *CONDITION_ATTRS),
         rules,
     )
 
@@ -298,8 +315,32 @@ _KIND_LIST: tuple[NodeKind, ...] = (
     _decorator("running_is_success", "RunningIsSuccess", "RUNNING becomes SUCCESS."),
 )
 
-#: Composite and decorator kinds by key.
-KINDS: dict[str, NodeKind] = {k.key: k for k in _KIND_LIST}
+#: The script nodes (BT.CPP 4's names; :mod:`.script_nodes`).
+SCRIPT_KINDS: tuple[NodeKind, ...] = (
+    NodeKind("Script", Category.LEAF, "Script", "Run a script; SUCCESS.", (
+        _name_attr("Script"),
+        Attr("code", AttrType.SCRIPT, required=True, min_length=1,
+             description="The script (e.g. 'count := count + 1')."),
+        *CONDITION_ATTRS)),
+    NodeKind("ScriptCondition", Category.LEAF, "ScriptCondition",
+             "SUCCESS when the script's value is true, else FAILURE.", (
+        _name_attr("ScriptCondition"),
+        Attr("code", AttrType.SCRIPT, required=True, min_length=1,
+             description="The script; its last value is the condition."),
+        *CONDITION_ATTRS)),
+    _decorator(
+        "Precondition", "Precondition",
+        "Tick the child only when 'if' holds (checked again once the child is not running).",
+        Attr("if", AttrType.SCRIPT, required=True, min_length=1,
+             description="The condition script."),
+        Attr("else", AttrType.STRING, default="FAILURE",
+             enum=("SUCCESS", "FAILURE", "RUNNING", "SKIPPED"),
+             description="The status when 'if' is false (the child is not ticked)."),
+    ),
+)  # fmt: skip
+
+#: Composite, decorator and script kinds by key.
+KINDS: dict[str, NodeKind] = {k.key: k for k in (*_KIND_LIST, *SCRIPT_KINDS)}
 
 #: Keys no plugin may take: they already mean something in a tree file.
 RESERVED_KINDS: frozenset[str] = frozenset({*KINDS, SUBTREE})
@@ -351,7 +392,7 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
     for port in plugin.ports:
         attrs.append(Attr(port.name, AttrType.PORT, required=port.required,
                           description=port.description, port=port))
-    return tuple(attrs)
+    return (*attrs, *CONDITION_ATTRS)
 
 
 #: Top-level keys of a tree file, in the order the docs list them.

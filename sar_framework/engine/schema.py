@@ -165,6 +165,9 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
     kind = attr.type
     if kind is AttrType.PORT and attr.port is not None:
         return port_schema(attr.port)
+    if kind is AttrType.SCRIPT:
+        out.update({"type": "string", "minLength": 1})
+        return out
     if kind is AttrType.NODE:
         out.update(_NODE_REF)
         return out
@@ -228,7 +231,7 @@ def _object(
 
 
 def _kind_schema(kind: NodeKind) -> dict[str, Any]:
-    word = "Composite" if kind.category.value == "composite" else "Decorator"
+    word = {"composite": "Composite", "decorator": "Decorator"}.get(kind.category.value, "Leaf")
     return _object(kind.attrs, f"{word} {kind.class_name}: {kind.description}", kind.rules)
 
 

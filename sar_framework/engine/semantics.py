@@ -24,6 +24,7 @@ from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, Att
 from sar_framework.engine.plugin import Param
 from sar_framework.engine.ports import NO_DEFAULT, Port
 from sar_framework.engine.registry import Registry
+from sar_framework.engine.script_bindings import ScriptBindings
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.structure import DocPath, Document
 from sar_framework.engine.tree_files import TreeFiles
@@ -104,6 +105,7 @@ class Semantics(TreeFiles):
         self.incomplete: set[int] = set()  # id() of specs that lost a child to an error
         self.entries = Entries(self.error)
         self.bindings = Bindings(self.entries, self.error)
+        self.scripts = ScriptBindings(self.entries, self.error)
 
     # -- the walk -----------------------------------------------------------------------
     def walk(self, main: Path) -> NodeSpec | None:
@@ -145,6 +147,7 @@ class Semantics(TreeFiles):
         if root is not None:
             self.resolve_refs()
             self.entries.check()
+            self.scripts.check()
         return root
 
     def declaration(self, key: str) -> Declaration | None:
@@ -154,13 +157,13 @@ class Semantics(TreeFiles):
             plugin = self.registry.get(key)
             found = None
             if kind is not None:
-                defaults = {a.name: a.default for a in kind.attrs
-                            if not a.required and a.name not in ("name", "selected")}
+                defaults = {a.name: a.default for a in kind.attrs if not a.required and a.name
+                            not in ("name", "selected") and a.type is not AttrType.SCRIPT}
                 found = Declaration(key, kind.category, kind.class_name, kind.attrs, defaults)
             elif plugin is not None:
                 attrs = leaf_attrs(plugin)
-                defaults = {a.name: a.default for a in attrs
-                            if not a.required and a.name not in ("name", "id")}
+                defaults = {a.name: a.default for a in attrs if not a.required
+                            and a.name not in ("name", "id") and a.type is not AttrType.SCRIPT}
                 defaults = {k: v for k, v in defaults.items() if plugin.port(k) is None}
                 refs = tuple(p for p in plugin.params if p.ref is not None)
                 found = Declaration(key, Category.LEAF, key, attrs, defaults, refs, plugin.ports)
@@ -196,6 +199,7 @@ class Semantics(TreeFiles):
             return None
         values: dict[str, Any] = {}
         ports: dict[str, Any] = {}
+        scripts: dict[str, Any] = {}
         children: list[NodeSpec] = []
         complete = True
         for attr in decl.attrs:
@@ -208,6 +212,11 @@ class Semantics(TreeFiles):
                 kept = self.bindings.port_value(attr.port, given, value_at)
                 if kept is not NO_DEFAULT:
                     ports[attr.name] = kept
+                continue
+            if attr.type is AttrType.SCRIPT:
+                script = self.scripts.compile(doc, at, given)
+                if script is not None:
+                    scripts[attr.name] = script
                 continue
             if (attr.type is AttrType.STRING and decl.category is Category.LEAF
                     and attr.name not in ("name", "id")
@@ -238,6 +247,7 @@ class Semantics(TreeFiles):
                         uid, where, {**decl.defaults, **values}, children,
                         ident if isinstance(ident, str) else None, {}, None, frozenset(values),
                         ports)
+        spec.scripts = scripts
         if not complete:
             self.incomplete.add(id(spec))
         elif scope is not None:
@@ -258,6 +268,8 @@ class Semantics(TreeFiles):
 
     def in_scope(self, spec: NodeSpec, decl: Declaration, scope: Scope) -> None:
         """Note a node of the main tree: a leaf's id and references, a parallel's picks."""
+        if spec.scripts:
+            self.scripts.bind(spec, scope.data)
         if decl.category is Category.LEAF:
             if spec.id is not None:
                 self.add_id(spec, scope)
@@ -297,6 +309,8 @@ class Semantics(TreeFiles):
         node.uid = uid
         if node.id is not None:
             self.add_id(node, scope)
+        if node.scripts:
+            self.scripts.bind(node, scope.data)
         if node.category is Category.LEAF:
             decl = self.declaration(node.kind)
             if decl is not None and decl.ref_params:
@@ -417,4 +431,4 @@ def copy_spec(node: NodeSpec) -> NodeSpec:
     """Return a fresh copy of a subtree definition's spec (uids and refs cleared)."""
     return NodeSpec(node.kind, node.category, node.name, "", node.location, dict(node.attrs),
                     [copy_spec(c) for c in node.children], node.id, {}, node.subtree,
-                    node.written, node.ports)
+                    node.written, node.ports, {}, node.scripts)

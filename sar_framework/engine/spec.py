@@ -56,6 +56,9 @@ class NodeSpec:
             literal), by port name.
         bindings: For a leaf: every declared port's resolved binding (absolute key or
             literal), by port name.
+        scripts: The node's compiled scripts (``code``, ``if``, ``_skipIf``...), by attribute.
+        script_keys: Every variable its scripts use (``@name`` for the root's) -> the
+            absolute key it resolves to in the node's scope.
     """
 
     kind: str
@@ -71,6 +74,8 @@ class NodeSpec:
     written: frozenset[str] = frozenset()
     ports: dict[str, Any] = field(default_factory=dict)
     bindings: dict[str, PortBinding] = field(default_factory=dict)
+    scripts: dict[str, Any] = field(default_factory=dict)
+    script_keys: dict[str, str] = field(default_factory=dict)
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""

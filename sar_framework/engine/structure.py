@@ -155,8 +155,9 @@ def number(value: float) -> str:
 
 
 def suggest(word: str, names: list[str]) -> str:
-    """Return a "did you mean", or the list of valid names when none is close."""
-    return did_you_mean(word, names) or f" (expected one of: {', '.join(names)})"
+    """Return a "did you mean", or the valid names when none is close (``_skipIf``... unlisted)."""
+    listed = [name for name in names if not name.startswith("_")]
+    return did_you_mean(word, names) or f" (expected one of: {', '.join(listed)})"
 
 
 class StructureCheck:

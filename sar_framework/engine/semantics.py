@@ -23,6 +23,7 @@ from sar_framework.engine.entries import DataScope, Declared, Entries
 from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType, leaf_attrs
 from sar_framework.engine.plugin import Param
 from sar_framework.engine.ports import NO_DEFAULT, Port
+from sar_framework.engine.references import resolve_references
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.script_bindings import ScriptBindings
 from sar_framework.engine.spec import Category, NodeSpec
@@ -217,6 +218,8 @@ class Semantics(TreeFiles):
                 script = self.scripts.compile(doc, at, given)
                 if script is not None:
                     scripts[attr.name] = script
+                if not attr.name.startswith("_"):  # a script node's own code: shown by labels
+                    values[attr.name] = given
                 continue
             if (attr.type is AttrType.STRING and decl.category is Category.LEAF
                     and attr.name not in ("name", "id")
@@ -379,52 +382,7 @@ class Semantics(TreeFiles):
 
     def resolve_refs(self) -> None:
         """Point every reference param at its leaf; report dangling, mistyped, cyclic ones."""
-        edges: dict[int, list[NodeSpec]] = {}
-        for leaf, scope in self.pending_refs:
-            decl = self.declaration(leaf.kind)
-            for param in decl.ref_params if decl is not None else ():
-                ident = leaf.attrs.get(param.name)
-                if not isinstance(ident, str):
-                    continue
-                where = self.value_locs.get((leaf.location, param.name), leaf.location)
-                target = scope.find(ident)
-                if target is None:
-                    self.error(where, f"'{param.name}' names no leaf: there is no id "
-                                               f"'{ident}'{did_you_mean(ident, scope.visible())}")
-                elif target.kind != param.ref:
-                    self.error(where, f"'{param.name}' must name a {param.ref} leaf, "
-                                               f"but '{ident}' is a {target.kind}")
-                else:
-                    leaf.refs[param.name] = target
-                    edges.setdefault(id(leaf), []).append(target)
-        self.reference_cycles(edges)
-
-    def reference_cycles(self, edges: dict[int, list[NodeSpec]]) -> None:
-        """Report each cycle of references between leaves, once."""
-        state: dict[int, int] = {}  # 1: on the path, 2: done
-        for leaf, _ in self.pending_refs:
-            if id(leaf) in state or id(leaf) not in edges:
-                continue
-            path: list[NodeSpec] = [leaf]
-            stack = [iter(edges[id(leaf)])]
-            state[id(leaf)] = 1
-            while stack:
-                target = next(stack[-1], None)
-                if target is None:
-                    state[id(path.pop())] = 2
-                    stack.pop()
-                    continue
-                mark = state.get(id(target))
-                if mark is None and id(target) not in edges:
-                    state[id(target)] = 2  # references nothing: no cycle through it
-                elif mark == 1:
-                    start = next(i for i, n in enumerate(path) if n is target)
-                    cycle = " -> ".join(f"'{n.id}'" for n in (*path[start:], target))
-                    self.error(path[-1].location, f"reference cycle: {cycle}")
-                elif mark is None:
-                    state[id(target)] = 1
-                    path.append(target)
-                    stack.append(iter(edges.get(id(target), ())))
+        resolve_references(self.pending_refs, self.declaration, self.value_locs, self.error)
 
 
 def copy_spec(node: NodeSpec) -> NodeSpec:

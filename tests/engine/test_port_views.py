@@ -72,3 +72,22 @@ def test_render_cli_data_edges(tmp_path: Path) -> None:
     )
     assert run.returncode == 0, run.stderr
     assert "style=dotted" in (tmp_path / "tree.dot").read_text(encoding="utf-8")
+
+
+def test_data_edges_include_scripts(tmp_path: Path) -> None:
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        root:
+          sequence:
+            memory: false
+            children:
+              - Emit: {value: "{n}"}
+              - Script: {code: "m := n + 1"}
+              - ScriptCondition: {code: "m > 2"}
+    """), registry=reg).spec
+    assert spec is not None
+    assert data_edges(spec) == [("0.0", "0.1", "n"), ("0.1", "0.2", "m")]
+    from sar_framework.engine.render import render_text
+
+    assert "Script" in render_text(spec) and "digraph" in render_dot(spec, data=True)

@@ -309,3 +309,15 @@ def test_reads_and_writes() -> None:
     assert script.reads == ("a", "b", "c", "x", "z", "w2")
     assert script.writes == ("x", "y", "z", "w")
     assert script.text == "x := a + RED; y = b ? c : x; z += 1; w := w2"
+
+
+def test_integers_past_64_bits_go_on_as_floats() -> None:
+    assert run("0x7FFFFFFFFFFFFFFF * 4") == float(2**63 - 1) * 4
+    error = error_of("x := 3037000500; x = x * x * x")
+    assert "cannot store" in error.message or "64-bit" in error.message
+    assert "64-bit integers" in error_of("1e30 | 1").message
+
+
+def test_absurdly_deep_scripts_are_refused_not_crashed() -> None:
+    assert "nested too deeply" in error_of("-" * 5000 + "1").message
+    assert run("(" * 100 + "1" + ")" * 100) == 1

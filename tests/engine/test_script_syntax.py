@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from sar_framework.engine.scripting import ScriptError, compile_script
@@ -83,3 +86,12 @@ def test_groups_may_meet_across_parentheses_comparisons_and_logic(text: str) -> 
 
 def test_whitespace_newlines_and_escaped_newlines_are_blanks() -> None:
     assert compile_script("a := 1 +\\\n 2;\n\tb := a").writes == ("a", "b")
+
+
+def test_lark_is_imported_only_when_a_script_is_compiled() -> None:
+    code = ("import sys, sar_framework.engine.script_nodes; a = 'lark' in sys.modules; "
+            "from sar_framework.engine.scripting import compile_script; compile_script('1'); "
+            "print(a, 'lark' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=60)
+    assert done.stdout.split() == ["False", "True"]

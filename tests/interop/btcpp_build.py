@@ -21,6 +21,7 @@ from pathlib import Path
 
 BTCPP_SOURCE = Path("/work/shared/ros-overlay/src/behaviortree_cpp")
 CHECKER_SOURCE = Path(__file__).resolve().parent / "btcpp_checker"
+SCRIPT_ORACLE_SOURCE = Path(__file__).resolve().parent / "btcpp_script_oracle"
 BTCPP_OPTIONS = (
     "-DBTCPP_GROOT_INTERFACE=OFF", "-DBTCPP_SQLITE_LOGGING=OFF", "-DBTCPP_EXAMPLES=OFF",
     "-DBTCPP_UNIT_TESTS=OFF", "-DBUILD_TESTING=OFF", "-DBTCPP_BUILD_TOOLS=OFF",
@@ -86,17 +87,27 @@ def _cached(key: str, source: Path, options: list[str]) -> Path:
     return target / "install"
 
 
-def build_checker() -> Path:
-    """Build (or reuse) BT.CPP and the checker; return the checker executable's path."""
+def _build_program(source: Path, name: str, key_prefix: str, *options: str) -> Path:
+    """Build (or reuse) BT.CPP and the program in ``source``; return its executable's path."""
     library_key = "lib-" + tree_digest(BTCPP_SOURCE / "src", *BTCPP_OPTIONS,
                                        (BTCPP_SOURCE / "CMakeLists.txt").read_text(),
                                        tree_digest(BTCPP_SOURCE / "include"))
     library = _cached(library_key, BTCPP_SOURCE, list(BTCPP_OPTIONS))
-    checker_key = "checker-" + tree_digest(CHECKER_SOURCE, library_key)
-    installed = _cached(checker_key, CHECKER_SOURCE,
-                        [f"-DCMAKE_PREFIX_PATH={library}", "-DCMAKE_BUILD_TYPE=Release",
-                         f"-DBTCPP_SOURCE_DIR={BTCPP_SOURCE}"])
-    return installed / "bin" / "btcpp_checker"
+    key = key_prefix + tree_digest(source, library_key)
+    installed = _cached(key, source, [f"-DCMAKE_PREFIX_PATH={library}",
+                                      "-DCMAKE_BUILD_TYPE=Release", *options])
+    return installed / "bin" / name
+
+
+def build_checker() -> Path:
+    """Build (or reuse) BT.CPP and the checker; return the checker executable's path."""
+    return _build_program(CHECKER_SOURCE, "btcpp_checker", "checker-",
+                          f"-DBTCPP_SOURCE_DIR={BTCPP_SOURCE}")
+
+
+def build_script_oracle() -> Path:
+    """Build (or reuse) BT.CPP and the script oracle; return its executable's path."""
+    return _build_program(SCRIPT_ORACLE_SOURCE, "btcpp_script_oracle", "script-oracle-")
 
 
 if __name__ == "__main__":

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from interop.btcpp_build import build_checker, missing_toolchain
+from interop.btcpp_build import build_checker, build_script_oracle, missing_toolchain
 
 
 @pytest.fixture(scope="session")
@@ -16,3 +16,12 @@ def btcpp_checker() -> Path:
     if reason is not None:
         pytest.skip(reason)
     return build_checker()
+
+
+@pytest.fixture(scope="session")
+def btcpp_script_oracle() -> Path:
+    """BehaviorTree.CPP's own script engine behind a line-per-script program (cached)."""
+    reason = missing_toolchain()
+    if reason is not None:
+        pytest.skip(reason)
+    return build_script_oracle()

@@ -78,6 +78,8 @@ class CompiledScript:
                 result = statement.run(env)
         except ScriptError as error:
             raise error.in_script(self.text) from None
+        except RecursionError:
+            raise ScriptError("the script is nested too deeply", 1, 1, self.text) from None
         return result
 
     def last_position(self) -> nodes.Position:

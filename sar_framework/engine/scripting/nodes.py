@@ -53,6 +53,8 @@ class Node:
             return self.evaluate(env)
         except values.OperationError as error:
             raise self.fail(str(error)) from None
+        except OverflowError:
+            raise self.fail("a number is too large") from None
 
 
 @dataclass

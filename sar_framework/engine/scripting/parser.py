@@ -14,13 +14,15 @@ import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import resources
-
-import lark
-from lark import Token, Tree
-from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+from typing import TYPE_CHECKING
 
 from . import nodes, values
 from .errors import ScriptError
+
+if TYPE_CHECKING:  # lark is imported on the first parse: a tree without scripts never pays
+    import lark
+    from lark import Token, Tree
+    from lark.exceptions import UnexpectedInput
 
 #: Operator -> the group BT.CPP puts it in (dsl::groups in scripting/operators.hpp).
 GROUPS = {"+": "arithmetic", "-": "arithmetic", "*": "arithmetic", "/": "arithmetic",
@@ -32,6 +34,8 @@ _ASSIGN_OPS = {"DEFINE", "ASSIGN", "ADD_ASSIGN", "SUB_ASSIGN", "MUL_ASSIGN", "DI
 
 @functools.lru_cache(maxsize=1)
 def _lark() -> lark.Lark:
+    import lark
+
     grammar = resources.files(__package__).joinpath("grammar.lark").read_text()
     return lark.Lark(grammar, parser="lalr", lexer="contextual", maybe_placeholders=False)
 
@@ -55,6 +59,8 @@ def parse(text: str, enums: Mapping[str, int]) -> Parsed:
     Returns:
         The statements, reads and writes.
     """
+    from lark.exceptions import UnexpectedInput
+
     if not text.strip():
         raise ScriptError("empty script", 1, 1, text)
     try:
@@ -64,9 +70,11 @@ def parse(text: str, enums: Mapping[str, int]) -> Parsed:
     builder = _Builder(enums)
     try:
         statements = [builder.build(child) for child in tree.children
-                      if not (isinstance(child, Token) and child.type == "SEMI")]
+                      if not (isinstance(child, str) and child.type == "SEMI")]
     except ScriptError as error:
         raise error.in_script(text) from None
+    except RecursionError:
+        raise ScriptError("the script is nested too deeply", 1, 1, text) from None
     return Parsed(statements, builder.reads, builder.writes)
 
 
@@ -77,6 +85,8 @@ def _end_position(text: str) -> tuple[int, int]:
 
 
 def _syntax_error(text: str, error: UnexpectedInput) -> ScriptError:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedToken
+
     if isinstance(error, UnexpectedCharacters):
         char = text[error.pos_in_stream] if error.pos_in_stream < len(text) else ""
         what = "unterminated string" if char in ("'", '"') else f"unexpected character {char!r}"
@@ -116,7 +126,7 @@ class _Builder:
         self.writes: dict[str, None] = {}
 
     def build(self, item: Tree | Token, checked: bool = False) -> nodes.Node:
-        if isinstance(item, Token):
+        if isinstance(item, str):  # a lark Token is a str; a Tree is not
             return self.atom(item)
         kind = item.data
         kids = item.children
@@ -145,7 +155,7 @@ class _Builder:
                                      self.build(otherwise), _position(question))
         if kind == "assignment":
             return self.assignment(*kids)
-        if len(kids) == 1 and isinstance(kids[0], Token):  # an aliased atom
+        if len(kids) == 1 and isinstance(kids[0], str):  # an aliased atom
             return self.atom(kids[0])
         raise AssertionError(f"unexpected parse node {kind}")  # pragma: no cover
 
@@ -156,7 +166,7 @@ class _Builder:
 
     def group_ops(self, item: Tree | Token, found: list[Token]) -> None:
         """Collect, in source order, the group operators of one operand (not inside parens)."""
-        if isinstance(item, Token) or item.data not in ("binary", "unary"):
+        if isinstance(item, str) or item.data not in ("binary", "unary"):
             return
         if self.op_of(item) not in GROUPS:
             return
@@ -182,11 +192,11 @@ class _Builder:
                     f"({GROUPS[first.value]}) without parentheses", op.column, op.line)
 
     def assignment(self, target: Tree | Token, op: Token, value: Tree | Token) -> nodes.Node:
-        while isinstance(target, Tree) and target.data == "paren":
+        while not isinstance(target, str) and target.data == "paren":
             target = target.children[1]
-        if isinstance(target, Tree) and target.data == "name":
+        if not isinstance(target, str) and target.data == "name":
             target = target.children[0]
-        if not (isinstance(target, Token) and target.type == "NAME"):
+        if not (isinstance(target, str) and target.type == "NAME"):
             raise ScriptError(f"the left side of '{op.value}' must be a variable",
                               op.column, op.line)
         name = target.value

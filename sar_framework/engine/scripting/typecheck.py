@@ -48,8 +48,11 @@ def check(script: CompiledScript, types: Mapping[str, str], *, closed: bool = Tr
     """Return ``script``'s type problems (see :meth:`.CompiledScript.check`)."""
     checker = _Checker({name: normalised(t) for name, t in types.items()}, closed)
     last = ANY
-    for statement in script.statements:
-        last = checker.infer(statement)
+    try:
+        for statement in script.statements:
+            last = checker.infer(statement)
+    except RecursionError:
+        return [ScriptError("the script is nested too deeply", 1, 1, script.text)]
     if condition and _kind(last) in ("str", "opaque"):
         checker.problem(script.statements[-1], f"a condition must give a number or "
                                                 f"true/false, not {_a(last)}")
@@ -88,7 +91,9 @@ class _Checker:
             then, otherwise = self.infer(node.then), self.infer(node.otherwise)
             if then == otherwise:
                 return then
-            return "float" if {then, otherwise} <= {"int", "float", "bool"} else ANY
+            if {then, otherwise} <= set(NUMERIC):
+                return "float" if "float" in (then, otherwise) else "int"
+            return ANY
         if isinstance(node, nodes.Assign):
             return self.assign(node)
         raise AssertionError(f"unknown node {node!r}")  # pragma: no cover

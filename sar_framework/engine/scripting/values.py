@@ -97,10 +97,11 @@ def to_int64(value: Any, what: str) -> int:
     """``value`` as a 64-bit integer, for bitwise operators (no fraction may be lost)."""
     if not is_number(value):
         raise OperationError(f"{what} needs numbers, not {describe(value)}")
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if not math.isfinite(value) or not float(value).is_integer():
+    if not isinstance(value, numbers.Integral) and (
+            not math.isfinite(value) or not float(value).is_integer()):
         raise OperationError(f"{what} needs integers, not {value}")
+    if not INT64_MIN <= value <= INT64_MAX:
+        raise OperationError(f"{what} needs 64-bit integers, not {value}")
     return int(value)
 
 
@@ -140,7 +141,10 @@ def arithmetic(op: str, left: Any, right: Any) -> Any:
             return _divide(float(left), float(right))
         both_int = isinstance(left, numbers.Integral) and isinstance(right, numbers.Integral)
         a, b = (int(left), int(right)) if both_int else (float(left), float(right))
-        return a + b if op == "+" else a - b if op == "-" else a * b
+        result = a + b if op == "+" else a - b if op == "-" else a * b
+        if both_int and not INT64_MIN <= result <= INT64_MAX:
+            return float(result)  # past int64, BT.CPP's double arithmetic goes on
+        return result
     if op == "+" and isinstance(left, str) and isinstance(right, str):
         return left + right
     raise OperationError(f"'{op}' does not apply to {describe(left)} and {describe(right)}")

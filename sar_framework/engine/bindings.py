@@ -8,6 +8,7 @@ leaf's ports in its scope, and the scope of each subtree insertion from its rema
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
@@ -29,6 +30,8 @@ from sar_framework.engine.schema import fits_port
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.structure import DocPath, Document
 
+#: What a key prefix may not hold ('.' reads as an attribute in py_trees, '/' as a level).
+_UNSAFE = re.compile(r"[^A-Za-z0-9_-]")
 #: ``value_locs`` key of a leaf port's value, and of a subtree use's port value.
 PORT_LOC = "port."
 USE_LOC = "ports."
@@ -227,7 +230,7 @@ class Bindings:
         """
         ports, local = definition
         name = use.name
-        prefix = f"/{name}@{uid.replace('.', '_')}"
+        prefix = f"/{_UNSAFE.sub('_', name)}@{uid.replace('.', '_')}"
         declared = None
         if ports is not None or local is not None:
             declared = {p.name: Declared(p.name, p.type, caller_sets=False)

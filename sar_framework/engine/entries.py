@@ -4,8 +4,9 @@ Every name a node uses (a port bound to ``{goal}``, later a script's variable) b
 a scope and resolves to an absolute py_trees key, as BT.CPP 4 resolves it at run time:
 
 - the main tree's scope is the root, ``/``: ``{goal}`` is ``/goal``;
-- each subtree insertion has its own scope, ``/<Subtree>@<uid>`` (the uid's dots become
-  ``_``: py_trees reads ``a.b`` as attribute ``b`` of ``a``);
+- each subtree insertion has its own scope, ``/<Subtree>@<uid>`` (the uid's dots, and
+  any character of the name but letters, digits, ``_`` and ``-``, become ``_``: py_trees
+  reads ``a.b`` as attribute ``b`` of ``a``);
 - ``{@goal}`` always names the root's ``/goal``;
 - a subtree use remaps an inner name to an entry of the parent scope
   (``ports: {path: "{plan}"}``) or gives it a literal; with ``autoremap: true`` every

@@ -157,3 +157,15 @@ def test_activity_stream_sees_port_access() -> None:
     finally:
         Blackboard.disable_activity_stream()
     assert ("Leaf", "/o", "INITIALISED") in seen and ("Leaf", "/v", "READ") in seen
+
+
+def test_subtree_names_make_safe_keys(tree_dir: Path, registry: Registry) -> None:
+    tree = load_tree(write(tree_dir, "tree.yaml", """
+        format: 1
+        root: {subtree: "count.v2 x"}
+        subtrees:
+          "count.v2 x": {Emit: {value: "{out}"}}
+    """), registry=registry)
+    assert tree.entries == {"count_v2_x@0/out": "/count_v2_x@0/out"}
+    tree.root.tick_once()
+    assert Blackboard.get("/count_v2_x@0/out") == 7

@@ -353,6 +353,8 @@ class StructureCheck:
             return f"'subtrees' must be a mapping of names to nodes, got {got}"
         if attr == SUBTREE:
             return f"'subtree' must name a subtree, got {got}"
+        if len(path) >= 2 and path[-2] in ("blackboard", "ports") and "properties" in error.schema:
+            return f"'{attr}' must be a mapping such as {{type: int}}, got {got}"
         if "properties" in error.schema:  # the attributes of a node kind
             hint = f" (write '{attr}: {{}}')" if instance is None else ""
             return f"the attributes of '{attr}' must be a mapping, got {got}{hint}"
@@ -385,7 +387,8 @@ class StructureCheck:
         if expected == "string":
             word = "an entry ('{key}')"
         else:
-            words = [_TYPE_WORDS.get(t, t) for t in expected if t != "string"]
+            words = [_TYPE_WORDS.get(t, "a list" if t == "array" else t)
+                     for t in expected if t != "string"]
             word = " or ".join(words) + " literal, or an entry ('{key}')"
         hint = ""
         if isinstance(instance, dict) and len(instance) == 1 and None in instance.values():

@@ -395,3 +395,32 @@ def test_references_unchanged(validate: Callable[..., ValidationResult]) -> None
               - Typed: {label: a, source: f}
     """)
     assert node(result, "Typed").refs["source"] is node(result, "Fixed")
+
+
+def test_format_problems_worded(check: Checker) -> None:
+    assert check("""
+        format: 1
+        blackboard: {a: 3}
+        root:
+          sequence:
+            memory: true
+            children:
+              - Say: {items: {a: 1}}
+              - subtree: {tree: X, portz: {}}
+              - subtree: {ports: {}}
+              - Emit: {value: "{}"}
+        subtrees:
+          X: {root: {Tick: {}}, extra: 1}
+          Y: {ports: {p: {type: int, direction: output, default: 3}}, root: {Tick: {}}}
+    """) == [
+        "tree.yaml:2:17: error: 'a' must be a mapping such as {type: int}, got integer 3",
+        "tree.yaml:7:22: error: port 'items' must be bound to a list literal, or an entry "
+        "('{key}'), got a mapping",
+        "tree.yaml:8:28: error: unknown attribute 'portz' for subtree (did you mean 'ports'?)",
+        "tree.yaml:9:9: error: subtree is missing required attribute 'tree'",
+        "tree.yaml:10:23: error: port 'value': '{}' is not a valid entry name (letters, "
+        "digits and '_', not starting with a digit)",
+        "tree.yaml:12:25: error: unknown key 'extra' in subtree definition 'X' (expected one "
+        "of: description, ports, blackboard, root)",
+        "tree.yaml:13:18: error: port 'p': an output's default must be an entry",
+    ]

@@ -332,7 +332,8 @@ class StructureCheck:
             return f"{label} needs a 'child' (a decorator has exactly one)"
         if name == "children":
             return f"{label} needs 'children' (a composite has at least one)"
-        noun = "param" if owner in self.registry else "attribute"
+        plugin = self.registry.get(owner)
+        noun = "attribute" if plugin is None else "port" if plugin.port(name) else "param"
         return f"{label} is missing required {noun} '{name}'"
 
     def wrong_type(self, error: jsonschema.ValidationError, path: DocPath, doc: Document) -> str:

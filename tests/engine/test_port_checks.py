@@ -424,3 +424,8 @@ def test_format_problems_worded(check: Checker) -> None:
         "of: description, ports, blackboard, root)",
         "tree.yaml:13:18: error: port 'p': an output's default must be an entry",
     ]
+
+
+def test_a_required_port(check: Checker) -> None:
+    assert check("format: 1\nroot: {Follow: {}}\n") == [
+        "tree.yaml:2:8: error: Follow is missing required port 'path'"]

@@ -5,7 +5,9 @@ hold: composites, decorators and the plugin classes themselves, with no
 wrapper behaviour in between, so a loaded tree ticks as fast as a hand-built
 one. A leaf is constructed as ``cls(name=..., **params, **context_objects)``;
 a reference param receives the referenced leaf's behaviour, which is built
-first (validation has ruled out reference cycles).
+first (validation has ruled out reference cycles). A leaf that declares ports
+also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and entries with an
+initial value are written to py_trees' blackboard before the tree is returned.
 """
 
 from __future__ import annotations
@@ -20,7 +22,10 @@ from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
+from sar_framework.engine.port_values import PortValues, write_initial
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
+from sar_framework.engine.scripted_build import SCRIPTED, build_scripted, with_conditions
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -73,22 +78,23 @@ _BUILDERS: dict[str, _Builder] = {
     "condition": _decorator("Condition", status=compat.status),
 }
 for _key, _kind in KINDS.items():
-    if _key not in _BUILDERS:
+    if _key not in _BUILDERS and _kind.category is Category.DECORATOR and _key not in SCRIPTED:
         _BUILDERS[_key] = _decorator(_kind.class_name)
 
 
 class _LeafPlan:
     """How to call one plugin's constructor (worked out once per plugin)."""
 
-    __slots__ = ("cls", "context", "name", "plain", "refs")
+    __slots__ = ("cls", "context", "name", "plain", "ports", "refs")
 
     def __init__(self, plugin: PluginSpec) -> None:
         self.name = plugin.name
         self.cls = plugin.cls
         self.refs = tuple(p.name for p in plugin.params if p.ref is not None)
         self.context = plugin.context
+        self.ports = bool(plugin.ports)
         # Constructed from the spec's attrs alone (the common case, done in one step).
-        self.plain = not self.refs and not self.context
+        self.plain = not self.refs and not self.context and not self.ports
 
 
 def _missing_context(node: NodeSpec, plan: _LeafPlan, key: str) -> Diagnostic:
@@ -110,7 +116,8 @@ def build(
         context: Shared objects plugins declared they need, by name.
 
     Returns:
-        The root behaviour and the ``NodeSpec.uid -> behaviour`` map.
+        The root behaviour and the ``NodeSpec.uid -> behaviour`` map (a node with
+        pre/post-conditions maps to their wrapper; its ``decorated`` is the node).
 
     Raises:
         TreeLoadError: Context objects are missing (one diagnostic per leaf and key),
@@ -120,7 +127,8 @@ def build(
     root = builder.make(spec.root)
     if builder.problems or root is None:
         raise TreeLoadError(builder.problems)
-    return root, builder.built
+    write_initial({k: e.initial for k, e in spec.entries.items() if e.initial is not NO_DEFAULT})
+    return root, {**builder.built, **builder.wrapped}
 
 
 class _Builder:
@@ -133,6 +141,7 @@ class _Builder:
         self.built: dict[str, Behaviour] = {}
         self.failed: set[str] = set()  # leaves already reported: a reference must not retry
         self.problems: list[Diagnostic] = []
+        self.wrapped: dict[str, Behaviour] = {}  # uid -> its pre/post-condition wrapper
 
     def leaf(self, node: NodeSpec) -> Behaviour | None:
         done = self.built.get(node.uid)
@@ -156,8 +165,10 @@ class _Builder:
                 return None
             plan = self.plans[node.kind] = _LeafPlan(plugin)
         kwargs = node.attrs
-        if plan.refs or plan.context:
+        if plan.refs or plan.context or plan.ports:
             kwargs = dict(kwargs)
+            if plan.ports:
+                kwargs["ports"] = PortValues(node.name, node.bindings)
             for name in plan.refs:
                 target = node.refs.get(name)
                 if target is not None:
@@ -185,7 +196,30 @@ class _Builder:
         )
 
     def make(self, node: NodeSpec) -> Behaviour | None:
-        if node.category is _LEAF_CATEGORY:
+        """Build ``node`` and its children; wrap it in its pre/post-conditions, if any."""
+        behaviour = self.make_node(node)
+        if behaviour is None or not node.scripts or node.kind in SCRIPTED:
+            return behaviour
+        wrapped = with_conditions(node, behaviour)
+        if wrapped is not behaviour:
+            self.wrapped[node.uid] = wrapped
+        return wrapped
+
+    def scripted(self, node: NodeSpec) -> Behaviour | None:
+        """Build a Script, ScriptCondition or Precondition node (with its conditions)."""
+        children = [self.make(child) for child in node.children]
+        if self.problems:
+            return None
+        behaviour = build_scripted(node, children)
+        self.built[node.uid] = behaviour
+        wrapped = with_conditions(node, behaviour)
+        if wrapped is not behaviour:
+            self.wrapped[node.uid] = wrapped
+        return wrapped
+
+    def make_node(self, node: NodeSpec) -> Behaviour | None:
+        """Build ``node`` and its children, without its pre/post-conditions."""
+        if node.kind not in SCRIPTED and node.category is _LEAF_CATEGORY:
             plan = self.plans.get(node.kind)
             if plan is None or not plan.plain:
                 return self.leaf(node)
@@ -201,6 +235,8 @@ class _Builder:
                 return None
             self.built[node.uid] = behaviour
             return behaviour
+        if node.kind in SCRIPTED:
+            return self.scripted(node)
         make = self.make
         children = [make(child) for child in node.children]
         if self.problems:

@@ -18,6 +18,7 @@ from enum import Enum
 from typing import Any
 
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
+from sar_framework.engine.ports import Port
 from sar_framework.engine.spec import Category
 
 #: The node kind that inserts a named subtree (``subtree: NAME``).
@@ -38,6 +39,8 @@ class AttrType(str, Enum):
     NODE = "node"
     NODES = "nodes"
     STRINGS = "strings"
+    PORT = "port"
+    SCRIPT = "script"
 
 
 #: Python param type -> attribute type.
@@ -68,6 +71,7 @@ class Attr:
         min_length: Minimum length of a string value.
         nullable: Whether ``null`` is accepted (a param defaulting to None).
         ref: For a reference param: the plugin name the referenced leaf must have.
+        port: For a leaf's port: its declaration (the value binds it, see :mod:`.ports`).
     """
 
     name: str
@@ -84,6 +88,7 @@ class Attr:
     min_length: int | None = None
     nullable: bool = False
     ref: str | None = None
+    port: Port | None = None
 
 
 @dataclass(frozen=True)
@@ -154,6 +159,22 @@ _MEMORY = Attr(
 )
 
 
+#: BT.CPP's pre- and post-condition attributes, each a script; every node takes them.
+CONDITION_ATTRS: tuple[Attr, ...] = tuple(
+    Attr(name, AttrType.SCRIPT, min_length=1, description=f"Script: {text}")
+    for name, text in (
+        ("_failureIf", "if true before the node starts, FAILURE without ticking it."),
+        ("_successIf", "if true before the node starts, SUCCESS without ticking it."),
+        ("_skipIf", "if true before the node starts, SKIPPED without ticking it."),
+        ("_while", "checked before and while the node runs: false skips it or halts it."),
+        ("_onSuccess", "run when the node succeeds."),
+        ("_onFailure", "run when the node fails."),
+        ("_onHalted", "run when the node is halted while RUNNING."),
+        ("_post", "run when the node succeeds or fails."),
+    )
+)
+
+
 def _composite(
     key: str, class_name: str, description: str, *extra: Attr, rules: tuple[Rule, ...] = ()
 ) -> NodeKind:
@@ -162,7 +183,7 @@ def _composite(
         Category.COMPOSITE,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILDREN),
+        (_name_attr(class_name), *extra, _CHILDREN, *CONDITION_ATTRS),
         rules,
     )
 
@@ -175,7 +196,7 @@ def _decorator(
         Category.DECORATOR,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILD),
+        (_name_attr(class_name), *extra, _CHILD, *CONDITION_ATTRS),
         rules,
     )
 
@@ -294,8 +315,32 @@ _KIND_LIST: tuple[NodeKind, ...] = (
     _decorator("running_is_success", "RunningIsSuccess", "RUNNING becomes SUCCESS."),
 )
 
-#: Composite and decorator kinds by key.
-KINDS: dict[str, NodeKind] = {k.key: k for k in _KIND_LIST}
+#: The script nodes (BT.CPP 4's names; :mod:`.script_nodes`).
+SCRIPT_KINDS: tuple[NodeKind, ...] = (
+    NodeKind("Script", Category.LEAF, "Script", "Run a script; SUCCESS.", (
+        _name_attr("Script"),
+        Attr("code", AttrType.SCRIPT, required=True, min_length=1,
+             description="The script (e.g. 'count := count + 1')."),
+        *CONDITION_ATTRS)),
+    NodeKind("ScriptCondition", Category.LEAF, "ScriptCondition",
+             "SUCCESS when the script's value is true, else FAILURE.", (
+        _name_attr("ScriptCondition"),
+        Attr("code", AttrType.SCRIPT, required=True, min_length=1,
+             description="The script; its last value is the condition."),
+        *CONDITION_ATTRS)),
+    _decorator(
+        "Precondition", "Precondition",
+        "Tick the child only when 'if' holds (checked again once the child is not running).",
+        Attr("if", AttrType.SCRIPT, required=True, min_length=1,
+             description="The condition script."),
+        Attr("else", AttrType.STRING, default="FAILURE",
+             enum=("SUCCESS", "FAILURE", "RUNNING", "SKIPPED"),
+             description="The status when 'if' is false (the child is not ticked)."),
+    ),
+)  # fmt: skip
+
+#: Composite, decorator and script kinds by key.
+KINDS: dict[str, NodeKind] = {k.key: k for k in (*_KIND_LIST, *SCRIPT_KINDS)}
 
 #: Keys no plugin may take: they already mean something in a tree file.
 RESERVED_KINDS: frozenset[str] = frozenset({*KINDS, SUBTREE})
@@ -309,7 +354,7 @@ UNSUPPORTED_DECORATORS: dict[str, str] = {
 
 
 def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
-    """Return a leaf plugin's attributes: ``name``, ``id`` and its declared params.
+    """Return a leaf plugin's attributes: ``name``, ``id``, its params, then its ports.
 
     Args:
         plugin: The plugin declaration.
@@ -344,7 +389,10 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
                 ref=p.ref,
             )
         )
-    return tuple(attrs)
+    for port in plugin.ports:
+        attrs.append(Attr(port.name, AttrType.PORT, required=port.required,
+                          description=port.description, port=port))
+    return (*attrs, *CONDITION_ATTRS)
 
 
 #: Top-level keys of a tree file, in the order the docs list them.
@@ -357,6 +405,8 @@ TOP_LEVEL_ATTRS: tuple[Attr, ...] = (
          description="Extra plugin modules, .py files or directories, relative to this file."),
     Attr("include", AttrType.STRINGS,
          description="Tree files whose subtrees become available here, relative to this file."),
+    Attr("blackboard", AttrType.NODE,
+         description="The main tree's blackboard entries: name -> {type, initial, description}."),
     Attr("subtrees", AttrType.NODE, description="Named fragments, inserted with {subtree: NAME}."),
     Attr("root", AttrType.NODE, description="The root node (required in the file you load)."),
 )  # fmt: skip

@@ -1,9 +1,10 @@
 """Leaf plugins: a py_trees behaviour plus one declaration of its params.
 
 A plugin is an ordinary :class:`py_trees.behaviour.Behaviour` subclass marked
-with :func:`leaf`. The declaration (:class:`~sar_framework.engine.param.Param`, the type
-every node parameter is declared with too) is the single source for validation, the
-JSON Schema fragment, ``sar-tree plugins`` and the constructor's kwargs::
+with :func:`leaf`. The declaration (params: :class:`~sar_framework.engine.param.Param`, the
+type every node parameter is declared with too; blackboard ports: :mod:`.ports`) is the
+single source for validation, the JSON Schema fragment, ``sar-tree plugins`` and the
+constructor's kwargs::
 
     @leaf(
         params=[
@@ -31,6 +32,7 @@ from dataclasses import dataclass, field
 from typing import TypeVar
 
 from sar_framework.engine.param import PARAM_TYPES, REQUIRED, Param
+from sar_framework.engine.ports import Port
 
 __all__ = ["PARAM_TYPES", "PLUGIN_ATTRIBUTE", "REQUIRED", "Param", "PluginSpec", "leaf"]
 
@@ -48,6 +50,8 @@ class PluginSpec:
         description: First paragraph of the class docstring unless given.
         params: The declared params, in declaration order.
         context: Names of caller-supplied objects the constructor needs.
+        ports: The declared ports (:mod:`.ports`), in declaration order; a leaf with
+            ports is constructed with ``ports=PortValues(...)``.
         source: Where it was found (module, file or entry point); set by the registry.
     """
 
@@ -57,10 +61,18 @@ class PluginSpec:
     params: tuple[Param, ...] = ()
     context: tuple[str, ...] = ()
     source: str = field(default="", compare=False)
+    ports: tuple[Port, ...] = ()
 
     def param(self, name: str) -> Param | None:
         """Return the declared param called ``name``, or None."""
         for p in self.params:
+            if p.name == name:
+                return p
+        return None
+
+    def port(self, name: str) -> Port | None:
+        """Return the declared port called ``name``, or None."""
+        for p in self.ports:
             if p.name == name:
                 return p
         return None
@@ -75,6 +87,7 @@ def leaf(
     params: Sequence[Param] = (),
     context: Sequence[str] = (),
     description: str | None = None,
+    ports: Sequence[Port] = (),
 ) -> Callable[[_T], _T]:
     """Mark a behaviour class as a leaf plugin.
 
@@ -83,23 +96,29 @@ def leaf(
         params: The params the tree may set.
         context: Names of shared objects the caller must supply (e.g. ``zone_manager``).
         description: Defaults to the first paragraph of the class docstring.
+        ports: The blackboard ports (:func:`.ports.InputPort`, ``OutputPort``,
+            ``BidirectionalPort``).
 
     Returns:
         A class decorator that records a :class:`PluginSpec` on the class and returns it.
 
     Raises:
-        TypeError: On a declaration that cannot work (duplicate or reserved param names, or
-            a type a tree file cannot give: lists are for node parameters).
+        TypeError: On a declaration that cannot work (duplicate or reserved param or port
+            names, a port that is not a :class:`~.ports.Port`, or a param type a tree file
+            cannot give: lists are for node parameters).
     """
-    reserved = {"name", "id"}
+    reserved = {"name", "id", "ports"}
 
     def mark(cls: _T) -> _T:
         seen: set[str] = set()
-        for p in params:
+        for p in (*params, *ports):
+            if not isinstance(p, (Param, Port)):
+                raise TypeError(f"{cls.__name__}: {p!r} is not a Param or a Port")
+            what = "param" if isinstance(p, Param) else "port"
             if p.name in reserved or p.name in seen or p.name in context:
-                raise TypeError(f"{cls.__name__}: param name {p.name!r} is reserved or repeated")
+                raise TypeError(f"{cls.__name__}: {what} name {p.name!r} is reserved or repeated")
             seen.add(p.name)
-            if p.ref is None and p.type not in PARAM_TYPES:
+            if isinstance(p, Param) and p.ref is None and p.type not in PARAM_TYPES:
                 raise TypeError(f"{cls.__name__}: param {p.name!r}: a leaf param is a str, "
                                 "int, float or bool")
         doc = (cls.__doc__ or "").strip().split("\n\n")[0]
@@ -110,6 +129,7 @@ def leaf(
             description=text,
             params=tuple(params),
             context=tuple(context),
+            ports=tuple(ports),
         )
         setattr(cls, PLUGIN_ATTRIBUTE, spec)
         return cls

@@ -215,8 +215,41 @@ def _style(node: NodeSpec) -> tuple[str, str]:
     return _LEAF_STYLE
 
 
+def data_edges(spec: TreeSpec) -> list[tuple[str, str, str]]:
+    """Return ``(writer uid, reader uid, entry)`` for every entry a node writes and one reads.
+
+    A node's ports and its scripts both count.
+
+    Args:
+        spec: The validated tree.
+
+    Returns:
+        One edge per writer, reader and entry (a node reading its own write is left out).
+    """
+    writers: dict[str, list[str]] = {}
+    readers: dict[str, list[str]] = {}
+    for node in spec.nodes():
+        reads: set[str] = set()
+        writes: set[str] = set()
+        for binding in node.bindings.values():
+            if binding.key is not None and binding.port.direction.writes:
+                writes.add(binding.key)
+            if binding.key is not None and binding.port.direction.reads:
+                reads.add(binding.key)
+        for script in node.scripts.values():
+            writes.update(node.script_keys[n] for n in script.writes if node.script_keys.get(n))
+            reads.update(node.script_keys[n] for n in script.reads if node.script_keys.get(n))
+        for key in sorted(writes):
+            writers.setdefault(key, []).append(node.uid)
+        for key in sorted(reads):
+            readers.setdefault(key, []).append(node.uid)
+    return [(w, r, key[1:]) for key, ws in writers.items() for w in ws
+            for r in readers.get(key, ()) if r != w]
+
+
 def render_dot(
-    spec: TreeSpec, *, statuses: Mapping[str, str] | None = None, all_params: bool = False
+    spec: TreeSpec, *, statuses: Mapping[str, str] | None = None, all_params: bool = False,
+    data: bool = False,
 ) -> str:
     """Return the Graphviz DOT source of a tree diagram.
 
@@ -227,6 +260,8 @@ def render_dot(
             nodes are filled by status (nodes missing from the map count as
             ``INVALID``, i.e. never ticked) and a legend is drawn.
         all_params: Show every leaf param, defaults included (default: only those set).
+        data: Also draw data edges: dotted, from a node that writes a blackboard entry
+            to each node that reads it, labelled with the entry.
 
     Returns:
         The DOT source (a ``digraph``).
@@ -291,6 +326,11 @@ def render_dot(
             }
             edges.append((node_id(node.uid), node_id(target.uid), attrs))
 
+    if data:
+        edges.extend((node_id(writer), node_id(reader), {
+            "style": "dotted", "color": "darkgreen", "fontcolor": "darkgreen",
+            "xlabel": _plain(entry), "constraint": "false"})
+            for writer, reader, entry in data_edges(spec))
     # A reference to a node outside the tree (never in a validated tree) keeps
     # its label text but gets no edge, rather than a stray node.
     known = {node_id(uid) for uid in seen}
@@ -309,6 +349,7 @@ def render_to_file(
     *,
     statuses: Mapping[str, str] | None = None,
     all_params: bool = False,
+    data: bool = False,
 ) -> Path:
     """Render a tree diagram to a file; the format follows the extension.
 
@@ -317,6 +358,7 @@ def render_to_file(
         out: Target file ending in ``.svg``, ``.png``, ``.pdf`` or ``.dot``;
             parent directories are created.
         statuses: Optional uid -> status map, see :func:`render_dot`.
+        data: Draw data edges (writer -> reader of each entry), see :func:`render_dot`.
         all_params: Show every leaf param, defaults included (default: only those set).
 
     Returns:
@@ -334,7 +376,7 @@ def render_to_file(
             f"cannot render to {str(out)!r}: unsupported extension {out.suffix or '(none)'!r}; "
             f"use one of {', '.join(FORMATS)}"
         )
-    source = render_dot(spec, statuses=statuses, all_params=all_params)
+    source = render_dot(spec, statuses=statuses, all_params=all_params, data=data)
     out.parent.mkdir(parents=True, exist_ok=True)
     if fmt == "dot":
         out.write_text(source, encoding="utf-8")

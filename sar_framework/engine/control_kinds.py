@@ -19,6 +19,8 @@ from sar_framework.engine.spec import Category
 #: Where a kind comes from, for the docs and the export.
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
                         "SingleTrigger"})
+#: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
+ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "ReactiveSequence": "[-]",
            "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",

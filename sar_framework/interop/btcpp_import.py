@@ -6,8 +6,8 @@ The main ``<BehaviorTree>`` becomes ``root``; every other one becomes an entry o
 params (converted to the declared types). Everything that cannot be expressed
 (blackboard ports ``{key}`` other than those of BT.CPP's blackboard nodes, scripts,
 pre/post conditions, Nav2's DistanceController, ...) is reported as
-``file:line:col: error: ...``, all at once. The document still needs our validator (ids, references, ranges): see
-:func:`sar_framework.interop.commands.run_import`.
+``file:line:col: error: ...``, all at once. The document still needs our validator
+(ids, references, ranges): see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations

@@ -208,6 +208,30 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                   - Inverter: {child: {RunOnce: {child: {Tick: {name: R4}}}}}
         """, {"Work": ["RUNNING", "SUCCESS"], "P": ["RUNNING", "SUCCESS", "FAILURE"],
               "Q": ["SUCCESS"]}, 7, 0),
+    "skipped children count as BT.CPP counts them": ("""
+        Sequence:
+          children:
+            - Parallel:
+                children:
+                  - RunOnce: {child: {Tick: {name: R1}}}
+                  - Tick: {name: P}
+            - Fallback:
+                children:
+                  - Sequence:
+                      children:
+                        - RunOnce: {child: {Tick: {name: R2}}}
+                        - RunOnce: {child: {AlwaysSuccess: {}}}
+                  - Tick: {name: F}
+            - ParallelAll:
+                children:
+                  - RunOnce: {child: {Tick: {name: R3}}}
+                  - IfThenElse:
+                      children:
+                        - Tick: {name: If}
+                        - RunOnce: {child: {Tick: {name: R4}}}
+                        - Tick: {name: Else}
+        """, {"P": ["SUCCESS", "RUNNING", "SUCCESS"], "F": ["FAILURE", "SUCCESS"],
+              "If": ["SUCCESS", "SUCCESS", "FAILURE"]}, 6, 0),
     "SkipUnlessUpdated, UnsetBlackboard, AlwaysSuccess": ("""
         Sequence:
           children:

@@ -19,6 +19,8 @@ from sar_framework.engine.variables import Variables
 class _EntryUpdated(BtDecorator):
     """Tick the child only when ``entry`` was written since the last look."""
 
+    marks_running = False
+
     not_updated: Outcome
 
     def __init__(self, name: str, child: Behaviour, entry: str, variables: Variables) -> None:

@@ -145,6 +145,8 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "Sequence": _plain(sequences.Sequence),
     "SequenceWithMemory": _plain(sequences.SequenceWithMemory),
     "ReactiveSequence": _plain(sequences.ReactiveSequence),
+    "AsyncSequence": _plain(sequences.AsyncSequence),
+    "AsyncFallback": _plain(sequences.AsyncFallback),
     "Fallback": _plain(sequences.Fallback),
     "ReactiveFallback": _plain(sequences.ReactiveFallback),
     "Parallel": _plain(parallels.Parallel),

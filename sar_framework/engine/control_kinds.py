@@ -22,7 +22,8 @@ NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateC
 #: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
 ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
-SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "ReactiveSequence": "[-]",
+SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
+           "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
            "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
            "ParallelAll": "/_/", "PipelineSequence": "[-]", "RecoveryNode": "{o}",
            "RoundRobin": "{o}"}
@@ -102,6 +103,10 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
              "time instead of the first."),
     _control("ReactiveSequence", "Every tick from the first child; a failure stops, a "
              "running child halts the others."),
+    _control("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "
+             "succeeds on its first tick."),
+    _control("AsyncFallback", "Like Fallback, but returns RUNNING after each child that fails "
+             "on its first tick."),
     _control("Fallback", "Children in order until one succeeds; resumes at a running child."),
     _control("ReactiveFallback", "Every tick from the first child; a success stops, a running "
              "child halts the others."),

@@ -116,8 +116,6 @@ BUILTIN_BY_ID: dict[str, Builtin] = {b.btcpp_id: b for b in BUILTIN}
 
 #: BT.CPP (and Nav2) nodes that are refused on import, with the reason and a way out.
 REFUSED: dict[str, str] = {
-    "AsyncSequence": "it yields RUNNING between children; use Sequence",
-    "AsyncFallback": "it yields RUNNING between children; use Fallback",
     "Precondition": "its condition is a script on the blackboard; use a condition leaf",
     "Script": "scripts use the blackboard; this framework shares state by references",
     "ScriptCondition": "scripts use the blackboard; use a condition leaf plugin",

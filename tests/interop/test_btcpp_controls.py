@@ -51,6 +51,15 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
         ReactiveSequence:
           children: {_leaves("Guard", "Work")}
         """, {"Guard": ["SUCCESS", "SUCCESS", "FAILURE"], "Work": ["RUNNING"]}, 5, 0),
+    "AsyncSequence and AsyncFallback yield between children": (f"""
+        AsyncSequence:
+          children:
+            - Tick: {{name: A}}
+            - AsyncFallback:
+                children: {_leaves("F1", "F2", "F3")}
+            - Tick: {{name: C}}
+        """, {"A": ["SUCCESS", "RUNNING", "SUCCESS", "FAILURE"], "F1": ["FAILURE"],
+              "F2": ["RUNNING", "FAILURE", "SUCCESS"], "F3": ["FAILURE", "SUCCESS"]}, 14, 0),
     "Fallback": (f"""
         Fallback:
           children: {_leaves("A", "B", "C")}

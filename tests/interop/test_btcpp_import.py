@@ -128,9 +128,8 @@ def test_an_unknown_leaf_and_a_bad_param_value_point_at_their_lines() -> None:
     ('<root BTCPP_format="4"><BehaviorTree ID="a"><Countdown/></BehaviorTree>'
      '<BehaviorTree ID="b"><Countdown/></BehaviorTree></root>',
      "t.xml:1:1: error: which tree is the main one?"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><AsyncSequence><Countdown/>'
-     '</AsyncSequence></BehaviorTree></root>',
-     "t.xml:1:45: error: <AsyncSequence> cannot be imported: it yields"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Script code="x:=1"/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: <Script> cannot be imported: scripts"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat><Countdown/></Repeat>'
      '</BehaviorTree></root>', "t.xml:1:45: error: <Repeat>: needs the port 'num_cycles'"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Delay delay_msec="soon"><Countdown/>'

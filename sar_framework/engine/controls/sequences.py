@@ -8,6 +8,8 @@
   when one is running.
 - :class:`Fallback` and :class:`ReactiveFallback` mirror the two with SUCCESS and
   FAILURE swapped.
+- :class:`AsyncSequence` and :class:`AsyncFallback` yield like SequenceWithMemory but
+  restart after stopping, like Sequence and Fallback.
 
 SKIPPED children are passed over; a composite whose children were all skipped is
 SKIPPED itself.
@@ -107,6 +109,32 @@ class SequenceWithMemory(_Ordered):
     otherwise = Outcome.SUCCESS
     yields = True
     restarts = False
+
+
+class AsyncSequence(_Ordered):
+    """BT.CPP ``AsyncSequence``: a Sequence that yields after a child's first-tick success.
+
+    Args:
+        name: The behaviour's name.
+        children: The children, in order.
+    """
+
+    stop_on = Outcome.FAILURE
+    otherwise = Outcome.SUCCESS
+    yields = True
+
+
+class AsyncFallback(_Ordered):
+    """BT.CPP ``AsyncFallback``: a Fallback that yields after a child's first-tick failure.
+
+    Args:
+        name: The behaviour's name.
+        children: The children, in order.
+    """
+
+    stop_on = Outcome.SUCCESS
+    otherwise = Outcome.FAILURE
+    yields = True
 
 
 class Fallback(_Ordered):

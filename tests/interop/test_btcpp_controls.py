@@ -2,7 +2,8 @@
 BehaviorTree.CPP and by py_trees (our behaviours), tick by tick.
 
 Each tree uses the node kinds named after BT.CPP's IDs, scripted ``Tick`` leaves and
-BT.CPP's own leaves; both transcripts (leaf visits, root status per tick) must be equal.
+BT.CPP's own leaves; both transcripts (leaf visits, halts of running leaves, root status
+per tick) must be equal.
 The clock-driven nodes (Delay, Timeout, Sleep) run with 300 ms between ticks: the checker
 sleeps, py_trees' side advances a simulated clock by the same amount; every deadline
 falls 150 ms away from a tick. SkipUnlessUpdated and WaitValueUpdate name their entry
@@ -346,7 +347,7 @@ def test_bt_cpp_kinds_tick_alike_in_btcpp(case: tuple[str, Script, int, float],
     root, script, ticks, step = case
     registry = discover([GENERIC], builtins=False, entry_points=False)
     compare(_tree(tmp_path, root), registry, btcpp_checker, script, max_ticks=ticks,
-            all_ticks=True, tick_seconds=step)
+            all_ticks=True, tick_seconds=step, halts=True)
 
 
 def test_every_bt_cpp_kind_is_checked() -> None:

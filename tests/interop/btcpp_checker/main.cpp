@@ -1,6 +1,6 @@
 // btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
 //
-// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [sleep=MSEC]
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]
 //
 // Every model of the file's <TreeNodesModel> is registered with its declared input ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
@@ -9,6 +9,7 @@
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
 // line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
 // with "all", MAX_TICKS times (a finished root starts over, as a mission runner ticks it).
+// With "halts" every halt of a running leaf prints "halt NAME".
 // With "sleep=MSEC" it sleeps MSEC milliseconds after each tick (for Delay, Timeout, Sleep).
 // Output: "visit NAME STATUS" for every leaf tick and "tick N STATUS" after each tick.
 #include <behaviortree_cpp/action_node.h>
@@ -89,8 +90,14 @@ public:
 
   void halt() override
   {
+    if(print_halts)
+    {
+      std::cout << "halt " << name() << "\n";
+    }
     resetStatus();
   }
+
+  static inline bool print_halts = false;
 
 private:
   Script& script_;
@@ -344,6 +351,8 @@ int main(int argc, char** argv)
     const std::string option = argv[i];
     if(option == "all")
       all_ticks = true;
+    else if(option == "halts")
+      ScriptedLeaf::print_halts = true;
     else if(option.rfind("sleep=", 0) == 0)
       sleep_msec = std::stoi(option.substr(6));
     else
@@ -351,7 +360,7 @@ int main(int argc, char** argv)
   }
   if(usage)
   {
-    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [sleep=MSEC]\n";
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]\n";
     return 2;
   }
   try
@@ -378,6 +387,7 @@ int main(int argc, char** argv)
         std::this_thread::sleep_for(std::chrono::milliseconds(sleep_msec));
       }
     }
+    ScriptedLeaf::print_halts = false;  // the tree's destructor halts every node
   }
   catch(const std::exception& error)
   {

@@ -307,6 +307,25 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                   - WasEntryUpdated: {entry: x}
                   - Tick: {name: NotUpdated}
         """, {"Write": ["FAILURE", "SUCCESS", "FAILURE", "SUCCESS", "SUCCESS"]}, 6, 0),
+    "a preempting ReactiveFallback halts a deep branch": ("""
+        ReactiveFallback:
+          children:
+            - Tick: {name: Stop}
+            - SequenceWithMemory:
+                children:
+                  - Tick: {name: M1}
+                  - IfThenElse:
+                      children:
+                        - Tick: {name: C}
+                        - Repeat: {num_cycles: 3, child: {Tick: {name: R}}}
+                        - Tick: {name: E}
+                  - Parallel:
+                      children:
+                        - KeepRunningUntilFailure: {child: {Tick: {name: P1}}}
+                        - RetryUntilSuccessful: {num_attempts: 2, child: {Tick: {name: P2}}}
+        """, {"Stop": ["FAILURE"] * 3 + ["SUCCESS"] + ["FAILURE"] * 6 + ["SUCCESS", "FAILURE"],
+              "R": ["RUNNING", "SUCCESS", "RUNNING", "RUNNING", "SUCCESS", "SUCCESS"],
+              "P1": ["RUNNING"], "P2": ["FAILURE", "RUNNING"]}, 16, 0),
     "Delay": ("""
         Delay:
           delay_msec: 450

@@ -175,6 +175,8 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
         out.update({"type": "array", "items": _NODE_REF})
         if attr.min_items is not None:
             out["minItems"] = attr.min_items
+        if attr.max_items is not None:
+            out["maxItems"] = attr.max_items
         return out
     if kind is AttrType.STRINGS:
         out.update({"type": "array", "items": {"type": "string"}})

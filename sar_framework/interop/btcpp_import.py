@@ -4,10 +4,10 @@ The main ``<BehaviorTree>`` becomes ``root``; every other one becomes an entry o
 ``subtrees`` and ``<SubTree ID="X"/>`` becomes ``subtree: X``. Nodes map back through
 :mod:`.mapping`; a leaf's tag must name a registered plugin, and its attributes its
 params (converted to the declared types). Everything that cannot be expressed
-(blackboard ports ``{key}``, scripts, pre/post conditions, Nav2's RecoveryNode,
-PipelineSequence, RoundRobin, ...) is reported as ``file:line:col: error: ...``, all at
-once. The document still needs our validator (ids, references, ranges): see
-:func:`sar_framework.interop.commands.run_import`.
+(blackboard ports ``{key}`` other than those of BT.CPP's blackboard nodes, scripts,
+pre/post conditions, Nav2's DistanceController, ...) is reported as
+``file:line:col: error: ...``, all at once. The document still needs our validator
+(ids, references, ranges): see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from typing import Any
 
 import yaml
 
+from sar_framework.engine.control_kinds import ENTRY_PORTS
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
@@ -62,7 +63,8 @@ class _Importer:
             if key.startswith("_"):
                 self.problem(element, f"'{key}' on <{tag}>: BT.CPP pre/post conditions are "
                              "scripts on the blackboard, which this framework does not have")
-            elif value.strip().startswith("{") and value.strip().endswith("}"):
+            elif (value.strip().startswith("{") and value.strip().endswith("}")
+                  and not (tag in KINDS and key in ENTRY_PORTS)):
                 self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
                              f"'{value}'; this framework has no blackboard (leaves share "
                              "state by references to other leaves' ids): give a value")
@@ -106,7 +108,11 @@ class _Importer:
         children = [self.node(child) for child in element.children]
         body: dict[str, Any] = {"name": name} if name else {}
         body.update(attrs)
-        if kind.category is Category.DECORATOR:
+        if kind.category is Category.LEAF:
+            if children:
+                self.problem(element, f"<{element.tag}> is a leaf: it cannot have children")
+                return None
+        elif kind.category is Category.DECORATOR:
             if len(children) != 1:
                 self.problem(element, f"<{element.tag}> is a decorator: it needs exactly one "
                              f"child, got {len(children)}")

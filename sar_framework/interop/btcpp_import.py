@@ -1,13 +1,18 @@
 """Import BehaviorTree.CPP 4 XML as a tree document of our format.
 
-The main ``<BehaviorTree>`` becomes ``root``; every other one becomes an entry of
-``subtrees`` and ``<SubTree ID="X"/>`` becomes ``subtree: X``. Nodes map back through
-:mod:`.mapping`; a leaf's tag must name a registered plugin, and its attributes its
-params (converted to the declared types). Everything that cannot be expressed
-(blackboard ports ``{key}``, scripts, pre/post conditions, Nav2's RecoveryNode,
-PipelineSequence, RoundRobin, ...) is reported as ``file:line:col: error: ...``, all at
-once. The document still needs our validator (ids, references, ranges): see
-:func:`sar_framework.interop.commands.run_import`.
+The file's shape (several trees, the main one, includes, models) is read by
+:mod:`.btcpp_file`. The main ``<BehaviorTree>`` becomes ``root``; every other one an
+entry of ``subtrees``, and ``<SubTree ID="X" port="{key}" _autoremap="true"/>`` becomes
+``subtree: {tree: X, ports: {port: "{key}"}, autoremap: true}`` (``subtree: X`` without
+ports). Composites and decorators map back through :mod:`.mapping`. A leaf whose tag is
+a registered plugin keeps its attributes as params (converted to the declared types) or
+port bindings (``{key}`` or a literal); any other leaf is *unknown*: it is kept as it is
+and described by a :class:`~.btcpp_scaffold.LeafDraft`, from which ``--scaffold`` writes a
+plugin. Entries the main tree reads and nothing writes become declared ``blackboard:``
+inputs (:mod:`.btcpp_entries`). What cannot be expressed (scripts, pre/post conditions,
+the nodes :data:`.mapping.REFUSED` names) is reported as ``file:line:col: error: ...``,
+all at once. The document still needs our validator (ids, references, ranges, ports):
+see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations
@@ -21,6 +26,17 @@ from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
+from sar_framework.interop.btcpp_entries import (
+    Insertion,
+    TreeUses,
+    Use,
+    blackboard_inputs,
+    effective_uses,
+    entry_key,
+)
+from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
+from sar_framework.interop.btcpp_models import NodeModel, PortModel, convert_literal
+from sar_framework.interop.btcpp_scaffold import LeafDraft
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
 
@@ -28,6 +44,9 @@ from sar_framework.interop.xml_source import Element, Problem
 IGNORED_ATTRS = frozenset({"_description", "_uid", "_fullpath"})
 #: v3-style explicit node elements: ``<Action ID="X"/>`` is ``<X/>``.
 EXPLICIT_TAGS = frozenset({"Action", "Condition", "Control", "Decorator"})
+_SCALARS = {str: "str", int: "int", float: "float", bool: "bool", list: "list",
+            object: "object"}
+_DIRECTIONS = {"InputPort": "input", "OutputPort": "output", "BidirectionalPort": "inout"}
 
 
 @dataclass
@@ -35,43 +54,87 @@ class ImportResult:
     """What an import produced.
 
     Attributes:
-        document: The tree document (format, name, subtrees, root), or None on problems.
+        document: The tree document (format, name, blackboard, subtrees, root), or None
+            on problems.
         problems: Every problem found, in file order.
+        drafts: The unknown leaves, by tag, in first-use order (for ``--scaffold``).
     """
 
     document: dict[str, Any] | None
     problems: list[Problem] = field(default_factory=list)
+    drafts: dict[str, LeafDraft] = field(default_factory=dict)
+
+
+def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
+    """A registered plugin's declared ports (``@leaf(ports=[...])``), as port models."""
+    found: dict[str, PortModel] = {}
+    for port in getattr(plugin, "ports", ()) or ():
+        direction = getattr(port, "direction", None)
+        direction = getattr(direction, "value", direction) or _DIRECTIONS.get(
+            type(port).__name__, "input")
+        direction = {"in": "input", "out": "output", "bidirectional": "inout",
+                     "inout": "inout"}.get(str(direction).lower(), str(direction).lower())
+        kind = getattr(port, "type", object)
+        kind = _SCALARS.get(kind, getattr(kind, "__name__", str(kind)))
+        default = getattr(port, "default", None)
+        found[port.name] = PortModel(port.name, direction, kind, None,
+                                     None if default is None else str(default),
+                                     getattr(port, "description", ""))
+    return found
 
 
 class _Importer:
-    def __init__(self, file: str, registry: Registry, trees: dict[str, Element]) -> None:
-        self.file = file
+    def __init__(self, source: BtcppFile, registry: Registry) -> None:
+        self.source = source
+        self.file = ""
+        self.tree = ""
         self.registry = registry
-        self.trees = trees
         self.problems: list[Problem] = []
+        self.drafts: dict[str, LeafDraft] = {}
+        self.uses: dict[str, TreeUses] = {}
+        self.literals: list[tuple[dict[str, Any], str, str, LeafDraft]] = []
 
     def problem(self, element: Element, message: str) -> None:
         self.problems.append(Problem(self.file, element.line, element.column, message))
+
+    def convert(self, tree: str) -> Any:
+        where = self.source.trees[tree]
+        self.file, self.tree = where.file, tree
+        self.uses[tree] = TreeUses()
+        if len(where.element.children) != 1:
+            self.problem(where.element, f"<BehaviorTree ID=\"{tree}\"> must hold exactly one "
+                         f"node, it holds {len(where.element.children)} (BT.CPP refuses it)")
+            return None
+        return self.node(where.element.children[0])
+
+    def use(self, entry: str, port: PortModel | None, node: str) -> None:
+        direction = port.direction if port is not None else "inout"
+        self.uses[self.tree].uses.append(Use(
+            entry, direction != "output", direction != "input",
+            port.type if port is not None else "object", node))
 
     def node(self, element: Element) -> dict[str, Any] | None:
         tag = element.tag
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
             tag = ports.pop("ID")
-        for key, value in ports.items():
-            if key.startswith("_"):
+        for key in ports:
+            if key.startswith("_") and key != "_autoremap":
                 self.problem(element, f"'{key}' on <{tag}>: BT.CPP pre/post conditions are "
-                             "scripts on the blackboard, which this framework does not have")
-            elif value.strip().startswith("{") and value.strip().endswith("}"):
-                self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
-                             f"'{value}'; this framework has no blackboard (leaves share "
-                             "state by references to other leaves' ids): give a value")
-        ports = {k: v for k, v in ports.items() if not k.startswith("_")}
+                             "scripts, which this importer does not read yet")
+        ports = {k: v for k, v in ports.items() if not k.startswith("_") or k == "_autoremap"}
         if tag == "SubTree":
             return self.subtree(element, ports)
+        ports.pop("_autoremap", None)
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
             return None
+        if tag in BUILTIN_BY_ID or tag in CUSTOM_KINDS:
+            for key, value in ports.items():
+                if entry_key(value) is not None:
+                    self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
+                                 f"'{value}'; ours takes a fixed value here: give one")
+                    return None
         if tag in BUILTIN_BY_ID:
             entry = BUILTIN_BY_ID[tag]
             try:
@@ -88,18 +151,47 @@ class _Importer:
                     attrs[name] = self.value(element, name, ports[name], kind.attr(name).type)
             return self.branch(element, kind, ports.get("name"), attrs)
         plugin = self.registry.get(tag)
-        if plugin is None:
-            self.refuse(element, f"unknown node <{tag}>: neither a BT.CPP node we map nor a "
-                        "registered plugin (see 'sar-tree plugins'; add yours with "
-                        "--plugin-path)")
-            return None
-        return self.leaf(element, plugin, ports)
+        if plugin is not None:
+            return self.leaf(element, tag, plugin, ports)
+        return self.unknown(element, tag, ports)
 
     def refuse(self, element: Element, message: str) -> None:
         """Report ``element``; still convert its children, to report their problems too."""
         self.problem(element, message)
         for child in element.children:
             self.node(child)
+
+    def unknown(self, element: Element, tag: str, ports: dict[str, str]) -> dict[str, Any] | None:
+        model: NodeModel | None = self.source.models.get(tag)
+        if element.children or (model is not None and not model.is_leaf):
+            what = f"a {model.category} node" if model is not None else "a node with children"
+            self.refuse(element, f"<{tag}> is {what} this framework has no kind for; only "
+                        "unknown leaves can be scaffolded (see docs/btcpp-interop.md)")
+            return None
+        draft = self.drafts.get(tag)
+        if draft is None:
+            where = Problem(self.file, element.line, element.column, "")
+            draft = self.drafts[tag] = LeafDraft(tag, where, model)
+        body: dict[str, Any] = {}
+        for key, text in ports.items():
+            if key == "name":
+                body[key] = text
+                continue
+            if model is not None and model.port(key) is None:
+                self.problem(element, f"<{tag}> has no port '{key}' in its model "
+                             f"({model.where.file}:{model.where.line}); BT.CPP refuses a port "
+                             "that providedPorts() does not declare")
+                continue
+            draft.use(key, text)
+            entry = entry_key(text)
+            if entry is not None:
+                self.use(entry, model.port(key) if model is not None else None,
+                         f"<{tag}> port '{key}'")
+                body[key] = text
+            else:
+                body[key] = text
+                self.literals.append((body, key, text, draft))
+        return {tag: body}
 
     def branch(self, element: Element, kind: NodeKind, name: str | None,
                attrs: dict[str, Any]) -> dict[str, Any] | None:
@@ -119,18 +211,30 @@ class _Importer:
             body["children"] = children
         return {kind.key: body}
 
-    def leaf(self, element: Element, plugin: PluginSpec,
+    def leaf(self, element: Element, tag: str, plugin: PluginSpec,
              ports: dict[str, str]) -> dict[str, Any] | None:
         if element.children:
-            self.problem(element, f"<{element.tag}> is a leaf plugin: it cannot have children")
+            self.problem(element, f"<{tag}> is a leaf plugin: it cannot have children")
+        declared = plugin_ports(plugin)
         body: dict[str, Any] = {}
         for key, text in ports.items():
             param = plugin.param(key)
             if key in ("name", "id"):
                 body[key] = text
+            elif key in declared:
+                entry = entry_key(text)
+                if entry is not None:
+                    self.use(entry, declared[key], f"<{tag}> port '{key}'")
+                    body[key] = text
+                else:
+                    body[key] = convert_literal(text, declared[key].type)
             elif param is None:
-                self.problem(element, f"<{element.tag}> has no param '{key}' (its params: "
-                             f"{', '.join(p.name for p in plugin.params) or 'none'})")
+                names = [p.name for p in plugin.params] + list(declared)
+                self.problem(element, f"<{tag}> has no param or port '{key}' (it has: "
+                             f"{', '.join(names) or 'none'})")
+            elif entry_key(text) is not None:
+                self.problem(element, f"'{key}' of <{tag}> is a param, not a port: it cannot "
+                             f"read the blackboard entry '{text}'; give a value")
             elif param.ref is not None:
                 body[key] = text
             else:
@@ -142,17 +246,37 @@ class _Importer:
     def subtree(self, element: Element, ports: dict[str, str]) -> dict[str, Any] | None:
         name = ports.pop("ID", None)
         ports.pop("name", None)
+        autoremap_text = ports.pop("_autoremap", "false").strip().lower()
+        if autoremap_text not in ("true", "false", "1", "0"):
+            self.problem(element, f"_autoremap=\"{autoremap_text}\" is not a boolean")
+        autoremap = autoremap_text in ("true", "1")
         if name is None:
             self.problem(element, "<SubTree> needs an ID")
             return None
-        if name not in self.trees:
-            self.problem(element, f"<SubTree ID=\"{name}\">: no <BehaviorTree ID=\"{name}\"> in "
-                         "this file (<include> is not supported)")
+        if name not in self.source.trees:
+            self.problem(element, f"<SubTree ID=\"{name}\">: no <BehaviorTree ID=\"{name}\"> "
+                         f"in this file or its includes (trees: {', '.join(self.source.trees)})")
+            return None
+        model = self.source.models.get(name)
+        if model is not None and model.category == "SubTree" and not autoremap:
+            for port in model.ports:
+                if port.name in ports:
+                    continue
+                if port.default is None:
+                    self.problem(element, f"<SubTree ID=\"{name}\"> does not remap the port "
+                                 f"'{port.name}' its model declares mandatory (BT.CPP refuses "
+                                 "it)")
+                else:
+                    ports[port.name] = port.default
+        self.uses[self.tree].insertions.append(Insertion(name, dict(ports), autoremap))
+        if not ports and not autoremap:
+            return {"subtree": name}
+        body: dict[str, Any] = {"tree": name}
         if ports:
-            self.problem(element, f"<SubTree ID=\"{name}\"> remaps the ports "
-                         f"{', '.join(sorted(ports))}; our subtrees take no ports (leaves share "
-                         "state by references)")
-        return {"subtree": name}
+            body["ports"] = ports
+        if autoremap:
+            body["autoremap"] = True
+        return {"subtree": body}
 
     def value(self, element: Element, key: str, text: str, kind: AttrType) -> Any:
         try:
@@ -174,59 +298,45 @@ class _Importer:
         return text
 
 
-def import_btcpp(root: Element, file: str, registry: Registry) -> ImportResult:
+def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | None = None,
+                 models: dict[str, NodeModel] | None = None) -> ImportResult:
     """Turn a parsed BT.CPP 4 document into our tree document.
 
     Args:
         root: The parsed ``<root>`` element (:func:`.xml_source.read_xml`).
-        file: The file name, for problems.
-        registry: The plugins leaves must name.
+        file: The file name, for problems and includes.
+        registry: The plugins leaves may name; any other leaf is a draft.
+        main: The main tree when the file does not say (``--main``).
+        models: Node models from palettes (``--nodes-model``).
 
     Returns:
-        The document, or the problems.
+        The document and the drafts, or the problems.
     """
-    here = Problem(file, root.line, root.column, "")
-    if root.tag != "root":
-        return ImportResult(None, [_at(here, f"expected <root>, got <{root.tag}>")])
-    if root.attrs.get("BTCPP_format") != "4":
-        return ImportResult(None, [_at(here, "only BehaviorTree.CPP v4 XML is read "
-                                       "(<root BTCPP_format=\"4\">)")])
-    trees: dict[str, Element] = {}
-    importer = _Importer(file, registry, trees)
-    for element in root.children:
-        if element.tag == "BehaviorTree":
-            trees[element.attrs.get("ID", "")] = element
-        elif element.tag == "include":
-            importer.problem(element, "<include> is not supported: put every tree in one file")
-        elif element.tag != "TreeNodesModel":
-            importer.problem(element, f"unexpected <{element.tag}> under <root>")
-    main = root.attrs.get("main_tree_to_execute") or (next(iter(trees)) if len(trees) == 1
-                                                      else None)
-    if main not in trees:
-        importer.problem(root, "which tree is the main one? set main_tree_to_execute="
-                         f"(trees: {', '.join(trees) or 'none'})")
-        return ImportResult(None, importer.problems)
-    bodies: dict[str, Any] = {}
-    for name, element in trees.items():
-        if len(element.children) != 1:
-            importer.problem(element, f"<BehaviorTree ID=\"{name}\"> must hold exactly one node")
-            continue
-        bodies[name] = importer.node(element.children[0])
+    source = read_btcpp(root, file, main=main, models=models)
+    if source.main is None:
+        return ImportResult(None, source.problems)
+    importer = _Importer(source, registry)
+    importer.problems.extend(source.problems)
+    bodies = {tree: importer.convert(tree) for tree in source.trees}
+    for body, key, text, draft in importer.literals:
+        body[key] = convert_literal(text, draft.port_type(key))
+    drafts = importer.drafts
     if importer.problems:
-        return ImportResult(None, sorted(importer.problems, key=lambda p: (p.line, p.column)))
-    document: dict[str, Any] = {"format": 1, "name": main}
-    description = trees[main].attrs.get("_description")
+        return ImportResult(None, sorted(importer.problems, key=lambda p: (p.file, p.line,
+                                                                           p.column)), drafts)
+    main_tree = source.main
+    document: dict[str, Any] = {"format": 1, "name": main_tree}
+    description = source.trees[main_tree].element.attrs.get("_description")
     if description:
         document["description"] = description
-    subtrees = {name: body for name, body in bodies.items() if name != main}
+    inputs = blackboard_inputs(effective_uses(main_tree, importer.uses), file)
+    if inputs:
+        document["blackboard"] = inputs
+    subtrees = {name: body for name, body in bodies.items() if name != main_tree}
     if subtrees:
         document["subtrees"] = subtrees
-    document["root"] = bodies[main]
-    return ImportResult(document)
-
-
-def _at(where: Problem, message: str) -> Problem:
-    return Problem(where.file, where.line, where.column, message)
+    document["root"] = bodies[main_tree]
+    return ImportResult(document, [], drafts)
 
 
 def document_yaml(document: dict[str, Any], source: str) -> str:

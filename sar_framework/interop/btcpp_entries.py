@@ -1,0 +1,119 @@
+"""Blackboard entries of an imported BT.CPP file: who reads and who writes ``{key}``.
+
+Every ``{key}`` port binding the importer meets is a :class:`Use` (read, write or both,
+with the port's type when known). A ``<SubTree>`` insertion carries its inner tree's uses
+out to the parent as BT.CPP's blackboards do: a port remapped ``inner="{outer}"`` becomes a
+use of ``outer``, with ``_autoremap="true"`` every other entry too, and ``{@key}`` (the
+root blackboard) always. The main tree's entries that something reads and nothing writes
+are the inputs the caller must set (Nav2's ``{goal}``): :func:`blackboard_inputs` declares
+them, for the tree file's ``blackboard:`` section.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Use:
+    """One port bound to a blackboard entry.
+
+    Attributes:
+        entry: The entry name as written inside the braces (``goal``, ``@goal``).
+        reads: Whether the port reads it (input or inout).
+        writes: Whether the port writes it (output or inout).
+        type: Our port type name (``object`` when unknown).
+        node: Who uses it (``<ComputePathToPose> port 'goal'``), for the description.
+    """
+
+    entry: str
+    reads: bool
+    writes: bool
+    type: str = "object"
+    node: str = ""
+
+
+@dataclass(frozen=True)
+class Insertion:
+    """One ``<SubTree>`` inside a tree.
+
+    Attributes:
+        tree: The inserted tree's ID.
+        ports: Inner port -> the value given (``{outer}`` or a literal).
+        autoremap: ``_autoremap="true"``.
+    """
+
+    tree: str
+    ports: dict[str, str]
+    autoremap: bool
+
+
+@dataclass
+class TreeUses:
+    """The uses and insertions of one ``<BehaviorTree>``."""
+
+    uses: list[Use] = field(default_factory=list)
+    insertions: list[Insertion] = field(default_factory=list)
+
+
+def entry_key(value: str) -> str | None:
+    """The entry of a ``{key}`` value (``{=}`` is not resolved here), else None."""
+    text = value.strip()
+    if len(text) >= 3 and text[0] == "{" and text[-1] == "}":
+        return text[1:-1].strip()
+    return None
+
+
+def effective_uses(tree: str, trees: dict[str, TreeUses],
+                   seen: frozenset[str] = frozenset()) -> list[Use]:
+    """The uses of ``tree``'s own blackboard, its subtrees' carried out to it."""
+    if tree in seen or tree not in trees:
+        return []
+    found = list(trees[tree].uses)
+    for insertion in trees[tree].insertions:
+        inner_uses = effective_uses(insertion.tree, trees, seen | {tree})
+        for use in inner_uses:
+            outer = _outer(use.entry, insertion)
+            if outer is not None:
+                found.append(Use(outer, use.reads, use.writes, use.type, use.node))
+    return found
+
+
+def _outer(entry: str, insertion: Insertion) -> str | None:
+    if entry.startswith("@"):
+        return entry
+    if entry in insertion.ports:
+        value = insertion.ports[entry]
+        if value.strip() == "{=}":
+            return entry
+        return entry_key(value)
+    return entry if insertion.autoremap else None
+
+
+def blackboard_inputs(uses: list[Use], source: str) -> dict[str, dict[str, Any]]:
+    """The entries read and never written, as ``blackboard:`` declarations (no initial).
+
+    Args:
+        uses: The main tree's :func:`effective_uses`.
+        source: The file name, for the descriptions.
+
+    Returns:
+        Entry name (without ``@``) -> ``{type, description}``, in first-use order.
+    """
+    written = {use.entry.lstrip("@") for use in uses if use.writes}
+    declared: dict[str, dict[str, Any]] = {}
+    readers: dict[str, list[str]] = {}
+    for use in uses:
+        name = use.entry.lstrip("@")
+        if not use.reads or name in written:
+            continue
+        entry = declared.setdefault(name, {"type": use.type})
+        if entry["type"] == "object" and use.type != "object":
+            entry["type"] = use.type
+        if use.node and use.node not in readers.setdefault(name, []):
+            readers[name].append(use.node)
+    for name, entry in declared.items():
+        entry["description"] = (f"Set by the caller: nothing in {source} writes it; read by "
+                                + ", ".join(readers.get(name, [])[:3]) + ".")
+    return declared

@@ -18,6 +18,7 @@ from enum import Enum
 from typing import Any
 
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
+from sar_framework.engine.ports import Port
 from sar_framework.engine.spec import Category
 
 #: The node kind that inserts a named subtree (``subtree: NAME``).
@@ -38,6 +39,7 @@ class AttrType(str, Enum):
     NODE = "node"
     NODES = "nodes"
     STRINGS = "strings"
+    PORT = "port"
 
 
 #: Python param type -> attribute type.
@@ -68,6 +70,7 @@ class Attr:
         min_length: Minimum length of a string value.
         nullable: Whether ``null`` is accepted (a param defaulting to None).
         ref: For a reference param: the plugin name the referenced leaf must have.
+        port: For a leaf's port: its declaration (the value binds it, see :mod:`.ports`).
     """
 
     name: str
@@ -84,6 +87,7 @@ class Attr:
     min_length: int | None = None
     nullable: bool = False
     ref: str | None = None
+    port: Port | None = None
 
 
 @dataclass(frozen=True)
@@ -309,7 +313,7 @@ UNSUPPORTED_DECORATORS: dict[str, str] = {
 
 
 def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
-    """Return a leaf plugin's attributes: ``name``, ``id`` and its declared params.
+    """Return a leaf plugin's attributes: ``name``, ``id``, its params, then its ports.
 
     Args:
         plugin: The plugin declaration.
@@ -344,6 +348,9 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
                 ref=p.ref,
             )
         )
+    for port in plugin.ports:
+        attrs.append(Attr(port.name, AttrType.PORT, required=port.required,
+                          description=port.description, port=port))
     return tuple(attrs)
 
 
@@ -357,6 +364,8 @@ TOP_LEVEL_ATTRS: tuple[Attr, ...] = (
          description="Extra plugin modules, .py files or directories, relative to this file."),
     Attr("include", AttrType.STRINGS,
          description="Tree files whose subtrees become available here, relative to this file."),
+    Attr("blackboard", AttrType.NODE,
+         description="The main tree's blackboard entries: name -> {type, initial, description}."),
     Attr("subtrees", AttrType.NODE, description="Named fragments, inserted with {subtree: NAME}."),
     Attr("root", AttrType.NODE, description="The root node (required in the file you load)."),
 )  # fmt: skip

@@ -1,8 +1,9 @@
 """Leaf plugins: a py_trees behaviour plus one declaration of its params.
 
 A plugin is an ordinary :class:`py_trees.behaviour.Behaviour` subclass marked
-with :func:`leaf`. The declaration is the single source for validation, the
-JSON Schema fragment, ``sar-tree plugins`` and the constructor's kwargs::
+with :func:`leaf`. The declaration (params, blackboard ports: :mod:`.ports`) is the
+single source for validation, the JSON Schema fragment, ``sar-tree plugins`` and the
+constructor's kwargs::
 
     @leaf(
         params=[
@@ -28,6 +29,8 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
+
+from sar_framework.engine.ports import Port
 
 #: The attribute :func:`leaf` sets on a class; discovery looks for it.
 PLUGIN_ATTRIBUTE = "__sar_plugin__"
@@ -101,6 +104,8 @@ class PluginSpec:
         description: First paragraph of the class docstring unless given.
         params: The declared params, in declaration order.
         context: Names of caller-supplied objects the constructor needs.
+        ports: The declared ports (:mod:`.ports`), in declaration order; a leaf with
+            ports is constructed with ``ports=PortValues(...)``.
         source: Where it was found (module, file or entry point); set by the registry.
     """
 
@@ -110,10 +115,18 @@ class PluginSpec:
     params: tuple[Param, ...] = ()
     context: tuple[str, ...] = ()
     source: str = field(default="", compare=False)
+    ports: tuple[Port, ...] = ()
 
     def param(self, name: str) -> Param | None:
         """Return the declared param called ``name``, or None."""
         for p in self.params:
+            if p.name == name:
+                return p
+        return None
+
+    def port(self, name: str) -> Port | None:
+        """Return the declared port called ``name``, or None."""
+        for p in self.ports:
             if p.name == name:
                 return p
         return None
@@ -128,6 +141,7 @@ def leaf(
     params: Sequence[Param] = (),
     context: Sequence[str] = (),
     description: str | None = None,
+    ports: Sequence[Port] = (),
 ) -> Callable[[_T], _T]:
     """Mark a behaviour class as a leaf plugin.
 
@@ -136,20 +150,26 @@ def leaf(
         params: The params the tree may set.
         context: Names of shared objects the caller must supply (e.g. ``zone_manager``).
         description: Defaults to the first paragraph of the class docstring.
+        ports: The blackboard ports (:func:`.ports.InputPort`, ``OutputPort``,
+            ``BidirectionalPort``).
 
     Returns:
         A class decorator that records a :class:`PluginSpec` on the class and returns it.
 
     Raises:
-        TypeError: On a declaration that cannot work (duplicate or reserved param names).
+        TypeError: On a declaration that cannot work (duplicate or reserved param or port
+            names, a port that is not a :class:`~.ports.Port`).
     """
-    reserved = {"name", "id"}
+    reserved = {"name", "id", "ports"}
 
     def mark(cls: _T) -> _T:
         seen: set[str] = set()
-        for p in params:
+        for p in (*params, *ports):
+            if not isinstance(p, (Param, Port)):
+                raise TypeError(f"{cls.__name__}: {p!r} is not a Param or a Port")
+            what = "param" if isinstance(p, Param) else "port"
             if p.name in reserved or p.name in seen or p.name in context:
-                raise TypeError(f"{cls.__name__}: param name {p.name!r} is reserved or repeated")
+                raise TypeError(f"{cls.__name__}: {what} name {p.name!r} is reserved or repeated")
             seen.add(p.name)
         doc = (cls.__doc__ or "").strip().split("\n\n")[0]
         text = description if description is not None else " ".join(doc.split())
@@ -159,6 +179,7 @@ def leaf(
             description=text,
             params=tuple(params),
             context=tuple(context),
+            ports=tuple(ports),
         )
         setattr(cls, PLUGIN_ATTRIBUTE, spec)
         return cls

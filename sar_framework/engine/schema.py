@@ -27,11 +27,105 @@ from sar_framework.engine.node_kinds import (
     NodeKind,
     leaf_attrs,
 )
+from sar_framework.engine.ports import BASIC_TYPES, ENTRY_NAME, NO_DEFAULT, Direction, Port
 from sar_framework.engine.registry import Registry
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
 SCHEMA_ID = "https://github.com/sar-framework/sar_framework/schema/tree.schema.json"
 _NODE_REF = {"$ref": "#/$defs/node"}
+#: The JSON types of a literal each basic port type accepts (a string may be an entry).
+_PORT_JSON_TYPES: dict[str, list[str]] = {
+    "str": ["string", "number", "boolean"],
+    "int": ["integer", "string"],
+    "float": ["number", "string"],
+    "bool": ["boolean", "string"],
+    "list": ["array", "string"],
+    "any": ["string", "number", "boolean", "array"],
+}
+_BINDING = "Bind an entry with '{key}' (this scope), '{@key}' (the root) or '{=}'."
+_ENTRY_NAMES = {"type": "string", "pattern": ENTRY_NAME.pattern}
+_TYPE_NAME = {
+    "type": "string",
+    "description": f"A port type: {', '.join(BASIC_TYPES)} or a ROS message pkg/msg/Type.",
+    "examples": [*BASIC_TYPES, "geometry_msgs/msg/PoseStamped"],
+}
+
+
+def port_schema(port: Port) -> dict[str, Any]:
+    """Return the JSON Schema of a leaf port's binding, with the hover text editors show.
+
+    Args:
+        port: The port declaration.
+
+    Returns:
+        The schema fragment: the literal types it takes (inputs), or a string (an entry).
+    """
+    head = f"{port.direction.value} port ({port.type})"
+    text = f"{head}: {port.description}" if port.description else head
+    out: dict[str, Any] = {"description": f"{text} {_BINDING}"}
+    if port.direction is Direction.INPUT and port.type in _PORT_JSON_TYPES:
+        out["type"] = _PORT_JSON_TYPES[port.type]
+    else:
+        out["type"] = "string"
+    if port.default is not NO_DEFAULT:
+        out["default"] = port.default
+    return out
+
+
+def _declarations(what: str, props: dict[str, Any], required: list[str]) -> dict[str, Any]:
+    entry: dict[str, Any] = {"type": "object", "properties": props,
+                             "additionalProperties": False}
+    if required:
+        entry["required"] = required
+    return {"description": what, "type": "object", "propertyNames": _ENTRY_NAMES,
+            "additionalProperties": entry}
+
+
+#: ``blackboard:`` (top level, or in a subtree definition): entry -> declaration.
+BLACKBOARD_SCHEMA = _declarations(
+    "Blackboard entries: name -> {type, initial, description}. An entry without "
+    "'initial' is an input the caller sets.",
+    {"type": _TYPE_NAME, "initial": {"description": "Written before the first tick."},
+     "description": {"type": "string"}},
+    ["type"],
+)
+#: ``ports:`` of a subtree definition: port name -> declaration.
+SUBTREE_PORTS_SCHEMA = _declarations(
+    "The subtree's ports: name -> {direction, type, default, description}.",
+    {"direction": {"enum": [d.value for d in Direction], "default": "input"},
+     "type": _TYPE_NAME, "default": {"description": "A literal, used when not remapped."},
+     "description": {"type": "string"}},
+    [],
+)
+#: The long form of a subtree definition.
+SUBTREE_DEFINITION = {
+    "type": "object",
+    "description": "A subtree with declared ports (the short form is just its root node).",
+    "properties": {"description": {"type": "string"}, "ports": SUBTREE_PORTS_SCHEMA,
+                   "blackboard": BLACKBOARD_SCHEMA, "root": _NODE_REF},
+    "required": ["root"],
+    "additionalProperties": False,
+}
+#: ``subtree:`` as a node: a name, or the long form with remapped ports.
+SUBTREE_USE = {
+    "description": "Insert a fresh copy of the named subtree: 'subtree: NAME' or "
+    "'subtree: {tree: NAME, ports: {inner: \"{outer}\" | literal}, autoremap: true}'.",
+    "if": {"type": "string"},
+    "then": {"minLength": 1},
+    "else": {
+        "type": "object",
+        "properties": {
+            "tree": {"type": "string", "minLength": 1, "description": "The subtree's name."},
+            "ports": {"type": "object", "propertyNames": _ENTRY_NAMES,
+                      "description": "Subtree port -> '{outer entry}' or a literal."},
+            "autoremap": {"type": "boolean", "default": False,
+                          "description": "Entries not remapped use the parent's entry of "
+                          "the same name (not those starting with '_')."},
+        },
+        "required": ["tree"],
+        "additionalProperties": False,
+    },
+}
 
 
 def attr_schema(attr: Attr) -> dict[str, Any]:
@@ -47,6 +141,8 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
     if attr.description:
         out["description"] = attr.description
     kind = attr.type
+    if kind is AttrType.PORT and attr.port is not None:
+        return port_schema(attr.port)
     if kind is AttrType.NODE:
         out.update(_NODE_REF)
         return out
@@ -128,11 +224,9 @@ def tree_schema(registry: Registry) -> dict[str, Any]:
     for key, kind in KINDS.items():
         defs[f"kind.{key}"] = _kind_schema(kind)
         kinds[key] = {"$ref": f"#/$defs/kind.{key}"}
-    kinds[SUBTREE] = {
-        "type": "string",
-        "minLength": 1,
-        "description": "Insert a fresh copy of the named subtree.",
-    }
+    kinds[SUBTREE] = {"$ref": "#/$defs/subtree.use"}
+    defs["subtree.use"] = SUBTREE_USE
+    defs["subtree.definition"] = SUBTREE_DEFINITION
     for plugin in registry:
         defs[f"plugin.{plugin.name}"] = _object(leaf_attrs(plugin), plugin.description)
         kinds[plugin.name] = {"$ref": f"#/$defs/plugin.{plugin.name}"}
@@ -147,11 +241,17 @@ def tree_schema(registry: Registry) -> dict[str, Any]:
     }
     top = _object(TOP_LEVEL_ATTRS, f"A sar_framework behaviour tree (format {FORMAT_VERSION}).")
     top["properties"]["subtrees"] = {
-        "description": "Named fragments, inserted with {subtree: NAME}.",
+        "description": "Named fragments, inserted with {subtree: NAME}: NAME: NODE, or NAME: "
+        "{ports, blackboard, root} to declare its ports.",
         "type": "object",
         "propertyNames": {"type": "string", "minLength": 1},
-        "additionalProperties": _NODE_REF,
+        "additionalProperties": {
+            "if": {"type": "object", "required": ["root"]},
+            "then": {"$ref": "#/$defs/subtree.definition"},
+            "else": _NODE_REF,
+        },
     }
+    top["properties"]["blackboard"] = BLACKBOARD_SCHEMA
     return {"$schema": DRAFT, "$id": SCHEMA_ID, "title": "sar_framework tree", **top,
             "$defs": defs}  # fmt: skip
 

@@ -25,6 +25,7 @@ from sar_framework.engine.node_kinds import (
     UNSUPPORTED_DECORATORS,
     Rule,
 )
+from sar_framework.engine.ports import Port, entry_ref
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.schema import tree_schema
 from sar_framework.engine.yaml_source import Reader, location
@@ -233,6 +234,10 @@ class StructureCheck:
                                     f"got {number(instance)}")
         elif kind == "minItems" and attr == "children":
             yield doc.where(path), f"{owner} has no children (a composite needs at least one)"
+        elif kind == "pattern" and "propertyNames" in error.schema_path:
+            yield doc.key_where((*path, instance)), (
+                f"'{instance}' is not a valid entry name (letters, digits and '_', "
+                "not starting with a digit)")
         elif kind == "minLength" and "propertyNames" in error.schema_path:
             yield doc.key_where((*path, instance)), "a subtree name must not be empty"
         elif kind == "minLength" and attr == SUBTREE:
@@ -257,7 +262,7 @@ class StructureCheck:
         """Return the node kind whose attributes hold ``path`` (the nearest above it)."""
         for index in range(len(path) - 1, -1, -1):
             key = path[index]
-            if isinstance(key, str) and (key in KINDS or key in self.registry):
+            if isinstance(key, str) and (key in KINDS or key == SUBTREE or key in self.registry):
                 return key
         return ""
 
@@ -267,6 +272,8 @@ class StructureCheck:
 
     def attr_names(self, key: str) -> list[str] | None:
         """The attribute names of a node kind or plugin, in schema order, or None."""
+        if key == SUBTREE:
+            return list(self.schema["$defs"]["subtree.use"]["else"]["properties"])
         prefix = "kind" if key in KINDS else "plugin"
         schema = self.schema["$defs"].get(f"{prefix}.{key}")
         return list(schema["properties"]) if schema is not None else None
@@ -290,9 +297,15 @@ class StructureCheck:
             candidates = [*KINDS, SUBTREE, *self.registry.names()]
             return f"unknown plugin '{key}'{did_you_mean(key, candidates)}"
         owner = str(path[-1])
-        names = self.attr_names(owner) or []
+        names = self.attr_names(owner) or list(error_schema.get("properties", {}))
+        if len(path) == 2 and path[0] == "subtrees":
+            return f"unknown key '{key}' in subtree definition '{owner}'" + suggest(key, names)
+        if len(path) >= 2 and path[-2] in ("blackboard", "ports"):
+            return f"unknown key '{key}' for '{owner}'" + suggest(key, names)
         if owner in self.registry:
-            return f"unknown param '{key}' for plugin '{owner}'" + suggest(key, names)
+            plugin = self.registry.get(owner)
+            what = "param or port" if plugin is not None and plugin.ports else "param"
+            return f"unknown {what} '{key}' for plugin '{owner}'" + suggest(key, names)
         what = f"unknown attribute '{key}' for {owner}"
         category = KINDS[owner].category.value if owner in KINDS else ""
         if key == "children" and category == "decorator":
@@ -329,6 +342,9 @@ class StructureCheck:
             return ("expected a node: a one-key mapping such as 'NavigateToZone: {}', "
                     f"got {got}{hint}")
         attr = str(path[-1]) if path else ""
+        port = self.port_of(path)
+        if port is not None:
+            return self.wrong_port_value(attr, error, instance, got)
         if attr == "subtrees":
             return f"'subtrees' must be a mapping of names to nodes, got {got}"
         if attr == SUBTREE:
@@ -345,4 +361,30 @@ class StructureCheck:
             word = "a list of nodes" if "$ref" in items else "a list of strings"
         else:
             word = _TYPE_WORDS.get(expected, expected)
-        return f"'{attr}' must be {word}, got {got}"
+        hint = ""
+        if isinstance(instance, str) and entry_ref(instance) is not None:
+            hint = " (a param, not a port: it cannot be bound to a blackboard entry)"
+        return f"'{attr}' must be {word}, got {got}{hint}"
+
+    def port_of(self, path: DocPath) -> Port | None:
+        """Return the leaf port whose binding stands at ``path``, or None."""
+        if len(path) < 2 or not isinstance(path[-1], str) or not isinstance(path[-2], str):
+            return None
+        plugin = self.registry.get(path[-2])
+        return plugin.port(path[-1]) if plugin is not None else None
+
+    def wrong_port_value(
+        self, attr: str, error: jsonschema.ValidationError, instance: Any, got: str
+    ) -> str:
+        """Word a port binding of the wrong type (an unquoted ``{key}`` above all)."""
+        expected = error.validator_value
+        if expected == "string":
+            word = "an entry ('{key}')"
+        else:
+            words = [_TYPE_WORDS.get(t, t) for t in expected if t != "string"]
+            word = " or ".join(words) + " literal, or an entry ('{key}')"
+        hint = ""
+        if isinstance(instance, dict) and len(instance) == 1 and None in instance.values():
+            (name,) = instance
+            hint = f" (quote it: '\"{{{name}}}\"'; unquoted, YAML reads {{{name}}} as a mapping)"
+        return f"port '{attr}' must be bound to {word}, got {got}{hint}"

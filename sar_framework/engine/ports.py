@@ -1,0 +1,287 @@
+"""Ports: the blackboard entries a leaf reads and writes, declared beside its params.
+
+A leaf declares its ports in :func:`.plugin.leaf` (BT.CPP's ``providedPorts()``)::
+
+    @leaf(ports=[
+        InputPort("goal", "geometry_msgs/msg/PoseStamped", description="Where to plan to."),
+        OutputPort("path", "nav_msgs/msg/Path", description="The planned path."),
+        InputPort("hz", float, default=1.0),
+    ])
+
+A tree file binds each port with BT.CPP's syntax: a literal (``hz: 1.0``), an entry of
+the node's scope (``goal: "{goal}"``), an entry of the root scope (``"{@goal}"``) or the
+entry named like the port (``"{=}"``). A port type is a type name: ``str int float bool
+list any`` (Python's ``str int float bool list object`` are accepted and named so) or a
+ROS message type by name, ``pkg/msg/Type``; the engine never imports the message.
+
+Literals convert as BT.CPP's ``convertFromString`` does for the basic types: an ``int``
+from decimal digits (the whole text, stricter than ``from_chars``), a ``float`` from any
+number text, a ``bool`` from ``true/True/TRUE/1`` or ``false/False/FALSE/0``, a ``list``
+from ``a;b;c``. A message type takes no literal (there is no clean text form): bind it
+to an entry. Types are compatible when equal, when either is ``any``, or ``int -> float``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+#: The basic port type names, in the order the docs list them.
+BASIC_TYPES: tuple[str, ...] = ("str", "int", "float", "bool", "list", "any")
+#: Python types accepted in a declaration, with the type name each stands for.
+PYTHON_TYPES: dict[type, str] = {
+    str: "str", int: "int", float: "float", bool: "bool", list: "list", object: "any",
+}  # fmt: skip
+#: A ROS message type by name (``geometry_msgs/msg/PoseStamped``).
+MESSAGE_TYPE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*/msg/[A-Z][A-Za-z0-9_]*$")
+#: An entry name: what ``{name}`` may hold (no '.', which py_trees reads as an attribute).
+ENTRY_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+#: An entry reference as written: ``{name}``, ``{@name}`` or ``{=}``.
+ENTRY_REF = re.compile(r"^\{(?P<root>@?)(?P<name>[^{}]*)\}$")
+
+
+class _NoDefault:
+    def __repr__(self) -> str:
+        return "NO_DEFAULT"
+
+
+#: The default of a port that has none.
+NO_DEFAULT: Any = _NoDefault()
+
+
+class Direction(str, Enum):
+    """Which way data flows through a port."""
+
+    INPUT = "input"
+    OUTPUT = "output"
+    INOUT = "inout"
+
+    @property
+    def reads(self) -> bool:
+        """Whether the node reads the entry."""
+        return self is not Direction.OUTPUT
+
+    @property
+    def writes(self) -> bool:
+        """Whether the node writes the entry."""
+        return self is not Direction.INPUT
+
+
+def type_name(declared: type | str) -> str:
+    """Return the port type name of a declared type.
+
+    Args:
+        declared: A Python type from :data:`PYTHON_TYPES`, a basic type name or a
+            message type name.
+
+    Returns:
+        The type name.
+
+    Raises:
+        TypeError: The type is none of those.
+    """
+    if isinstance(declared, type):
+        if declared in PYTHON_TYPES:
+            return PYTHON_TYPES[declared]
+        raise TypeError(f"unsupported port type {declared!r}")
+    if declared in BASIC_TYPES or (isinstance(declared, str) and MESSAGE_TYPE.match(declared)):
+        return declared
+    raise TypeError(f"unsupported port type {declared!r} (expected one of "
+                    f"{', '.join(BASIC_TYPES)} or pkg/msg/Type)")
+
+
+def valid_type(name: Any) -> bool:
+    """Whether ``name`` is a port type name."""
+    return isinstance(name, str) and (name in BASIC_TYPES or bool(MESSAGE_TYPE.match(name)))
+
+
+def is_message(name: str) -> bool:
+    """Whether a type name is a ROS message type."""
+    return "/" in name
+
+
+def compatible(written: str, read: str) -> bool:
+    """Whether a value of type ``written`` may be read as ``read``."""
+    return written == read or "any" in (written, read) or (written, read) == ("int", "float")
+
+
+_TRUE = ("true", "True", "TRUE", "1")
+_FALSE = ("false", "False", "FALSE", "0")
+_INT = re.compile(r"^[+-]?[0-9]+$")
+
+
+def convert(type_: str, value: Any) -> Any:
+    """Convert a literal (a YAML scalar or list) to a port type.
+
+    Args:
+        type_: The port type name.
+        value: The literal as the tree file gives it.
+
+    Returns:
+        The value, of the port's type.
+
+    Raises:
+        ValueError: With the reason, when the literal does not convert.
+    """
+    if type_ == "any":
+        return value
+    if is_message(type_):
+        raise ValueError(f"a {type_} takes no literal: bind it to an entry ('{{key}}')")
+    if type_ == "list":
+        if isinstance(value, list):
+            return value
+        if isinstance(value, str):
+            return value.split(";") if value else []
+        raise ValueError(f"expected a list or 'a;b;c', got {_shown(value)}")
+    article = "an" if type_ == "int" else "a"
+    if isinstance(value, (list, dict)) or value is None:
+        raise ValueError(f"expected {article} {type_}, got {_shown(value)}")
+    if type_ == "str":
+        if isinstance(value, bool):
+            return "true" if value else "false"
+        return value if isinstance(value, str) else str(value)
+    if type_ == "bool":
+        if isinstance(value, bool):
+            return value
+        if str(value) in _TRUE or str(value) in _FALSE:
+            return str(value) in _TRUE
+        raise ValueError(f"expected a bool (true/false/1/0), got {_shown(value)}")
+    if isinstance(value, bool):
+        raise ValueError(f"expected {article} {type_}, got {_shown(value)}")
+    if type_ == "int":
+        if isinstance(value, int):
+            return value
+        if isinstance(value, float) and value.is_integer():
+            return int(value)
+        if isinstance(value, str) and _INT.match(value.strip()):
+            return int(value)
+        raise ValueError(f"expected an int, got {_shown(value)}")
+    if isinstance(value, (int, float)):  # float
+        return float(value)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"expected a float, got {_shown(value)}") from None
+
+
+def _shown(value: Any) -> str:
+    if isinstance(value, bool):
+        return f"boolean {str(value).lower()}"
+    if isinstance(value, str):
+        return f"'{value}'"
+    if isinstance(value, list):
+        return "a list"
+    if isinstance(value, dict):
+        return "a mapping"
+    return "null" if value is None else str(value)
+
+
+@dataclass(frozen=True)
+class EntryRef:
+    """An entry as a binding names it.
+
+    Attributes:
+        name: The entry's name (for ``{=}``: the port's name).
+        root: Whether it names the root scope (``{@name}``).
+    """
+
+    name: str
+    root: bool = False
+
+    def __str__(self) -> str:
+        return f"{{{'@' if self.root else ''}{self.name}}}"
+
+
+def entry_ref(value: Any, port: str = "") -> EntryRef | None:
+    """Parse ``{name}``, ``{@name}`` or ``{=}``; None when ``value`` is not written so.
+
+    Args:
+        value: A binding as written.
+        port: The port's name, for ``{=}``.
+
+    Returns:
+        The entry, or None for a literal. A malformed name still parses (check it with
+        :data:`ENTRY_NAME`), so ``{a.b}`` is reported as a bad name, not as a literal.
+    """
+    if not isinstance(value, str) or not value.startswith("{"):
+        return None
+    match = ENTRY_REF.match(value)
+    if match is None:
+        return None
+    name = match.group("name")
+    if name == "=":
+        return EntryRef(port, bool(match.group("root")))
+    return EntryRef(name, bool(match.group("root")))
+
+
+@dataclass(frozen=True)
+class Port:
+    """Declaration of one port.
+
+    Attributes:
+        name: The key in the tree file.
+        type: The type name (see :func:`type_name`; a Python type is accepted and named).
+        default: A literal or ``"{key}"`` used when the tree does not bind the port;
+            :data:`NO_DEFAULT` when none (an input without one must be bound).
+        description: One line for docs, schema and editor hover text.
+        direction: Input, output or both.
+    """
+
+    name: str
+    type: Any = "any"
+    default: Any = NO_DEFAULT
+    description: str = ""
+    direction: Direction = Direction.INPUT
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "type", type_name(self.type))
+        if not ENTRY_NAME.match(self.name):
+            raise TypeError(f"port name {self.name!r} is not a valid entry name")
+        if self.default is NO_DEFAULT:
+            return
+        ref = entry_ref(self.default, self.name)
+        if ref is not None:
+            if not ENTRY_NAME.match(ref.name):
+                raise TypeError(f"port {self.name!r}: bad default entry {self.default!r}")
+        elif self.direction is not Direction.INPUT:
+            raise TypeError(f"port {self.name!r}: an output's default must be an entry")
+        else:
+            try:
+                object.__setattr__(self, "default", convert(self.type, self.default))
+            except ValueError as exc:
+                raise TypeError(f"port {self.name!r}: default {exc}") from None
+
+    @property
+    def required(self) -> bool:
+        """Whether the tree must bind it (an input or inout port with no default)."""
+        return self.default is NO_DEFAULT and self.direction is not Direction.OUTPUT
+
+
+def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
+    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = ""
+) -> Port:
+    """Declare a port the leaf reads.
+
+    Args:
+        name: The key in the tree file.
+        type: The type (see :func:`type_name`).
+        default: A literal or ``"{key}"`` when the tree does not bind it.
+        description: One line for docs and editors.
+    """
+    return Port(name, type, default, description, Direction.INPUT)
+
+
+def OutputPort(  # noqa: N802 - named like BT.CPP's OutputPort<T>()
+    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = ""
+) -> Port:
+    """Declare a port the leaf writes (unbound and without default: writes are dropped)."""
+    return Port(name, type, default, description, Direction.OUTPUT)
+
+
+def BidirectionalPort(  # noqa: N802 - named like BT.CPP's BidirectionalPort<T>()
+    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = ""
+) -> Port:
+    """Declare a port the leaf reads and writes."""
+    return Port(name, type, default, description, Direction.INOUT)

@@ -23,14 +23,14 @@ class Use:
         entry: The entry name as written inside the braces (``goal``, ``@goal``).
         reads: Whether the port reads it (input or inout).
         writes: Whether the port writes it (output or inout).
-        type: Our port type name (``object`` when unknown).
+        type: Our port type name (``any`` when unknown).
         node: Who uses it (``<ComputePathToPose> port 'goal'``), for the description.
     """
 
     entry: str
     reads: bool
     writes: bool
-    type: str = "object"
+    type: str = "any"
     node: str = ""
 
 
@@ -109,7 +109,7 @@ def blackboard_inputs(uses: list[Use], source: str) -> dict[str, dict[str, Any]]
         if not use.reads or name in written:
             continue
         entry = declared.setdefault(name, {"type": use.type})
-        if entry["type"] == "object" and use.type != "object":
+        if entry["type"] == "any" and use.type != "any":
             entry["type"] = use.type
         if use.node and use.node not in readers.setdefault(name, []):
             readers[name].append(use.node)

@@ -24,6 +24,7 @@ import yaml
 
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
 from sar_framework.interop.btcpp_entries import (
@@ -44,9 +45,6 @@ from sar_framework.interop.xml_source import Element, Problem
 IGNORED_ATTRS = frozenset({"_description", "_uid", "_fullpath"})
 #: v3-style explicit node elements: ``<Action ID="X"/>`` is ``<X/>``.
 EXPLICIT_TAGS = frozenset({"Action", "Condition", "Control", "Decorator"})
-_SCALARS = {str: "str", int: "int", float: "float", bool: "bool", list: "list",
-            object: "object"}
-_DIRECTIONS = {"InputPort": "input", "OutputPort": "output", "BidirectionalPort": "inout"}
 
 
 @dataclass
@@ -67,20 +65,9 @@ class ImportResult:
 
 def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
     """A registered plugin's declared ports (``@leaf(ports=[...])``), as port models."""
-    found: dict[str, PortModel] = {}
-    for port in getattr(plugin, "ports", ()) or ():
-        direction = getattr(port, "direction", None)
-        direction = getattr(direction, "value", direction) or _DIRECTIONS.get(
-            type(port).__name__, "input")
-        direction = {"in": "input", "out": "output", "bidirectional": "inout",
-                     "inout": "inout"}.get(str(direction).lower(), str(direction).lower())
-        kind = getattr(port, "type", object)
-        kind = _SCALARS.get(kind, getattr(kind, "__name__", str(kind)))
-        default = getattr(port, "default", None)
-        found[port.name] = PortModel(port.name, direction, kind, None,
-                                     None if default is None else str(default),
-                                     getattr(port, "description", ""))
-    return found
+    return {port.name: PortModel(port.name, port.direction.value, port.type, None,
+                                 None if port.default is NO_DEFAULT else str(port.default),
+                                 port.description) for port in plugin.ports}
 
 
 class _Importer:
@@ -172,6 +159,7 @@ class _Importer:
         if draft is None:
             where = Problem(self.file, element.line, element.column, "")
             draft = self.drafts[tag] = LeafDraft(tag, where, model)
+        draft.uses += 1
         body: dict[str, Any] = {}
         for key, text in ports.items():
             if key == "name":

@@ -8,8 +8,9 @@ the other nodes here too: category (``Action``, ``Condition``, ``Control``,
 C++ type, default and description. The importer reads them to type the ports of the
 leaves it scaffolds and the blackboard entries it declares.
 
-Port types are kept in our spelling (DESIGN18): ``str int float bool list object`` or a
-ROS message type ``pkg/msg/Type``; :func:`port_type` converts BT.CPP's C++ names.
+Port types are kept in our spelling (:mod:`sar_framework.engine.ports`): ``str int float
+bool list any`` or a ROS message type ``pkg/msg/Type``; :func:`port_type` converts BT.CPP's
+C++ names.
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ CPP_TO_PORT: dict[str, str] = {cpp: ours for ours, names in _CPP_SCALARS.items()
 #: Our port type name -> the C++ type BT.CPP writes in a model (messages: ``pkg::msg::T``).
 PORT_TO_CPP: dict[str, str] = {"str": "std::string", "int": "int", "float": "double",
                                "bool": "bool"}
-_MESSAGE = re.compile(r"^(?:::)?([a-z][a-z0-9_]*)::(msg|srv|action)::([A-Z][A-Za-z0-9]*)$")
+_MESSAGE = re.compile(r"^(?:::)?([A-Za-z][A-Za-z0-9_]*)::(msg)::([A-Z][A-Za-z0-9_]*)$")
 _SEQUENCE = re.compile(r"^(?:std::)?(?:vector|deque)\s*<.*>$")
 
 
@@ -47,10 +48,10 @@ def port_type(cpp: str | None) -> str:
     """Our port type for a C++ type name.
 
     ``double`` -> ``float``, ``nav_msgs::msg::Path`` -> ``nav_msgs/msg/Path``,
-    ``vector<...>`` -> ``list``; unknown or absent -> ``object``.
+    ``vector<...>`` -> ``list``; unknown or absent -> ``any``.
     """
     if not cpp:
-        return "object"
+        return "any"
     text = cpp.strip()
     if text in CPP_TO_PORT:
         return CPP_TO_PORT[text]
@@ -59,11 +60,11 @@ def port_type(cpp: str | None) -> str:
         return "/".join(message.groups())
     if _SEQUENCE.match(text):
         return "list"
-    return "object"
+    return "any"
 
 
 def cpp_type(ours: str) -> str | None:
-    """The C++ type name of one of our port types, or None for ``object`` (any type)."""
+    """The C++ type name of one of our port types, or None for ``any`` (any type)."""
     if ours in PORT_TO_CPP:
         return PORT_TO_CPP[ours]
     if ours.count("/") == 2:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import textwrap
 from pathlib import Path
 from typing import Any
@@ -17,10 +16,6 @@ from sar_framework.interop.btcpp_models import port_type
 from sar_framework.interop.btcpp_scaffold import scaffold_module
 from sar_framework.interop.xml_source import XmlError, parse_xml, read_xml
 
-HAVE_PORTS = importlib.util.find_spec("sar_framework.engine.ports") is not None
-NEEDS_PORTS = pytest.mark.xfail(not HAVE_PORTS, strict=True, reason="the scaffold declares "
-                                "ports with sar_framework.engine.ports (ports branch, not "
-                                "merged yet)")
 PALETTE = Path("/work/shared/ros-overlay/src/nav2_behavior_tree/nav2_tree_nodes.xml")
 
 
@@ -185,7 +180,7 @@ def test_unknown_leaves_are_drafted_with_guessed_or_modelled_ports(tmp_path: Pat
     probe = result.drafts["Probe"]
     assert probe.guessed == {"hz": ("input", "float"), "gain": ("input", "float"),
                              "on": ("input", "bool"), "label": ("input", "str"),
-                             "target": ("inout", "object")}
+                             "target": ("inout", "any")}
     assert result.drafts["Spin"].model is not None
     fixed = run("""
         <root><BehaviorTree ID="t"><Sequence>
@@ -198,7 +193,7 @@ def test_unknown_leaves_are_drafted_with_guessed_or_modelled_ports(tmp_path: Pat
                         {"Spin": {"spin_dist": 1.57}}]
     text = scaffold_module(list(fixed.drafts.values()), "t.xml")
     compile(text, "leaves.py", "exec")
-    assert "BidirectionalPort('target', object, description='Guessed" in text
+    assert "BidirectionalPort('target', 'any', default='{=}', description='Guessed" in text
     assert "InputPort('spin_dist', float, default=1.57, description='Spin distance" in text
     assert "OutputPort('error_code_id', int" in text
     assert 'return Status.FAILURE' in text
@@ -227,10 +222,9 @@ def test_palette_models_carry_types_defaults_and_directions() -> None:
     assert models["RecoveryNode"].port("number_of_retries").default == "1"  # type: ignore[union-attr]
     assert [port_type(t) for t in ("double", "uint16", "chrono::milliseconds", "string",
                                    "vector<int>", "Whatever")] == [
-        "float", "int", "int", "str", "list", "object"]
+        "float", "int", "int", "str", "list", "any"]
 
 
-@NEEDS_PORTS
 def test_scaffold_writes_a_plugin_the_imported_tree_validates_with(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     xml = tmp_path / "probe.xml"
@@ -240,5 +234,5 @@ def test_scaffold_writes_a_plugin_the_imported_tree_validates_with(
     assert main(["import", str(xml), "--scaffold", str(tmp_path / "leaves"), "-o",
                  str(out)]) == 0, capsys.readouterr().err
     assert (tmp_path / "leaves" / "probe_leaves.py").is_file()
-    assert "plugins:\n- leaves/probe_leaves.py\n" in out.read_text()
+    assert "plugins: [leaves/probe_leaves.py]\n" in out.read_text()
     assert main(["validate", str(out)]) == 0, capsys.readouterr().err

@@ -117,3 +117,32 @@ def blackboard_inputs(uses: list[Use], source: str) -> dict[str, dict[str, Any]]
         entry["description"] = (f"Set by the caller: nothing in {source} writes it; read by "
                                 + ", ".join(readers.get(name, [])[:3]) + ".")
     return declared
+
+
+def subtree_ports(tree: str, trees: dict[str, TreeUses], passed: list[str],
+                  defaults: dict[str, str]) -> dict[str, dict[str, Any]]:
+    """The ``ports:`` declaration of a subtree definition.
+
+    Args:
+        tree: The subtree's ID.
+        trees: Every tree's uses.
+        passed: The ports its insertions remap (``<SubTree ID=tree port=...>``).
+        defaults: Port -> default, from its ``<SubTree>`` model.
+
+    Returns:
+        Port -> ``{direction, type[, default]}``: the direction from how the subtree uses
+        the entry (read: input, written: output, both: inout), the type from its users.
+    """
+    uses = effective_uses(tree, trees)
+    declared: dict[str, dict[str, Any]] = {}
+    for name in [*passed, *(d for d in defaults if d not in passed)]:
+        mine = [use for use in uses if use.entry == name]
+        reads = any(use.reads for use in mine) or not mine
+        writes = any(use.writes for use in mine)
+        kind = next((use.type for use in mine if use.type != "any"), "any")
+        direction = "inout" if reads and writes else ("output" if writes else "input")
+        entry: dict[str, Any] = {"direction": direction, "type": kind}
+        if name in defaults and direction != "output":
+            entry["default"] = defaults[name]
+        declared[name] = entry
+    return declared

@@ -18,6 +18,7 @@ see :func:`sar_framework.interop.commands.run_import`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import yaml
@@ -34,6 +35,7 @@ from sar_framework.interop.btcpp_entries import (
     blackboard_inputs,
     effective_uses,
     entry_key,
+    subtree_ports,
 )
 from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
 from sar_framework.interop.btcpp_models import NodeModel, PortModel, convert_literal
@@ -43,6 +45,9 @@ from sar_framework.interop.xml_source import Element, Problem
 
 #: Attributes of BT.CPP nodes that carry no meaning for the tree (Groot2 metadata).
 IGNORED_ATTRS = frozenset({"_description", "_uid", "_fullpath"})
+#: Prefix of the scaffolded plugin for a node whose model clashes with a registered plugin
+#: of the same name (Nav2's ``Wait`` and ours).
+ALIAS_PREFIX = "Btcpp"
 #: v3-style explicit node elements: ``<Action ID="X"/>`` is ``<X/>``.
 EXPLICIT_TAGS = frozenset({"Action", "Condition", "Control", "Decorator"})
 
@@ -56,11 +61,13 @@ class ImportResult:
             on problems.
         problems: Every problem found, in file order.
         drafts: The unknown leaves, by tag, in first-use order (for ``--scaffold``).
+        warnings: What was read, but differently than the file may mean.
     """
 
     document: dict[str, Any] | None
     problems: list[Problem] = field(default_factory=list)
     drafts: dict[str, LeafDraft] = field(default_factory=dict)
+    warnings: list[Problem] = field(default_factory=list)
 
 
 def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
@@ -68,6 +75,16 @@ def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
     return {port.name: PortModel(port.name, port.direction.value, port.type, None,
                                  None if port.default is NO_DEFAULT else str(port.default),
                                  port.description) for port in plugin.ports}
+
+
+def _missing(plugin: PluginSpec, model: NodeModel) -> list[str]:
+    names = {p.name for p in plugin.params} | {p.name for p in plugin.ports}
+    return [port.name for port in model.ports if port.name not in names]
+
+
+def _clashes(plugin: PluginSpec, model: NodeModel) -> bool:
+    """Whether a model describes another node than the registered plugin of its name."""
+    return model.is_leaf and bool(_missing(plugin, model))
 
 
 class _Importer:
@@ -78,6 +95,8 @@ class _Importer:
         self.registry = registry
         self.problems: list[Problem] = []
         self.drafts: dict[str, LeafDraft] = {}
+        self.warnings: list[Problem] = []
+        self.subtree_bodies: dict[str, list[dict[str, Any]]] = {}
         self.uses: dict[str, TreeUses] = {}
         self.literals: list[tuple[dict[str, Any], str, str, LeafDraft]] = []
 
@@ -116,7 +135,9 @@ class _Importer:
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
             return None
-        if tag in BUILTIN_BY_ID or tag in CUSTOM_KINDS:
+        kind_key = BUILTIN_BY_ID[tag].kind if tag in BUILTIN_BY_ID else None
+        kind = KINDS[kind_key] if kind_key is not None else CUSTOM_KINDS.get(tag)
+        if kind is not None and not any(a.port is not None for a in kind.attrs):
             for key, value in ports.items():
                 if entry_key(value) is not None:
                     self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
@@ -129,6 +150,7 @@ class _Importer:
             except ValueError as exc:
                 self.problem(element, f"<{tag}>: {exc}")
                 return None
+            self.kind_uses(KINDS[entry.kind], tag, attrs)
             return self.branch(element, KINDS[entry.kind], ports.get("name"), attrs)
         if tag in CUSTOM_KINDS:
             kind = CUSTOM_KINDS[tag]
@@ -138,9 +160,30 @@ class _Importer:
                     attrs[name] = self.value(element, name, ports[name], kind.attr(name).type)
             return self.branch(element, kind, ports.get("name"), attrs)
         plugin = self.registry.get(tag)
-        if plugin is not None:
+        model = self.source.models.get(tag)
+        if plugin is None:
+            return self.unknown(element, tag, ports)
+        if model is None or not _clashes(plugin, model):
             return self.leaf(element, tag, plugin, ports)
-        return self.unknown(element, tag, ports)
+        alias = ALIAS_PREFIX + tag
+        if tag not in self.drafts:
+            self.warnings.append(Problem(
+                self.file, element.line, element.column, f"<{tag}> is not the registered "
+                f"plugin '{tag}': its model ({model.where.file}:{model.where.line}) declares "
+                f"ports the plugin lacks ({', '.join(_missing(plugin, model))}); scaffolded as "
+                f"'{alias}'", "warning"))
+        return self.unknown(element, tag, ports, alias)
+
+    def kind_uses(self, kind: NodeKind, tag: str, attrs: dict[str, Any]) -> None:
+        """Record the entries a control node's port attributes are bound to."""
+        for name, value in attrs.items():
+            attr = kind.attr(name)
+            entry = entry_key(value) if isinstance(value, str) else None
+            if attr is None or attr.port is None or entry is None:
+                continue
+            port = attr.port
+            self.use(entry, PortModel(name, port.direction.value, port.type),
+                     f"<{tag}> port '{name}'")
 
     def refuse(self, element: Element, message: str) -> None:
         """Report ``element``; still convert its children, to report their problems too."""
@@ -148,7 +191,8 @@ class _Importer:
         for child in element.children:
             self.node(child)
 
-    def unknown(self, element: Element, tag: str, ports: dict[str, str]) -> dict[str, Any] | None:
+    def unknown(self, element: Element, tag: str, ports: dict[str, str],
+                alias: str | None = None) -> dict[str, Any] | None:
         model: NodeModel | None = self.source.models.get(tag)
         if element.children or (model is not None and not model.is_leaf):
             what = f"a {model.category} node" if model is not None else "a node with children"
@@ -158,7 +202,7 @@ class _Importer:
         draft = self.drafts.get(tag)
         if draft is None:
             where = Problem(self.file, element.line, element.column, "")
-            draft = self.drafts[tag] = LeafDraft(tag, where, model)
+            draft = self.drafts[tag] = LeafDraft(tag, where, model, plugin=alias or tag)
         draft.uses += 1
         body: dict[str, Any] = {}
         for key, text in ports.items():
@@ -179,7 +223,7 @@ class _Importer:
             else:
                 body[key] = text
                 self.literals.append((body, key, text, draft))
-        return {tag: body}
+        return {draft.plugin: body}
 
     def branch(self, element: Element, kind: NodeKind, name: str | None,
                attrs: dict[str, Any]) -> dict[str, Any] | None:
@@ -262,6 +306,7 @@ class _Importer:
         body: dict[str, Any] = {"tree": name}
         if ports:
             body["ports"] = ports
+            self.subtree_bodies.setdefault(name, []).append(body)
         if autoremap:
             body["autoremap"] = True
         return {"subtree": body}
@@ -311,20 +356,43 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     drafts = importer.drafts
     if importer.problems:
         return ImportResult(None, sorted(importer.problems, key=lambda p: (p.file, p.line,
-                                                                           p.column)), drafts)
+                                                                           p.column)), drafts,
+                            importer.warnings)
     main_tree = source.main
     document: dict[str, Any] = {"format": 1, "name": main_tree}
     description = source.trees[main_tree].element.attrs.get("_description")
     if description:
         document["description"] = description
-    inputs = blackboard_inputs(effective_uses(main_tree, importer.uses), file)
+    inputs = blackboard_inputs(effective_uses(main_tree, importer.uses), Path(file).name)
     if inputs:
         document["blackboard"] = inputs
-    subtrees = {name: body for name, body in bodies.items() if name != main_tree}
+    subtrees = {name: _definition(name, body, importer) for name, body in bodies.items()
+                if name != main_tree}
     if subtrees:
         document["subtrees"] = subtrees
     document["root"] = bodies[main_tree]
-    return ImportResult(document, [], drafts)
+    return ImportResult(document, [], drafts, importer.warnings)
+
+
+def _definition(tree: str, body: Any, importer: _Importer) -> Any:
+    """A subtree's definition: its root, or the long form when it has ports."""
+    insertions = [i for uses in importer.uses.values() for i in uses.insertions
+                  if i.tree == tree]
+    passed = list(dict.fromkeys(name for i in insertions for name in i.ports))
+    model = importer.source.models.get(tree)
+    defaults = {p.name: p.default for p in model.ports if p.default is not None} \
+        if model is not None and model.category == "SubTree" else {}
+    if not passed and not defaults:
+        return body
+    ports = subtree_ports(tree, importer.uses, passed, defaults)
+    for entry in ports.values():
+        if "default" in entry and entry_key(entry["default"]) is None:
+            entry["default"] = convert_literal(entry["default"], entry["type"])
+    for use in importer.subtree_bodies.get(tree, []):
+        for name, value in use.get("ports", {}).items():
+            if name in ports and entry_key(value) is None:
+                use["ports"][name] = convert_literal(value, ports[name]["type"])
+    return {"ports": ports, "root": body}
 
 
 def document_yaml(document: dict[str, Any], source: str) -> str:

@@ -45,6 +45,7 @@ class LeafDraft:
             attributes the model does not declare (all of them without a model).
         bound: Attribute -> on how many uses of the node the file sets it.
         uses: How many times the file uses the node.
+        plugin: The plugin name to scaffold (the tag, unless a registered plugin has it).
     """
 
     tag: str
@@ -53,6 +54,10 @@ class LeafDraft:
     guessed: dict[str, tuple[str, str]] = field(default_factory=dict)
     bound: dict[str, int] = field(default_factory=dict)
     uses: int = 0
+    plugin: str = ""
+
+    def __post_init__(self) -> None:
+        self.plugin = self.plugin or self.tag
 
     def use(self, key: str, text: str) -> None:
         """Record that the file sets attribute ``key`` to ``text`` on this node."""
@@ -138,14 +143,14 @@ def _port_source(port: PortModel) -> str:
 
 
 def _class_source(draft: LeafDraft) -> str:
-    name = class_name(draft.tag)
+    name = class_name(draft.plugin)
     ports = draft.ports()
     category = draft.model.category if draft.model is not None else "node"
     origin = ("its ports come from its <TreeNodesModel> entry in"
               f" {Path(draft.model.where.file).name}" if draft.model is not None
               else "its ports are guessed from the attributes the file gives it")
     first = f"{Path(draft.where.file).name}:{draft.where.line}:{draft.where.column}"
-    args = [repr(draft.tag)] if name != draft.tag else []
+    args = [repr(draft.plugin)] if name != draft.plugin else []
     left_out = "".join(f"\n    # {_port_source(p).strip()}" for p in draft.optional())
     if left_out:
         left_out = ("\n    # Optional in BT.CPP (no default, never set by the file); an input "

@@ -114,7 +114,7 @@ def run_import(args: argparse.Namespace) -> int:
     except XmlError as exc:
         _complain(str(exc.problem))
         return EXIT_ERRORS
-    for problem in result.problems:
+    for problem in [*result.problems, *result.warnings]:
         _complain(str(problem))
     if result.document is None:
         return EXIT_ERRORS
@@ -131,7 +131,7 @@ def run_import(args: argparse.Namespace) -> int:
             if args.scaffold:
                 plugins.append(str(module))
                 _complain(f"{module}: scaffolded {len(drafts)} leaves: "
-                          f"{', '.join(d.tag for d in drafts)}")
+                          f"{', '.join(d.plugin for d in drafts)}")
             else:
                 for draft in drafts:
                     where = draft.where

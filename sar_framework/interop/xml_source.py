@@ -26,15 +26,18 @@ class Problem:
         line: 1-based line.
         column: 1-based column.
         message: What is wrong, and what to do.
+        severity: ``error`` (the input cannot be read so) or ``warning`` (it is, but
+            look).
     """
 
     file: str
     line: int
     column: int
     message: str
+    severity: str = "error"
 
     def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}: error: {self.message}"
+        return f"{self.file}:{self.line}:{self.column}: {self.severity}: {self.message}"
 
 
 @dataclass

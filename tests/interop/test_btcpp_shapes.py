@@ -134,10 +134,13 @@ def test_subtree_ports_autoremap_and_model_defaults(tmp_path: Path) -> None:
     assert result.document is not None
     children = result.document["root"]["sequence"]["children"]
     assert children[1:] == [
-        {"subtree": {"tree": "Go", "ports": {"goal": "{target}", "speed": "0.5"},
+        {"subtree": {"tree": "Go", "ports": {"goal": "{target}", "speed": 0.5},
                      "autoremap": True}},
-        {"subtree": {"tree": "Go", "ports": {"goal": "{=}", "speed": "1.0"}}},
+        {"subtree": {"tree": "Go", "ports": {"goal": "{=}", "speed": 1.0}}},
     ]
+    assert result.document["subtrees"]["Go"]["ports"] == {
+        "goal": {"direction": "input", "type": "geometry_msgs/msg/Pose"},
+        "speed": {"direction": "input", "type": "float", "default": 1.0}}
     # {map} reaches the main tree through _autoremap; {goal} through "{=}"; {target} is
     # written by Writer; so the caller must set map and goal.
     blackboard = result.document["blackboard"]

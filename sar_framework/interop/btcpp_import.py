@@ -78,7 +78,7 @@ def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
 
 
 def _missing(plugin: PluginSpec, model: NodeModel) -> list[str]:
-    names = {p.name for p in plugin.params} | {p.name for p in plugin.ports}
+    names = {p.name for p in plugin.params} | {p.name for p in plugin.ports} | {"id", "name"}
     return [port.name for port in model.ports if port.name not in names]
 
 

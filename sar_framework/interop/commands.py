@@ -133,7 +133,7 @@ def run_import(args: argparse.Namespace) -> int:
                 _complain(f"{module}: scaffolded {len(drafts)} leaves: "
                           f"{', '.join(d.plugin for d in drafts)}")
             else:
-                for draft in drafts:
+                for draft in (d for d in drafts if d.plugin == d.tag):
                     where = draft.where
                     _complain(f"{where.file}:{where.line}:{where.column}: warning: no plugin "
                               f"provides <{draft.tag}>; --scaffold DIR writes one to fill in")

@@ -127,6 +127,11 @@ def _configure_render(parser: argparse.ArgumentParser) -> None:
         "--all-params", action="store_true",
         help="show every leaf param, defaults included (default: only those the tree sets)",
     )
+    parser.add_argument(
+        "--data-edges", action="store_true",
+        help="draw data edges: dotted, from the node writing a blackboard entry to each "
+        "node reading it, labelled with the entry",
+    )
     _add_plugin_path(parser)
 
 
@@ -146,7 +151,8 @@ def _run_render(args: argparse.Namespace) -> int:
         ))
         return EXIT_OK
     try:
-        written = render.render_to_file(result.spec, Path(args.output), all_params=args.all_params)
+        written = render.render_to_file(result.spec, Path(args.output), all_params=args.all_params,
+                                        data=args.data_edges)
     except ValueError as exc:
         raise UsageError(str(exc)) from exc
     except Exception as exc:  # graphviz missing, unwritable path, ...
@@ -164,7 +170,7 @@ def _configure_plugins(parser: argparse.ArgumentParser) -> None:
 
 def _run_plugins(args: argparse.Namespace) -> int:
     from sar_framework.engine.registry import default_registry, extend
-    from sar_framework.plugin_catalogue import param_text, plugin_info
+    from sar_framework.plugin_catalogue import param_text, plugin_info, port_text
 
     registry = extend(default_registry().copy(), args.plugin_path)
     errors = _print_diagnostics(registry.diagnostics)
@@ -180,6 +186,8 @@ def _run_plugins(args: argparse.Namespace) -> int:
                 _say(f"    {plugin.description}")
             for param in plugin.params:
                 _say(f"    - {param_text(param)}")
+            for port in plugin.ports:
+                _say(f"    - {port_text(port)}")
             if plugin.context:
                 _say(f"    context: {', '.join(plugin.context)}")
         if not len(registry):

@@ -31,6 +31,39 @@ def param_text(param: Any) -> str:
     return f"{text}  {param.description}" if param.description else text
 
 
+def port_text(port: Any) -> str:
+    """One line for a port: name, direction, type, default or (required), description.
+
+    Args:
+        port: A :class:`~sar_framework.engine.ports.Port`.
+    """
+    from sar_framework.engine.ports import NO_DEFAULT
+
+    parts = [f"{port.name}: {port.direction.value} port {port.type}"]
+    if port.default is not NO_DEFAULT:
+        parts.append(f"= {port.default!r}")
+    elif port.required:
+        parts.append("(required)")
+    text = " ".join(parts)
+    return f"{text}  {port.description}" if port.description else text
+
+
+def port_info(port: Any) -> dict[str, Any]:
+    """Describe a port as JSON-ready data.
+
+    Args:
+        port: A :class:`~sar_framework.engine.ports.Port`.
+    """
+    from sar_framework.engine.ports import NO_DEFAULT
+
+    entry: dict[str, Any] = {"name": port.name, "direction": port.direction.value,
+                             "type": port.type, "required": port.required,
+                             "description": port.description}
+    if port.default is not NO_DEFAULT:
+        entry["default"] = port.default
+    return entry
+
+
 def plugin_info(plugin: Any) -> dict[str, Any]:
     """Describe a plugin as JSON-ready data (``sar-tree plugins --json``).
 
@@ -38,7 +71,7 @@ def plugin_info(plugin: Any) -> dict[str, Any]:
         plugin: A :class:`~sar_framework.engine.plugin.PluginSpec`.
 
     Returns:
-        Name, source, description, params and context keys.
+        Name, source, description, params, ports and context keys.
     """
     from sar_framework.engine.plugin import REQUIRED
 
@@ -64,5 +97,6 @@ def plugin_info(plugin: Any) -> dict[str, Any]:
         "class": f"{plugin.cls.__module__}.{plugin.cls.__qualname__}",
         "description": plugin.description,
         "params": params,
+        "ports": [port_info(p) for p in plugin.ports],
         "context": list(plugin.context),
     }

@@ -7,6 +7,7 @@
     tree.root          # the py_trees root behaviour
     tree.spec          # the validated TreeSpec
     tree.behaviours    # NodeSpec.uid -> behaviour
+    tree.entries       # blackboard entry name -> absolute py_trees key
 """
 
 from __future__ import annotations
@@ -42,6 +43,14 @@ class LoadedTree:
     spec: TreeSpec
     behaviours: dict[str, py_trees.behaviour.Behaviour] = field(default_factory=dict)
     registry: Registry | None = None
+
+    @property
+    def entries(self) -> dict[str, str]:
+        """The tree's blackboard entries: name (``goal``, ``Follow@0_2/path``) -> absolute key.
+
+        The details (type, initial value, description) are in ``spec.entries``.
+        """
+        return {entry.name: key for key, entry in self.spec.entries.items()}
 
 
 def validate(

@@ -5,7 +5,9 @@ hold: composites, decorators and the plugin classes themselves, with no
 wrapper behaviour in between, so a loaded tree ticks as fast as a hand-built
 one. A leaf is constructed as ``cls(name=..., **params, **context_objects)``;
 a reference param receives the referenced leaf's behaviour, which is built
-first (validation has ruled out reference cycles).
+first (validation has ruled out reference cycles). A leaf that declares ports
+also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and entries with an
+initial value are written to py_trees' blackboard before the tree is returned.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
+from sar_framework.engine.port_values import PortValues, write_initial
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
@@ -80,15 +84,16 @@ for _key, _kind in KINDS.items():
 class _LeafPlan:
     """How to call one plugin's constructor (worked out once per plugin)."""
 
-    __slots__ = ("cls", "context", "name", "plain", "refs")
+    __slots__ = ("cls", "context", "name", "plain", "ports", "refs")
 
     def __init__(self, plugin: PluginSpec) -> None:
         self.name = plugin.name
         self.cls = plugin.cls
         self.refs = tuple(p.name for p in plugin.params if p.ref is not None)
         self.context = plugin.context
+        self.ports = bool(plugin.ports)
         # Constructed from the spec's attrs alone (the common case, done in one step).
-        self.plain = not self.refs and not self.context
+        self.plain = not self.refs and not self.context and not self.ports
 
 
 def _missing_context(node: NodeSpec, plan: _LeafPlan, key: str) -> Diagnostic:
@@ -120,6 +125,7 @@ def build(
     root = builder.make(spec.root)
     if builder.problems or root is None:
         raise TreeLoadError(builder.problems)
+    write_initial({k: e.initial for k, e in spec.entries.items() if e.initial is not NO_DEFAULT})
     return root, builder.built
 
 
@@ -156,8 +162,10 @@ class _Builder:
                 return None
             plan = self.plans[node.kind] = _LeafPlan(plugin)
         kwargs = node.attrs
-        if plan.refs or plan.context:
+        if plan.refs or plan.context or plan.ports:
             kwargs = dict(kwargs)
+            if plan.ports:
+                kwargs["ports"] = PortValues(node.name, node.bindings)
             for name in plan.refs:
                 target = node.refs.get(name)
                 if target is not None:

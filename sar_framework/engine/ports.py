@@ -285,3 +285,19 @@ def BidirectionalPort(  # noqa: N802 - named like BT.CPP's BidirectionalPort<T>(
 ) -> Port:
     """Declare a port the leaf reads and writes."""
     return Port(name, type, default, description, Direction.INOUT)
+
+
+@dataclass(frozen=True)
+class PortBinding:
+    """A leaf port's binding, resolved by validation.
+
+    Attributes:
+        port: The declaration.
+        key: The absolute blackboard key, when bound to an entry.
+        value: The literal (converted to the port's type), when bound to one;
+            :data:`NO_DEFAULT` when the port is bound to nothing.
+    """
+
+    port: Port
+    key: str | None = None
+    value: Any = NO_DEFAULT

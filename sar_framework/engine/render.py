@@ -215,8 +215,32 @@ def _style(node: NodeSpec) -> tuple[str, str]:
     return _LEAF_STYLE
 
 
+def data_edges(spec: TreeSpec) -> list[tuple[str, str, str]]:
+    """Return ``(writer uid, reader uid, entry)`` for every entry a node writes and one reads.
+
+    Args:
+        spec: The validated tree.
+
+    Returns:
+        One edge per writer, reader and entry (a node reading its own write is left out).
+    """
+    writers: dict[str, list[str]] = {}
+    readers: dict[str, list[str]] = {}
+    for node in spec.nodes():
+        for binding in node.bindings.values():
+            if binding.key is None:
+                continue
+            if binding.port.direction.writes:
+                writers.setdefault(binding.key, []).append(node.uid)
+            if binding.port.direction.reads:
+                readers.setdefault(binding.key, []).append(node.uid)
+    return [(w, r, key[1:]) for key, ws in writers.items() for w in ws
+            for r in readers.get(key, ()) if r != w]
+
+
 def render_dot(
-    spec: TreeSpec, *, statuses: Mapping[str, str] | None = None, all_params: bool = False
+    spec: TreeSpec, *, statuses: Mapping[str, str] | None = None, all_params: bool = False,
+    data: bool = False,
 ) -> str:
     """Return the Graphviz DOT source of a tree diagram.
 
@@ -227,6 +251,8 @@ def render_dot(
             nodes are filled by status (nodes missing from the map count as
             ``INVALID``, i.e. never ticked) and a legend is drawn.
         all_params: Show every leaf param, defaults included (default: only those set).
+        data: Also draw data edges: dotted, from a node that writes a blackboard entry
+            to each node that reads it, labelled with the entry.
 
     Returns:
         The DOT source (a ``digraph``).
@@ -291,6 +317,11 @@ def render_dot(
             }
             edges.append((node_id(node.uid), node_id(target.uid), attrs))
 
+    if data:
+        edges.extend((node_id(writer), node_id(reader), {
+            "style": "dotted", "color": "darkgreen", "fontcolor": "darkgreen",
+            "xlabel": _plain(entry), "constraint": "false"})
+            for writer, reader, entry in data_edges(spec))
     # A reference to a node outside the tree (never in a validated tree) keeps
     # its label text but gets no edge, rather than a stray node.
     known = {node_id(uid) for uid in seen}
@@ -309,6 +340,7 @@ def render_to_file(
     *,
     statuses: Mapping[str, str] | None = None,
     all_params: bool = False,
+    data: bool = False,
 ) -> Path:
     """Render a tree diagram to a file; the format follows the extension.
 
@@ -317,6 +349,7 @@ def render_to_file(
         out: Target file ending in ``.svg``, ``.png``, ``.pdf`` or ``.dot``;
             parent directories are created.
         statuses: Optional uid -> status map, see :func:`render_dot`.
+        data: Draw data edges (writer -> reader of each entry), see :func:`render_dot`.
         all_params: Show every leaf param, defaults included (default: only those set).
 
     Returns:
@@ -334,7 +367,7 @@ def render_to_file(
             f"cannot render to {str(out)!r}: unsupported extension {out.suffix or '(none)'!r}; "
             f"use one of {', '.join(FORMATS)}"
         )
-    source = render_dot(spec, statuses=statuses, all_params=all_params)
+    source = render_dot(spec, statuses=statuses, all_params=all_params, data=data)
     out.parent.mkdir(parents=True, exist_ok=True)
     if fmt == "dot":
         out.write_text(source, encoding="utf-8")

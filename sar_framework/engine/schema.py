@@ -33,8 +33,9 @@ from sar_framework.engine.registry import Registry
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
 SCHEMA_ID = "https://github.com/sar-framework/sar_framework/schema/tree.schema.json"
 _NODE_REF = {"$ref": "#/$defs/node"}
-#: The JSON types of a literal each basic port type accepts (a string may be an entry).
-_PORT_JSON_TYPES: dict[str, list[str]] = {
+#: The JSON types of a literal each basic input port type accepts (a string may be an
+#: entry); a message type's input and every output take a string only.
+PORT_JSON_TYPES: dict[str, list[str]] = {
     "str": ["string", "number", "boolean"],
     "int": ["integer", "string"],
     "float": ["number", "string"],
@@ -51,6 +52,27 @@ _TYPE_NAME = {
 }
 
 
+_JSON_TYPES: dict[str, tuple[type, ...]] = {
+    "string": (str,), "integer": (int,), "number": (int, float), "boolean": (bool,),
+    "array": (list,),
+}  # fmt: skip
+
+
+def fits_port(port: Port, value: Any) -> bool:
+    """Whether the schema lets ``value`` bind ``port`` (so other checks do not repeat it)."""
+    allowed = ["string"]
+    if port.direction is Direction.INPUT:
+        allowed = PORT_JSON_TYPES.get(port.type, allowed)
+    for name in allowed:
+        if isinstance(value, bool) and name != "boolean":
+            continue
+        if isinstance(value, _JSON_TYPES[name]):
+            return True
+        if name == "integer" and isinstance(value, float) and value.is_integer():
+            return True
+    return False
+
+
 def port_schema(port: Port) -> dict[str, Any]:
     """Return the JSON Schema of a leaf port's binding, with the hover text editors show.
 
@@ -63,8 +85,8 @@ def port_schema(port: Port) -> dict[str, Any]:
     head = f"{port.direction.value} port ({port.type})"
     text = f"{head}: {port.description}" if port.description else head
     out: dict[str, Any] = {"description": f"{text} {_BINDING}"}
-    if port.direction is Direction.INPUT and port.type in _PORT_JSON_TYPES:
-        out["type"] = _PORT_JSON_TYPES[port.type]
+    if port.direction is Direction.INPUT and port.type in PORT_JSON_TYPES:
+        out["type"] = PORT_JSON_TYPES[port.type]
     else:
         out["type"] = "string"
     if port.default is not NO_DEFAULT:

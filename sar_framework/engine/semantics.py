@@ -14,12 +14,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sar_framework.engine.bindings import PORT_LOC, Bindings
 from sar_framework.engine.diagnostics import (
     SourceLocation,
     did_you_mean,
 )
+from sar_framework.engine.entries import DataScope, Declared, Entries
 from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType, leaf_attrs
 from sar_framework.engine.plugin import Param
+from sar_framework.engine.ports import NO_DEFAULT, Port
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.structure import DocPath, Document
@@ -31,11 +34,13 @@ TOO_DEEP = f"the tree is nested deeper than {MAX_DEPTH} levels"
 
 @dataclass
 class Subtree:
-    """A named subtree definition."""
+    """A named subtree definition (with its declared ports and entries, if any)."""
 
     name: str
     node: NodeSpec | None
     location: SourceLocation
+    ports: dict[str, Port] | None = None
+    local: dict[str, Declared] | None = None
 
 
 @dataclass(frozen=True)
@@ -48,14 +53,16 @@ class Declaration:
     attrs: tuple[Attr, ...]
     defaults: dict[str, Any]
     ref_params: tuple[Param, ...] = ()
+    ports: tuple[Port, ...] = ()
 
 
 class Scope:
-    """Ids visible at one level: the tree, or one copy of a subtree."""
+    """Ids visible at one level: the tree, or one copy of a subtree (and its entries)."""
 
-    def __init__(self, parent: Scope | None) -> None:
+    def __init__(self, parent: Scope | None, data: DataScope | None = None) -> None:
         self.ids: dict[str, NodeSpec] = {}
         self.parent = parent
+        self.data: DataScope = data or (parent.data if parent else DataScope("", "the tree"))
 
     def find(self, ident: str) -> NodeSpec | None:
         """Return the leaf with ``ident`` here or in an enclosing scope."""
@@ -95,6 +102,8 @@ class Semantics(TreeFiles):
         self.value_locs: dict[tuple[SourceLocation, str], Any] = {}
         self.pending_refs: list[tuple[NodeSpec, Scope]] = []
         self.incomplete: set[int] = set()  # id() of specs that lost a child to an error
+        self.entries = Entries(self.error)
+        self.bindings = Bindings(self.entries, self.error)
 
     # -- the walk -----------------------------------------------------------------------
     def walk(self, main: Path) -> NodeSpec | None:
@@ -104,20 +113,28 @@ class Semantics(TreeFiles):
             if not isinstance(definitions, dict):
                 continue
             for name, value in definitions.items():
-                spec = self.node(doc, value, ("subtrees", name), 1)  # type: ignore[arg-type]
+                top, at, ports, local = self.bindings.definition(doc, name, value)  # type: ignore
+                spec = self.node(doc, top, at, 1)  # type: ignore[arg-type]
                 where = doc.key_where(("subtrees", name))  # type: ignore[union-attr]
                 first = self.subtrees.get(name)
                 if first is not None:
                     self.error(where, f"subtree '{name}' is defined twice "
                                       f"(first at {first.location})")
                 elif name:
-                    self.subtrees[name] = Subtree(name, spec, where)
+                    self.subtrees[name] = Subtree(name, spec, where, ports, local)
         root = None
         for path, doc in self.files.items():
-            if doc is None or "root" not in doc.value:
+            if doc is None:
+                continue
+            if path != main and "blackboard" in doc.value:
+                self.error(doc.key_where(("blackboard",)), "'blackboard' is only read from the "
+                           "main tree file; declare an included subtree's ports instead")
+            if "root" not in doc.value:
                 continue
             if path == main:
-                root = self.node(doc, doc.value["root"], ("root",), 1, "0", scope=Scope(None))
+                data = self.bindings.main_scope(doc)
+                root = self.node(doc, doc.value["root"], ("root",), 1, "0",
+                                 scope=Scope(None, data))
             else:
                 self.node(doc, doc.value["root"], ("root",), 1)  # checked, not used
         done = set(self.used_subtrees)
@@ -127,6 +144,7 @@ class Semantics(TreeFiles):
                 done.add(name)
         if root is not None:
             self.resolve_refs()
+            self.entries.check()
         return root
 
     def declaration(self, key: str) -> Declaration | None:
@@ -143,8 +161,9 @@ class Semantics(TreeFiles):
                 attrs = leaf_attrs(plugin)
                 defaults = {a.name: a.default for a in attrs
                             if not a.required and a.name not in ("name", "id")}
+                defaults = {k: v for k, v in defaults.items() if plugin.port(k) is None}
                 refs = tuple(p for p in plugin.params if p.ref is not None)
-                found = Declaration(key, Category.LEAF, key, attrs, defaults, refs)
+                found = Declaration(key, Category.LEAF, key, attrs, defaults, refs, plugin.ports)
             self.declarations[key] = found
         return self.declarations[key]
 
@@ -167,15 +186,16 @@ class Semantics(TreeFiles):
             self.error(where, TOO_DEEP)
             return None
         if key == SUBTREE:
-            if not isinstance(attrs, str) or not attrs:
+            placeholder = self.bindings.subtree_use(doc, attrs, path, where, self.value_locs)
+            if placeholder is None:
                 return None
-            placeholder = NodeSpec(SUBTREE, Category.LEAF, attrs, "", where)
             return placeholder if scope is None else self.expand(placeholder, uid, scope, (),
                                                                  depth)
         decl = self.declaration(key)
         if decl is None or not isinstance(attrs, dict):
             return None
         values: dict[str, Any] = {}
+        ports: dict[str, Any] = {}
         children: list[NodeSpec] = []
         complete = True
         for attr in decl.attrs:
@@ -183,6 +203,16 @@ class Semantics(TreeFiles):
                 continue
             given = attrs[attr.name]
             at = (*path, attr.name)
+            if attr.port is not None:
+                self.value_locs[(where, PORT_LOC + attr.name)] = value_at = doc.where(at)
+                kept = self.bindings.port_value(attr.port, given, value_at)
+                if kept is not NO_DEFAULT:
+                    ports[attr.name] = kept
+                continue
+            if (attr.type is AttrType.STRING and decl.category is Category.LEAF
+                    and attr.name not in ("name", "id")
+                    and self.bindings.param_value(attr.name, given, doc.where(at))):
+                continue
             if attr.type in (AttrType.NODES, AttrType.NODE):
                 items = [given] if attr.type is AttrType.NODE else given
                 if not isinstance(items, list):
@@ -206,7 +236,8 @@ class Semantics(TreeFiles):
         ident = values.pop("id", None) if decl.category is Category.LEAF else None
         spec = NodeSpec(key, decl.category, name if isinstance(name, str) else decl.default_name,
                         uid, where, {**decl.defaults, **values}, children,
-                        ident if isinstance(ident, str) else None, {}, None, frozenset(values))
+                        ident if isinstance(ident, str) else None, {}, None, frozenset(values),
+                        ports)
         if not complete:
             self.incomplete.add(id(spec))
         elif scope is not None:
@@ -232,6 +263,8 @@ class Semantics(TreeFiles):
                 self.add_id(spec, scope)
             if decl.ref_params:
                 self.pending_refs.append((spec, scope))
+            if decl.ports:
+                self.bindings.bind_leaf(spec, decl.ports, scope.data, self.value_locs)
         elif spec.kind == "parallel" and spec.attrs.get("selected") is not None:
             self.check_selected(spec)
     def expand(
@@ -258,7 +291,9 @@ class Semantics(TreeFiles):
                 return None  # its own problems are already reported
             copy = copy_spec(found.node)
             copy.subtree = name
-            return self.expand(copy, uid, Scope(scope), (*chain, name), depth)
+            data = self.bindings.insertion(node, (found.ports, found.local), uid, scope.data,
+                                           self.value_locs)
+            return self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
         node.uid = uid
         if node.id is not None:
             self.add_id(node, scope)
@@ -266,6 +301,8 @@ class Semantics(TreeFiles):
             decl = self.declaration(node.kind)
             if decl is not None and decl.ref_params:
                 self.pending_refs.append((node, scope))
+            if decl is not None and decl.ports:
+                self.bindings.bind_leaf(node, decl.ports, scope.data, self.value_locs)
             return node
         children = []
         for index, child in enumerate(node.children):
@@ -380,4 +417,4 @@ def copy_spec(node: NodeSpec) -> NodeSpec:
     """Return a fresh copy of a subtree definition's spec (uids and refs cleared)."""
     return NodeSpec(node.kind, node.category, node.name, "", node.location, dict(node.attrs),
                     [copy_spec(c) for c in node.children], node.id, {}, node.subtree,
-                    node.written)
+                    node.written, node.ports)

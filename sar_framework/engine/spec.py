@@ -19,6 +19,8 @@ from enum import Enum
 from typing import Any
 
 from sar_framework.engine.diagnostics import SourceLocation
+from sar_framework.engine.entries import Entry
+from sar_framework.engine.ports import PortBinding
 
 
 class Category(str, Enum):
@@ -50,6 +52,10 @@ class NodeSpec:
         refs: For a leaf: reference param name -> the referenced leaf's spec.
         subtree: Name of the subtree this node was inserted from, on the subtree's top node.
         written: The names of the ``attrs`` the tree file sets (the rest are defaults).
+        ports: For a leaf: its port bindings as written (``"{goal}"`` or a converted
+            literal), by port name.
+        bindings: For a leaf: every declared port's resolved binding (absolute key or
+            literal), by port name.
     """
 
     kind: str
@@ -63,6 +69,8 @@ class NodeSpec:
     refs: dict[str, NodeSpec] = field(default_factory=dict)
     subtree: str | None = None
     written: frozenset[str] = frozenset()
+    ports: dict[str, Any] = field(default_factory=dict)
+    bindings: dict[str, PortBinding] = field(default_factory=dict)
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""
@@ -84,6 +92,7 @@ class TreeSpec:
         source: The file it came from, as given by the user.
         format: The format version (1).
         plugin_paths: Extra plugin modules/dirs the file named, resolved to absolute paths.
+        entries: Every blackboard entry the tree uses, by absolute key (type, initial value).
     """
 
     name: str
@@ -92,6 +101,7 @@ class TreeSpec:
     source: str
     format: int = 1
     plugin_paths: list[str] = field(default_factory=list)
+    entries: dict[str, Entry] = field(default_factory=dict)
 
     def nodes(self) -> Iterator[NodeSpec]:
         """Yield every node of the tree, depth first."""

@@ -25,7 +25,7 @@ from sar_framework.engine.node_kinds import (
     UNSUPPORTED_DECORATORS,
     Rule,
 )
-from sar_framework.engine.ports import Port, entry_ref
+from sar_framework.engine.ports import BASIC_TYPES, Port, entry_ref
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.schema import tree_schema
 from sar_framework.engine.yaml_source import Reader, location
@@ -210,6 +210,9 @@ class StructureCheck:
             for key in instance:
                 if key not in error.schema.get("properties", {}):
                     yield doc.key_where((*path, key)), self.unknown_key(path, key, error.schema)
+        elif kind == "required" and len(path) >= 2 and path[-2] == "blackboard":
+            yield doc.key_where(path), (f"entry '{path[-1]}' needs a 'type' (one of "
+                                        f"{', '.join(BASIC_TYPES)}, or pkg/msg/Type)")
         elif kind == "required":
             rule = self.rule(error, owner)
             for name in error.validator_value:

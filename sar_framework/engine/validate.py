@@ -158,6 +158,7 @@ def validate_file(
             root=root,
             source=shown,
             plugin_paths=[plugin_path(e, d) for e, d, _ in plugin_entries],
+            entries=checker.entries.entries(),
         )
     return ValidationResult(
         spec, diagnostics, in_order(checker.structural), reg,

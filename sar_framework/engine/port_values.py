@@ -1,0 +1,94 @@
+"""A leaf's ports at run time: literals and blackboard entries behind one ``get``/``set``.
+
+The builder gives a leaf that declares ports a :class:`PortValues` as its ``ports``
+keyword argument. ``get(name)`` returns the literal the tree file gave (converted to the
+port's type at validation) or the value of the entry the port is bound to; ``set(name,
+value)`` writes an output's entry. Entries are read and written through a
+:class:`~.variables.BlackboardVariables` (py_trees' own blackboard, its access control
+and activity stream), one client per leaf, made once when the tree is built.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from sar_framework.engine.ports import NO_DEFAULT, PortBinding, convert
+from sar_framework.engine.variables import BlackboardVariables
+
+_CONVERTED = frozenset({"int", "float", "bool", "list"})
+
+
+class PortValues:
+    """One leaf's ports.
+
+    Args:
+        owner: The behaviour's name (py_trees' blackboard tools show it).
+        bindings: Every declared port's resolved binding, by name.
+    """
+
+    __slots__ = ("bindings", "keys", "literals", "variables")
+
+    def __init__(self, owner: str, bindings: Mapping[str, PortBinding]) -> None:
+        self.bindings = dict(bindings)
+        self.keys = {n: b.key for n, b in bindings.items() if b.key is not None}
+        self.literals = {n: b.value for n, b in bindings.items()
+                         if b.key is None and b.value is not NO_DEFAULT}
+        writable = [n for n in self.keys if bindings[n].port.direction.writes]
+        self.variables = BlackboardVariables(owner, self.keys, writable) if self.keys else None
+
+    def get(self, name: str) -> Any:
+        """Return the port's literal or its entry's value.
+
+        A string found in an entry read by an ``int``, ``float``, ``bool`` or ``list``
+        port is converted as a literal would be (BT.CPP does the same).
+
+        Raises:
+            KeyError: The port is unknown, bound to nothing, or its entry has no value.
+        """
+        literals = self.literals
+        if name in literals:
+            return literals[name]
+        variables = self.variables
+        if variables is None or name not in self.keys:
+            what = "is not bound" if name in self.bindings else "is not a port of this leaf"
+            raise KeyError(f"port '{name}' {what}")
+        try:
+            value = variables.get(name)
+        except KeyError:
+            raise KeyError(f"port '{name}': entry '{self.keys[name]}' has no value") from None
+        if type(value) is str:
+            type_ = self.bindings[name].port.type
+            if type_ in _CONVERTED:
+                return convert(type_, value)
+        return value
+
+    def set(self, name: str, value: Any) -> None:
+        """Write an output (or inout) port's entry; an unbound output drops the value.
+
+        Raises:
+            KeyError: ``name`` is not an output of this leaf.
+        """
+        binding = self.bindings.get(name)
+        if binding is None or not binding.port.direction.writes:
+            raise KeyError(f"'{name}' is not an output port of this leaf")
+        if self.variables is not None and name in self.keys:
+            self.variables.set(name, value)
+
+    def key(self, name: str) -> str | None:
+        """Return the absolute key the port is bound to (None for a literal or nothing)."""
+        return self.keys.get(name)
+
+    def __contains__(self, name: str) -> bool:
+        """Whether ``get(name)`` has a value now."""
+        if name in self.literals:
+            return True
+        return self.variables is not None and name in self.keys and name in self.variables
+
+
+def write_initial(values: Mapping[str, Any]) -> None:
+    """Write entries' initial values (absolute key -> value) to py_trees' blackboard."""
+    if values:
+        writer = BlackboardVariables("initial values", {k: k for k in values}, values)
+        for key, value in values.items():
+            writer.set(key, value)

@@ -1,0 +1,141 @@
+"""Ports at run time: PortValues on py_trees' blackboard, initial values, LoadedTree.entries."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import py_trees
+import pytest
+
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.port_values import PortValues
+from sar_framework.engine.ports import InputPort, OutputPort, PortBinding
+from sar_framework.engine.registry import Registry, discover
+
+from .conftest import GENERIC_PLUGINS, HERE, write
+
+Blackboard = py_trees.blackboard.Blackboard
+Status = py_trees.common.Status
+
+
+@pytest.fixture(scope="module")
+def registry() -> Registry:
+    return discover([GENERIC_PLUGINS, HERE / "plugins_for_tests" / "ports"], builtins=False,
+                    entry_points=False)
+
+
+@pytest.fixture(autouse=True)
+def clean_blackboard() -> Iterator[None]:
+    Blackboard.clear()
+    yield
+    Blackboard.clear()
+
+
+PLAN_AND_FOLLOW = """
+format: 1
+blackboard:
+  goal: {type: geometry_msgs/msg/Point, description: Where to go.}
+  start: {type: geometry_msgs/msg/Point}
+  path: {type: nav_msgs/msg/Path}
+  steps: {type: int, initial: 0}
+root:
+  sequence:
+    memory: true
+    children:
+      - Plan: {goal: "{goal}", path: "{path}"}
+      - subtree: {tree: FollowIt, ports: {route: "{path}"}, autoremap: true}
+subtrees:
+  FollowIt:
+    ports:
+      route: {type: nav_msgs/msg/Path}
+    root:
+      Follow: {path: "{route}", steps: "{=}"}
+"""
+
+
+def test_plan_into_path_then_follow_it(tree_dir: Path, registry: Registry) -> None:
+    tree = load_tree(write(tree_dir, "tree.yaml", PLAN_AND_FOLLOW), registry=registry)
+    assert tree.entries == {"goal": "/goal", "start": "/start", "path": "/path",
+                            "steps": "/steps"}
+    assert Blackboard.get("/steps") == 0  # the initial value, before the first tick
+    Blackboard.set("/start", (0, 0))  # the caller's inputs, as Nav2's navigator sets {goal}
+    Blackboard.set("/goal", (3, 1))
+    statuses, poses = [], []
+    for _ in range(3):
+        tree.root.tick_once()
+        statuses.append(tree.root.status)
+        poses.append(Blackboard.get("/start"))
+    assert Blackboard.get("/path") == [(1, 1), (2, 1), (3, 1)]
+    assert statuses == [Status.RUNNING, Status.RUNNING, Status.SUCCESS]
+    assert poses == [(1, 1), (2, 1), (3, 1)] and Blackboard.get("/steps") == 3
+
+
+def test_subtree_scopes_are_separate_keys(tree_dir: Path, registry: Registry) -> None:
+    tree = load_tree(write(tree_dir, "tree.yaml", """
+        format: 1
+        root:
+          sequence:
+            memory: true
+            children:
+              - subtree: Counter
+              - subtree: {tree: Counter, ports: {number: 9}}
+        subtrees:
+          Counter:
+            ports:
+              number: {type: int, default: 4}
+            blackboard:
+              out: {type: int}
+            root:
+              sequence:
+                memory: true
+                children:
+                  - Emit: {value: "{out}", number: "{number}"}
+                  - Gauge: {value: "{out}", seen: "{@last}"}
+    """), registry=registry)
+    assert tree.entries == {"Counter@0_0/number": "/Counter@0_0/number",
+                            "Counter@0_1/number": "/Counter@0_1/number",
+                            "Counter@0_0/out": "/Counter@0_0/out",
+                            "Counter@0_1/out": "/Counter@0_1/out", "last": "/last"}
+    tree.root.tick_once()
+    assert tree.root.status is Status.SUCCESS
+    assert Blackboard.get("/Counter@0_0/out") == 4 and Blackboard.get("/Counter@0_1/out") == 9
+    assert Blackboard.get("/last") == 9
+
+
+def test_literals_and_defaults_reach_the_leaf(tree_dir: Path, registry: Registry) -> None:
+    tree = load_tree(write(tree_dir, "tree.yaml", """
+        format: 1
+        root:
+          Say: {text: 3, times: "4", items: "a;b"}
+    """), registry=registry)
+    tree.root.tick_once()
+    assert tree.root.heard == {"text": "3", "times": 4, "rate": 1.0, "loud": False,
+                               "items": ["a", "b"], "anything": None}
+
+
+def test_port_values_on_the_blackboard() -> None:
+    count, seen, spare = InputPort("count", int), OutputPort("seen", int), OutputPort("spare")
+    ports = PortValues("leaf", {"count": PortBinding(count, key="/n"),
+                                "seen": PortBinding(seen, key="/s"), "spare": PortBinding(spare)})
+    with pytest.raises(KeyError, match="port 'count': entry '/n' has no value"):
+        ports.get("count")
+    assert "count" not in ports and ports.key("count") == "/n"
+    Blackboard.set("/n", "12")  # a string in the entry converts, as BT.CPP does
+    assert ports.get("count") == 12 and "count" in ports
+    ports.set("seen", 5)
+    assert Blackboard.get("/s") == 5
+    ports.set("spare", 1)  # an unbound output: the value is dropped
+    with pytest.raises(KeyError, match="'count' is not an output port"):
+        ports.set("count", 1)
+    with pytest.raises(KeyError, match="port 'spare' is not bound"):
+        ports.get("spare")
+    with pytest.raises(KeyError, match="port 'other' is not a port of this leaf"):
+        ports.get("other")
+
+
+def test_unbound_output_is_dropped(tree_dir: Path, registry: Registry) -> None:
+    tree = load_tree(write(tree_dir, "tree.yaml", "format: 1\nroot: {Emit: {}}\n"),
+                     registry=registry)
+    tree.root.tick_once()
+    assert tree.root.status is Status.SUCCESS and tree.entries == {}

@@ -1,0 +1,74 @@
+"""Ports where people see them: ``sar-tree plugins`` and data edges in ``sar-tree render``."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from sar_framework.engine.registry import discover
+from sar_framework.engine.render import data_edges, node_id, render_dot
+from sar_framework.engine.validate import validate_file
+from sar_framework.plugin_catalogue import plugin_info, port_text
+
+from .conftest import GENERIC_PLUGINS, HERE, REPO, write
+
+PORT_PLUGINS = HERE / "plugins_for_tests" / "ports"
+TREE = """
+format: 1
+root:
+  sequence:
+    memory: true
+    children:
+      - Plan: {goal: "{goal}", start: "{here}", path: "{path}"}
+      - Follow: {path: "{path}", pose: "{here}"}
+      - Emit: {value: "{n}"}
+      - Gauge: {value: "{n}"}
+blackboard:
+  goal: {type: geometry_msgs/msg/Point}
+  here: {type: geometry_msgs/msg/Point}
+  path: {type: nav_msgs/msg/Path}
+  n: {type: int}
+"""
+
+
+def test_catalogue_shows_ports() -> None:
+    reg = discover([PORT_PLUGINS], builtins=False, entry_points=False)
+    plan = reg.get("Plan")
+    assert plan is not None
+    assert [port_text(p) for p in plan.ports] == [
+        "start: input port geometry_msgs/msg/Point = '{start}'  From here.",
+        "goal: input port geometry_msgs/msg/Point (required)  To here.",
+        "path: output port nav_msgs/msg/Path  The waypoints, start excluded.",
+    ]
+    info = plugin_info(plan)
+    assert info["ports"][1] == {"name": "goal", "direction": "input",
+                                "type": "geometry_msgs/msg/Point", "required": True,
+                                "description": "To here."}
+    assert info["ports"][0]["default"] == "{start}"
+
+
+def test_data_edges(tmp_path: Path) -> None:
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", TREE), registry=reg).spec
+    assert spec is not None
+    # Follow's pose is inout: it writes 'here', which Plan reads
+    assert data_edges(spec) == [("0.0", "0.1", "path"), ("0.1", "0.0", "here"),
+                                ("0.2", "0.3", "n")]
+    source = render_dot(spec, data=True)
+    line = next(x for x in source.splitlines() if f"{node_id('0.2')} -> {node_id('0.3')}" in x)
+    assert "style=dotted" in line and "xlabel=n" in line and "constraint=false" in line
+    assert "style=dotted" not in render_dot(spec)
+
+
+def test_render_cli_data_edges(tmp_path: Path) -> None:
+    write(tmp_path, "tree.yaml", TREE)
+    run = subprocess.run(
+        [sys.executable, "-m", "sar_framework", "render", "tree.yaml", "-o", "tree.dot",
+         "--data-edges", "--plugin-path", str(GENERIC_PLUGINS), "--plugin-path",
+         str(PORT_PLUGINS)],
+        capture_output=True, text=True, cwd=tmp_path, check=False, timeout=120,
+        env={"PYTHONPATH": f"{REPO}", "PATH": "/usr/bin:/bin"},
+    )
+    assert run.returncode == 0, run.stderr
+    assert "style=dotted" in (tmp_path / "tree.dot").read_text(encoding="utf-8")

@@ -19,6 +19,7 @@ import py_trees
 
 from sar_framework.engine import compat
 from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
+from sar_framework.engine.control_build import CONTROL_BUILDERS
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
@@ -77,7 +78,7 @@ _BUILDERS: dict[str, _Builder] = {
     "condition": _decorator("Condition", status=compat.status),
 }
 for _key, _kind in KINDS.items():
-    if _key not in _BUILDERS:
+    if _key not in _BUILDERS and _key not in CONTROL_BUILDERS:
         _BUILDERS[_key] = _decorator(_kind.class_name)
 
 
@@ -193,6 +194,8 @@ class _Builder:
         )
 
     def make(self, node: NodeSpec) -> Behaviour | None:
+        if node.kind in CONTROL_BUILDERS:  # BT.CPP's and Nav2's nodes, leaves included
+            return self.control(node)
         if node.category is _LEAF_CATEGORY:
             plan = self.plans.get(node.kind)
             if plan is None or not plan.plain:
@@ -218,5 +221,19 @@ class _Builder:
                                      self.context[CLOCK_KEY])
         else:
             behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
+        self.built[node.uid] = behaviour
+        return behaviour
+
+    def control(self, node: NodeSpec) -> Behaviour | None:
+        children = [self.make(child) for child in node.children]
+        if self.problems:
+            return None
+        try:
+            behaviour = CONTROL_BUILDERS[node.kind](
+                node, children, self.context  # type: ignore[arg-type]
+            )
+        except Exception as exc:
+            self._cannot_construct(node, exc)
+            return None
         self.built[node.uid] = behaviour
         return behaviour

@@ -10,6 +10,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
+from sar_framework.engine.control_kinds import SYMBOLS
 from sar_framework.engine.spec import Category, NodeSpec
 
 MAX_VALUE_CHARS = 40
@@ -61,6 +62,8 @@ def symbol(node: NodeSpec) -> str:
         return "-->"
     if node.category is Category.DECORATOR:
         return "-^-"
+    if node.kind in SYMBOLS:
+        return SYMBOLS[node.kind]
     if node.kind == "parallel":
         return "/_/"
     bar = "o" if node.kind == "selector" else "-"

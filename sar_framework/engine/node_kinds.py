@@ -13,12 +13,16 @@ only) are left out on purpose: this framework shares state by references.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from enum import Enum
-from typing import Any
-
+from sar_framework.engine.control_kinds import CONTROL_KINDS
+from sar_framework.engine.kind_model import (
+    PARAM_ATTR_TYPES,
+    Attr,
+    AttrType,
+    NodeKind,
+    Rule,
+    name_attr,
+)
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
-from sar_framework.engine.ports import Port
 from sar_framework.engine.spec import Category
 
 #: The node kind that inserts a named subtree (``subtree: NAME``).
@@ -27,122 +31,6 @@ SUBTREE = "subtree"
 FORMAT_VERSION = 1
 #: Deepest nesting of nodes accepted (keeps every recursive pass far from Python's limit).
 MAX_DEPTH = 200
-
-
-class AttrType(str, Enum):
-    """The value type of an attribute, as the validator and the schema see it."""
-
-    STRING = "string"
-    INTEGER = "integer"
-    NUMBER = "number"
-    BOOLEAN = "boolean"
-    NODE = "node"
-    NODES = "nodes"
-    STRINGS = "strings"
-    PORT = "port"
-
-
-#: Python param type -> attribute type.
-_PARAM_ATTR_TYPES: dict[type, AttrType] = {
-    str: AttrType.STRING,
-    int: AttrType.INTEGER,
-    float: AttrType.NUMBER,
-    bool: AttrType.BOOLEAN,
-}
-
-
-@dataclass(frozen=True)
-class Attr:
-    """One attribute of a node kind (or one param of a leaf plugin).
-
-    Attributes:
-        name: The key in the tree file.
-        type: The value type.
-        required: Whether the key must be present.
-        default: The value when absent (ignored when required).
-        description: One line for docs and editor hover text.
-        enum: The allowed values, when the set is closed.
-        minimum: Inclusive lower bound (numbers).
-        maximum: Inclusive upper bound (numbers).
-        exclusive_minimum: Exclusive lower bound (numbers).
-        excluded: Values forbidden even inside the range (e.g. ``0`` for ``num_success``).
-        min_items: Minimum length of a list value.
-        min_length: Minimum length of a string value.
-        nullable: Whether ``null`` is accepted (a param defaulting to None).
-        ref: For a reference param: the plugin name the referenced leaf must have.
-        port: For a leaf's port: its declaration (the value binds it, see :mod:`.ports`).
-    """
-
-    name: str
-    type: AttrType
-    required: bool = False
-    default: Any = None
-    description: str = ""
-    enum: tuple[Any, ...] | None = None
-    minimum: float | None = None
-    maximum: float | None = None
-    exclusive_minimum: float | None = None
-    excluded: tuple[Any, ...] = ()
-    min_items: int | None = None
-    min_length: int | None = None
-    nullable: bool = False
-    ref: str | None = None
-    port: Port | None = None
-
-
-@dataclass(frozen=True)
-class Rule:
-    """A conditional attribute rule: ``attr`` depends on the value of ``if_attr``.
-
-    When ``if_attr`` equals ``equals``, ``then`` applies to ``attr``; otherwise
-    ``otherwise`` does. Each is ``"required"``, ``"forbidden"`` or None.
-
-    Attributes:
-        attr: The constrained attribute.
-        if_attr: The attribute whose value decides.
-        equals: The deciding value.
-        then: What applies to ``attr`` when ``if_attr == equals``.
-        otherwise: What applies otherwise (also when ``if_attr`` is absent).
-    """
-
-    attr: str
-    if_attr: str
-    equals: Any
-    then: str | None = None
-    otherwise: str | None = None
-
-
-@dataclass(frozen=True)
-class NodeKind:
-    """A composite or decorator kind.
-
-    Attributes:
-        key: The key in a tree file (``sequence``, ``one_shot``).
-        category: Composite or decorator.
-        class_name: The py_trees class it builds (``Sequence``, ``OneShot``); also the
-            default ``name``.
-        description: One line for docs and the schema.
-        attrs: Every attribute, ``name`` and ``child``/``children`` included.
-        rules: Conditional rules between attributes.
-    """
-
-    key: str
-    category: Category
-    class_name: str
-    description: str
-    attrs: tuple[Attr, ...]
-    rules: tuple[Rule, ...] = ()
-
-    def attr(self, name: str) -> Attr | None:
-        """Return the attribute called ``name``, or None."""
-        for a in self.attrs:
-            if a.name == name:
-                return a
-        return None
-
-
-def _name_attr(default: str) -> Attr:
-    return Attr("name", AttrType.STRING, default=default, description="The behaviour's name.")
 
 
 _CHILDREN = Attr(
@@ -166,7 +54,7 @@ def _composite(
         Category.COMPOSITE,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILDREN),
+        (name_attr(class_name), *extra, _CHILDREN),
         rules,
     )
 
@@ -179,7 +67,7 @@ def _decorator(
         Category.DECORATOR,
         class_name,
         description,
-        (_name_attr(class_name), *extra, _CHILD),
+        (name_attr(class_name), *extra, _CHILD),
         rules,
     )
 
@@ -298,8 +186,10 @@ _KIND_LIST: tuple[NodeKind, ...] = (
     _decorator("running_is_success", "RunningIsSuccess", "RUNNING becomes SUCCESS."),
 )
 
-#: Composite and decorator kinds by key.
-KINDS: dict[str, NodeKind] = {k.key: k for k in _KIND_LIST}
+#: Composite and decorator kinds by key, then BT.CPP's and Nav2's (:mod:`.control_kinds`).
+KINDS: dict[str, NodeKind] = {k.key: k for k in (*_KIND_LIST, *CONTROL_KINDS)}
+#: The kinds that build py_trees' own composites and decorators (the snake_case keys).
+PY_TREES_KINDS: dict[str, NodeKind] = {k.key: k for k in _KIND_LIST}
 
 #: Keys no plugin may take: they already mean something in a tree file.
 RESERVED_KINDS: frozenset[str] = frozenset({*KINDS, SUBTREE})
@@ -322,7 +212,7 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
         The attributes in the order the docs list them.
     """
     attrs = [
-        _name_attr(plugin.name),
+        name_attr(plugin.name),
         Attr(
             "id",
             AttrType.STRING,
@@ -335,7 +225,7 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
         attrs.append(
             Attr(
                 p.name,
-                AttrType.STRING if p.ref is not None else _PARAM_ATTR_TYPES[p.type],
+                AttrType.STRING if p.ref is not None else PARAM_ATTR_TYPES[p.type],
                 required=required,
                 default=None if required else p.default,
                 description=p.description,

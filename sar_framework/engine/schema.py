@@ -172,6 +172,8 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
         out.update({"type": "array", "items": _NODE_REF})
         if attr.min_items is not None:
             out["minItems"] = attr.min_items
+        if attr.max_items is not None:
+            out["maxItems"] = attr.max_items
         return out
     if kind is AttrType.STRINGS:
         out.update({"type": "array", "items": {"type": "string"}})
@@ -228,7 +230,7 @@ def _object(
 
 
 def _kind_schema(kind: NodeKind) -> dict[str, Any]:
-    word = "Composite" if kind.category.value == "composite" else "Decorator"
+    word = {"composite": "Composite", "decorator": "Decorator"}.get(kind.category.value, "Leaf")
     return _object(kind.attrs, f"{word} {kind.class_name}: {kind.description}", kind.rules)
 
 

@@ -235,12 +235,16 @@ class StructureCheck:
             sign = {"minimum": ">=", "maximum": "<=", "exclusiveMinimum": ">"}[kind]
             yield doc.where(path), (f"'{attr}' must be {sign} {number(error.validator_value)}, "
                                     f"got {number(instance)}")
-        elif kind == "minItems" and attr == "children":
+        elif kind == "minItems" and attr == "children" and error.validator_value == 1:
             yield doc.where(path), f"{owner} has no children (a composite needs at least one)"
         elif kind == "pattern" and "propertyNames" in error.schema_path:
             yield doc.key_where((*path, instance)), (
                 f"'{instance}' is not a valid entry name (letters, digits and '_', "
                 "not starting with a digit)")
+        elif kind in ("minItems", "maxItems") and attr == "children":
+            bound = "at least" if kind == "minItems" else "at most"
+            yield doc.where(path), (f"{owner} takes {bound} {error.validator_value} children, "
+                                    f"got {len(instance)}")
         elif kind == "minLength" and "propertyNames" in error.schema_path:
             yield doc.key_where((*path, instance)), "a subtree name must not be empty"
         elif kind == "minLength" and attr == SUBTREE:

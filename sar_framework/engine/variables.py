@@ -34,8 +34,16 @@ class Variables(Protocol):
         """Whether ``name`` has a value."""
 
 
+#: Writes per absolute key made through any BlackboardVariables (BT.CPP's sequence id).
+_WRITES: dict[str, int] = {}
+
+
 class BlackboardVariables:
     """A :class:`Variables` view of py_trees' blackboard through one client.
+
+    It also counts the writes made through it per key (:meth:`version`), which
+    SkipUnlessUpdated and WaitValueUpdate read; writes by other py_trees clients are
+    not counted.
 
     Args:
         owner: Who reads and writes (the behaviour's name; shown by py_trees' tools).
@@ -64,11 +72,18 @@ class BlackboardVariables:
     def set(self, name: str, value: Any) -> None:
         """Give ``name`` a value (it must be writable)."""
         self.client.set(name, value, overwrite=True)
+        key = self.keys[name]
+        _WRITES[key] = _WRITES.get(key, 0) + 1
 
     def unset(self, name: str) -> None:
         """Remove ``name``'s value (no error when it has none)."""
         self.client.unset(name)
+        _WRITES.pop(self.keys[name], None)
 
     def __contains__(self, name: str) -> bool:
         """Whether ``name`` has a value."""
         return self.client.exists(name)
+
+    def version(self, name: str) -> int:
+        """How many times ``name`` was written (through any BlackboardVariables) since unset."""
+        return _WRITES.get(self.keys[name], 0)

@@ -5,8 +5,9 @@ with the port's type when known). A ``<SubTree>`` insertion carries its inner tr
 out to the parent as BT.CPP's blackboards do: a port remapped ``inner="{outer}"`` becomes a
 use of ``outer``, with ``_autoremap="true"`` every other entry too, and ``{@key}`` (the
 root blackboard) always. The main tree's entries that something reads and nothing writes
-are the inputs the caller must set (Nav2's ``{goal}``): :func:`blackboard_inputs` declares
-them, for the tree file's ``blackboard:`` section.
+are the inputs the caller must set (Nav2's ``{goal}``); a scope that declares one must
+declare them all, so :func:`blackboard_declarations` declares every entry, for the tree
+file's ``blackboard:`` section.
 """
 
 from __future__ import annotations
@@ -91,32 +92,56 @@ def _outer(entry: str, insertion: Insertion) -> str | None:
     return entry if insertion.autoremap else None
 
 
-def blackboard_inputs(uses: list[Use], source: str) -> dict[str, dict[str, Any]]:
-    """The entries read and never written, as ``blackboard:`` declarations (no initial).
+def blackboard_declarations(uses: list[Use], source: str, *,
+                            skip: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
+    """Every entry of a scope as a ``blackboard:`` declaration (no ``initial``).
+
+    A scope that declares entries must declare every name it uses (the validator reports
+    the others), so all are declared: the type is the first writer's, else the first
+    reader's (``any`` when none says); the description says who writes and reads it, and
+    ``Set by the caller`` when nothing in the file writes it (Nav2's ``{goal}``).
 
     Args:
-        uses: The main tree's :func:`effective_uses`.
+        uses: The scope's uses (:func:`effective_uses`).
         source: The file name, for the descriptions.
+        skip: Names declared elsewhere (a subtree's ports).
 
     Returns:
         Entry name (without ``@``) -> ``{type, description}``, in first-use order.
     """
-    written = {use.entry.lstrip("@") for use in uses if use.writes}
-    declared: dict[str, dict[str, Any]] = {}
-    readers: dict[str, list[str]] = {}
+    writers: dict[str, list[Use]] = {}
+    readers: dict[str, list[Use]] = {}
     for use in uses:
         name = use.entry.lstrip("@")
-        if not use.reads or name in written:
+        if name in skip:
             continue
-        entry = declared.setdefault(name, {"type": use.type})
-        if entry["type"] == "any" and use.type != "any":
-            entry["type"] = use.type
-        if use.node and use.node not in readers.setdefault(name, []):
-            readers[name].append(use.node)
-    for name, entry in declared.items():
-        entry["description"] = (f"Set by the caller: nothing in {source} writes it; read by "
-                                + ", ".join(readers.get(name, [])[:3]) + ".")
+        writers.setdefault(name, [])
+        readers.setdefault(name, [])
+        (writers if use.writes else readers)[name].append(use)
+        if use.writes and use.reads:
+            readers[name].append(use)
+    declared: dict[str, dict[str, Any]] = {}
+    for name, written_by in writers.items():
+        typed = [u.type for u in written_by + readers[name] if u.type != "any"]
+        who = _names(written_by)
+        text = (f"Written by {who}" if who else
+                f"Set by the caller: nothing in {source} writes it")
+        if readers[name]:
+            text += f"; read by {_names(readers[name])}"
+        declared[name] = {"type": typed[0] if typed else "any", "description": text + "."}
     return declared
+
+
+def _names(uses: list[Use]) -> str:
+    nodes = list(dict.fromkeys(use.node for use in uses if use.node))
+    return ", ".join(nodes[:3]) + (f" and {len(nodes) - 3} more" if len(nodes) > 3 else "")
+
+
+def unwritten(uses: list[Use]) -> list[str]:
+    """The entries read and never written (without ``@``), in first-use order."""
+    written = {use.entry.lstrip("@") for use in uses if use.writes}
+    return list(dict.fromkeys(use.entry.lstrip("@") for use in uses
+                              if use.reads and use.entry.lstrip("@") not in written))
 
 
 def subtree_ports(tree: str, trees: dict[str, TreeUses], passed: list[str],

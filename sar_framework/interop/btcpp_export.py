@@ -3,7 +3,8 @@
 The document holds one ``<BehaviorTree>`` for the tree, one per subtree it uses (each use
 becomes ``<SubTree ID="..."/>``), and a ``<TreeNodesModel>`` declaring every leaf plugin
 with its params as input ports (type, default, description) plus an ``id`` port, and
-every custom ``Sar...`` node (see :mod:`.mapping`); a leaf's ports
+every custom ``Sar...`` node (see :mod:`.mapping`) and every Nav2 node used (as Nav2's
+palette declares them; BT.CPP's own nodes need no model); a leaf's ports
 (``@leaf(ports=...)``) are declared with their direction (``input_port``,
 ``output_port``, ``inout_port``), C++ type (none for ``any``), default and description.
 Leaf params and port bindings (``{key}`` or literals) are written when they differ from
@@ -16,13 +17,14 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from typing import Any
 
+from sar_framework.engine.control_kinds import NAV2_KINDS
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_models import cpp_type
-from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports
+from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
 
 #: C++ type names BT.CPP writes in a model, by Python param type.
 CPP_TYPES: dict[type, str] = {str: "std::string", int: "int", float: "double", bool: "bool"}
@@ -30,15 +32,6 @@ CPP_TYPES: dict[type, str] = {str: "std::string", int: "int", float: "double", b
 PORT_ELEMENTS = {"input": "input_port", "output": "output_port", "inout": "inout_port"}
 #: The description of the ``id`` port every leaf model gets.
 ID_PORT_TEXT = "Unique id of this leaf; other leaves' reference ports name it."
-
-
-def port_text(value: Any) -> str:
-    """Format a param or attribute value as BT.CPP reads it from an XML attribute."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (list, tuple)):
-        return ";".join(str(v) for v in value)
-    return str(value)
 
 
 class _Exporter:
@@ -49,6 +42,7 @@ class _Exporter:
         self.subtrees: dict[str, ET.Element] = {}
         self.leaf_models: dict[str, PluginSpec] = {}
         self.custom_models: set[str] = set()
+        self.nav2_models: set[str] = set()
 
     def element(self, node: NodeSpec, *, inside: str | None = None) -> ET.Element:
         if node.subtree is not None and node.subtree != inside:
@@ -56,10 +50,12 @@ class _Exporter:
                 self.subtrees[node.subtree] = ET.Element("placeholder")  # recursion guard
                 self.subtrees[node.subtree] = self.element(node, inside=node.subtree)
             return ET.Element("SubTree", {"ID": node.subtree})
-        if node.category is Category.LEAF:
+        if node.category is Category.LEAF and node.kind not in KINDS:
             return self.leaf(node)
         kind = KINDS[node.kind]
         builtin = builtin_for(node.kind, node.attrs)
+        if node.kind in NAV2_KINDS:
+            self.nav2_models.add(node.kind)
         if builtin is not None:
             tag, ports = builtin.btcpp_id, builtin.to_ports(node.attrs)
         else:
@@ -84,7 +80,7 @@ class _Exporter:
             if value is not None and (param.default is REQUIRED or value != param.default):
                 ports[param.name] = port_text(value)
         for port in plugin.ports:
-            value = node.attrs.get(port.name)
+            value = node.ports.get(port.name)
             if value is not None and (port.default is NO_DEFAULT or value != port.default):
                 ports[port.name] = port_text(value)
         return ET.Element(node.kind, ports)
@@ -103,10 +99,11 @@ class _Exporter:
                 default = None if port.default is NO_DEFAULT else port.default
                 _port(model, port.name, cpp_type(port.type), default, port.description,
                       element=PORT_ELEMENTS[port.direction.value])
-        for key in sorted(self.custom_models):
+        for key in sorted(self.custom_models | self.nav2_models):
             kind = KINDS[key]
             category = "Control" if kind.category is Category.COMPOSITE else "Decorator"
-            model = ET.SubElement(root, category, {"ID": custom_id(kind)})
+            ident = kind.key if key in self.nav2_models else custom_id(kind)
+            model = ET.SubElement(root, category, {"ID": ident})
             for name, cpp, default, text in custom_ports(kind):
                 _port(model, name, cpp, default, text)
         return root

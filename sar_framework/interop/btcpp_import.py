@@ -23,6 +23,7 @@ from typing import Any
 
 import yaml
 
+from sar_framework.engine.control_kinds import ENTRY_PORTS
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
@@ -32,10 +33,11 @@ from sar_framework.interop.btcpp_entries import (
     Insertion,
     TreeUses,
     Use,
-    blackboard_inputs,
+    blackboard_declarations,
     effective_uses,
     entry_key,
     subtree_ports,
+    unwritten,
 )
 from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
 from sar_framework.interop.btcpp_models import NodeModel, PortModel, convert_literal
@@ -117,7 +119,7 @@ class _Importer:
         direction = port.direction if port is not None else "inout"
         self.uses[self.tree].uses.append(Use(
             entry, direction != "output", direction != "input",
-            port.type if port is not None else "object", node))
+            port.type if port is not None else "any", node))
 
     def node(self, element: Element) -> dict[str, Any] | None:
         tag = element.tag
@@ -137,12 +139,16 @@ class _Importer:
             return None
         kind_key = BUILTIN_BY_ID[tag].kind if tag in BUILTIN_BY_ID else None
         kind = KINDS[kind_key] if kind_key is not None else CUSTOM_KINDS.get(tag)
-        if kind is not None and not any(a.port is not None for a in kind.attrs):
-            for key, value in ports.items():
-                if entry_key(value) is not None:
-                    self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
-                                 f"'{value}'; ours takes a fixed value here: give one")
-                    return None
+        for key, value in ports.items() if kind is not None else ():
+            if entry_key(value) is None:
+                continue
+            attr = kind.attr(key)  # type: ignore[union-attr]
+            if key in ENTRY_PORTS and tag in KINDS:
+                self.use(entry_key(value) or "", None, f"<{tag}> port '{key}'")
+            elif attr is None or attr.port is None:
+                self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
+                             f"'{value}'; ours takes a fixed value here: give one")
+                return None
         if tag in BUILTIN_BY_ID:
             entry = BUILTIN_BY_ID[tag]
             try:
@@ -230,7 +236,11 @@ class _Importer:
         children = [self.node(child) for child in element.children]
         body: dict[str, Any] = {"name": name} if name else {}
         body.update(attrs)
-        if kind.category is Category.DECORATOR:
+        if kind.category is Category.LEAF:
+            if children:
+                self.problem(element, f"<{element.tag}> is a leaf: it cannot have children")
+                return None
+        elif kind.category is Category.DECORATOR:
             if len(children) != 1:
                 self.problem(element, f"<{element.tag}> is a decorator: it needs exactly one "
                              f"child, got {len(children)}")
@@ -363,9 +373,9 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     description = source.trees[main_tree].element.attrs.get("_description")
     if description:
         document["description"] = description
-    inputs = blackboard_inputs(effective_uses(main_tree, importer.uses), Path(file).name)
-    if inputs:
-        document["blackboard"] = inputs
+    main_uses = effective_uses(main_tree, importer.uses)
+    if unwritten(main_uses):
+        document["blackboard"] = blackboard_declarations(main_uses, Path(file).name)
     subtrees = {name: _definition(name, body, importer) for name, body in bodies.items()
                 if name != main_tree}
     if subtrees:
@@ -392,7 +402,15 @@ def _definition(tree: str, body: Any, importer: _Importer) -> Any:
         for name, value in use.get("ports", {}).items():
             if name in ports and entry_key(value) is None:
                 use["ports"][name] = convert_literal(value, ports[name]["type"])
-    return {"ports": ports, "root": body}
+    definition: dict[str, Any] = {"ports": ports}
+    if not any(i.autoremap for i in insertions):
+        private = blackboard_declarations(effective_uses(tree, importer.uses),
+                                          Path(importer.source.trees[tree].file).name,
+                                          skip=frozenset(ports))
+        if private:
+            definition["blackboard"] = private
+    definition["root"] = body
+    return definition
 
 
 def document_yaml(document: dict[str, Any], source: str) -> str:

@@ -169,14 +169,14 @@ def read_models(models: Element, file: str) -> tuple[dict[str, NodeModel], list[
 def literal_default(port: PortModel) -> object:
     """The port's default as a Python value of its type (None when it has none).
 
-    Palettes write an empty string default as ``""`` (two quote characters); a ``{key}``
-    default stays a string.
+    Palettes write a string default in double quotes (``"planner_selector"``, ``""``):
+    they are taken off; a ``{key}`` default stays a string.
     """
     text = port.default
     if text is None:
         return None
-    if text == '""':
-        return ""
+    if len(text) >= 2 and text[0] == text[-1] == '"':
+        return text[1:-1]
     if text.startswith("{") and text.endswith("}"):
         return text
     return convert_literal(text, port.type)

@@ -1,9 +1,12 @@
 """The one table between our composites/decorators and BehaviorTree.CPP 4 nodes.
 
-Each of our kinds maps either to a built-in BT.CPP node that ticks its children the same
-way (:data:`BUILTIN`), or, when BT.CPP has no such node, to a *custom* node
-``Sar<ClassName>`` whose ports are our attributes (declared in ``<TreeNodesModel>``, so
-Groot2 can show and edit it; a BT.CPP program must register it to run the tree).
+The kinds of :mod:`~sar_framework.engine.control_kinds` are BT.CPP's (and Nav2's) own
+nodes: each maps 1:1 to the ID it is named after, its attributes to the ports of the same
+names, both ways. Each py_trees kind (``sequence``, ``one_shot``...) maps either to a
+built-in BT.CPP node that ticks its children the same way (:data:`BUILTIN`; importing
+that node gives the BT.CPP kind back), or, when BT.CPP has no such node, to a *custom*
+node ``Sar<ClassName>`` whose ports are our attributes (declared in ``<TreeNodesModel>``,
+so Groot2 can show and edit it; a BT.CPP program must register it to run the tree).
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
+from sar_framework.engine.control_kinds import CONTROL_KINDS
+from sar_framework.engine.node_kinds import PY_TREES_KINDS, AttrType, NodeKind
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
 CUSTOM_PREFIX = "Sar"
@@ -27,8 +31,8 @@ class Builtin:
         kind: Our node kind.
         fixed: Our attributes this mapping requires (e.g. ``memory: true``).
         to_ports: Our attributes -> the BT.CPP ports to write.
-        from_ports: BT.CPP ports (strings) -> our attributes; raises ValueError on a
-            value it cannot express.
+        from_ports: BT.CPP ports (strings) -> our attributes, on import (only the 1:1
+            mappings are imported); raises ValueError on a value it cannot express.
     """
 
     btcpp_id: str
@@ -38,96 +42,93 @@ class Builtin:
     from_ports: Callable[[dict[str, str]], dict[str, Any]] = lambda ports: {}
 
 
-def _integer(ports: dict[str, str], name: str, minimum: int) -> int:
-    text = ports.get(name)
-    if text is None:
-        raise ValueError(f"needs the port '{name}'")
+def port_text(value: Any) -> str:
+    """Format an attribute value as BT.CPP reads it from an XML attribute."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return ";".join(str(v) for v in value)
+    return str(value)
+
+
+def _port_value(attr_type: AttrType, name: str, text: str) -> Any:
     try:
-        value = int(text)
+        if attr_type is AttrType.BOOLEAN:
+            lowered = text.strip().lower()
+            if lowered not in ("true", "false"):
+                raise ValueError
+            return lowered == "true"
+        if attr_type is AttrType.INTEGER:
+            return int(text)
+        if attr_type is AttrType.NUMBER:
+            return float(text)
     except ValueError:
-        raise ValueError(f"'{name}' must be an integer, got '{text}'") from None
-    if value < minimum:
-        raise ValueError(f"'{name}' must be >= {minimum} here, got {value}")
-    return value
+        raise ValueError(f"'{name}' must be a {attr_type.value}, got '{text}'") from None
+    return text
 
 
-def _repeat_cycles(ports: dict[str, str]) -> dict[str, Any]:
-    cycles = _integer(ports, "num_cycles", -1)
-    if cycles == 0:
-        raise ValueError("'num_cycles' 0 never ticks the child; our repeat needs >= 1 or -1")
-    return {"num_success": cycles}
+def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
+    """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
+    names = [a for a in kind.attrs if a.name != "name"
+             and a.type not in (AttrType.NODE, AttrType.NODES)]
 
+    def to_ports(attrs: dict[str, Any]) -> dict[str, str]:
+        return {a.name: port_text(attrs[a.name]) for a in names
+                if attrs.get(a.name) is not None}
 
-def _timeout_msec(ports: dict[str, str]) -> dict[str, Any]:
-    return {"duration": _integer(ports, "msec", 1) / 1000.0}
+    def from_ports(ports: dict[str, str]) -> dict[str, Any]:
+        known = {a.name for a in names}
+        extra = sorted(set(ports) - known - {"name"})
+        if extra:
+            raise ValueError(f"no port {', '.join(repr(e) for e in extra)} (its ports: "
+                             f"{', '.join(sorted(known)) or 'none'})")
+        missing = [a.name for a in names if a.required and a.name not in ports]
+        if missing:
+            raise ValueError(f"needs the port '{missing[0]}'")
+        return {a.name: _port_value(a.type, a.name, ports[a.name]) for a in names
+                if a.name in ports}
 
-
-def _run_once(ports: dict[str, str]) -> dict[str, Any]:
-    if ports.get("then_skip", "true").strip().lower() != "false":
-        raise ValueError("RunOnce with then_skip=true returns SKIPPED, which py_trees does "
-                         "not have; only then_skip=\"false\" maps (to one_shot on_completion)")
-    return {"policy": "on_completion"}
-
-
-def _no_ports(ports: dict[str, str]) -> dict[str, Any]:
-    return {}
+    return Builtin(btcpp_id or kind.key, kind.key, to_ports=to_ports, from_ports=from_ports)
 
 
 BUILTIN: tuple[Builtin, ...] = (
-    Builtin("Sequence", "sequence", (("memory", True),), from_ports=_no_ports),
-    Builtin("ReactiveSequence", "sequence", (("memory", False),), from_ports=_no_ports),
-    Builtin("Fallback", "selector", (("memory", True),), from_ports=_no_ports),
-    Builtin("ReactiveFallback", "selector", (("memory", False),), from_ports=_no_ports),
+    Builtin("Sequence", "sequence", (("memory", True),)),
+    Builtin("ReactiveSequence", "sequence", (("memory", False),)),
+    Builtin("Fallback", "selector", (("memory", True),)),
+    Builtin("ReactiveFallback", "selector", (("memory", False),)),
     Builtin("RunOnce", "one_shot", (("policy", "on_completion"),),
-            to_ports=lambda a: {"then_skip": "false"}, from_ports=_run_once),
-    Builtin("Inverter", "inverter", from_ports=_no_ports),
+            to_ports=lambda a: {"then_skip": "false"}),
+    Builtin("Inverter", "inverter"),
     Builtin("RetryUntilSuccessful", "retry",
-            to_ports=lambda a: {"num_attempts": str(a["num_failures"])},
-            from_ports=lambda p: {"num_failures": _integer(p, "num_attempts", 1)}),
-    Builtin("Repeat", "repeat", to_ports=lambda a: {"num_cycles": str(a["num_success"])},
-            from_ports=_repeat_cycles),
-    Builtin("Timeout", "timeout", to_ports=lambda a: {"msec": str(round(a["duration"] * 1000))},
-            from_ports=_timeout_msec),
-    Builtin("ForceSuccess", "failure_is_success", from_ports=_no_ports),
-    Builtin("ForceFailure", "success_is_failure", from_ports=_no_ports),
-    Builtin("KeepRunningUntilFailure", "success_is_running", from_ports=_no_ports),
+            to_ports=lambda a: {"num_attempts": str(a["num_failures"])}),
+    Builtin("Repeat", "repeat", to_ports=lambda a: {"num_cycles": str(a["num_success"])}),
+    Builtin("Timeout", "timeout",
+            to_ports=lambda a: {"msec": str(round(a["duration"] * 1000))}),
+    Builtin("ForceSuccess", "failure_is_success"),
+    Builtin("ForceFailure", "success_is_failure"),
+    Builtin("KeepRunningUntilFailure", "success_is_running"),
+    *(_same(kind) for kind in CONTROL_KINDS),
+    _same(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),
 )
 
-#: BT.CPP ID -> its mapping.
+#: BT.CPP ID -> its mapping; an ID shared with a py_trees kind imports as the BT.CPP kind.
 BUILTIN_BY_ID: dict[str, Builtin] = {b.btcpp_id: b for b in BUILTIN}
 
 #: BT.CPP (and Nav2) nodes that are refused on import, with the reason and a way out.
 REFUSED: dict[str, str] = {
-    "SequenceWithMemory": "it retries the failed child on the next tick; py_trees has no such "
-    "sequence (use Sequence: memory true, or ReactiveSequence: memory false)",
-    "SequenceStar": "an old name of SequenceWithMemory, which py_trees does not have",
     "AsyncSequence": "it yields RUNNING between children; use Sequence",
     "AsyncFallback": "it yields RUNNING between children; use Fallback",
-    "Parallel": "it stops at the first threshold reached, before ticking later children, "
-    "where py_trees ticks every child, then fails if any failed; use SarParallel",
-    "ParallelAll": "it waits for every child to finish before failing, where py_trees fails "
-    "on the tick a child fails; use SarParallel",
-    "IfThenElse": "no py_trees equivalent; use a selector of sequences",
-    "WhileDoElse": "no py_trees equivalent; use a reactive selector of sequences",
-    "Delay": "no py_trees decorator delays a child; write a leaf plugin that waits",
     "Precondition": "its condition is a script on the blackboard; use a condition leaf",
     "Script": "scripts use the blackboard; this framework shares state by references",
     "ScriptCondition": "scripts use the blackboard; use a condition leaf plugin",
-    "SetBlackboard": "this framework has no blackboard; leaves share state by references",
-    "UnsetBlackboard": "this framework has no blackboard; leaves share state by references",
-    "RecoveryNode": "Nav2's RecoveryNode (re-run the first child after the second one "
-    "recovers) has no py_trees equivalent; the nearest is retry (num_failures: "
-    "number_of_retries + 1) over a selector of the first child and success_is_failure over "
-    "the recovery (which also retries after a failed recovery)",
-    "PipelineSequence": "Nav2's PipelineSequence re-ticks finished children; the nearest is "
-    "ReactiveSequence (sequence, memory: false), which restarts from the first child",
-    "RoundRobin": "Nav2's RoundRobin has no py_trees equivalent",
-    "RateController": "Nav2's RateController needs a clock-rate decorator py_trees lacks",
+    "LoopInt": "it pops a queue from the blackboard; not supported yet",
+    "LoopBool": "it pops a queue from the blackboard; not supported yet",
+    "LoopDouble": "it pops a queue from the blackboard; not supported yet",
+    "LoopString": "it pops a queue from the blackboard; not supported yet",
+    "WasEntryUpdated": "not supported yet; use SkipUnlessUpdated over AlwaysSuccess",
     "DistanceController": "a Nav2 decorator reading the robot pose; no equivalent",
     "SpeedController": "a Nav2 decorator reading the robot speed; no equivalent",
     "GoalUpdater": "a Nav2 decorator writing the blackboard; no equivalent",
-    "SingleTrigger": "a Nav2 decorator (like one_shot, but SKIPPED/FAILURE after); "
-    "use RunOnce then_skip=\"false\" if on_completion semantics fit",
 }
 
 
@@ -145,7 +146,7 @@ def custom_id(kind: NodeKind) -> str:
 
 
 #: Custom BT.CPP ID -> our kind.
-CUSTOM_KINDS: dict[str, NodeKind] = {custom_id(k): k for k in KINDS.values()}
+CUSTOM_KINDS: dict[str, NodeKind] = {custom_id(k): k for k in PY_TREES_KINDS.values()}
 
 
 def custom_ports(kind: NodeKind) -> list[tuple[str, str, Any, str]]:

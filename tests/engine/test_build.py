@@ -10,7 +10,8 @@ import pytest
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
-from sar_framework.engine.node_kinds import KINDS, UNSUPPORTED_DECORATORS
+from sar_framework.engine.node_kinds import PY_TREES_KINDS as KINDS
+from sar_framework.engine.node_kinds import UNSUPPORTED_DECORATORS
 from sar_framework.engine.registry import Registry
 
 from .conftest import Checker, write

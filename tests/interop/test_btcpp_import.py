@@ -9,6 +9,7 @@ import pytest
 
 from sar_framework.cli import main
 from sar_framework.engine.api import load_spec
+from sar_framework.engine.node_kinds import PY_TREES_KINDS
 from sar_framework.engine.registry import default_registry, extend
 from sar_framework.engine.spec import NodeSpec
 from sar_framework.interop.btcpp_import import import_btcpp
@@ -31,13 +32,61 @@ def shape(node: NodeSpec) -> tuple[Any, ...]:
 @pytest.mark.parametrize("tree", TREES, ids=[p.name for p in TREES])
 def test_yaml_to_xml_to_yaml_gives_the_same_tree(tree: Path, tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
-    xml, back = tmp_path / "tree.xml", tmp_path / "back.yaml"
+    """Leaves and BT.CPP kinds come back as they were; a py_trees kind with a BT.CPP twin
+    (``sequence``, ``retry``...) comes back as that BT.CPP kind: the XML is a fixed point."""
+    xml, back, again = tmp_path / "tree.xml", tmp_path / "back.yaml", tmp_path / "again.xml"
     plugins = ["--plugin-path", str(TUTORIAL_PLUGINS)]
     assert main(["export", str(tree), "-o", str(xml), *plugins]) == 0
     assert main(["import", str(xml), "-o", str(back), *plugins]) == 0, capsys.readouterr().err
-    original, again = load_spec(tree), load_spec(back)
-    assert shape(again.root) == shape(original.root)
-    assert (again.name, again.description) == (original.name, original.description)
+    assert main(["export", str(back), "-o", str(again), *plugins]) == 0
+    assert again.read_text() == xml.read_text()
+    original, loaded = load_spec(tree), load_spec(back)
+    assert (loaded.name, loaded.description) == (original.name, original.description)
+    if not any(n.kind in PY_TREES_KINDS for n in original.nodes()):
+        assert shape(loaded.root) == shape(original.root)
+
+
+def test_bt_cpp_kinds_round_trip_one_to_one(tmp_path: Path) -> None:
+    tree = tmp_path / "controls.yaml"
+    tree.write_text(CONTROLS_TREE)
+    xml, back = tmp_path / "tree.xml", tmp_path / "back.yaml"
+    plugins = ["--plugin-path", str(TUTORIAL_PLUGINS)]
+    assert main(["export", str(tree), "-o", str(xml), *plugins]) == 0
+    text = xml.read_text()
+    for tag in ("<SequenceWithMemory", "<Parallel", 'success_count="-2"', "<Switch3",
+                'variable="{mode}"', "<RecoveryNode", "<Control ID=\"RecoveryNode\"",
+                "<RateController", "<SetBlackboard", 'then_skip="false"', "<Sleep"):
+        assert tag in text, tag
+    assert main(["import", str(xml), "-o", str(back), *plugins]) == 0
+    paths = [TUTORIAL_PLUGINS]
+    assert (shape(load_spec(back, plugin_paths=paths).root)
+            == shape(load_spec(tree, plugin_paths=paths).root))
+
+
+CONTROLS_TREE = """\
+format: 1
+name: controls
+root:
+  SequenceWithMemory:
+    children:
+      - SetBlackboard: {value: "2", output_key: mode}
+      - Parallel:
+          success_count: -2
+          children: [AlwaysSuccess: {}, Countdown: {ticks: 2}, AlwaysFailure: {}]
+      - Switch3:
+          variable: "{mode}"
+          case_1: "1"
+          case_2: "2"
+          case_3: three
+          children: [Countdown: {}, Sleep: {msec: 5}, AlwaysSuccess: {}, AlwaysFailure: {}]
+      - RecoveryNode:
+          number_of_retries: 2
+          children:
+            - RateController: {hz: 2.5, child: {Countdown: {}}}
+            - RunOnce: {then_skip: false, child: {Countdown: {}}}
+      - WhileDoElse:
+          children: [AlwaysSuccess: {}, Delay: {delay_msec: 10, child: {Countdown: {}}}]
+"""
 
 
 def problems(text: str) -> list[str]:
@@ -47,17 +96,17 @@ def problems(text: str) -> list[str]:
     return [str(p) for p in result.problems]
 
 
-def test_nav2_navigator_shape_names_each_control_node_we_lack(
+def test_nav2_navigator_shape_imports_with_its_leaves_drafted(
         capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["import", str(FIXTURES / "nav2_navigator_shape.xml")]) == 1
+    assert main(["import", str(FIXTURES / "nav2_navigator_shape.xml")]) == 0
     err = capsys.readouterr().err.splitlines()
     where = str(FIXTURES / "nav2_navigator_shape.xml")
-    assert err[0].startswith(f"{where}:5:5: error: <RecoveryNode> cannot be imported: Nav2's")
-    assert err[1].startswith(f"{where}:6:7: error: <PipelineSequence> cannot be imported")
-    assert err[2].startswith(f"{where}:7:9: error: <RateController> cannot be imported")
-    assert err[3].startswith(f"{where}:14:9: error: <RoundRobin> cannot be imported")
-    # the blackboard ports and the unknown leaves (ComputePathToPose...) are no problem
-    assert len(err) == 4, err
+    assert not any(": error: " in line for line in err), err
+    drafted = [line for line in err if line.startswith(f"{where}:")]
+    assert [line.split(": warning: ")[1] for line in drafted] == [
+        f"no plugin provides <{tag}>; --scaffold DIR writes one to fill in"
+        for tag in ("ComputePathToPose", "FollowPath", "GoalUpdated", "ClearEntireCostmap",
+                    "Spin")]
 
 
 def test_bad_params_point_at_their_lines_and_an_unknown_leaf_is_no_problem() -> None:
@@ -76,11 +125,20 @@ def test_bad_params_point_at_their_lines_and_an_unknown_leaf_is_no_problem() -> 
     ('<root BTCPP_format="4"><BehaviorTree ID="a"><Countdown/></BehaviorTree>'
      '<BehaviorTree ID="b"><Countdown/></BehaviorTree></root>',
      "t.xml:1:1: error: which tree is the main one?"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><SequenceWithMemory><Countdown/>'
-     '</SequenceWithMemory></BehaviorTree></root>',
-     "t.xml:1:45: error: <SequenceWithMemory> cannot be imported: it retries"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><RunOnce><Countdown/></RunOnce>'
-     '</BehaviorTree></root>', "t.xml:1:45: error: <RunOnce>: RunOnce with then_skip=true"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><AsyncSequence><Countdown/>'
+     '</AsyncSequence></BehaviorTree></root>',
+     "t.xml:1:45: error: <AsyncSequence> cannot be imported: it yields"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat><Countdown/></Repeat>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: <Repeat>: needs the port 'num_cycles'"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Delay delay_msec="soon"><Countdown/>'
+     '</Delay></BehaviorTree></root>',
+     "t.xml:1:45: error: <Delay>: 'delay_msec' must be a integer, got 'soon'"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Sleep msec="1" ms="2"/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: <Sleep>: no port 'ms' (its ports: msec)"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><AlwaysSuccess><Countdown/></AlwaysSuccess>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: <AlwaysSuccess> is a leaf"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat num_cycles="{n}"><Countdown/>'
+     '</Repeat></BehaviorTree></root>', "t.xml:1:45: error: port 'num_cycles' of <Repeat> reads"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Inverter><Countdown/><Countdown/>'
      '</Inverter></BehaviorTree></root>', "t.xml:1:45: error: <Inverter> is a decorator"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><SubTree ID="x" goal="{goal}"/>'
@@ -135,8 +193,8 @@ def test_explicit_v3_style_elements_and_custom_nodes_are_read() -> None:
             {"Countdown": {"name": "A", "ticks": 3}},
             {"one_shot": {"policy": "on_successful_completion",
                           "child": {"Countdown": {"name": "B"}}}},
-            {"timeout": {"duration": 2.5, "child": {"Countdown": {"name": "C",
-                                                                  "result": "failure"}}}},
+            {"Timeout": {"msec": 2500, "child": {"Countdown": {"name": "C",
+                                                               "result": "failure"}}}},
         ]}}}
 
 

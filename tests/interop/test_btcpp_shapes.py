@@ -46,7 +46,7 @@ def test_several_trees_main_tree_to_execute_and_the_others_become_subtrees(
     assert result.document == {
         "format": 1, "name": "Main",
         "subtrees": {"Sub": {"Tick": {"name": "Inner"}}},
-        "root": {"sequence": {"memory": True, "children": [{"Tick": {}}, {"subtree": "Sub"}]}},
+        "root": {"Sequence": {"children": [{"Tick": {}}, {"subtree": "Sub"}]}},
     }
 
 
@@ -112,7 +112,7 @@ def test_subtree_ports_autoremap_and_model_defaults(tmp_path: Path) -> None:
             <Sequence>
               <Writer out="{target}"/>
               <SubTree ID="Go" goal="{target}" speed="0.5" _autoremap="true"/>
-              <SubTree ID="Go" name="again" goal="{=}"/>
+              <SubTree ID="Go" name="again" goal="{=}" _autoremap="1"/>
             </Sequence>
           </BehaviorTree>
           <BehaviorTree ID="Go"><Mover goal="{goal}" speed="{speed}" map="{map}"/></BehaviorTree>
@@ -132,22 +132,42 @@ def test_subtree_ports_autoremap_and_model_defaults(tmp_path: Path) -> None:
     """, tmp_path)
     assert result.problems == []
     assert result.document is not None
-    children = result.document["root"]["sequence"]["children"]
+    children = result.document["root"]["Sequence"]["children"]
     assert children[1:] == [
         {"subtree": {"tree": "Go", "ports": {"goal": "{target}", "speed": 0.5},
                      "autoremap": True}},
-        {"subtree": {"tree": "Go", "ports": {"goal": "{=}", "speed": 1.0}}},
+        {"subtree": {"tree": "Go", "ports": {"goal": "{=}"}, "autoremap": True}},
     ]
     assert result.document["subtrees"]["Go"]["ports"] == {
         "goal": {"direction": "input", "type": "geometry_msgs/msg/Pose"},
         "speed": {"direction": "input", "type": "float", "default": 1.0}}
-    # {map} reaches the main tree through _autoremap; {goal} through "{=}"; {target} is
-    # written by Writer; so the caller must set map and goal.
+    # {map} reaches the main tree through _autoremap, and {speed} where no port gives it
+    # (BT.CPP applies a model's default only without _autoremap); {goal} through "{=}";
+    # {target} is written by Writer; every entry is declared.
     blackboard = result.document["blackboard"]
-    assert list(blackboard) == ["map", "goal"]
+    assert list(blackboard) == ["target", "map", "goal", "speed"]
     assert blackboard["goal"]["type"] == "geometry_msgs/msg/Pose"
-    assert blackboard["map"]["type"] == "str"
-    assert "read by <Mover> port 'map'" in blackboard["map"]["description"]
+    assert blackboard["map"] == {"type": "str", "description": "Set by the caller: nothing in "
+                                 "t.xml writes it; read by <Mover> port 'map'."}
+    assert blackboard["target"]["description"] == ("Written by <Writer> port 'out'; read by "
+                                                   "<Mover> port 'goal'.")
+
+
+def test_a_subtree_without_autoremap_declares_its_private_entries(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xml = tmp_path / "private.xml"
+    xml.write_text('<root main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
+                   '<Source out="{plan}"/><SubTree ID="Go" path="{plan}"/></Sequence>'
+                   '</BehaviorTree><BehaviorTree ID="Go"><Sequence><Smooth in="{path}" '
+                   'out="{smooth}"/><Follow path="{smooth}"/></Sequence></BehaviorTree>'
+                   '<TreeNodesModel><Action ID="Smooth"><input_port name="in"/><output_port '
+                   'name="out"/></Action></TreeNodesModel></root>')
+    tree = tmp_path / "private.yaml"
+    assert main(["import", str(xml), "--scaffold", str(tmp_path / "leaves"), "-o",
+                 str(tree)]) == 0, capsys.readouterr().err
+    text = tree.read_text()
+    assert "blackboard:\n      smooth: {type: any, description: 'Written by <Smooth> port" in text
+    assert "ports:\n      path: {direction: input, type: any}" in text
 
 
 def test_a_mandatory_subtree_port_left_out_is_refused_as_bt_cpp_refuses_it(
@@ -191,7 +211,7 @@ def test_unknown_leaves_are_drafted_with_guessed_or_modelled_ports(tmp_path: Pat
         </Sequence></BehaviorTree></root>
     """, tmp_path, models=read_palette(str(PALETTE))[0])
     assert fixed.document is not None
-    children = fixed.document["root"]["sequence"]["children"]
+    children = fixed.document["root"]["Sequence"]["children"]
     assert children == [{"Probe": {"hz": 1.0, "target": "{goal}"}}, {"Probe": {"hz": 2.5}},
                         {"Spin": {"spin_dist": 1.57}}]
     text = scaffold_module(list(fixed.drafts.values()), "t.xml")
@@ -268,14 +288,14 @@ def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     result = import_btcpp(read_xml(xml), str(xml), default_registry())
     assert result.problems == []
     assert result.document is not None
-    children = result.document["root"]["sequence"]["children"]
+    children = result.document["root"]["Sequence"]["children"]
     assert children[1] == {"subtree": {"tree": "Talk", "ports": {"param": "{myParam}"}}}
     assert children[4] == {"subtree": {"tree": "Talk", "autoremap": True}}
 
 
-@pytest.mark.xfail(strict=True, reason="the ports branch's validator does not yet insert "
-                   "'subtree: {tree, ports, autoremap}' (semantics.py drops it, so the spec "
-                   "and the export lose the SubTree)")
+@pytest.mark.xfail(strict=True, reason="the spec keeps no insertion ports: "
+                   "semantics.expand sets only NodeSpec.subtree on the inserted copy, so the "
+                   "export cannot write <SubTree ID=... port=...> (ports branch)")
 def test_subtree_ports_survive_import_and_export(tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
     xml = tmp_path / "ports.xml"

@@ -1,0 +1,145 @@
+"""BehaviorTree.CPP 4's and Nav2's nodes as node kinds, keyed by their BT.CPP IDs.
+
+A tree file writes them as BT.CPP names them (``SequenceWithMemory``, ``Parallel``,
+``RecoveryNode``), with BT.CPP's port names as attributes; each builds the behaviour of
+:mod:`sar_framework.engine.controls` that ticks like the original. The snake_case kinds
+of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' own
+behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
+py_trees' semantics and the BT.CPP key BT.CPP's.
+
+Ports here are literals; the blackboard nodes (Switch, SetBlackboard, UnsetBlackboard,
+SkipUnlessUpdated, WaitValueUpdate) name variables, written ``"{name}"`` or ``name``.
+"""
+
+from __future__ import annotations
+
+from sar_framework.engine.kind_model import Attr, AttrType, NodeKind, name_attr
+from sar_framework.engine.spec import Category
+
+#: Where a kind comes from, for the docs and the export.
+NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
+                        "SingleTrigger"})
+#: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
+ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key"})
+#: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
+SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "ReactiveSequence": "[-]",
+           "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
+           "ParallelAll": "/_/", "PipelineSequence": "[-]", "RecoveryNode": "{o}",
+           "RoundRobin": "{o}"}
+#: Switch2..Switch6: the number of cases of each.
+SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
+
+
+def _children(minimum: int = 1, maximum: int | None = None, text: str = "") -> Attr:
+    return Attr("children", AttrType.NODES, required=True, min_items=minimum,
+                max_items=maximum, description=text or "The child nodes, in order.")
+
+
+_CHILD = Attr("child", AttrType.NODE, required=True, description="The decorated node.")
+
+
+def _int(name: str, text: str, *, default: int | None = None, minimum: int | None = None
+         ) -> Attr:
+    return Attr(name, AttrType.INTEGER, required=default is None, default=default,
+                minimum=minimum, description=text)
+
+
+def _text(name: str, text: str) -> Attr:
+    return Attr(name, AttrType.STRING, required=True, min_length=1, description=text)
+
+
+def _control(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
+    return NodeKind(key, Category.COMPOSITE, key, text,
+                    (name_attr(key), *attrs, children or _children()))
+
+
+def _decorator(key: str, text: str, *attrs: Attr) -> NodeKind:
+    return NodeKind(key, Category.DECORATOR, key, text, (name_attr(key), *attrs, _CHILD))
+
+
+def _leaf(key: str, text: str, *attrs: Attr) -> NodeKind:
+    return NodeKind(key, Category.LEAF, key, text, (name_attr(key), *attrs))
+
+
+def _switch(key: str, cases: int) -> NodeKind:
+    case_attrs = [_text(f"case_{i}", f"The value that selects child {i}.")
+                  for i in range(1, cases + 1)]
+    return _control(
+        key, f"Tick the child of the first of {cases} cases the variable matches, else the "
+        "last child.",
+        _text("variable", "The variable compared with the cases: '{name}' (or a literal)."),
+        *case_attrs,
+        children=_children(cases + 1, cases + 1, f"One child per case, then the default "
+                           f"({cases + 1} children)."),
+    )
+
+
+_BRANCHES = _children(2, 3, "The condition, the then-branch and an optional else-branch.")
+_THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
+
+CONTROL_KINDS: tuple[NodeKind, ...] = (
+    _control("Sequence", "Children in order until one fails; resumes at a running child."),
+    _control("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
+             "time instead of the first."),
+    _control("ReactiveSequence", "Every tick from the first child; a failure stops, a "
+             "running child halts the others."),
+    _control("Fallback", "Children in order until one succeeds; resumes at a running child."),
+    _control("ReactiveFallback", "Every tick from the first child; a success stops, a running "
+             "child halts the others."),
+    _control("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
+             "threshold is reached.",
+             _int("success_count", "Successes needed" + _THRESHOLD, default=-1),
+             _int("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
+    _control("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
+             "when max_failures failed.",
+             _int("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
+    _control("IfThenElse", "The condition once, then the branch it chose until that "
+             "completes.", children=_BRANCHES),
+    _control("WhileDoElse", "The condition every tick, then its branch; switching halts the "
+             "other branch.", children=_BRANCHES),
+    *(_switch(key, cases) for key, cases in SWITCH_CASES.items()),
+    _control("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
+             "then the first again.",
+             _int("number_of_retries", "Recoveries allowed before failing.", default=1,
+                  minimum=0),
+             children=_children(2, 2, "The action, then its recovery.")),
+    _control("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
+             "later one runs."),
+    _control("RoundRobin", "Nav2: one child at a time, the next one after each completion."),
+    _decorator("Inverter", "SUCCESS becomes FAILURE and FAILURE SUCCESS."),
+    _decorator("ForceSuccess", "A completed child gives SUCCESS."),
+    _decorator("ForceFailure", "A completed child gives FAILURE."),
+    _decorator("KeepRunningUntilFailure", "RUNNING until the child fails."),
+    _decorator("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
+               _int("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
+    _decorator("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
+               _int("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
+    _decorator("RunOnce", "Tick the child until it completes once; then skip, or repeat "
+               "that result.",
+               Attr("then_skip", AttrType.BOOLEAN, default=True,
+                    description="After the first completion: SKIPPED (true) or the same "
+                    "result (false).")),
+    _decorator("Delay", "RUNNING for delay_msec, then tick the child.",
+               _int("delay_msec", "Milliseconds before the child's first tick.", minimum=0)),
+    _decorator("Timeout", "Halt the child and fail if it still runs after msec.",
+               _int("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
+    _decorator("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
+               "tick of the child.", _text("entry", "The watched variable: '{name}'.")),
+    _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
+               "of the child.", _text("entry", "The watched variable: '{name}'.")),
+    _decorator("RateController", "Nav2: tick the child at most hz times a second (a running "
+               "child every tick).",
+               Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
+                    description="Child ticks per second.")),
+    _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
+               "the node is reset."),
+    _leaf("AlwaysSuccess", "SUCCESS."),
+    _leaf("AlwaysFailure", "FAILURE."),
+    _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",
+          _int("msec", "Milliseconds to wait.", minimum=0)),
+    _leaf("SetBlackboard", "Write value (a literal, or '{entry}' to copy one) to output_key.",
+          Attr("value", AttrType.STRING, required=True,
+               description="The value written: a literal, or '{name}' to copy that entry."),
+          _text("output_key", "The variable written.")),
+    _leaf("UnsetBlackboard", "Remove the variable key.", _text("key", "The variable removed.")),
+)

@@ -1,0 +1,134 @@
+"""The shape of a node kind: its attributes, their types and the rules between them.
+
+:mod:`.node_kinds` (py_trees' composites and decorators) and :mod:`.control_kinds`
+(BT.CPP's and Nav2's nodes) declare their kinds with these classes; the validator, the
+schema and the docs read them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+from sar_framework.engine.ports import Port
+from sar_framework.engine.spec import Category
+
+
+class AttrType(str, Enum):
+    """The value type of an attribute, as the validator and the schema see it."""
+
+    STRING = "string"
+    INTEGER = "integer"
+    NUMBER = "number"
+    BOOLEAN = "boolean"
+    NODE = "node"
+    NODES = "nodes"
+    STRINGS = "strings"
+    PORT = "port"
+
+
+#: Python param type -> attribute type.
+PARAM_ATTR_TYPES: dict[type, AttrType] = {
+    str: AttrType.STRING,
+    int: AttrType.INTEGER,
+    float: AttrType.NUMBER,
+    bool: AttrType.BOOLEAN,
+}
+
+
+@dataclass(frozen=True)
+class Attr:
+    """One attribute of a node kind (or one param of a leaf plugin).
+
+    Attributes:
+        name: The key in the tree file.
+        type: The value type.
+        required: Whether the key must be present.
+        default: The value when absent (ignored when required).
+        description: One line for docs and editor hover text.
+        enum: The allowed values, when the set is closed.
+        minimum: Inclusive lower bound (numbers).
+        maximum: Inclusive upper bound (numbers).
+        exclusive_minimum: Exclusive lower bound (numbers).
+        excluded: Values forbidden even inside the range (e.g. ``0`` for ``num_success``).
+        min_items: Minimum length of a list value.
+        max_items: Maximum length of a list value.
+        min_length: Minimum length of a string value.
+        nullable: Whether ``null`` is accepted (a param defaulting to None).
+        ref: For a reference param: the plugin name the referenced leaf must have.
+        port: For a leaf's port: its declaration (the value binds it, see :mod:`.ports`).
+    """
+
+    name: str
+    type: AttrType
+    required: bool = False
+    default: Any = None
+    description: str = ""
+    enum: tuple[Any, ...] | None = None
+    minimum: float | None = None
+    maximum: float | None = None
+    exclusive_minimum: float | None = None
+    excluded: tuple[Any, ...] = ()
+    min_items: int | None = None
+    max_items: int | None = None
+    min_length: int | None = None
+    nullable: bool = False
+    ref: str | None = None
+    port: Port | None = None
+
+
+@dataclass(frozen=True)
+class Rule:
+    """A conditional attribute rule: ``attr`` depends on the value of ``if_attr``.
+
+    When ``if_attr`` equals ``equals``, ``then`` applies to ``attr``; otherwise
+    ``otherwise`` does. Each is ``"required"``, ``"forbidden"`` or None.
+
+    Attributes:
+        attr: The constrained attribute.
+        if_attr: The attribute whose value decides.
+        equals: The deciding value.
+        then: What applies to ``attr`` when ``if_attr == equals``.
+        otherwise: What applies otherwise (also when ``if_attr`` is absent).
+    """
+
+    attr: str
+    if_attr: str
+    equals: Any
+    then: str | None = None
+    otherwise: str | None = None
+
+
+@dataclass(frozen=True)
+class NodeKind:
+    """A composite, decorator or built-in leaf kind.
+
+    Attributes:
+        key: The key in a tree file (``sequence``, ``one_shot``).
+        category: Composite, decorator or (built-in) leaf.
+        class_name: The py_trees class it builds (``Sequence``, ``OneShot``); also the
+            default ``name``.
+        description: One line for docs and the schema.
+        attrs: Every attribute, ``name`` and ``child``/``children`` included.
+        rules: Conditional rules between attributes.
+    """
+
+    key: str
+    category: Category
+    class_name: str
+    description: str
+    attrs: tuple[Attr, ...]
+    rules: tuple[Rule, ...] = ()
+
+    def attr(self, name: str) -> Attr | None:
+        """Return the attribute called ``name``, or None."""
+        for a in self.attrs:
+            if a.name == name:
+                return a
+        return None
+
+
+def name_attr(default: str) -> Attr:
+    """The ``name`` attribute every kind has, defaulting to ``default``."""
+    return Attr("name", AttrType.STRING, default=default, description="The behaviour's name.")

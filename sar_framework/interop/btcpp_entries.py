@@ -15,6 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from sar_framework.interop.btcpp_models import NodeModel, convert_literal
+
 
 @dataclass(frozen=True)
 class Use:
@@ -171,3 +173,45 @@ def subtree_ports(tree: str, trees: dict[str, TreeUses], passed: list[str],
             entry["default"] = defaults[name]
         declared[name] = entry
     return declared
+
+
+def subtree_definition(tree: str, body: Any, trees: dict[str, TreeUses], *,
+                       insertions: list[Insertion], uses_written: list[dict[str, Any]],
+                       model: NodeModel | None, source: str) -> Any:
+    """A subtree's definition: its root, or the long form when it has ports.
+
+    Args:
+        tree: The subtree's ID.
+        body: Its root node, imported.
+        trees: Every tree's uses.
+        insertions: Every ``<SubTree ID=tree>`` of the file.
+        uses_written: The ``subtree: {tree, ports}`` bodies written for those insertions;
+            their literal port values are converted to the declared port types.
+        model: Its ``<SubTree>`` model, if any.
+        source: The file it is defined in, for descriptions.
+
+    Returns:
+        ``body``, or ``{ports, blackboard (private entries, when no insertion
+        autoremaps), root}``.
+    """
+    passed = list(dict.fromkeys(name for i in insertions for name in i.ports))
+    defaults = {p.name: p.default for p in model.ports if p.default is not None} \
+        if model is not None and model.category == "SubTree" else {}
+    if not passed and not defaults:
+        return body
+    ports = subtree_ports(tree, trees, passed, defaults)
+    for entry in ports.values():
+        if "default" in entry and entry_key(entry["default"]) is None:
+            entry["default"] = convert_literal(entry["default"], entry["type"])
+    for use in uses_written:
+        for name, value in use.get("ports", {}).items():
+            if name in ports and entry_key(value) is None:
+                use["ports"][name] = convert_literal(value, ports[name]["type"])
+    definition: dict[str, Any] = {"ports": ports}
+    if not any(i.autoremap for i in insertions):
+        private = blackboard_declarations(effective_uses(tree, trees), source,
+                                          skip=frozenset(ports))
+        if private:
+            definition["blackboard"] = private
+    definition["root"] = body
+    return definition

@@ -26,7 +26,6 @@ import yaml
 from sar_framework.engine.control_kinds import ENTRY_PORTS
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
-from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
 from sar_framework.interop.btcpp_entries import (
@@ -36,11 +35,18 @@ from sar_framework.interop.btcpp_entries import (
     blackboard_declarations,
     effective_uses,
     entry_key,
-    subtree_ports,
+    subtree_definition,
     unwritten,
 )
 from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
-from sar_framework.interop.btcpp_models import NodeModel, PortModel, convert_literal
+from sar_framework.interop.btcpp_models import (
+    NodeModel,
+    PortModel,
+    clashes,
+    convert_literal,
+    missing_ports,
+    plugin_ports,
+)
 from sar_framework.interop.btcpp_scaffold import LeafDraft
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
@@ -70,23 +76,6 @@ class ImportResult:
     problems: list[Problem] = field(default_factory=list)
     drafts: dict[str, LeafDraft] = field(default_factory=dict)
     warnings: list[Problem] = field(default_factory=list)
-
-
-def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
-    """A registered plugin's declared ports (``@leaf(ports=[...])``), as port models."""
-    return {port.name: PortModel(port.name, port.direction.value, port.type, None,
-                                 None if port.default is NO_DEFAULT else str(port.default),
-                                 port.description) for port in plugin.ports}
-
-
-def _missing(plugin: PluginSpec, model: NodeModel) -> list[str]:
-    names = {p.name for p in plugin.params} | {p.name for p in plugin.ports} | {"id", "name"}
-    return [port.name for port in model.ports if port.name not in names]
-
-
-def _clashes(plugin: PluginSpec, model: NodeModel) -> bool:
-    """Whether a model describes another node than the registered plugin of its name."""
-    return model.is_leaf and bool(_missing(plugin, model))
 
 
 class _Importer:
@@ -169,15 +158,15 @@ class _Importer:
         model = self.source.models.get(tag)
         if plugin is None:
             return self.unknown(element, tag, ports)
-        if model is None or not _clashes(plugin, model):
+        if model is None or not clashes(plugin, model):
             return self.leaf(element, tag, plugin, ports)
         alias = ALIAS_PREFIX + tag
         if tag not in self.drafts:
             self.warnings.append(Problem(
                 self.file, element.line, element.column, f"<{tag}> is not the registered "
                 f"plugin '{tag}': its model ({model.where.file}:{model.where.line}) declares "
-                f"ports the plugin lacks ({', '.join(_missing(plugin, model))}); scaffolded as "
-                f"'{alias}'", "warning"))
+                f"ports the plugin lacks ({', '.join(missing_ports(plugin, model))}); "
+                f"scaffolded as '{alias}'", "warning"))
         return self.unknown(element, tag, ports, alias)
 
     def kind_uses(self, kind: NodeKind, tag: str, attrs: dict[str, Any]) -> None:
@@ -376,41 +365,19 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     main_uses = effective_uses(main_tree, importer.uses)
     if unwritten(main_uses):
         document["blackboard"] = blackboard_declarations(main_uses, Path(file).name)
-    subtrees = {name: _definition(name, body, importer) for name, body in bodies.items()
-                if name != main_tree}
+    subtrees = {}
+    for name, body in bodies.items():
+        if name != main_tree:
+            insertions = [i for uses in importer.uses.values() for i in uses.insertions
+                          if i.tree == name]
+            subtrees[name] = subtree_definition(
+                name, body, importer.uses, insertions=insertions,
+                uses_written=importer.subtree_bodies.get(name, []),
+                model=source.models.get(name), source=Path(source.trees[name].file).name)
     if subtrees:
         document["subtrees"] = subtrees
     document["root"] = bodies[main_tree]
     return ImportResult(document, [], drafts, importer.warnings)
-
-
-def _definition(tree: str, body: Any, importer: _Importer) -> Any:
-    """A subtree's definition: its root, or the long form when it has ports."""
-    insertions = [i for uses in importer.uses.values() for i in uses.insertions
-                  if i.tree == tree]
-    passed = list(dict.fromkeys(name for i in insertions for name in i.ports))
-    model = importer.source.models.get(tree)
-    defaults = {p.name: p.default for p in model.ports if p.default is not None} \
-        if model is not None and model.category == "SubTree" else {}
-    if not passed and not defaults:
-        return body
-    ports = subtree_ports(tree, importer.uses, passed, defaults)
-    for entry in ports.values():
-        if "default" in entry and entry_key(entry["default"]) is None:
-            entry["default"] = convert_literal(entry["default"], entry["type"])
-    for use in importer.subtree_bodies.get(tree, []):
-        for name, value in use.get("ports", {}).items():
-            if name in ports and entry_key(value) is None:
-                use["ports"][name] = convert_literal(value, ports[name]["type"])
-    definition: dict[str, Any] = {"ports": ports}
-    if not any(i.autoremap for i in insertions):
-        private = blackboard_declarations(effective_uses(tree, importer.uses),
-                                          Path(importer.source.trees[tree].file).name,
-                                          skip=frozenset(ports))
-        if private:
-            definition["blackboard"] = private
-    definition["root"] = body
-    return definition
 
 
 def document_yaml(document: dict[str, Any], source: str) -> str:

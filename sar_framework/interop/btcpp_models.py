@@ -18,6 +18,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from sar_framework.engine.plugin import PluginSpec
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.interop.xml_source import Element, Problem
 
 #: The elements of a ``<TreeNodesModel>`` that declare a node.
@@ -230,3 +232,21 @@ def widen(first: str, second: str) -> str:
     if {first, second} == {"int", "float"}:
         return "float"
     return "str"
+
+
+def plugin_ports(plugin: PluginSpec) -> dict[str, PortModel]:
+    """A registered plugin's declared ports (``@leaf(ports=[...])``), as port models."""
+    return {port.name: PortModel(port.name, port.direction.value, port.type, None,
+                                 None if port.default is NO_DEFAULT else str(port.default),
+                                 port.description) for port in plugin.ports}
+
+
+def missing_ports(plugin: PluginSpec, model: NodeModel) -> list[str]:
+    """The model's ports the plugin has neither as a param nor as a port (nor ``id``)."""
+    names = {p.name for p in plugin.params} | {p.name for p in plugin.ports} | {"id", "name"}
+    return [port.name for port in model.ports if port.name not in names]
+
+
+def clashes(plugin: PluginSpec, model: NodeModel) -> bool:
+    """Whether a model describes another node than the registered plugin of its name."""
+    return model.is_leaf and bool(missing_ports(plugin, model))

@@ -19,8 +19,10 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from py_trees.common import Status
 
 from sar_framework.cli import main
+from sar_framework.engine.api import load_tree
 from sar_framework.interop.btcpp_file import read_palette
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED
 from sar_framework.interop.xml_source import Element, read_xml
@@ -130,3 +132,18 @@ def test_nav2_wait_is_not_our_wait(tmp_path: Path, capsys: pytest.CaptureFixture
             f"({PALETTE}:") in err
     assert "scaffolded as 'BtcppWait'" in err
     assert "BtcppWait: {wait_duration: 5.0}" in tree.read_text()
+
+
+def test_scaffolded_leaves_build_and_fail_saying_they_are_not_written(tmp_path: Path) -> None:
+    xml = next(p for p in NAVIGATORS if p.stem == "odometry_calibration")
+    tree = tmp_path / "odometry.yaml"
+    assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
+                 str(tmp_path / "leaves"), "-o", str(tree)]) == 0
+    loaded = load_tree(tree, {})
+    loaded.root.tick_once()
+    assert loaded.root.status == Status.FAILURE
+    first = next(b for b in loaded.root.iterate() if b.name == "DriveOnHeading")
+    assert first.status == Status.FAILURE
+    assert first.feedback_message == ("DriveOnHeading is scaffolded: its behaviour is not "
+                                      "written yet")
+    assert first.ports.get("dist_to_travel") == 2.0  # type: ignore[attr-defined]

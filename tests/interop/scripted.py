@@ -17,9 +17,12 @@ from pathlib import Path
 import py_trees
 from py_trees.common import Status
 
-from sar_framework.engine.api import load_tree
+from sar_framework.engine.api import load_spec, load_tree
+from sar_framework.engine.clock_timeout import CLOCK_KEY
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry
+from sar_framework.engine.skipping import was_skipped
+from sar_framework.interop.btcpp_export import export_btcpp
 
 Script = dict[str, list[str]]
 
@@ -66,19 +69,41 @@ def scripted_registry(plugins: Iterable[PluginSpec]) -> Registry:
     return registry
 
 
+class StepClock:
+    """A clock that moves ``step`` seconds each time :meth:`advance` is called."""
+
+    def __init__(self, step: float) -> None:
+        self.step = step
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+    def advance(self) -> None:
+        self.now += self.step
+
+
 def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
-                 *, all_ticks: bool = False) -> list[str]:
+                 *, all_ticks: bool = False, tick_seconds: float = 0.0) -> list[str]:
     """Load ``tree`` with ``registry`` (our loader) and tick it; return the transcript.
 
     Ticking stops when the root finishes, or, with ``all_ticks``, after ``max_ticks``.
+    With ``tick_seconds``, the tree's clock advances that much after each tick. The
+    blackboard is cleared first; a root that returns SKIPPED is reported SKIPPED.
     """
-    context = {key: None for plugin in registry for key in plugin.context}
+    context: dict[str, object] = {key: None for plugin in registry for key in plugin.context}
+    clock = StepClock(tick_seconds)
+    if tick_seconds:
+        context[CLOCK_KEY] = clock
+    py_trees.blackboard.Blackboard.clear()
     loaded = load_tree(tree, context, registry=registry)
     state = ScriptedLeaf.state = ScriptState(script)
     try:
         for tick in range(1, max_ticks + 1):
             loaded.root.tick_once()
-            state.lines.append(f"tick {tick} {loaded.root.status.name}")
+            shown = "SKIPPED" if was_skipped(loaded.root) else loaded.root.status.name
+            state.lines.append(f"tick {tick} {shown}")
+            clock.advance()
             if loaded.root.status != Status.RUNNING and not all_ticks:
                 break
     finally:
@@ -87,12 +112,13 @@ def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
 
 
 def run_checker(checker: Path, xml: Path, script: Script, max_ticks: int,
-                *, all_ticks: bool = False) -> list[str]:
+                *, all_ticks: bool = False, tick_seconds: float = 0.0) -> list[str]:
     """Run the BT.CPP checker on ``xml``; return its transcript (after the models line)."""
     script_file = xml.with_suffix(".script")
     script_file.write_text("".join(f"{name} {' '.join(s)}\n" for name, s in script.items()))
     done = subprocess.run([str(checker), str(xml), str(script_file), str(max_ticks),
-                           *(["all"] if all_ticks else [])],
+                           *(["all"] if all_ticks else []),
+                           *([f"sleep={round(tick_seconds * 1000)}"] if tick_seconds else [])],
                           capture_output=True, text=True, timeout=60, check=False)
     assert done.returncode == 0, f"BT.CPP refused {xml}:\n{done.stderr}\n{xml.read_text()}"
     lines = done.stdout.splitlines()
@@ -103,3 +129,26 @@ def run_checker(checker: Path, xml: Path, script: Script, max_ticks: int,
 def visits_and_result(lines: list[str]) -> list[str]:
     """The leaf visits and the last root status (tick counts left out)."""
     return [line for line in lines if line.startswith("visit ")] + [lines[-1].split()[-1]]
+
+
+def compare(tree: Path, registry: Registry, checker: Path, script: Script,
+            *, max_ticks: int = 40, exact_ticks: bool = True, all_ticks: bool = False,
+            export_from: Path | None = None, tick_seconds: float = 0.0) -> list[str]:
+    """Export ``tree``, tick it on both sides, assert the transcripts match; return ours.
+
+    ``export_from`` is the file to export when ``tree`` is a copy without local plugins;
+    ``tick_seconds`` is the time between ticks (slept by the checker, simulated here).
+    """
+    spec = load_spec(export_from or tree, registry=registry)
+    xml = tree.with_suffix(".xml")
+    xml.write_text(export_btcpp(spec, registry))
+    scripted = scripted_registry(registry)
+    ours = run_py_trees(tree, scripted, script, max_ticks, all_ticks=all_ticks,
+                        tick_seconds=tick_seconds)
+    theirs = run_checker(checker, xml, script, max_ticks, all_ticks=all_ticks,
+                         tick_seconds=tick_seconds)
+    if exact_ticks:
+        assert theirs == ours
+    else:
+        assert visits_and_result(theirs) == visits_and_result(ours)
+    return ours

@@ -16,41 +16,15 @@ from pathlib import Path
 
 import pytest
 
-from interop.scripted import (
-    Script,
-    run_checker,
-    run_py_trees,
-    scripted_registry,
-    visits_and_result,
-)
+from interop.scripted import Script, compare
 from sar_framework.engine.api import load_spec
-from sar_framework.engine.registry import Registry, default_registry, discover, extend
+from sar_framework.engine.registry import default_registry, discover, extend
 from sar_framework.interop.btcpp_export import export_btcpp
 
 # The first test that needs the checker builds BehaviorTree.CPP (2-3 min on 2 busy cores).
 pytestmark = pytest.mark.timeout(1200)
 REPO = Path(__file__).resolve().parents[2]
 GENERIC = REPO / "tests" / "engine" / "plugins_for_tests" / "generic"
-
-
-def compare(tree: Path, registry: Registry, checker: Path, script: Script,
-            *, max_ticks: int = 40, exact_ticks: bool = True,
-            all_ticks: bool = False, export_from: Path | None = None) -> list[str]:
-    """Export ``tree``, tick it on both sides, assert the transcripts match; return ours.
-
-    ``export_from`` is the file to export when ``tree`` is a copy without local plugins.
-    """
-    spec = load_spec(export_from or tree, registry=registry)
-    xml = tree.with_suffix(".xml")
-    xml.write_text(export_btcpp(spec, registry))
-    scripted = scripted_registry(registry)
-    ours = run_py_trees(tree, scripted, script, max_ticks, all_ticks=all_ticks)
-    theirs = run_checker(checker, xml, script, max_ticks, all_ticks=all_ticks)
-    if exact_ticks:
-        assert theirs == ours
-    else:
-        assert visits_and_result(theirs) == visits_and_result(ours)
-    return ours
 
 
 SAR_SCRIPTS = {

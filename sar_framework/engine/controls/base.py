@@ -13,7 +13,8 @@ BehaviorTree.CPP and py_trees disagree on three things these base classes reconc
   (py_trees ``stop(Status.INVALID)``), any other child only has its status reset to IDLE
   (no ``terminate`` call, no recursion). A node of ours stopped with ``INVALID`` while
   running runs its own :meth:`BtControl.halt` (BT.CPP's ``halt()``); stopped while not
-  running it only becomes IDLE.
+  running it only becomes IDLE. A root that completes becomes IDLE too, as BT.CPP's
+  ``Tree::tickRoot`` resets it.
 
 Subclasses write one generator, ``control()`` (composites) or ``decorate()``
 (decorators), that ticks children with ``yield from self.tick_child(child)`` and returns
@@ -136,6 +137,8 @@ class _BtNode:
         mark_skipped(self, result is Outcome.SKIPPED)
         if result is not Outcome.SKIPPED:
             self.bt_status = status
+        if self.parent is None and result.completed:  # type: ignore[attr-defined]
+            self.bt_status = Status.INVALID  # BT.CPP's tickRoot resets a finished root
         if status != Status.RUNNING:
             self.terminate(status)  # type: ignore[attr-defined]
         self.status = status
@@ -214,6 +217,10 @@ class BtDecorator(_BtNode, py_trees.decorators.Decorator):
     def decorate(self) -> Steps:
         """Tick the child as the node's BT.CPP counterpart does; return the outcome."""
         raise NotImplementedError
+
+    def update(self) -> Status:
+        """Unused (:meth:`decorate` decides); py_trees' Decorator declares it abstract."""
+        return self.status
 
     def tick_child(self) -> Steps:
         """Tick the decorated child; return its outcome."""

@@ -1,6 +1,6 @@
 // btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
 //
-// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all]
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [sleep=MSEC]
 //
 // Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
@@ -10,6 +10,7 @@
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
 // line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
 // with "all", MAX_TICKS times (a finished root starts over, as a mission runner ticks it).
+// With "sleep=MSEC" it sleeps MSEC milliseconds after each tick (for Delay, Timeout, Sleep).
 // Output: "visit NAME STATUS" for every leaf tick and "tick N STATUS" after each tick.
 #include <behaviortree_cpp/action_node.h>
 #include <behaviortree_cpp/bt_factory.h>
@@ -18,6 +19,7 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -25,6 +27,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 using BT::NodeStatus;
@@ -378,9 +381,22 @@ int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Sc
 
 int main(int argc, char** argv)
 {
-  if(argc != 4 && !(argc == 5 && std::string(argv[4]) == "all"))
+  bool all_ticks = false;
+  int sleep_msec = 0;
+  bool usage = argc < 4;
+  for(int i = 4; i < argc; ++i)
   {
-    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all]\n";
+    const std::string option = argv[i];
+    if(option == "all")
+      all_ticks = true;
+    else if(option.rfind("sleep=", 0) == 0)
+      sleep_msec = std::stoi(option.substr(6));
+    else
+      usage = true;
+  }
+  if(usage)
+  {
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [sleep=MSEC]\n";
     return 2;
   }
   try
@@ -398,9 +414,13 @@ int main(int argc, char** argv)
     {
       const NodeStatus status = tree.tickExactlyOnce();
       std::cout << "tick " << tick << " " << BT::toStr(status) << "\n";
-      if(status != NodeStatus::RUNNING && argc == 4)
+      if(status != NodeStatus::RUNNING && !all_ticks)
       {
         break;
+      }
+      if(sleep_msec > 0)
+      {
+        std::this_thread::sleep_for(std::chrono::milliseconds(sleep_msec));
       }
     }
   }

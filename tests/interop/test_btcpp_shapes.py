@@ -308,3 +308,40 @@ def test_subtree_ports_survive_import_and_export(tmp_path: Path,
                  str(tree)]) == 0, capsys.readouterr().err
     assert main(["export", str(tree), "-o", str(back)]) == 0, capsys.readouterr().err
     assert '<SubTree ID="Go" goal="{target}" _autoremap="true"' in back.read_text()
+
+
+def test_without_scaffold_unknown_leaves_are_warnings_and_the_tree_is_still_checked(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xml = tmp_path / "probe.xml"
+    xml.write_text('<root><BehaviorTree ID="t"><Sequence>\n<Probe hz="1"/>\n'
+                   '<Wait duration="{n}"/></Sequence></BehaviorTree></root>')
+    assert main(["import", str(xml)]) == 1
+    assert "'duration' of <Wait> is a param, not a port" in capsys.readouterr().err
+    xml.write_text('<root><BehaviorTree ID="t">\n<Probe hz="1"/></BehaviorTree></root>')
+    assert main(["import", str(xml), "-o", str(tmp_path / "probe.yaml")]) == 0
+    err = capsys.readouterr().err
+    assert f"{xml}:2:1: warning: no plugin provides <Probe>; --scaffold DIR writes one" in err
+    assert "plugins" not in (tmp_path / "probe.yaml").read_text()
+
+
+@pytest.mark.parametrize(("xml", "message"), [
+    ('<root main_tree_to_execute="A"><BehaviorTree ID="A"><Tick/></BehaviorTree>'
+     '<BehaviorTree ID="B"><Tick/></BehaviorTree></root>',
+     "t.xml:1:1: error: --main B, but the file says main_tree_to_execute=\"A\""),
+    ('<root><BehaviorTree ID="A"><Tick/></BehaviorTree><BehaviorTree ID="A"><Tick/>'
+     '</BehaviorTree></root>', "t.xml:1:50: error: a second <BehaviorTree ID=\"A\"> (the first "
+     "is at "),
+    ('<root><BehaviorTree ID="A"><Tick/></BehaviorTree><TreeNodesModel/><TreeNodesModel/>'
+     '</root>', "t.xml:1:67: error: a second <TreeNodesModel> (BT.CPP: 'Only a single node"),
+    ('<root><BehaviorTree ID="A"><Tick/></BehaviorTree><Junk/></root>',
+     "t.xml:1:50: error: unexpected <Junk> under <root>"),
+    ('<root><include/><BehaviorTree ID="A"><Tick/></BehaviorTree></root>',
+     "t.xml:1:7: error: <include> needs a path"),
+    ('<root><include path="x.xml" ros_pkg="no_such_pkg"/><BehaviorTree ID="A"><Tick/>'
+     '</BehaviorTree></root>', "t.xml:1:7: error: <include ros_pkg=\"no_such_pkg\">: no "
+     "share/no_such_pkg under $AMENT_PREFIX_PATH"),
+])
+def test_file_shape_problems_name_their_place(xml: str, message: str, tmp_path: Path) -> None:
+    result = run(xml, tmp_path, main="B")
+    assert any(line.startswith(message) for line in errors(result, tmp_path)), \
+        errors(result, tmp_path)

@@ -74,6 +74,22 @@ def _switch(key: str, cases: int) -> NodeKind:
     )
 
 
+#: The threshold ports of the parallels, which must not exceed the number of children.
+_THRESHOLDS = {"Parallel": ("success_count", "failure_count"), "ParallelAll": ("max_failures",)}
+
+
+def threshold_problem(kind: str, attrs: dict[str, object], children: int) -> str | None:
+    """Why a parallel's threshold can never be reached with ``children``, or None."""
+    for port in _THRESHOLDS.get(kind, ()):
+        value = attrs.get(port)
+        if isinstance(value, int) and not isinstance(value, bool):
+            needed = max(children + value + 1, 0) if value < 0 else value
+            if needed > children:
+                return (f"'{port}' {value} is more than the {children} children of this "
+                        f"{kind}: it could never be reached")
+    return None
+
+
 _BRANCHES = _children(2, 3, "The condition, the then-branch and an optional else-branch.")
 _THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
 

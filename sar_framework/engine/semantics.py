@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from sar_framework.engine.bindings import PORT_LOC, Bindings
+from sar_framework.engine.control_kinds import threshold_problem
 from sar_framework.engine.diagnostics import (
     SourceLocation,
     did_you_mean,
@@ -265,8 +266,9 @@ class Semantics(TreeFiles):
                 self.pending_refs.append((spec, scope))
             if decl.ports:
                 self.bindings.bind_leaf(spec, decl.ports, scope.data, self.value_locs)
-        elif spec.kind == "parallel" and spec.attrs.get("selected") is not None:
-            self.check_selected(spec)
+        else:
+            self.check_children(spec)
+
     def expand(
         self, node: NodeSpec, uid: str, scope: Scope, chain: tuple[str, ...], depth: int
     ) -> NodeSpec | None:
@@ -312,12 +314,8 @@ class Semantics(TreeFiles):
         if len(children) != len(node.children):
             self.incomplete.add(id(node))
         node.children = children
-        if (
-            node.kind == "parallel"
-            and node.attrs.get("selected") is not None
-            and id(node) not in self.incomplete
-        ):
-            self.check_selected(node)
+        if id(node) not in self.incomplete:
+            self.check_children(node)
         return node
 
     def subtree_cycles(self, node: NodeSpec | None, chain: tuple[str, ...], done: set[str]) -> None:
@@ -344,6 +342,14 @@ class Semantics(TreeFiles):
                                 f"duplicate id '{node.id}' (first used at {first.location})")
         else:
             scope.ids[node.id] = node  # type: ignore[index]
+
+    def check_children(self, node: NodeSpec) -> None:
+        """Check what a composite's attributes say about its children."""
+        if node.kind == "parallel" and node.attrs.get("selected") is not None:
+            self.check_selected(node)
+        problem = threshold_problem(node.kind, node.attrs, len(node.children))
+        if problem is not None:
+            self.error(node.location, problem)
 
     def check_selected(self, node: NodeSpec) -> None:
         """Report ``selected`` names that are not exactly one child of the parallel."""

@@ -177,7 +177,7 @@ def test_run_once_latch_survives_a_halt() -> None:
 
 def _write(tmp_path: Path, root: str) -> Path:
     path = tmp_path / "tree.yaml"
-    path.write_text("format: 1\nroot:\n" + root)
+    path.write_text("format: 1\n" + ("" if root.startswith("subtrees") else "root:\n") + root)
     return path
 
 
@@ -219,10 +219,11 @@ def test_clock_driven_kinds_use_the_context_clock(tmp_path: Path, registry: Regi
 
 @pytest.mark.parametrize(("root", "message"), [
     ("  Parallel:\n    success_count: 3\n    children: [Fixed: {status: success}]\n",
-     "tree.yaml:3:3: error: cannot construct Parallel 'Parallel': ValueError: success_count "
-     "3 is more than the 1 children"),
+     "tree.yaml:3:3: error: 'success_count' 3 is more than the 1 children of this Parallel"),
     ("  ParallelAll:\n    max_failures: 2\n    children: [Fixed: {status: success}]\n",
-     "max_failures 2 is more than the 1 children"),
+     "'max_failures' 2 is more than"),
+    ("subtrees:\n  s:\n    Parallel: {failure_count: 2, children: [Fixed: {status: success}]}"
+     "\nroot:\n  subtree: s\n", "tree.yaml:4:5: error: 'failure_count' 2 is more than"),
     ("  IfThenElse:\n    children: [Fixed: {status: success}]\n",
      "tree.yaml:4:15: error: IfThenElse takes at least 2 children, got 1"),
     ("  Switch2:\n    variable: x\n    case_1: a\n    children: [Fixed: {status: success}]\n",

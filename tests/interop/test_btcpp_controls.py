@@ -289,6 +289,13 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
             - Sleep: {msec: 0}
             - Tick: {name: After}
         """, {}, 6, STEP),
+    "Sleep keeps its SUCCESS until reset": (f"""
+        WhileDoElse:
+          children:
+            - Sleep: {{msec: 450}}
+            - Tick: {{name: Do}}
+            - Tick: {{name: Else}}
+        """, {"Do": ["RUNNING", "RUNNING", "SUCCESS", "RUNNING"]}, 7, STEP),
 }
 
 

@@ -37,6 +37,9 @@ class AlwaysFailure(py_trees.behaviour.Behaviour):
 class Sleep(py_trees.behaviour.Behaviour):
     """BT.CPP ``Sleep``: RUNNING for ``msec`` milliseconds, then SUCCESS (0: SUCCESS at once).
 
+    Like every BT.CPP ``StatefulActionNode``, once it succeeded it keeps returning
+    SUCCESS without starting again until its parent resets it (to IDLE).
+
     Args:
         name: The behaviour's name.
         msec: Milliseconds to wait.
@@ -49,21 +52,31 @@ class Sleep(py_trees.behaviour.Behaviour):
         self.clock = clock
         self.started_at = 0.0
         self.starting = True
+        #: The status BT.CPP would show (INVALID: IDLE); reset by the parent.
+        self.bt_status = Status.INVALID
 
     def initialise(self) -> None:
-        """Start the wait."""
-        self.started_at = self.clock()
-        self.starting = True
+        """Start the wait (unless it already succeeded and was not reset)."""
+        if self.bt_status != Status.SUCCESS:
+            self.started_at = self.clock()
+            self.starting = True
 
     def update(self) -> Status:
         """RUNNING on the first tick (unless msec is 0), then until the time passed."""
-        starting, self.starting = self.starting, False
-        if self.duration <= 0:
+        if self.bt_status == Status.SUCCESS:
             return Status.SUCCESS
-        if starting or self.clock() - self.started_at < self.duration:
+        starting, self.starting = self.starting, False
+        if self.duration > 0 and (starting or self.clock() - self.started_at < self.duration):
             self.feedback_message = "sleeping"
-            return Status.RUNNING
-        return Status.SUCCESS
+            self.bt_status = Status.RUNNING
+        else:
+            self.bt_status = Status.SUCCESS
+        return self.bt_status
+
+    def terminate(self, new_status: Status) -> None:
+        """Halted or reset: back to IDLE."""
+        if new_status == Status.INVALID:
+            self.bt_status = Status.INVALID
 
 
 def entry_name(text: str) -> str | None:

@@ -126,8 +126,13 @@ def run_import(args: argparse.Namespace) -> int:
         module: Path | None = None
         if drafts:
             module = Path(args.scaffold or scratch) / f"{stem}_leaves.py"
+            text = scaffold_module(drafts, Path(args.xml).name)
+            if module.exists() and module.read_text(encoding="utf-8") != text:
+                _complain(f"sar-tree: error: {module} exists and differs from the scaffold "
+                          "(it may hold your code): move it, or choose another --scaffold DIR")
+                return EXIT_ERRORS
             module.parent.mkdir(parents=True, exist_ok=True)
-            module.write_text(scaffold_module(drafts, Path(args.xml).name), encoding="utf-8")
+            module.write_text(text, encoding="utf-8")
             if args.scaffold:
                 plugins.append(str(module))
                 _complain(f"{module}: scaffolded {len(drafts)} leaves: "

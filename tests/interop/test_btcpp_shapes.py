@@ -345,3 +345,22 @@ def test_file_shape_problems_name_their_place(xml: str, message: str, tmp_path: 
     result = run(xml, tmp_path, main="B")
     assert any(line.startswith(message) for line in errors(result, tmp_path)), \
         errors(result, tmp_path)
+
+
+def test_scaffold_never_overwrites_a_module_that_differs(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xml = tmp_path / "probe.xml"
+    xml.write_text('<root><BehaviorTree ID="t"><Probe hz="1"/></BehaviorTree></root>')
+    args = ["import", str(xml), "--scaffold", str(tmp_path / "leaves"), "-o",
+            str(tmp_path / "probe.yaml")]
+    assert main(args) == 0
+    assert main(args) == 0  # the same scaffold again: nothing lost
+    module = tmp_path / "leaves" / "probe_leaves.py"
+    module.write_text(module.read_text().replace("return Status.FAILURE",
+                                                 "return Status.SUCCESS"))
+    capsys.readouterr()
+    assert main(args) == 1
+    assert capsys.readouterr().err == (f"sar-tree: error: {module} exists and differs from the "
+                                       "scaffold (it may hold your code): move it, or choose "
+                                       "another --scaffold DIR\n")
+    assert "return Status.SUCCESS" in module.read_text()

@@ -25,6 +25,7 @@ from sar_framework.engine.controls import (
     nav2_controls,
     nav2_decorators,
     parallels,
+    queues,
     sequences,
     timing,
     updated,
@@ -108,6 +109,24 @@ def _updated(cls: type) -> ControlBuilder:
     return build
 
 
+def _loop(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+          ) -> Behaviour:
+    text, value = node.attrs["queue"], node.attrs.get("value")
+    shared = variable_name(text) if is_entry(text) else None
+    output = variable_name(value) if value else None
+    names = [name for name in (shared, output) if name is not None]
+    variables = blackboard_variables(node, names, [output] if output else [])
+    return queues.Loop(node.name, children[0], None if shared else text, variables,
+                       item=queues.ITEM_TYPES[node.kind], queue_variable=shared,
+                       value=output, if_empty=node.attrs["if_empty"])
+
+
+def _was_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                 ) -> Behaviour:
+    name = variable_name(node.attrs["entry"])
+    return updated.WasEntryUpdated(node.name, name, blackboard_variables(node, [name]))
+
+
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
     value, output = node.attrs["value"], variable_name(node.attrs["output_key"])
@@ -145,6 +164,8 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "RunOnce": _plain(loops.RunOnce),
     "Delay": _clocked(timing.Delay),
     "Timeout": _clocked(timing.Timeout),
+    **{key: _loop for key in queues.ITEM_TYPES},
+    "WasEntryUpdated": _was_updated,
     "SkipUnlessUpdated": _updated(updated.SkipUnlessUpdated),
     "WaitValueUpdate": _updated(updated.WaitValueUpdate),
     "RateController": _clocked(nav2_decorators.RateController),

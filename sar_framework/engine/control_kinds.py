@@ -20,12 +20,15 @@ from sar_framework.engine.spec import Category
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
                         "SingleTrigger"})
 #: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
-ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key"})
+ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "ReactiveSequence": "[-]",
            "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
            "ParallelAll": "/_/", "PipelineSequence": "[-]", "RecoveryNode": "{o}",
            "RoundRobin": "{o}"}
+#: LoopInt..LoopString: the type of their items, in words.
+LOOP_ITEMS = {"LoopInt": "integer", "LoopBool": "boolean", "LoopDouble": "number",
+              "LoopString": "string"}
 #: Switch2..Switch6: the number of cases of each.
 SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
 
@@ -143,12 +146,23 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                "tick of the child.", _text("entry", "The watched variable: '{name}'.")),
     _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
                "of the child.", _text("entry", "The watched variable: '{name}'.")),
+    *(_decorator(key, f"Pop the next {kind} of queue into value and tick the child; RUNNING "
+                 "while values remain, if_empty once the queue is empty.",
+                 _text("queue", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared list."),
+                 Attr("if_empty", AttrType.STRING, default="SUCCESS",
+                      enum=("SUCCESS", "FAILURE", "SKIPPED"),
+                      description="What to return once the queue is empty."),
+                 Attr("value", AttrType.STRING, min_length=1,
+                      description="The variable each value is written to: '{name}'."))
+      for key, kind in LOOP_ITEMS.items()),
     _decorator("RateController", "Nav2: tick the child at most hz times a second (a running "
                "child every tick).",
                Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
                     description="Child ticks per second.")),
     _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
                "the node is reset."),
+    _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
+          "FAILURE.", _text("entry", "The watched variable: '{name}'.")),
     _leaf("AlwaysSuccess", "SUCCESS."),
     _leaf("AlwaysFailure", "FAILURE."),
     _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",

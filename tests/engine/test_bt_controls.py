@@ -19,9 +19,14 @@ from sar_framework.engine.clock_timeout import CLOCK_KEY
 from sar_framework.engine.controls.conditionals import Switch, case_matches
 from sar_framework.engine.controls.leaves import SetBlackboard, Sleep, UnsetBlackboard
 from sar_framework.engine.controls.loops import RunOnce
+from sar_framework.engine.controls.queues import Loop
 from sar_framework.engine.controls.sequences import ReactiveSequence, Sequence
 from sar_framework.engine.controls.timing import Delay, Timeout
-from sar_framework.engine.controls.updated import SkipUnlessUpdated, WaitValueUpdate
+from sar_framework.engine.controls.updated import (
+    SkipUnlessUpdated,
+    WaitValueUpdate,
+    WasEntryUpdated,
+)
 from sar_framework.engine.controls.values import DictVariables
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry
@@ -238,3 +243,32 @@ def test_bad_bt_cpp_kinds_are_located_errors(tmp_path: Path, registry: Registry,
     with pytest.raises(TreeLoadError) as error:
         load_tree(_write(tmp_path, root), {}, registry=registry)
     assert message in str(error.value)
+
+
+def test_a_loop_pops_a_shared_list_and_writes_each_value() -> None:
+    log = Log()
+    items = [3, 4]
+    variables = DictVariables({"items": items})
+    node = Loop("L", Scripted("Use", ["SUCCESS"], log), None, variables,
+                queue_variable="items", value="item", if_empty="SKIPPED")
+    assert tick(node) == Status.RUNNING and variables.get("item") == 3
+    assert items == [4]  # popped from the list the variable holds
+    assert tick(node) == Status.RUNNING and variables.get("item") == 4
+    tick(node)
+    assert was_skipped(node) and log.visits == ["Use SUCCESS"] * 2
+
+
+def test_was_entry_updated_answers_once_per_write() -> None:
+    variables = DictVariables()
+    node = WasEntryUpdated("W", "x", variables)
+    assert tick(node) == Status.FAILURE
+    variables.set("x", 0)
+    assert [tick(node), tick(node)] == [Status.SUCCESS, Status.FAILURE]
+
+
+def test_a_loop_item_of_the_wrong_type_is_a_located_error(tmp_path: Path,
+                                                          registry: Registry) -> None:
+    with pytest.raises(TreeLoadError, match=r"tree.yaml:3:3: error: cannot construct LoopInt "
+                       r"'LoopInt': ValueError: invalid literal for int\(\) with base 10: 'x'"):
+        load_tree(_write(tmp_path, "  LoopInt: {queue: '1;x', child: {Fixed: {status: "
+                         "success}}}\n"), {}, registry=registry)

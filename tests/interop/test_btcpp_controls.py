@@ -265,6 +265,38 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                 child: {Tick: {name: OnUpdate}}
         """, {"Write": ["FAILURE", "FAILURE", "SUCCESS", "FAILURE", "SUCCESS", "FAILURE"],
               "OnUpdate": ["RUNNING", "SUCCESS"]}, 8, 0),
+    "LoopString feeds a Switch, then reports if_empty": (f"""
+        LoopString:
+          queue: "b;x;a;b"
+          value: "{{item}}"
+          if_empty: FAILURE
+          child:
+            Switch2:
+              variable: "{{item}}"
+              case_1: a
+              case_2: b
+              children: {_leaves("A", "B", "Other")}
+        """, {"B": ["RUNNING", "SUCCESS"], "A": ["FAILURE", "SUCCESS"]}, 10, 0),
+    "LoopInt, LoopDouble and LoopBool": ("""
+        Sequence:
+          children:
+            - LoopInt: {queue: "1;2;3", child: {Tick: {name: Int}}}
+            - LoopDouble: {queue: "0.5;1e3", if_empty: SKIPPED, child: {Tick: {name: Real}}}
+            - LoopBool: {queue: "true;0", value: "{flag}", child: {Tick: {name: Flag}}}
+        """, {"Int": ["SUCCESS", "RUNNING", "SUCCESS"], "Flag": ["FAILURE", "SUCCESS"]}, 12, 0),
+    "WasEntryUpdated": ("""
+        Sequence:
+          children:
+            - IfThenElse:
+                children:
+                  - Tick: {name: Write}
+                  - SetBlackboard: {value: "1", output_key: x}
+                  - AlwaysSuccess: {}
+            - Fallback:
+                children:
+                  - WasEntryUpdated: {entry: x}
+                  - Tick: {name: NotUpdated}
+        """, {"Write": ["FAILURE", "SUCCESS", "FAILURE", "SUCCESS", "SUCCESS"]}, 6, 0),
     "Delay": ("""
         Delay:
           delay_msec: 450
@@ -289,12 +321,12 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
             - Sleep: {msec: 0}
             - Tick: {name: After}
         """, {}, 6, STEP),
-    "Sleep keeps its SUCCESS until reset": (f"""
+    "Sleep keeps its SUCCESS until reset": ("""
         WhileDoElse:
           children:
-            - Sleep: {{msec: 450}}
-            - Tick: {{name: Do}}
-            - Tick: {{name: Else}}
+            - Sleep: {msec: 450}
+            - Tick: {name: Do}
+            - Tick: {name: Else}
         """, {"Do": ["RUNNING", "RUNNING", "SUCCESS", "RUNNING"]}, 7, STEP),
 }
 

@@ -12,7 +12,8 @@ the real library). The modules, one concept each:
 - :mod:`.converters`: Inverter, ForceSuccess, ForceFailure, KeepRunningUntilFailure.
 - :mod:`.loops`: Repeat, RetryUntilSuccessful, RunOnce.
 - :mod:`.timing`: Delay, Timeout (on a given clock).
-- :mod:`.updated`: SkipUnlessUpdated, WaitValueUpdate.
+- :mod:`.updated`: SkipUnlessUpdated, WaitValueUpdate, WasEntryUpdated.
+- :mod:`.queues`: LoopInt, LoopBool, LoopDouble, LoopString.
 - :mod:`.leaves`: AlwaysSuccess, AlwaysFailure, Sleep, SetBlackboard, UnsetBlackboard.
 - :mod:`.nav2_controls`, :mod:`.nav2_decorators`: RecoveryNode, PipelineSequence,
   RoundRobin; RateController, SingleTrigger.

@@ -8,7 +8,8 @@ BehaviorTree.CPP and py_trees disagree on three things these base classes reconc
 - **Status as BT.CPP sees it.** Each node of ours keeps ``bt_status``: the status BT.CPP
   would hold (``Status.INVALID`` stands for IDLE). A tick sets it to RUNNING first and
   then to the result, except that a SKIPPED result leaves it unchanged, as BT.CPP's
-  ``executeTick`` does. ``isStatusActive`` and "halt only a RUNNING child" read it.
+  ``executeTick`` does (a few BT.CPP nodes never set RUNNING first: ``marks_running``).
+  ``isStatusActive`` and "halt only a RUNNING child" read it.
 - **Halting.** :func:`halt_child` is BT.CPP's ``haltChild``: a running child is halted
   (py_trees ``stop(Status.INVALID)``), any other child only has its status reset to IDLE
   (no ``terminate`` call, no recursion). A node of ours stopped with ``INVALID`` while
@@ -106,6 +107,9 @@ class _BtNode:
 
     bt_status: Status
     was_idle: bool
+    #: Whether the BT.CPP node sets RUNNING before its tick's work (most do; it shows
+    #: when the tick returns SKIPPED, which leaves BT.CPP's status as it was).
+    marks_running = True
     children: list[Behaviour]
     status: Status
     name: str
@@ -126,7 +130,8 @@ class _BtNode:
     def tick(self) -> Iterator[Behaviour]:
         """Tick the node the BT.CPP way (see the module docstring)."""
         self.was_idle = self.bt_status == Status.INVALID  # not isStatusActive()
-        self.bt_status = Status.RUNNING
+        if self.marks_running:
+            self.bt_status = Status.RUNNING
         result = yield from self.steps()
         self.finish(result)
         yield self  # type: ignore[misc]

@@ -163,6 +163,8 @@ class Switch(BtControl):
         ValueError: The number of children is not the number of cases plus one.
     """
 
+    marks_running = False
+
     def __init__(self, name: str, children: Children[Behaviour], cases: Children[str],
                  variable: str, variables: Variables) -> None:
         if len(children) != len(cases) + 1:

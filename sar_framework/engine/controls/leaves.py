@@ -71,7 +71,10 @@ class Sleep(py_trees.behaviour.Behaviour):
             self.bt_status = Status.RUNNING
         else:
             self.bt_status = Status.SUCCESS
-        return self.bt_status
+        status = self.bt_status
+        if self.parent is None and status == Status.SUCCESS:
+            self.bt_status = Status.INVALID  # BT.CPP's tickRoot resets a finished root
+        return status
 
     def terminate(self, new_status: Status) -> None:
         """Halted or reset: back to IDLE."""

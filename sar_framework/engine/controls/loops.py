@@ -106,10 +106,13 @@ class RunOnce(BtDecorator):
         self.then_skip = then_skip
         self.returned: Outcome | None = None
 
+    marks_running = False
+
     def decorate(self) -> Steps:
         """Tick the child until it completes once; afterwards do not tick it."""
         if self.returned is not None:
             return Outcome.SKIPPED if self.then_skip else self.returned
+        self.bt_status = Status.RUNNING
         result = yield from self.tick_child()
         if result.completed:
             self.returned = result

@@ -86,6 +86,8 @@ class PipelineSequence(BtControl):
         children: The stages, in order.
     """
 
+    marks_running = False
+
     def __init__(self, name: str, children: Children[Behaviour]) -> None:
         super().__init__(name, children)
         self.last_ticked = 0

@@ -1,4 +1,4 @@
-"""BT.CPP 4's entry-watching decorators: SkipUnlessUpdated and WaitValueUpdate.
+"""BT.CPP 4's entry watchers: SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated.
 
 Each remembers the version of its entry it last saw. The child is ticked when the
 entry was written since (once started, a running child keeps being ticked); otherwise
@@ -7,24 +7,34 @@ value counts as not updated. Versions come from the ``Variables`` object's
 ``version(name)`` (every write through a :class:`~.variables.BlackboardVariables`
 counts, as every ``set`` counts in BT.CPP, even of an equal value).
 
-As in BT.CPP, halting these decorators does not halt their child.
+As in BT.CPP, halting these decorators does not halt their child. The leaf
+:class:`WasEntryUpdated` answers the same question with SUCCESS or FAILURE.
 """
 
 from __future__ import annotations
+
+import py_trees
+from py_trees.common import Status
 
 from sar_framework.engine.controls.base import Behaviour, BtDecorator, Outcome, Steps
 from sar_framework.engine.variables import Variables
 
 
+def _check_versions(name: str, entry: str, variables: Variables) -> None:
+    if not callable(getattr(variables, "version", None)):
+        raise TypeError(f"'{name}': its variables cannot tell when '{entry}' was written "
+                        "(no version(name) method)")
+
+
 class _EntryUpdated(BtDecorator):
     """Tick the child only when ``entry`` was written since the last look."""
+
+    marks_running = False
 
     not_updated: Outcome
 
     def __init__(self, name: str, child: Behaviour, entry: str, variables: Variables) -> None:
-        if not callable(getattr(variables, "version", None)):
-            raise TypeError(f"'{name}': its variables cannot tell when '{entry}' was written "
-                            "(no version(name) method)")
+        _check_versions(name, entry, variables)
         super().__init__(name, child)
         self.entry = entry
         self.variables = variables
@@ -73,3 +83,28 @@ class WaitValueUpdate(_EntryUpdated):
     """
 
     not_updated = Outcome.RUNNING
+
+
+class WasEntryUpdated(py_trees.behaviour.Behaviour):
+    """BT.CPP ``WasEntryUpdated``: SUCCESS when ``entry`` was written since the last tick.
+
+    Args:
+        name: The behaviour's name.
+        entry: The watched variable's name.
+        variables: Where it lives (must offer ``version(name)``).
+    """
+
+    def __init__(self, name: str, entry: str, variables: Variables) -> None:
+        _check_versions(name, entry, variables)
+        super().__init__(name)
+        self.entry = entry
+        self.variables = variables
+        self.seen = 0
+
+    def update(self) -> Status:
+        """SUCCESS if the entry has a value written since the last look, else FAILURE."""
+        if self.entry not in self.variables:
+            return Status.FAILURE
+        version = self.variables.version(self.entry)  # type: ignore[attr-defined]
+        previous, self.seen = self.seen, version
+        return Status.SUCCESS if version != previous else Status.FAILURE

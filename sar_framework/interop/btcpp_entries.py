@@ -28,6 +28,7 @@ class Use:
         writes: Whether the port writes it (output or inout).
         type: Our port type name (``any`` when unknown).
         node: Who uses it (``<ComputePathToPose> port 'goal'``), for the description.
+        element: Where the using node is (``file:line:col``): one node, several ports.
     """
 
     entry: str
@@ -35,6 +36,7 @@ class Use:
     writes: bool
     type: str = "any"
     node: str = ""
+    element: str = ""
 
 
 @dataclass(frozen=True)
@@ -79,7 +81,8 @@ def effective_uses(tree: str, trees: dict[str, TreeUses],
         for use in inner_uses:
             outer = _outer(use.entry, insertion)
             if outer is not None:
-                found.append(Use(outer, use.reads, use.writes, use.type, use.node))
+                found.append(Use(outer, use.reads, use.writes, use.type, use.node,
+                                 use.element))
     return found
 
 
@@ -101,7 +104,7 @@ def blackboard_declarations(uses: list[Use], source: str, *,
     A scope that declares entries must declare every name it uses (the validator reports
     the others), so all are declared: the type is the first writer's, else the first
     reader's (``any`` when none says); the description says who writes and reads it, and
-    ``Set by the caller`` when nothing in the file writes it (Nav2's ``{goal}``).
+    ``Set by the caller`` when it is read before anything writes it (Nav2's ``{goal}``).
 
     Args:
         uses: The scope's uses (:func:`effective_uses`).
@@ -123,11 +126,14 @@ def blackboard_declarations(uses: list[Use], source: str, *,
         if use.writes and use.reads:
             readers[name].append(use)
     declared: dict[str, dict[str, Any]] = {}
+    inputs = set(caller_inputs(uses))
     for name, written_by in writers.items():
         typed = [u.type for u in written_by + readers[name] if u.type != "any"]
         who = _names(written_by)
-        text = (f"Written by {who}" if who else
-                f"Set by the caller: nothing in {source} writes it")
+        text = f"Written by {who}" if who else f"Nothing in {source} writes it"
+        if name in inputs:
+            text = f"Set by the caller ({text[0].lower()}{text[1:]}, after it is read)" \
+                if who else f"Set by the caller: nothing in {source} writes it"
         if readers[name]:
             text += f"; read by {_names(readers[name])}"
         declared[name] = {"type": typed[0] if typed else "any", "description": text + "."}
@@ -139,11 +145,27 @@ def _names(uses: list[Use]) -> str:
     return ", ".join(nodes[:3]) + (f" and {len(nodes) - 3} more" if len(nodes) > 3 else "")
 
 
-def unwritten(uses: list[Use]) -> list[str]:
-    """The entries read and never written (without ``@``), in first-use order."""
-    written = {use.entry.lstrip("@") for use in uses if use.writes}
-    return list(dict.fromkeys(use.entry.lstrip("@") for use in uses
-                              if use.reads and use.entry.lstrip("@") not in written))
+def caller_inputs(uses: list[Use]) -> list[str]:
+    """The entries (without ``@``) the caller must set, in first-use order.
+
+    Those read that nothing writes (Nav2's ``{goal}``), and those whose only writers read
+    them first (Nav2's ``{goals}``: ``RemovePassedGoals`` reads it, then writes it back).
+    An entry some other node writes is not one, even when a reader comes first in the file
+    (Nav2's ``IsPathValid`` of ``{path}`` before ``ComputePathToPose``: BT.CPP's reader
+    fails until the path exists).
+    """
+    read_at: dict[str, set[str]] = {}
+    written_at: dict[str, set[str]] = {}
+    for use in uses:
+        name = use.entry.lstrip("@")
+        read_at.setdefault(name, set())
+        written_at.setdefault(name, set())
+        if use.reads:
+            read_at[name].add(use.element)
+        if use.writes:
+            written_at[name].add(use.element)
+    return [name for name, readers in read_at.items()
+            if readers and written_at[name] <= readers]
 
 
 def subtree_ports(tree: str, trees: dict[str, TreeUses], passed: list[str],

@@ -21,8 +21,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from sar_framework.engine.control_kinds import ENTRY_PORTS
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
@@ -33,10 +31,10 @@ from sar_framework.interop.btcpp_entries import (
     TreeUses,
     Use,
     blackboard_declarations,
+    caller_inputs,
     effective_uses,
     entry_key,
     subtree_definition,
-    unwritten,
 )
 from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
 from sar_framework.interop.btcpp_models import (
@@ -88,6 +86,9 @@ class _Importer:
         self.drafts: dict[str, LeafDraft] = {}
         self.warnings: list[Problem] = []
         self.subtree_bodies: dict[str, list[dict[str, Any]]] = {}
+        self.at = ""  # the node whose uses are being recorded (file:line:col)
+        #: (tree, draft, attributes set, where) for every use of an unknown leaf.
+        self.draft_uses: list[tuple[str, LeafDraft, set[str], str]] = []
         self.uses: dict[str, TreeUses] = {}
         self.literals: list[tuple[dict[str, Any], str, str, LeafDraft]] = []
 
@@ -108,9 +109,10 @@ class _Importer:
         direction = port.direction if port is not None else "inout"
         self.uses[self.tree].uses.append(Use(
             entry, direction != "output", direction != "input",
-            port.type if port is not None else "any", node))
+            port.type if port is not None else "any", node, self.at))
 
     def node(self, element: Element) -> dict[str, Any] | None:
+        self.at = f"{self.file}:{element.line}:{element.column}"
         tag = element.tag
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
@@ -180,6 +182,18 @@ class _Importer:
             self.use(entry, PortModel(name, port.direction.value, port.type),
                      f"<{tag}> port '{name}'")
 
+    def default_uses(self) -> None:
+        """Record the entries scaffolded ports use by default where the file leaves them."""
+        for tree, draft, given, at in self.draft_uses:
+            for port in draft.ports():
+                entry = entry_key(port.default or "")
+                if entry is None or port.name in given:
+                    continue
+                entry = port.name if entry == "=" else entry
+                self.uses[tree].uses.append(Use(
+                    entry, port.direction != "output", port.direction != "input", port.type,
+                    f"<{draft.tag}> port '{port.name}' (its default)", at))
+
     def refuse(self, element: Element, message: str) -> None:
         """Report ``element``; still convert its children, to report their problems too."""
         self.problem(element, message)
@@ -199,6 +213,7 @@ class _Importer:
             where = Problem(self.file, element.line, element.column, "")
             draft = self.drafts[tag] = LeafDraft(tag, where, model, plugin=alias or tag)
         draft.uses += 1
+        self.draft_uses.append((self.tree, draft, set(ports), self.at))
         body: dict[str, Any] = {}
         for key, text in ports.items():
             if key == "name":
@@ -352,6 +367,7 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     bodies = {tree: importer.convert(tree) for tree in source.trees}
     for body, key, text, draft in importer.literals:
         body[key] = convert_literal(text, draft.port_type(key))
+    importer.default_uses()
     drafts = importer.drafts
     if importer.problems:
         return ImportResult(None, sorted(importer.problems, key=lambda p: (p.file, p.line,
@@ -363,7 +379,7 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     if description:
         document["description"] = description
     main_uses = effective_uses(main_tree, importer.uses)
-    if unwritten(main_uses):
+    if caller_inputs(main_uses):
         document["blackboard"] = blackboard_declarations(main_uses, Path(file).name)
     subtrees = {}
     for name, body in bodies.items():
@@ -378,10 +394,3 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
         document["subtrees"] = subtrees
     document["root"] = bodies[main_tree]
     return ImportResult(document, [], drafts, importer.warnings)
-
-
-def document_yaml(document: dict[str, Any], source: str) -> str:
-    """Format an imported document as a tree file (block style, leaves on one line)."""
-    header = f"# Imported from {source} by 'sar-tree import'.\n"
-    return header + yaml.safe_dump(document, sort_keys=False, default_flow_style=None,
-                                   allow_unicode=True, width=100)

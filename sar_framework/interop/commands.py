@@ -10,6 +10,7 @@ import argparse
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE = 0, 1, 2
 
@@ -69,6 +70,15 @@ def run_export(args: argparse.Namespace) -> int:
     return _write(export_btcpp(result.spec, result.registry), args.output)
 
 
+def _document_yaml(document: dict[str, Any], source: str) -> str:
+    """Format an imported document as a tree file (block style, leaves on one line)."""
+    import yaml
+
+    header = f"# Imported from {source} by 'sar-tree import'.\n"
+    return header + yaml.safe_dump(document, sort_keys=False, default_flow_style=None,
+                                   allow_unicode=True, width=100)
+
+
 def configure_import(parser: argparse.ArgumentParser) -> None:
     """Add ``sar-tree import``'s arguments."""
     parser.add_argument("xml", metavar="FILE.xml", help="a BehaviorTree.CPP 4 XML file")
@@ -93,7 +103,7 @@ def run_import(args: argparse.Namespace) -> int:
     from sar_framework.engine.api import validate
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.interop.btcpp_file import read_palette
-    from sar_framework.interop.btcpp_import import document_yaml, import_btcpp
+    from sar_framework.interop.btcpp_import import import_btcpp
     from sar_framework.interop.btcpp_scaffold import scaffold_module
     from sar_framework.interop.xml_source import XmlError, read_xml
 
@@ -145,7 +155,7 @@ def run_import(args: argparse.Namespace) -> int:
         if plugins:
             result.document = {"format": 1, "plugins": [_relative(p, folder) for p in plugins],
                                **result.document}
-        text = document_yaml(result.document, Path(args.xml).name)
+        text = _document_yaml(result.document, Path(args.xml).name)
         check_paths = [str(module)] if module is not None and not args.scaffold else []
         with tempfile.NamedTemporaryFile("w", suffix=".yaml", dir=folder, delete=False) as tmp:
             tmp.write(text)

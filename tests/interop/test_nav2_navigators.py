@@ -19,6 +19,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+import yaml
 from py_trees.common import Status
 
 from sar_framework.cli import main
@@ -147,3 +148,25 @@ def test_scaffolded_leaves_build_and_fail_saying_they_are_not_written(tmp_path: 
     assert first.feedback_message == ("DriveOnHeading is scaffolded: its behaviour is not "
                                       "written yet")
     assert first.ports.get("dist_to_travel") == 2.0  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(("stem", "entry", "kind", "text"), [
+    ("navigate_to_pose_w_replanning_and_recovery", "goal", "geometry_msgs/msg/PoseStamped",
+     "Set by the caller: nothing in navigate_to_pose_w_replanning_and_recovery.xml writes "
+     "it; read by <ComputePathToPose> port 'goal'."),
+    ("navigate_through_poses_w_replanning_and_recovery", "goals", "list",
+     "Set by the caller (written by <RemovePassedGoals> port 'output_goals', after it is "
+     "read); read by <RemovePassedGoals> port 'input_goals', <ComputePathThroughPoses> port "
+     "'goals'."),
+])
+def test_the_goals_nav2_sets_become_declared_inputs(stem: str, entry: str, kind: str,
+                                                     text: str, tmp_path: Path) -> None:
+    xml = next(p for p in NAVIGATORS if p.stem == stem)
+    tree = tmp_path / "nav.yaml"
+    assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
+                 str(tmp_path / "leaves"), "-o", str(tree)]) == 0
+    blackboard = yaml.safe_load(tree.read_text())["blackboard"]
+    assert blackboard[entry] == {"type": kind, "description": text}
+    callers = [name for name, decl in blackboard.items()
+               if decl["description"].startswith("Set by the caller")]
+    assert callers == [entry]  # {path} is written by ComputePathToPose: not an input

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from sar_framework.engine.bindings import PORT_LOC, Bindings
-from sar_framework.engine.control_kinds import threshold_problem
+from sar_framework.engine.control_kinds import ENTRY_PORTS, threshold_problem
 from sar_framework.engine.diagnostics import (
     SourceLocation,
     did_you_mean,
@@ -224,6 +224,7 @@ class Semantics(TreeFiles):
                 continue
             if (attr.type is AttrType.STRING and decl.category is Category.LEAF
                     and attr.name not in ("name", "id")
+                    and not (key in KINDS and attr.name in ENTRY_PORTS)  # BT.CPP's entries
                     and self.bindings.param_value(attr.name, given, doc.where(at))):
                 continue
             if attr.type in (AttrType.NODES, AttrType.NODE):

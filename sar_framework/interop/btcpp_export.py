@@ -4,9 +4,12 @@ The document holds one ``<BehaviorTree>`` for the tree, one per subtree it uses 
 becomes ``<SubTree ID="..."/>``), and a ``<TreeNodesModel>`` declaring every leaf plugin
 with its params as input ports (type, default, description) plus an ``id`` port, and
 every custom ``Sar...`` node (see :mod:`.mapping`) and every Nav2 node used (as Nav2's
-palette declares them; BT.CPP's own nodes need no model). Leaf params are written when they
-differ from the declared default, and a leaf's ``name`` when it is not the plugin name
-(BT.CPP's default too); reference params carry the referenced leaf's ``id``.
+palette declares them; BT.CPP's own nodes need no model); a leaf's ports
+(``@leaf(ports=...)``) are declared with their direction (``input_port``,
+``output_port``, ``inout_port``), C++ type (none for ``any``), default and description.
+Leaf params and port bindings (``{key}`` or literals) are written when they differ from
+the declared default, and a leaf's ``name`` when it is not the plugin name (BT.CPP's
+default too); reference params carry the referenced leaf's ``id``.
 """
 
 from __future__ import annotations
@@ -17,12 +20,16 @@ from typing import Any
 from sar_framework.engine.control_kinds import NAV2_KINDS
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.interop.btcpp_models import cpp_type
 from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
 
 #: C++ type names BT.CPP writes in a model, by Python param type.
 CPP_TYPES: dict[type, str] = {str: "std::string", int: "int", float: "double", bool: "bool"}
+#: Port direction -> the ``<TreeNodesModel>`` element BT.CPP declares it with.
+PORT_ELEMENTS = {"input": "input_port", "output": "output_port", "inout": "inout_port"}
 #: The description of the ``id`` port every leaf model gets.
 ID_PORT_TEXT = "Unique id of this leaf; other leaves' reference ports name it."
 
@@ -72,6 +79,10 @@ class _Exporter:
             value = node.attrs.get(param.name)
             if value is not None and (param.default is REQUIRED or value != param.default):
                 ports[param.name] = port_text(value)
+        for port in plugin.ports:
+            value = node.ports.get(port.name)
+            if value is not None and (port.default is NO_DEFAULT or value != port.default):
+                ports[port.name] = port_text(value)
         return ET.Element(node.kind, ports)
 
     def models(self) -> ET.Element:
@@ -84,6 +95,10 @@ class _Exporter:
                 text = param.description or (f"id of a {param.ref} leaf" if param.ref else "")
                 default = None if param.default is REQUIRED else param.default
                 _port(model, param.name, cpp, default, text)
+            for port in plugin.ports:
+                default = None if port.default is NO_DEFAULT else port.default
+                _port(model, port.name, cpp_type(port.type), default, port.description,
+                      element=PORT_ELEMENTS[port.direction.value])
         for key in sorted(self.custom_models | self.nav2_models):
             kind = KINDS[key]
             category = "Control" if kind.category is Category.COMPOSITE else "Decorator"
@@ -94,11 +109,14 @@ class _Exporter:
         return root
 
 
-def _port(model: ET.Element, name: str, cpp: str, default: Any, text: str) -> None:
-    attrs = {"name": name, "type": cpp}
+def _port(model: ET.Element, name: str, cpp: str | None, default: Any, text: str, *,
+          element: str = "input_port") -> None:
+    attrs = {"name": name}
+    if cpp is not None:
+        attrs["type"] = cpp
     if default is not None:
         attrs["default"] = port_text(default)
-    ET.SubElement(model, "input_port", attrs).text = text or None
+    ET.SubElement(model, element, attrs).text = text or None
 
 
 def export_btcpp(spec: TreeSpec, registry: Registry) -> str:

@@ -1,32 +1,59 @@
 """Import BehaviorTree.CPP 4 XML as a tree document of our format.
 
-The main ``<BehaviorTree>`` becomes ``root``; every other one becomes an entry of
-``subtrees`` and ``<SubTree ID="X"/>`` becomes ``subtree: X``. Nodes map back through
-:mod:`.mapping`; a leaf's tag must name a registered plugin, and its attributes its
-params (converted to the declared types). Everything that cannot be expressed
-(blackboard ports ``{key}`` other than those of BT.CPP's blackboard nodes, scripts,
-pre/post conditions, Nav2's DistanceController, ...) is reported as
-``file:line:col: error: ...``, all at once. The document still needs our validator
-(ids, references, ranges): see :func:`sar_framework.interop.commands.run_import`.
+The file's shape (several trees, the main one, includes, models) is read by
+:mod:`.btcpp_file`. The main ``<BehaviorTree>`` becomes ``root``; every other one an
+entry of ``subtrees``, and ``<SubTree ID="X" port="{key}" _autoremap="true"/>`` becomes
+``subtree: {tree: X, ports: {port: "{key}"}, autoremap: true}`` (``subtree: X`` without
+ports). Composites and decorators map back through :mod:`.mapping`. A leaf whose tag is
+a registered plugin keeps its attributes as params (converted to the declared types) or
+port bindings (``{key}`` or a literal); any other leaf is *unknown*: it is kept as it is
+and described by a :class:`~.btcpp_scaffold.LeafDraft`, from which ``--scaffold`` writes a
+plugin. Entries the main tree reads and nothing writes become declared ``blackboard:``
+inputs (:mod:`.btcpp_entries`). What cannot be expressed (scripts, pre/post conditions,
+the nodes :data:`.mapping.REFUSED` names) is reported as ``file:line:col: error: ...``,
+all at once. The document still needs our validator (ids, references, ranges, ports):
+see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
-
-import yaml
 
 from sar_framework.engine.control_kinds import ENTRY_PORTS
 from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
+from sar_framework.interop.btcpp_entries import (
+    Insertion,
+    TreeUses,
+    Use,
+    blackboard_declarations,
+    caller_inputs,
+    effective_uses,
+    entry_key,
+    subtree_definition,
+)
+from sar_framework.interop.btcpp_file import BtcppFile, read_btcpp
+from sar_framework.interop.btcpp_models import (
+    NodeModel,
+    PortModel,
+    clashes,
+    convert_literal,
+    missing_ports,
+    plugin_ports,
+)
+from sar_framework.interop.btcpp_scaffold import LeafDraft
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
 
 #: Attributes of BT.CPP nodes that carry no meaning for the tree (Groot2 metadata).
 IGNORED_ATTRS = frozenset({"_description", "_uid", "_fullpath"})
+#: Prefix of the scaffolded plugin for a node whose model clashes with a registered plugin
+#: of the same name (Nav2's ``Wait`` and ours).
+ALIAS_PREFIX = "Btcpp"
 #: v3-style explicit node elements: ``<Action ID="X"/>`` is ``<X/>``.
 EXPLICIT_TAGS = frozenset({"Action", "Condition", "Control", "Decorator"})
 
@@ -36,44 +63,83 @@ class ImportResult:
     """What an import produced.
 
     Attributes:
-        document: The tree document (format, name, subtrees, root), or None on problems.
+        document: The tree document (format, name, blackboard, subtrees, root), or None
+            on problems.
         problems: Every problem found, in file order.
+        drafts: The unknown leaves, by tag, in first-use order (for ``--scaffold``).
+        warnings: What was read, but differently than the file may mean.
     """
 
     document: dict[str, Any] | None
     problems: list[Problem] = field(default_factory=list)
+    drafts: dict[str, LeafDraft] = field(default_factory=dict)
+    warnings: list[Problem] = field(default_factory=list)
 
 
 class _Importer:
-    def __init__(self, file: str, registry: Registry, trees: dict[str, Element]) -> None:
-        self.file = file
+    def __init__(self, source: BtcppFile, registry: Registry) -> None:
+        self.source = source
+        self.file = ""
+        self.tree = ""
         self.registry = registry
-        self.trees = trees
         self.problems: list[Problem] = []
+        self.drafts: dict[str, LeafDraft] = {}
+        self.warnings: list[Problem] = []
+        self.subtree_bodies: dict[str, list[dict[str, Any]]] = {}
+        self.at = ""  # the node whose uses are being recorded (file:line:col)
+        #: (tree, draft, attributes set, where) for every use of an unknown leaf.
+        self.draft_uses: list[tuple[str, LeafDraft, set[str], str]] = []
+        self.uses: dict[str, TreeUses] = {}
+        self.literals: list[tuple[dict[str, Any], str, str, LeafDraft]] = []
 
     def problem(self, element: Element, message: str) -> None:
         self.problems.append(Problem(self.file, element.line, element.column, message))
 
+    def convert(self, tree: str) -> Any:
+        where = self.source.trees[tree]
+        self.file, self.tree = where.file, tree
+        self.uses[tree] = TreeUses()
+        if len(where.element.children) != 1:
+            self.problem(where.element, f"<BehaviorTree ID=\"{tree}\"> must hold exactly one "
+                         f"node, it holds {len(where.element.children)} (BT.CPP refuses it)")
+            return None
+        return self.node(where.element.children[0])
+
+    def use(self, entry: str, port: PortModel | None, node: str) -> None:
+        direction = port.direction if port is not None else "inout"
+        self.uses[self.tree].uses.append(Use(
+            entry, direction != "output", direction != "input",
+            port.type if port is not None else "any", node, self.at))
+
     def node(self, element: Element) -> dict[str, Any] | None:
+        self.at = f"{self.file}:{element.line}:{element.column}"
         tag = element.tag
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
             tag = ports.pop("ID")
-        for key, value in ports.items():
-            if key.startswith("_"):
+        for key in ports:
+            if key.startswith("_") and key != "_autoremap":
                 self.problem(element, f"'{key}' on <{tag}>: BT.CPP pre/post conditions are "
-                             "scripts on the blackboard, which this framework does not have")
-            elif (value.strip().startswith("{") and value.strip().endswith("}")
-                  and not (tag in KINDS and key in ENTRY_PORTS)):
-                self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
-                             f"'{value}'; this framework has no blackboard (leaves share "
-                             "state by references to other leaves' ids): give a value")
-        ports = {k: v for k, v in ports.items() if not k.startswith("_")}
+                             "scripts, which this importer does not read yet")
+        ports = {k: v for k, v in ports.items() if not k.startswith("_") or k == "_autoremap"}
         if tag == "SubTree":
             return self.subtree(element, ports)
+        ports.pop("_autoremap", None)
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
             return None
+        kind_key = BUILTIN_BY_ID[tag].kind if tag in BUILTIN_BY_ID else None
+        kind = KINDS[kind_key] if kind_key is not None else CUSTOM_KINDS.get(tag)
+        for key, value in ports.items() if kind is not None else ():
+            if entry_key(value) is None:
+                continue
+            attr = kind.attr(key)  # type: ignore[union-attr]
+            if key in ENTRY_PORTS and tag in KINDS:
+                self.use(entry_key(value) or "", None, f"<{tag}> port '{key}'")
+            elif attr is None or attr.port is None:
+                self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
+                             f"'{value}'; ours takes a fixed value here: give one")
+                return None
         if tag in BUILTIN_BY_ID:
             entry = BUILTIN_BY_ID[tag]
             try:
@@ -81,6 +147,7 @@ class _Importer:
             except ValueError as exc:
                 self.problem(element, f"<{tag}>: {exc}")
                 return None
+            self.kind_uses(KINDS[entry.kind], tag, attrs)
             return self.branch(element, KINDS[entry.kind], ports.get("name"), attrs)
         if tag in CUSTOM_KINDS:
             kind = CUSTOM_KINDS[tag]
@@ -90,18 +157,83 @@ class _Importer:
                     attrs[name] = self.value(element, name, ports[name], kind.attr(name).type)
             return self.branch(element, kind, ports.get("name"), attrs)
         plugin = self.registry.get(tag)
+        model = self.source.models.get(tag)
         if plugin is None:
-            self.refuse(element, f"unknown node <{tag}>: neither a BT.CPP node we map nor a "
-                        "registered plugin (see 'sar-tree plugins'; add yours with "
-                        "--plugin-path)")
-            return None
-        return self.leaf(element, plugin, ports)
+            return self.unknown(element, tag, ports)
+        if model is None or not clashes(plugin, model):
+            return self.leaf(element, tag, plugin, ports)
+        alias = ALIAS_PREFIX + tag
+        if tag not in self.drafts:
+            self.warnings.append(Problem(
+                self.file, element.line, element.column, f"<{tag}> is not the registered "
+                f"plugin '{tag}': its model ({model.where.file}:{model.where.line}) declares "
+                f"ports the plugin lacks ({', '.join(missing_ports(plugin, model))}); "
+                f"scaffolded as '{alias}'", "warning"))
+        return self.unknown(element, tag, ports, alias)
+
+    def kind_uses(self, kind: NodeKind, tag: str, attrs: dict[str, Any]) -> None:
+        """Record the entries a control node's port attributes are bound to."""
+        for name, value in attrs.items():
+            attr = kind.attr(name)
+            entry = entry_key(value) if isinstance(value, str) else None
+            if attr is None or attr.port is None or entry is None:
+                continue
+            port = attr.port
+            self.use(entry, PortModel(name, port.direction.value, port.type),
+                     f"<{tag}> port '{name}'")
+
+    def default_uses(self) -> None:
+        """Record the entries scaffolded ports use by default where the file leaves them."""
+        for tree, draft, given, at in self.draft_uses:
+            for port in draft.ports():
+                entry = entry_key(port.default or "")
+                if entry is None or port.name in given:
+                    continue
+                entry = port.name if entry == "=" else entry
+                self.uses[tree].uses.append(Use(
+                    entry, port.direction != "output", port.direction != "input", port.type,
+                    f"<{draft.tag}> port '{port.name}' (its default)", at))
 
     def refuse(self, element: Element, message: str) -> None:
         """Report ``element``; still convert its children, to report their problems too."""
         self.problem(element, message)
         for child in element.children:
             self.node(child)
+
+    def unknown(self, element: Element, tag: str, ports: dict[str, str],
+                alias: str | None = None) -> dict[str, Any] | None:
+        model: NodeModel | None = self.source.models.get(tag)
+        if element.children or (model is not None and not model.is_leaf):
+            what = f"a {model.category} node" if model is not None else "a node with children"
+            self.refuse(element, f"<{tag}> is {what} this framework has no kind for; only "
+                        "unknown leaves can be scaffolded (see docs/btcpp-interop.md)")
+            return None
+        draft = self.drafts.get(tag)
+        if draft is None:
+            where = Problem(self.file, element.line, element.column, "")
+            draft = self.drafts[tag] = LeafDraft(tag, where, model, plugin=alias or tag)
+        draft.uses += 1
+        self.draft_uses.append((self.tree, draft, set(ports), self.at))
+        body: dict[str, Any] = {}
+        for key, text in ports.items():
+            if key == "name":
+                body[key] = text
+                continue
+            if model is not None and model.port(key) is None:
+                self.problem(element, f"<{tag}> has no port '{key}' in its model "
+                             f"({model.where.file}:{model.where.line}); BT.CPP refuses a port "
+                             "that providedPorts() does not declare")
+                continue
+            draft.use(key, text)
+            entry = entry_key(text)
+            if entry is not None:
+                self.use(entry, model.port(key) if model is not None else None,
+                         f"<{tag}> port '{key}'")
+                body[key] = text
+            else:
+                body[key] = text
+                self.literals.append((body, key, text, draft))
+        return {draft.plugin: body}
 
     def branch(self, element: Element, kind: NodeKind, name: str | None,
                attrs: dict[str, Any]) -> dict[str, Any] | None:
@@ -125,18 +257,30 @@ class _Importer:
             body["children"] = children
         return {kind.key: body}
 
-    def leaf(self, element: Element, plugin: PluginSpec,
+    def leaf(self, element: Element, tag: str, plugin: PluginSpec,
              ports: dict[str, str]) -> dict[str, Any] | None:
         if element.children:
-            self.problem(element, f"<{element.tag}> is a leaf plugin: it cannot have children")
+            self.problem(element, f"<{tag}> is a leaf plugin: it cannot have children")
+        declared = plugin_ports(plugin)
         body: dict[str, Any] = {}
         for key, text in ports.items():
             param = plugin.param(key)
             if key in ("name", "id"):
                 body[key] = text
+            elif key in declared:
+                entry = entry_key(text)
+                if entry is not None:
+                    self.use(entry, declared[key], f"<{tag}> port '{key}'")
+                    body[key] = text
+                else:
+                    body[key] = convert_literal(text, declared[key].type)
             elif param is None:
-                self.problem(element, f"<{element.tag}> has no param '{key}' (its params: "
-                             f"{', '.join(p.name for p in plugin.params) or 'none'})")
+                names = [p.name for p in plugin.params] + list(declared)
+                self.problem(element, f"<{tag}> has no param or port '{key}' (it has: "
+                             f"{', '.join(names) or 'none'})")
+            elif entry_key(text) is not None:
+                self.problem(element, f"'{key}' of <{tag}> is a param, not a port: it cannot "
+                             f"read the blackboard entry '{text}'; give a value")
             elif param.ref is not None:
                 body[key] = text
             else:
@@ -148,17 +292,38 @@ class _Importer:
     def subtree(self, element: Element, ports: dict[str, str]) -> dict[str, Any] | None:
         name = ports.pop("ID", None)
         ports.pop("name", None)
+        autoremap_text = ports.pop("_autoremap", "false").strip().lower()
+        if autoremap_text not in ("true", "false", "1", "0"):
+            self.problem(element, f"_autoremap=\"{autoremap_text}\" is not a boolean")
+        autoremap = autoremap_text in ("true", "1")
         if name is None:
             self.problem(element, "<SubTree> needs an ID")
             return None
-        if name not in self.trees:
-            self.problem(element, f"<SubTree ID=\"{name}\">: no <BehaviorTree ID=\"{name}\"> in "
-                         "this file (<include> is not supported)")
+        if name not in self.source.trees:
+            self.problem(element, f"<SubTree ID=\"{name}\">: no <BehaviorTree ID=\"{name}\"> "
+                         f"in this file or its includes (trees: {', '.join(self.source.trees)})")
+            return None
+        model = self.source.models.get(name)
+        if model is not None and model.category == "SubTree" and not autoremap:
+            for port in model.ports:
+                if port.name in ports:
+                    continue
+                if port.default is None:
+                    self.problem(element, f"<SubTree ID=\"{name}\"> does not remap the port "
+                                 f"'{port.name}' its model declares mandatory (BT.CPP refuses "
+                                 "it)")
+                else:
+                    ports[port.name] = port.default
+        self.uses[self.tree].insertions.append(Insertion(name, dict(ports), autoremap))
+        if not ports and not autoremap:
+            return {"subtree": name}
+        body: dict[str, Any] = {"tree": name}
         if ports:
-            self.problem(element, f"<SubTree ID=\"{name}\"> remaps the ports "
-                         f"{', '.join(sorted(ports))}; our subtrees take no ports (leaves share "
-                         "state by references)")
-        return {"subtree": name}
+            body["ports"] = ports
+            self.subtree_bodies.setdefault(name, []).append(body)
+        if autoremap:
+            body["autoremap"] = True
+        return {"subtree": body}
 
     def value(self, element: Element, key: str, text: str, kind: AttrType) -> Any:
         try:
@@ -180,63 +345,52 @@ class _Importer:
         return text
 
 
-def import_btcpp(root: Element, file: str, registry: Registry) -> ImportResult:
+def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | None = None,
+                 models: dict[str, NodeModel] | None = None) -> ImportResult:
     """Turn a parsed BT.CPP 4 document into our tree document.
 
     Args:
         root: The parsed ``<root>`` element (:func:`.xml_source.read_xml`).
-        file: The file name, for problems.
-        registry: The plugins leaves must name.
+        file: The file name, for problems and includes.
+        registry: The plugins leaves may name; any other leaf is a draft.
+        main: The main tree when the file does not say (``--main``).
+        models: Node models from palettes (``--nodes-model``).
 
     Returns:
-        The document, or the problems.
+        The document and the drafts, or the problems.
     """
-    here = Problem(file, root.line, root.column, "")
-    if root.tag != "root":
-        return ImportResult(None, [_at(here, f"expected <root>, got <{root.tag}>")])
-    if root.attrs.get("BTCPP_format") != "4":
-        return ImportResult(None, [_at(here, "only BehaviorTree.CPP v4 XML is read "
-                                       "(<root BTCPP_format=\"4\">)")])
-    trees: dict[str, Element] = {}
-    importer = _Importer(file, registry, trees)
-    for element in root.children:
-        if element.tag == "BehaviorTree":
-            trees[element.attrs.get("ID", "")] = element
-        elif element.tag == "include":
-            importer.problem(element, "<include> is not supported: put every tree in one file")
-        elif element.tag != "TreeNodesModel":
-            importer.problem(element, f"unexpected <{element.tag}> under <root>")
-    main = root.attrs.get("main_tree_to_execute") or (next(iter(trees)) if len(trees) == 1
-                                                      else None)
-    if main not in trees:
-        importer.problem(root, "which tree is the main one? set main_tree_to_execute="
-                         f"(trees: {', '.join(trees) or 'none'})")
-        return ImportResult(None, importer.problems)
-    bodies: dict[str, Any] = {}
-    for name, element in trees.items():
-        if len(element.children) != 1:
-            importer.problem(element, f"<BehaviorTree ID=\"{name}\"> must hold exactly one node")
-            continue
-        bodies[name] = importer.node(element.children[0])
+    source = read_btcpp(root, file, main=main, models=models)
+    if source.main is None:
+        return ImportResult(None, source.problems)
+    importer = _Importer(source, registry)
+    importer.problems.extend(source.problems)
+    bodies = {tree: importer.convert(tree) for tree in source.trees}
+    for body, key, text, draft in importer.literals:
+        body[key] = convert_literal(text, draft.port_type(key))
+    importer.default_uses()
+    drafts = importer.drafts
     if importer.problems:
-        return ImportResult(None, sorted(importer.problems, key=lambda p: (p.line, p.column)))
-    document: dict[str, Any] = {"format": 1, "name": main}
-    description = trees[main].attrs.get("_description")
+        return ImportResult(None, sorted(importer.problems, key=lambda p: (p.file, p.line,
+                                                                           p.column)), drafts,
+                            importer.warnings)
+    main_tree = source.main
+    document: dict[str, Any] = {"format": 1, "name": main_tree}
+    description = source.trees[main_tree].element.attrs.get("_description")
     if description:
         document["description"] = description
-    subtrees = {name: body for name, body in bodies.items() if name != main}
+    main_uses = effective_uses(main_tree, importer.uses)
+    if caller_inputs(main_uses):
+        document["blackboard"] = blackboard_declarations(main_uses, Path(file).name)
+    subtrees = {}
+    for name, body in bodies.items():
+        if name != main_tree:
+            insertions = [i for uses in importer.uses.values() for i in uses.insertions
+                          if i.tree == name]
+            subtrees[name] = subtree_definition(
+                name, body, importer.uses, insertions=insertions,
+                uses_written=importer.subtree_bodies.get(name, []),
+                model=source.models.get(name), source=Path(source.trees[name].file).name)
     if subtrees:
         document["subtrees"] = subtrees
-    document["root"] = bodies[main]
-    return ImportResult(document)
-
-
-def _at(where: Problem, message: str) -> Problem:
-    return Problem(where.file, where.line, where.column, message)
-
-
-def document_yaml(document: dict[str, Any], source: str) -> str:
-    """Format an imported document as a tree file (block style, leaves on one line)."""
-    header = f"# Imported from {source} by 'sar-tree import'.\n"
-    return header + yaml.safe_dump(document, sort_keys=False, default_flow_style=None,
-                                   allow_unicode=True, width=100)
+    document["root"] = bodies[main_tree]
+    return ImportResult(document, [], drafts, importer.warnings)

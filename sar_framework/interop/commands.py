@@ -10,6 +10,7 @@ import argparse
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE = 0, 1, 2
 
@@ -69,10 +70,30 @@ def run_export(args: argparse.Namespace) -> int:
     return _write(export_btcpp(result.spec, result.registry), args.output)
 
 
+def _document_yaml(document: dict[str, Any], source: str) -> str:
+    """Format an imported document as a tree file (block style, leaves on one line)."""
+    import yaml
+
+    header = f"# Imported from {source} by 'sar-tree import'.\n"
+    return header + yaml.safe_dump(document, sort_keys=False, default_flow_style=None,
+                                   allow_unicode=True, width=100)
+
+
 def configure_import(parser: argparse.ArgumentParser) -> None:
     """Add ``sar-tree import``'s arguments."""
     parser.add_argument("xml", metavar="FILE.xml", help="a BehaviorTree.CPP 4 XML file")
+    parser.add_argument("--main", metavar="ID", help="the main tree, when the file has "
+                        "several and no main_tree_to_execute")
+    parser.add_argument("--nodes-model", action="append", default=[], metavar="FILE",
+                        help="a palette whose <TreeNodesModel> declares the file's nodes "
+                        "(e.g. Nav2's nav2_tree_nodes.xml; repeatable)")
+    parser.add_argument("--scaffold", metavar="DIR", help="write a plugin module for the "
+                        "leaves no plugin provides into DIR; the tree file names it")
     _add_common(parser, "tree file")
+
+
+def _relative(path: str | Path, folder: Path) -> str:
+    return os.path.relpath(Path(path).resolve(), folder) if Path(path).exists() else str(path)
 
 
 def run_import(args: argparse.Namespace) -> int:
@@ -81,34 +102,68 @@ def run_import(args: argparse.Namespace) -> int:
 
     from sar_framework.engine.api import validate
     from sar_framework.engine.registry import default_registry, extend
-    from sar_framework.interop.btcpp_import import document_yaml, import_btcpp
+    from sar_framework.interop.btcpp_file import read_palette
+    from sar_framework.interop.btcpp_import import import_btcpp
+    from sar_framework.interop.btcpp_scaffold import scaffold_module
     from sar_framework.interop.xml_source import XmlError, read_xml
 
-    if not _input_file(args.xml):
+    if not _input_file(args.xml) or not all(_input_file(m) for m in args.nodes_model):
         return EXIT_USAGE
+    models: dict = {}
+    for palette in args.nodes_model:
+        found, problems = read_palette(palette)
+        models.update(found)
+        for problem in problems:
+            _complain(str(problem))
+        if problems:
+            return EXIT_ERRORS
     registry = extend(default_registry().copy(), args.plugin_path)
     try:
-        result = import_btcpp(read_xml(args.xml), args.xml, registry)
+        result = import_btcpp(read_xml(args.xml), args.xml, registry, main=args.main,
+                              models=models)
     except XmlError as exc:
         _complain(str(exc.problem))
         return EXIT_ERRORS
-    for problem in result.problems:
+    for problem in [*result.problems, *result.warnings]:
         _complain(str(problem))
     if result.document is None:
         return EXIT_ERRORS
     folder = Path(args.output).resolve().parent if args.output else Path.cwd()
-    if args.plugin_path:
-        result.document = {"format": 1, "plugins": [
-            os.path.relpath(Path(p).resolve(), folder) if Path(p).exists() else p
-            for p in args.plugin_path], **result.document}
-    text = document_yaml(result.document, Path(args.xml).name)
+    stem = Path(args.xml).stem.replace("-", "_").replace(".", "_")
+    drafts = list(result.drafts.values())
+    with tempfile.TemporaryDirectory() as scratch:
+        plugins = list(args.plugin_path)
+        module: Path | None = None
+        if drafts:
+            module = Path(args.scaffold or scratch) / f"{stem}_leaves.py"
+            text = scaffold_module(drafts, Path(args.xml).name)
+            if module.exists() and module.read_text(encoding="utf-8") != text:
+                _complain(f"sar-tree: error: {module} exists and differs from the scaffold "
+                          "(it may hold your code): move it, or choose another --scaffold DIR")
+                return EXIT_ERRORS
+            module.parent.mkdir(parents=True, exist_ok=True)
+            module.write_text(text, encoding="utf-8")
+            if args.scaffold:
+                plugins.append(str(module))
+                _complain(f"{module}: scaffolded {len(drafts)} leaves: "
+                          f"{', '.join(d.plugin for d in drafts)}")
+            else:
+                for draft in (d for d in drafts if d.plugin == d.tag):
+                    where = draft.where
+                    _complain(f"{where.file}:{where.line}:{where.column}: warning: no plugin "
+                              f"provides <{draft.tag}>; --scaffold DIR writes one to fill in")
+        if plugins:
+            result.document = {"format": 1, "plugins": [_relative(p, folder) for p in plugins],
+                               **result.document}
+        text = _document_yaml(result.document, Path(args.xml).name)
+        check_paths = [str(module)] if module is not None and not args.scaffold else []
+        with tempfile.NamedTemporaryFile("w", suffix=".yaml", dir=folder, delete=False) as tmp:
+            tmp.write(text)
+        try:
+            check = validate(tmp.name, plugin_paths=check_paths)
+        finally:
+            os.unlink(tmp.name)
     shown = args.output or "<stdout>"
-    with tempfile.NamedTemporaryFile("w", suffix=".yaml", dir=folder, delete=False) as tmp:
-        tmp.write(text)
-    try:
-        check = validate(tmp.name)
-    finally:
-        os.unlink(tmp.name)
     for diagnostic in check.diagnostics:
         _complain(str(diagnostic).replace(tmp.name, shown).replace(Path(tmp.name).name, shown))
     if check.spec is None:

@@ -1,8 +1,13 @@
 """Read an XML file into a small element tree that remembers where each element starts.
 
 ``xml.etree`` drops line numbers; the standard library's expat parser reports them, so
-this builds the few facts the importer needs (tag, attributes, children, line, column)
-with it. Document type declarations (and so entity definitions) are refused.
+this builds the few facts the importer needs (tag, attributes, children, text, line,
+column) with it. Document type declarations (and so entity definitions) are refused.
+
+BehaviorTree.CPP reads files with tinyxml2, which accepts two things XML does not, and
+so does this reader: a raw ``<`` inside an attribute value (scripts such as
+``_skipIf="count < 3"``), and anything after the root element (tinyxml2 keeps it;
+BT.CPP reads only the first element, ``RootElement()``).
 """
 
 from __future__ import annotations
@@ -21,15 +26,18 @@ class Problem:
         line: 1-based line.
         column: 1-based column.
         message: What is wrong, and what to do.
+        severity: ``error`` (the input cannot be read so) or ``warning`` (it is, but
+            look).
     """
 
     file: str
     line: int
     column: int
     message: str
+    severity: str = "error"
 
     def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}: error: {self.message}"
+        return f"{self.file}:{self.line}:{self.column}: {self.severity}: {self.message}"
 
 
 @dataclass
@@ -39,9 +47,10 @@ class Element:
     Attributes:
         tag: The element name.
         attrs: The attributes, in document order.
-        children: The child elements (text and comments are dropped).
+        children: The child elements (comments are dropped).
         line: 1-based line of the start tag.
         column: 1-based column of the start tag.
+        text: The character data directly inside the element.
     """
 
     tag: str
@@ -49,6 +58,7 @@ class Element:
     line: int
     column: int
     children: list[Element] = field(default_factory=list)
+    text: str = ""
 
 
 class XmlError(Exception):
@@ -59,8 +69,79 @@ class XmlError(Exception):
         self.problem = problem
 
 
+#: Stands for a raw ``<`` inside an attribute value while expat reads the text.
+_LESS_THAN = "\ue000"
+
+
+def _quote_attribute_less_thans(text: str) -> str:
+    """Replace every ``<`` inside a quoted attribute value (inside a tag) by a stand-in."""
+    out: list[str] = []
+    in_tag = False
+    quote = ""
+    index = 0
+    while index < len(text):
+        char = text[index]
+        if text.startswith("<!--", index) and not in_tag:
+            end = text.find("-->", index)
+            end = len(text) if end < 0 else end + 3
+            out.append(text[index:end])
+            index = end
+            continue
+        if quote:
+            out.append(_LESS_THAN if char == "<" else char)
+            quote = "" if char == quote else quote
+        elif in_tag:
+            out.append(char)
+            if char in "\"'":
+                quote = char
+            elif char == ">":
+                in_tag = False
+        else:
+            out.append(char)
+            in_tag = char == "<"
+        index += 1
+    return "".join(out)
+
+
+def _parse(text: str, file: str) -> Element:
+    parser = expat.ParserCreate()
+    stack: list[Element] = []
+    roots: list[Element] = []
+
+    def start(tag: str, attrs: dict[str, str]) -> None:
+        attrs = {k: v.replace(_LESS_THAN, "<") for k, v in attrs.items()}
+        element = Element(tag, attrs, parser.CurrentLineNumber, parser.CurrentColumnNumber + 1)
+        (stack[-1].children if stack else roots).append(element)
+        stack.append(element)
+
+    def end(_tag: str) -> None:
+        stack.pop()
+
+    def characters(data: str) -> None:
+        if stack:
+            stack[-1].text += data
+
+    def doctype(*_args: object) -> None:
+        raise XmlError(Problem(file, parser.CurrentLineNumber, parser.CurrentColumnNumber + 1,
+                               "a DOCTYPE is not accepted in BehaviorTree.CPP XML"))
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    parser.CharacterDataHandler = characters
+    parser.StartDoctypeDeclHandler = doctype
+    try:
+        parser.Parse(text, True)
+    except expat.ExpatError as exc:
+        if exc.code == expat.errors.codes[expat.errors.XML_ERROR_JUNK_AFTER_DOC_ELEMENT] \
+                and roots and not stack:
+            return roots[0]  # tinyxml2 keeps what follows; BT.CPP reads the first element
+        message = expat.ErrorString(exc.code)
+        raise XmlError(Problem(file, exc.lineno, exc.offset + 1, f"XML: {message}")) from None
+    return roots[0]
+
+
 def parse_xml(text: str | bytes, file: str) -> Element:
-    """Parse an XML document.
+    """Parse an XML document as BehaviorTree.CPP's tinyxml2 reads it.
 
     Args:
         text: The document.
@@ -70,33 +151,21 @@ def parse_xml(text: str | bytes, file: str) -> Element:
         The root element.
 
     Raises:
-        XmlError: Not well-formed, or with a document type declaration.
+        XmlError: Not well-formed (beyond what tinyxml2 forgives), or with a document
+            type declaration.
     """
-    parser = expat.ParserCreate()
-    stack: list[Element] = []
-    roots: list[Element] = []
-
-    def start(tag: str, attrs: dict[str, str]) -> None:
-        element = Element(tag, attrs, parser.CurrentLineNumber, parser.CurrentColumnNumber + 1)
-        (stack[-1].children if stack else roots).append(element)
-        stack.append(element)
-
-    def end(_tag: str) -> None:
-        stack.pop()
-
-    def doctype(*_args: object) -> None:
-        raise XmlError(Problem(file, parser.CurrentLineNumber, parser.CurrentColumnNumber + 1,
-                               "a DOCTYPE is not accepted in BehaviorTree.CPP XML"))
-
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
-    parser.StartDoctypeDeclHandler = doctype
+    if isinstance(text, bytes):
+        text = text.decode("utf-8-sig")
     try:
-        parser.Parse(text, True)
-    except expat.ExpatError as exc:
-        message = expat.ErrorString(exc.code)
-        raise XmlError(Problem(file, exc.lineno, exc.offset + 1, f"XML: {message}")) from None
-    return roots[0]
+        return _parse(text, file)
+    except XmlError as first:
+        lenient = _quote_attribute_less_thans(text)
+        if lenient == text:
+            raise
+        try:
+            return _parse(lenient, file)
+        except XmlError:
+            raise first from None
 
 
 def read_xml(path: str | Path) -> Element:

@@ -2,10 +2,11 @@
 //
 // usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]
 //
-// Every model of the file's <TreeNodesModel> is registered with its declared input ports
+// Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
 // Action/Condition model becomes a scripted leaf, a Sar... Decorator the py_trees
-// decorator it stands for. SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
+// decorator it stands for, any other Control one that loads but cannot tick. With
+// MAX_TICKS 0 the file is only loaded (createTreeFromText: every check BT.CPP makes). SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
 // line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
 // with "all", MAX_TICKS times (a finished root starts over, as a mission runner ticks it).
@@ -255,37 +256,73 @@ private:
 };
 
 template <typename T>
-BT::PortInfo typedPort(const char* name, const char* def, const char* text)
+BT::PortInfo typedPort(BT::PortDirection direction, const char* name, const char* def,
+                       const char* text)
 {
-  auto port = BT::InputPort<T>(name, text ? text : "").second;
-  if(def != nullptr)
+  BT::PortInfo port = direction == BT::PortDirection::INPUT ?
+                          BT::InputPort<T>(name, text ? text : "").second :
+                      direction == BT::PortDirection::OUTPUT ?
+                          BT::OutputPort<T>(name, text ? text : "").second :
+                          BT::BidirectionalPort<T>(name, text ? text : "").second;
+  if(def != nullptr && BT::TreeNode::isBlackboardPointer(def))
+  {
+    port.setDefaultValue(std::string(def));
+  }
+  else if(def != nullptr)
   {
     port.setDefaultValue(BT::convertFromString<T>(def));
   }
   return port;
 }
 
+// input_port, output_port and inout_port; a type other than the basic ones (a message,
+// or none) is registered untyped, as BT.CPP does for BT::AnyTypeAllowed.
 BT::PortsList portsOf(const tinyxml2::XMLElement* model)
 {
   BT::PortsList ports;
-  for(auto* port = model->FirstChildElement("input_port"); port != nullptr;
-      port = port->NextSiblingElement("input_port"))
+  const std::pair<const char*, BT::PortDirection> kinds[] = {
+    { "input_port", BT::PortDirection::INPUT },
+    { "output_port", BT::PortDirection::OUTPUT },
+    { "inout_port", BT::PortDirection::INOUT },
+  };
+  for(const auto& [tag, direction] : kinds)
   {
-    const char* name = port->Attribute("name");
-    const std::string type = port->Attribute("type") ? port->Attribute("type") : "std::string";
-    const char* def = port->Attribute("default");
-    const char* text = port->GetText();
-    if(type == "int")
-      ports.insert({ name, typedPort<int>(name, def, text) });
-    else if(type == "double")
-      ports.insert({ name, typedPort<double>(name, def, text) });
-    else if(type == "bool")
-      ports.insert({ name, typedPort<bool>(name, def, text) });
-    else
-      ports.insert({ name, typedPort<std::string>(name, def, text) });
+    for(auto* port = model->FirstChildElement(tag); port != nullptr;
+        port = port->NextSiblingElement(tag))
+    {
+      const char* name = port->Attribute("name");
+      const std::string type = port->Attribute("type") ? port->Attribute("type") : "";
+      const char* def = port->Attribute("default");
+      const char* text = port->GetText();
+      if(type == "int")
+        ports.insert({ name, typedPort<int>(direction, name, def, text) });
+      else if(type == "double")
+        ports.insert({ name, typedPort<double>(direction, name, def, text) });
+      else if(type == "bool")
+        ports.insert({ name, typedPort<bool>(direction, name, def, text) });
+      else if(type == "std::string")
+        ports.insert({ name, typedPort<std::string>(direction, name, def, text) });
+      else
+        ports.insert({ name, typedPort<BT::AnyTypeAllowed>(direction, name, nullptr, text) });
+    }
   }
   return ports;
 }
+
+// A control or decorator the checker has no implementation of: it can be loaded (the
+// file is checked), not ticked.
+template <typename Base>
+class Unimplemented : public Base
+{
+public:
+  Unimplemented(const std::string& name, const BT::NodeConfig& config) : Base(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    throw BT::RuntimeError("btcpp_checker: no implementation of ", this->registrationName());
+  }
+};
 
 // Register every model of the file's <TreeNodesModel>; returns how many.
 int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Script& script)
@@ -327,6 +364,14 @@ int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Sc
       factory.registerBuilder(manifest, [](const std::string& name,
                                            const BT::NodeConfig& config) {
         return std::make_unique<SarParallel>(name, config);
+      });
+    }
+    else if(category == "Control")
+    {
+      manifest.type = BT::NodeType::CONTROL;
+      factory.registerBuilder(manifest, [](const std::string& name,
+                                           const BT::NodeConfig& config) {
+        return std::make_unique<Unimplemented<BT::ControlNode>>(name, config);
       });
     }
     else

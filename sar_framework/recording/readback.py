@@ -2,11 +2,11 @@
 
 :func:`read_recording` decodes a recording (the ``mcap`` reader, and rclpy's own CDR
 deserialiser with the installed message classes) into a :class:`Recording`: the tree's
-status per tick, the robot's poses in ``map``, the navigation goals, the report service's
-answers, and the tree and parameter files attached to it. :func:`write_report_inputs` turns
-it into the files :mod:`sar_framework.report` reads (``status.json``, ``trace.jsonl``,
-``reports.jsonl``, ``report.log``), so a replayed report is drawn by the same code as a live
-one.
+status per tick, the runner's events, the robot's poses in ``map``, the navigation goals,
+the report service's answers, and the tree and parameter files attached to it.
+:func:`write_report_inputs` turns it into the files :mod:`sar_framework.report` reads
+(``events.jsonl``, ``status.json``, ``trace.jsonl``, ``reports.jsonl``), so a replayed
+report is drawn by the same code as a live one.
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sar_framework.events.event import EVENT_TOPIC, MissionEvent
+from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.recording.recorder import (
     ATTACHMENT_PARAMS,
     ATTACHMENT_TREE,
@@ -31,8 +33,8 @@ REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
 GLOBAL_FRAME = "map"
 #: The robot's frame is the one whose name starts so (``base_link``, ``base_footprint``).
 ROBOT_FRAME_PREFIX = "base"
-DECODED_TOPICS = frozenset({STATUS_TOPIC, "/tf", "/tf_static", GOAL_STATUS_TOPIC,
-                            REPORT_EVENTS_TOPIC})
+DECODED_TOPICS = frozenset({STATUS_TOPIC, EVENT_TOPIC, "/tf", "/tf_static",
+                            GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC})
 """The topics a replay needs (the others stay undecoded)."""
 _TERMINAL = ("SUCCESS", "FAILURE")
 _REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
@@ -50,6 +52,7 @@ class Recording:
         path: The file.
         statuses: The tree status documents, in order, each with ``wall_s`` added (seconds
             since the first message of the recording).
+        events: The runner's events, in order (one this version does not know is left out).
         poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
         goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
         reports: The report service's requests with the answer (``acknowledged``).
@@ -60,6 +63,7 @@ class Recording:
 
     path: Path
     statuses: list[dict[str, Any]] = field(default_factory=list)
+    events: list[MissionEvent] = field(default_factory=list)
     poses: list[tuple[float, float, float, float]] = field(default_factory=list)
     goals: list[tuple[float, str]] = field(default_factory=list)
     reports: list[dict[str, Any]] = field(default_factory=list)
@@ -128,6 +132,8 @@ def read_recording(path: str | Path) -> Recording:
     from mcap.reader import make_reader
     from rclpy.serialization import deserialize_message
 
+    from sar_framework.ros.event_topic import from_message
+
     recording = Recording(Path(path))
     tracker = _PoseTracker()
     classes: dict[str, Any] = {}
@@ -153,6 +159,11 @@ def read_recording(path: str | Path) -> Recording:
                         continue
                     document["wall_s"] = round((message.log_time - first_ns) / 1e9, 3)
                     recording.statuses.append(document)
+                elif channel.topic == EVENT_TOPIC:
+                    try:
+                        recording.events.append(from_message(msg))
+                    except ValueError:
+                        continue  # a kind a later version added
                 elif channel.topic in ("/tf", "/tf_static"):
                     recording.poses.extend(tracker.update(msg))
                 elif channel.topic == GOAL_STATUS_TOPIC:
@@ -276,10 +287,10 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
     (folder / "reports.jsonl").write_text(
         "".join(json.dumps({k: v for k, v in r.items() if k != "acknowledged"}) + "\n"
                 for r in accepted), encoding="utf-8")
-    (folder / "report.log").write_text(
-        "".join(f"Report refused: '{r['survivor_id']}' at ({r['x']:.2f}, {r['y']:.2f}): "
-                "not acknowledged\n" for r in recording.reports if not r["acknowledged"]),
-        encoding="utf-8")
+    events = EventFileWriter(folder / EVENTS_FILE)
+    for event in recording.events:
+        events(event)
+    events.close()
     files: dict[str, Path] = {}
     for key, name in (("tree", ATTACHMENT_TREE), ("params", ATTACHMENT_PARAMS)):
         if name in recording.attachments:

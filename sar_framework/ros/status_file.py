@@ -46,6 +46,8 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.spec import Category, TreeSpec
+from sar_framework.events.emitter import NO_EVENTS, EventEmitter
+from sar_framework.events.event import EventKind
 from sar_framework.ros.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
@@ -107,6 +109,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         path: The status file; None keeps the document in memory only.
         wall_start: ``time.monotonic()`` when the runner started.
         completion: ``"once"``, ``"rest"`` or ``"forever"`` (see the module docstring).
+        emitter: Where each leaf's start (RUNNING) and verdict go as ``status`` events.
 
     Raises:
         ValueError: An unknown ``completion``.
@@ -115,12 +118,14 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
     def __init__(self, tree_file: str, spec: TreeSpec,
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
-                 wall_start: float | None = None, completion: str = "rest") -> None:
+                 wall_start: float | None = None, completion: str = "rest",
+                 emitter: EventEmitter = NO_EVENTS) -> None:
         super().__init__(full=False)
         if completion not in RECORDED_COMPLETIONS:
             raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
                              f"got {completion!r}")
         self._completion = completion
+        self._emitter = emitter
         self._tree_file = tree_file
         self._path = Path(path) if path else None
         self._sim_now = sim_now
@@ -159,6 +164,9 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             return
         status = behaviour.status
         if status == Status.RUNNING:
+            if uid not in self._running:
+                self._emitter.emit(EventKind.STATUS, source=behaviour, status=status.name,
+                                  message=str(behaviour.feedback_message or ""))
             self._running.add(uid)
             return
         if status not in _TERMINAL:
@@ -178,6 +186,8 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             "kind": self._spec_of[uid].kind, "status": status.name, "message": message,
         }
         self.events.append(event)
+        self._emitter.emit(EventKind.STATUS, source=behaviour, status=status.name,
+                          message=message)
         self._changed = True
         if status == Status.FAILURE:
             if was_running:

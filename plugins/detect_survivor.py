@@ -92,7 +92,10 @@ class DetectSurvivor(ServiceLeaf):
                        f"({self._pose[0]:.2f}, {self._pose[1]:.2f})")
         else:
             message = f"{self._zone_id}: no survivor"
+        said = (f"FOUND at ({self._pose[0]:.2f}, {self._pose[1]:.2f})" if self._pose
+                else "no survivor")
         self.events.emit(EventKind.DETECTION, source=self, zone_id=self._zone_id or "",
-                         status="FOUND" if self._found else "NONE", message=message,
+                         status="FOUND" if self._found else "NONE",
+                         message=f"Detection request for {self._zone_id}: {said}",
                          position=self._pose)
         return self._latch(True, message, log=False)

@@ -128,5 +128,5 @@ class NotifyBase(ServiceLeaf):
             return self._latch(False, f"report of {where} not acknowledged"
                                       + (f": {reason}" if reason else ""))
         self.events.emit(EventKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
-                         message=f"Reported {where}: acknowledged.", **fields)
+                         message=f"Report received: {where}. Acknowledged.", **fields)
         return self._latch(True, f"Reported {where}: acknowledged.")

@@ -41,6 +41,7 @@ class EventKind(str, enum.Enum):
     SURVIVOR_BROADCAST = "survivor_broadcast"
     SURVIVOR_REPORTED = "survivor_reported"
     SURVIVOR_REFUSED = "survivor_refused"
+    NOTE = "note"
     COMPLETION = "completion"
     VERDICT = "verdict"
 

@@ -35,11 +35,11 @@ from sar_framework.run.inputs import CheckedInputs
 from sar_framework.run.outcome import (
     EXIT_INTERRUPTED,
     EXIT_USAGE,
-    PROGRESS_KINDS,
     Outcome,
     child_exit_outcome,
     completion_outcome,
     exit_words,
+    progress_line,
     read_status,
     runner_exit_outcome,
     summarise,
@@ -103,9 +103,10 @@ class Mission:
             self.events.append(event)
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
-            if event.kind in PROGRESS_KINDS and self.watcher is None:
+            line = progress_line(event)
+            if line is not None and self.watcher is None:
                 wall_s = time.monotonic() - self.started
-                self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {event.message}")
+                self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {line}")
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""

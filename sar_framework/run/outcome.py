@@ -28,9 +28,19 @@ EXIT_INTERRUPTED = 130
 PROGRESS_KINDS = frozenset({
     EventKind.NAVIGATION, EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
     EventKind.BASE_REACHED, EventKind.DETECTION, EventKind.SURVIVOR_BROADCAST,
-    EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.COMPLETION,
+    EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.NOTE,
+    EventKind.COMPLETION,
 })
-"""The events shown on the console as the mission goes (their ``message``)."""
+"""The events shown on the console as the mission goes (:func:`progress_line`)."""
+
+
+def progress_line(event: MissionEvent) -> str | None:
+    """The console line of an event, or None when it is not a progress event."""
+    if event.kind not in PROGRESS_KINDS:
+        return None
+    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
+        return f"Report for {event.survivor_id} refused by base: {event.message}"
+    return event.message
 
 
 @dataclass

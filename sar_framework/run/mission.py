@@ -73,6 +73,7 @@ class Mission:
         self.started = time.monotonic()
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
+        self._last_progress: str | None = None  # a note repeating the event before is not shown
         self._follower = EventFileFollower(self.report_dir / EVENTS_FILE)
         self._trace = JsonLinesFollower(self.report_dir / "trace.jsonl")
         self.stop_s: float | None = None
@@ -104,9 +105,10 @@ class Mission:
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
             line = progress_line(event)
-            if line is not None and self.watcher is None:
+            if line is not None and line != self._last_progress and self.watcher is None:
                 wall_s = time.monotonic() - self.started
                 self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {line}")
+            self._last_progress = line if line is not None else self._last_progress
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""

@@ -184,6 +184,15 @@ def _natural_key(text: str) -> tuple[str, int]:
     return (match.group(1), int(match.group(2))) if match else (text, 0)
 
 
+def _startup_failure(status: dict[str, Any]) -> list[dict[str, Any]]:
+    """The runner's start-up failure (status file ``error``) as a failure record, if any."""
+    error = status.get("error")
+    if not isinstance(error, dict):
+        return []
+    return [{"what": "failure", "uid": "", "name": error.get("step", ""),
+             "kind": "", "message": error.get("message", "")}]
+
+
 def summarise(inputs: MissionInputs) -> dict[str, Any]:
     """Build the ``mission.json`` document from the run's files.
 
@@ -250,7 +259,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "real_time_factor": round(sim_duration / ticking_wall, 2)
         if sim_duration is not None and ticking_wall else None,
         "failures": [_reason_record(e) for e in events if e.kind in REASON_KINDS]
-        or [f for f in status.get("failures", []) if not f.get("uid")],  # start-up
+        or _startup_failure(status),
         "node_statuses": status.get("nodes", {}),
     }
 

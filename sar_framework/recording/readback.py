@@ -36,7 +36,6 @@ ROBOT_FRAME_PREFIX = "base"
 DECODED_TOPICS = frozenset({STATUS_TOPIC, EVENT_TOPIC, "/tf", "/tf_static",
                             GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC})
 """The topics a replay needs (the others stay undecoded)."""
-_TERMINAL = ("SUCCESS", "FAILURE")
 _REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
 
 
@@ -198,48 +197,23 @@ def read_recording(path: str | Path) -> Recording:
 def status_document(recording: Recording) -> dict[str, Any]:
     """The runner's status file (``status.json``) rebuilt from the per-tick statuses.
 
-    Events are leaf verdicts (SUCCESS/FAILURE on a tick that visited the leaf), a repeat
-    of the same verdict and message on consecutive ticks counted once; failures are leaf
-    FAILUREs after the leaf had been RUNNING, as the runner counts them.
+    What happened (leaf verdicts, failures) is in the recorded events, not here.
     """
     statuses = recording.statuses
     nodes: dict[str, str] = {}
-    events: list[dict[str, Any]] = []
-    failures: list[dict[str, Any]] = []
-    last: dict[str, tuple[str, str]] = {}
-    was_running: set[str] = set()
-    uids = [n["uid"] for n in statuses[0]["nodes"]] if statuses else []
-    leaves = {u for u in uids if not any(o.startswith(u + ".") for o in uids)}
     for document in statuses:
         for node in document["nodes"]:
-            uid, status = node["uid"], node["status"]
-            if status != "INVALID":
-                nodes[uid] = status
-            if uid not in leaves or not node["visited"]:
-                continue
-            if status == "RUNNING":
-                was_running.add(uid)
-            if status not in _TERMINAL:
-                last.pop(uid, None)
-                continue
-            if last.get(uid) == (status, node["message"]):
-                continue
-            last[uid] = (status, node["message"])
-            event = {"sim_s": document["sim_s"], "wall_s": document["wall_s"], "uid": uid,
-                     "name": node["name"], "kind": node["kind"], "status": status,
-                     "message": node["message"]}
-            events.append(event)
-            if status == "FAILURE" and uid in was_running:
-                failures.append({k: event[k] for k in ("uid", "name", "message")})
-            was_running.discard(uid)
+            if node["status"] != "INVALID":
+                nodes[node["uid"]] = node["status"]
     end = statuses[-1] if statuses else {}
+    running = [n["uid"] for n in end.get("nodes", []) if n["status"] == "RUNNING"]
     return {
         "tree": recording.metadata.get("tree", ""), "status": end.get("status", "INVALID"),
         "ticks": end.get("tick", 0), "complete": bool(end.get("complete")),
         "wall_first_tick_s": statuses[0]["wall_s"] if statuses else None,
         "sim_start_s": statuses[0].get("sim_start_s", statuses[0]["sim_s"]) if statuses else None,
         "sim_end_s": end.get("sim_s"), "wall_duration_s": round(recording.wall_duration_s, 3),
-        "nodes": nodes, "events": events, "failures": failures,
+        "nodes": nodes, "running": running,
     }
 
 

@@ -78,9 +78,9 @@ def failure_reason(events: Sequence[MissionEvent], status: dict[str, Any]) -> st
     last = last_cause(events)
     if last is not None:
         return f"{last.node_name} [{last.node_uid}] failed: {last.message or 'no reason given'}"
-    startup = [f for f in status.get("failures") or [] if not f.get("uid")]
-    if startup:
-        return str(startup[-1].get("message"))
+    error = status.get("error")
+    if isinstance(error, dict) and error.get("message"):
+        return str(error["message"])
     completion = next((e for e in events if e.kind == EventKind.COMPLETION), None)
     return completion.message if completion is not None else "no reason given"
 

@@ -46,7 +46,7 @@ def test_a_runner_that_exits_0_without_a_completion_event_was_stopped() -> None:
 
 
 def test_a_start_up_failure_comes_from_the_status_file_not_a_log_line() -> None:
-    status = {"failures": [{"uid": "", "name": "setup", "message": "tree setup timed out"}]}
+    status = {"error": {"step": "setup", "message": "tree setup timed out"}}
     assert runner_exit_outcome(1, [], status, "a reworded line").reason == "tree setup timed out"
 
 

@@ -95,5 +95,5 @@ class BroadcastSurvivorTF(RosLeaf):
         message = (f"Broadcast static TF {self.parent_frame} -> {child} at "
                    f"({pose[0]:.2f}, {pose[1]:.2f}).")
         self.events.emit(EventKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
-                         zone_id=self.detector.zone_id() or "", message=message, position=pose)
+                         message=message, position=pose)
         return self._latch(True, message)

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param
+from sar_framework.events.event import EventKind
 
 from ._ros_leaf import RosLeaf
 
@@ -58,6 +59,7 @@ class NavigationTarget:
         yaw: Radians about z.
         announce: Logged when the goal is sent.
         reached: Logged when the goal succeeds.
+        zone_id: The zone it is ("" for the base station).
     """
 
     label: str
@@ -66,6 +68,7 @@ class NavigationTarget:
     yaw: float
     announce: str
     reached: str
+    zone_id: str = ""
 
 
 def yaw_to_quaternion(yaw: float) -> tuple[float, float, float, float]:
@@ -226,6 +229,8 @@ class NavigateToPoseLeaf(RosLeaf):
         self._sent = time.monotonic()
         self.feedback_message = f"goal sent: {target.label}"
         self.node.get_logger().info(target.announce)
+        self.events.emit(EventKind.NAVIGATION, source=self, zone_id=target.zone_id,
+                         message=target.announce, position=(target.x, target.y))
 
     def _still_running(self, target: NavigationTarget, now: float) -> Status:
         """RUNNING while the goal is within its bound; past it, cancel and fail."""

@@ -2,7 +2,9 @@
 
 It holds the two things every such leaf shares:
 
-* the ROS node, which arrives the py_trees_ros way, ``setup(node=...)``;
+* the ROS node, which arrives the py_trees_ros way, ``setup(node=...)``, and the
+  runner's event emitter beside it (``setup(events=...)``, :attr:`RosLeaf.events`): what
+  a leaf tells other processes goes there, its log lines are for humans;
 * the ``_done`` / ``_success`` terminal latch of the implementation guide: reset in
   ``initialise()``, written together exactly once per active period by :meth:`_latch`,
   read first in ``update()`` through :meth:`_verdict`.
@@ -16,6 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 import py_trees
 from py_trees.common import Status
+
+from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -31,14 +35,15 @@ class RosLeaf(py_trees.behaviour.Behaviour):
     def __init__(self, name: str) -> None:
         super().__init__(name=name)
         self._node: Node | None = None
+        self.events: EventEmitter = NO_EVENTS
         self._done = False
         self._success = False
 
     def setup(self, **kwargs: Any) -> None:
-        """Take the ROS node from ``kwargs["node"]``.
+        """Take the ROS node from ``kwargs["node"]`` and the event emitter, if any.
 
         Args:
-            **kwargs: Must hold ``node``, an ``rclpy.node.Node``.
+            **kwargs: Must hold ``node``, an ``rclpy.node.Node``; may hold ``events``.
 
         Raises:
             KeyError: Without a node.
@@ -49,6 +54,7 @@ class RosLeaf(py_trees.behaviour.Behaviour):
                 f"{type(self).__name__} '{self.name}' needs a ROS node: call setup(node=...)"
             )
         self._node = node
+        self.events = events_from(kwargs)
 
     @property
     def node(self) -> Node:

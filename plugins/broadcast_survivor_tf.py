@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
+from sar_framework.events.event import EventKind
 
 from ._ros_leaf import RosLeaf
 
@@ -91,5 +92,8 @@ class BroadcastSurvivorTF(RosLeaf):
         transform.transform.rotation.w = 1.0
         self._broadcaster.sendTransform(transform)
         self._survivor_id = child
-        return self._latch(True, f"Broadcast static TF {self.parent_frame} -> {child} at "
-                                 f"({pose[0]:.2f}, {pose[1]:.2f}).")
+        message = (f"Broadcast static TF {self.parent_frame} -> {child} at "
+                   f"({pose[0]:.2f}, {pose[1]:.2f}).")
+        self.events.emit(EventKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
+                         message=message, position=pose)
+        return self._latch(True, message)

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
+from sar_framework.events.event import EventKind
 
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
@@ -85,8 +86,16 @@ class DetectSurvivor(ServiceLeaf):
 
     def _verdict_on(self, response: Any) -> Status:
         self._found = bool(response.found)
-        if not self._found:
-            return self._latch(True, f"{self._zone_id}: no survivor", log=False)
-        self._pose = (float(response.survivor_x), float(response.survivor_y))
-        return self._latch(True, f"{self._zone_id}: survivor found at "
-                                 f"({self._pose[0]:.2f}, {self._pose[1]:.2f})", log=False)
+        if self._found:
+            self._pose = (float(response.survivor_x), float(response.survivor_y))
+            message = (f"{self._zone_id}: survivor found at "
+                       f"({self._pose[0]:.2f}, {self._pose[1]:.2f})")
+        else:
+            message = f"{self._zone_id}: no survivor"
+        said = (f"FOUND at ({self._pose[0]:.2f}, {self._pose[1]:.2f})" if self._pose
+                else "no survivor")
+        self.events.emit(EventKind.DETECTION, source=self, zone_id=self._zone_id or "",
+                         status="FOUND" if self._found else "NONE",
+                         message=f"Detection request for {self._zone_id}: {said}",
+                         position=self._pose)
+        return self._latch(True, message, log=False)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from sar_framework.engine.plugin import leaf
+from sar_framework.events.event import EventKind
 
 from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
 
@@ -17,6 +18,10 @@ class NavigateToBase(NavigateToPoseLeaf):
     mid-mission) and ``Reached base station.`` on success. Wrap it in a OneShot
     (ON_COMPLETION) under a reactive Selector so the goal is sent only once.
     """
+
+    def _reached(self, target: NavigationTarget) -> None:
+        self.events.emit(EventKind.BASE_REACHED, source=self, message=target.reached,
+                         position=(target.x, target.y))
 
     def _target(self) -> NavigationTarget:
         base = self.zone_manager.base_pose()

@@ -19,7 +19,7 @@ class NavigateToZone(NavigateToPoseLeaf):
     """
 
     def _reached(self, target: NavigationTarget) -> None:
-        self.zone_manager.mark_reached(target.label)
+        self.zone_manager.mark_reached(target.zone_id)  # the zone manager tells the events
 
     def _target(self) -> NavigationTarget:
         zone = self.zone_manager.current_zone()  # IndexError (a LookupError) when exhausted
@@ -32,4 +32,5 @@ class NavigateToZone(NavigateToPoseLeaf):
             yaw=zone["yaw"],
             announce=f"--- Zone {index}/{total}: {zone['id']} {where} ---",
             reached=f"Reached {zone['id']}.",
+            zone_id=zone["id"],
         )

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
+from sar_framework.events.event import EventKind
 
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
@@ -116,7 +117,16 @@ class NotifyBase(ServiceLeaf):
     def _verdict_on(self, response: Any) -> Status:
         assert self._pose is not None
         where = f"{self._survivor_id} at ({self._pose[0]:.2f}, {self._pose[1]:.2f})"
+        fields = {"source": self, "survivor_id": self._survivor_id or "",
+                  "position": self._pose}
         if not response.acknowledged:
-            self._failure = f"Report for {self._survivor_id} refused by base: not acknowledged"
-            return self._latch(False, f"report of {where} not acknowledged")
+            reason = str(getattr(response, "reason", ""))  # the server's word, if it gave one
+            why = reason or "not acknowledged"
+            self._failure = f"Report for {self._survivor_id} refused by base: {why}"
+            self.events.emit(EventKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
+                             **fields)
+            return self._latch(False, f"report of {where} not acknowledged"
+                                      + (f": {reason}" if reason else ""))
+        self.events.emit(EventKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
+                         message=f"Report received: {where}. Acknowledged.", **fields)
         return self._latch(True, f"Reported {where}: acknowledged.")

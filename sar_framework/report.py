@@ -2,11 +2,12 @@
 
 Plain Python (no ROS). It reads what the mission's processes left in the report folder:
 
+- ``events.jsonl``: the runner's events (:mod:`sar_framework.events`): zones reached and
+  not, the base reached, survivors broadcast, reported and refused, failures;
 - ``status.json``: the runner's status file (docs/mission-contracts.md): node statuses,
-  leaf events (``Reached zone_a.`` with its simulated time), failures, ticks;
+  ticks, clock readings;
 - ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any;
 - ``reports.jsonl``: the report server's acknowledged survivors;
-- ``report.log``: the report server's log, for refused reports;
 
 plus the mission parameter file (zones, base station) and the course map. ``mission.png``
 draws the occupancy map (walls and debris), the planned zones (numbered in visiting
@@ -28,12 +29,10 @@ from typing import Any
 
 import yaml
 
+from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
+from sar_framework.events.jsonl import EVENTS_FILE, read_events
 from sar_framework.report_map import MAP_YAML, draw_map
 
-_REACHED = re.compile(r"^Reached (.+)\.$")
-_BROADCAST = re.compile(r"map -> (\S+) at \((-?[0-9.]+), (-?[0-9.]+)\)")
-_REFUSED = re.compile(r"Report refused: '([^']*)' at \((-?[0-9.]+), (-?[0-9.]+)\): (.*)$")
-BASE_NAME = "base station"
 AT_BASE_M = 0.5
 """A robot ending this close to the base station (metres) is at base."""
 
@@ -141,37 +140,57 @@ def _final_position(trace: Sequence[dict[str, Any]], base: dict[str, float]
     return {"x": round(x, 3), "y": round(y, 3)}, at_base
 
 
-def _survivors(report_dir: Path, events: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Survivors found (broadcast), acknowledged (report file) or refused (report log)."""
+def _survivors(report_dir: Path, events: Sequence[MissionEvent]) -> list[dict[str, Any]]:
+    """Survivors broadcast, acknowledged (events, report file) or refused (events)."""
     found: dict[str, dict[str, Any]] = {}
+
+    def entry(event: MissionEvent) -> dict[str, Any]:
+        x, y, _ = event.position or (None, None, None)
+        return found.setdefault(event.survivor_id, {
+            "id": event.survivor_id, "x": x, "y": y, "frame": "map", "found_sim_s": None,
+            "acknowledged": False})
+
     for event in events:
-        match = _BROADCAST.search(str(event.get("message", "")))
-        if match and event.get("status") == "SUCCESS":
-            found.setdefault(match.group(1), {
-                "id": match.group(1), "x": float(match.group(2)), "y": float(match.group(3)),
-                "frame": "map", "found_sim_s": event.get("sim_s"), "acknowledged": False})
+        if event.kind == EventKind.SURVIVOR_BROADCAST:
+            survivor = entry(event)
+            if survivor["found_sim_s"] is None:
+                survivor["found_sim_s"] = event.sim_s
+        elif event.kind == EventKind.SURVIVOR_REPORTED:
+            survivor = entry(event)
+            survivor.pop("refused", None)
+            survivor["acknowledged"] = True
+        elif event.kind == EventKind.SURVIVOR_REFUSED:
+            survivor = entry(event)
+            if not survivor["acknowledged"]:
+                survivor["refused"] = event.message
     for record in _read_jsonl(report_dir / "reports.jsonl"):
         sid = str(record.get("survivor_id", ""))
-        entry = found.setdefault(sid, {"id": sid, "found_sim_s": None})
-        entry.update({"x": record.get("x"), "y": record.get("y"),
-                      "frame": record.get("frame_id", "map"), "acknowledged": True})
-    try:
-        log = (report_dir / "report.log").read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        log = ""
-    for line in log.splitlines():
-        match = _REFUSED.search(line)
-        if match and not found.get(match.group(1), {}).get("acknowledged"):
-            entry = found.setdefault(match.group(1), {
-                "id": match.group(1), "x": float(match.group(2)), "y": float(match.group(3)),
-                "frame": "map", "found_sim_s": None})
-            entry.update({"acknowledged": False, "refused": match.group(4)})
+        survivor = found.setdefault(sid, {"id": sid, "found_sim_s": None})
+        survivor.pop("refused", None)
+        survivor.update({"x": record.get("x"), "y": record.get("y"),
+                         "frame": record.get("frame_id", "map"), "acknowledged": True})
     return sorted(found.values(), key=lambda s: _natural_key(s["id"]))
+
+
+def _reason_record(event: MissionEvent) -> dict[str, Any]:
+    """A reason event as ``mission.json`` lists it (``what``, ``uid``, ``name``...)."""
+    return {"what": event.kind.value, "uid": event.node_uid, "name": event.node_name,
+            "kind": event.node_kind, "message": event.message, "sim_s": event.sim_s,
+            "wall_s": event.wall_s}
 
 
 def _natural_key(text: str) -> tuple[str, int]:
     match = re.match(r"^(.*?)(\d+)$", text)
     return (match.group(1), int(match.group(2))) if match else (text, 0)
+
+
+def _startup_failure(status: dict[str, Any]) -> list[dict[str, Any]]:
+    """The runner's start-up failure (status file ``error``) as a failure record, if any."""
+    error = status.get("error")
+    if not isinstance(error, dict):
+        return []
+    return [{"what": "failure", "uid": "", "name": error.get("step", ""),
+             "kind": "", "message": error.get("message", "")}]
 
 
 def summarise(inputs: MissionInputs) -> dict[str, Any]:
@@ -185,27 +204,25 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     """
     status = _read_json(inputs.report_dir / "status.json")
     trace = _read_jsonl(inputs.report_dir / "trace.jsonl")
+    events = read_events(inputs.report_dir / EVENTS_FILE)
     zones, base = read_mission_layout(inputs.params_file)
-    events = [e for e in status.get("events", []) if isinstance(e, dict)]
     visited: list[dict[str, Any]] = []
     base_reached: dict[str, Any] | None = None
     planned = {z["id"]: z for z in zones}
     sim_start, sim_end = status.get("sim_start_s"), status.get("sim_end_s")
     for event in events:
-        match = _REACHED.match(str(event.get("message", "")))
-        if not match or event.get("status") != "SUCCESS":
+        if event.kind not in (EventKind.ZONE_REACHED, EventKind.BASE_REACHED):
             continue
         # Simulated times from the mission's start, like sim_duration_s (ROS time is not 0
         # at the first tick).
-        arrival = event.get("sim_s")
-        if isinstance(arrival, (int, float)) and isinstance(sim_start, (int, float)):
-            arrival = round(arrival - sim_start, 3)
-        times = {"arrival_sim_s": arrival, "arrival_wall_s": event.get("wall_s")}
-        if match.group(1) == BASE_NAME:
+        arrival: float | None = event.sim_s
+        if isinstance(sim_start, (int, float)):
+            arrival = round(event.sim_s - sim_start, 3)
+        times = {"arrival_sim_s": arrival, "arrival_wall_s": event.wall_s}
+        if event.kind == EventKind.BASE_REACHED:
             base_reached = {**base, **times}
         else:
-            zone = planned.get(match.group(1), {"id": match.group(1)})
-            visited.append({**zone, **times})
+            visited.append({**planned.get(event.zone_id, {"id": event.zone_id}), **times})
     sim_duration = (sim_end - sim_start) if isinstance(sim_start, (int, float)) and \
         isinstance(sim_end, (int, float)) else None
     runner_wall = status.get("wall_duration_s")
@@ -241,7 +258,8 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "ticks_per_wall_s": round(ticks / ticking_wall, 2) if ticking_wall else None,
         "real_time_factor": round(sim_duration / ticking_wall, 2)
         if sim_duration is not None and ticking_wall else None,
-        "failures": status.get("failures", []),
+        "failures": [_reason_record(e) for e in events if e.kind in REASON_KINDS]
+        or _startup_failure(status),
         "node_statuses": status.get("nodes", {}),
     }
 

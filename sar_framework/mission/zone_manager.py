@@ -14,8 +14,13 @@ and reused without ROS::
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
+
+from sar_framework.events.event import EventKind
+
+ZoneListener = Callable[[EventKind, dict[str, Any]], None]
+"""Told ``(ZONE_REACHED or ZONE_UNREACHED, zone)`` as the mission walks its zones."""
 
 _POSE_KEYS = ("x", "y", "yaw")
 
@@ -80,6 +85,21 @@ class ZoneManager:
         self._index = 0
         self._survivors = 0
         self._reached: set[str] = set()
+        self._listeners: list[ZoneListener] = []
+
+    def observe(self, listener: ZoneListener) -> None:
+        """Tell ``listener`` when a zone is reached, and when one is passed unreached.
+
+        Args:
+            listener: Called with ``(EventKind.ZONE_REACHED, zone)`` from
+                :meth:`mark_reached` and ``(EventKind.ZONE_UNREACHED, zone)`` from
+                :meth:`advance` past a zone never reached (``zone`` a copy).
+        """
+        self._listeners.append(listener)
+
+    def _tell(self, kind: EventKind, zone: dict[str, Any]) -> None:
+        for listener in self._listeners:
+            listener(kind, dict(zone))
 
     def current_zone(self) -> dict[str, Any]:
         """Return the zone to visit now.
@@ -104,11 +124,16 @@ class ZoneManager:
     def advance(self) -> None:
         """Move on to the next zone; does nothing once every zone has been visited."""
         if self._index < len(self._zones):
+            zone = self._zones[self._index]
             self._index += 1
+            if zone["id"] not in self._reached:
+                self._tell(EventKind.ZONE_UNREACHED, zone)
 
     def mark_reached(self, zone_id: str) -> None:
         """Record that the robot reached ``zone_id`` (NavigateToZone calls it on success)."""
         self._reached.add(zone_id)
+        zone = next((z for z in self._zones if z["id"] == zone_id), {"id": zone_id})
+        self._tell(EventKind.ZONE_REACHED, zone)
 
     def skipped_zones(self) -> list[str]:
         """The zones already passed (advanced over) that were never reached, in order."""

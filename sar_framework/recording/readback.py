@@ -2,11 +2,11 @@
 
 :func:`read_recording` decodes a recording (the ``mcap`` reader, and rclpy's own CDR
 deserialiser with the installed message classes) into a :class:`Recording`: the tree's
-status per tick, the robot's poses in ``map``, the navigation goals, the report service's
-answers, and the tree and parameter files attached to it. :func:`write_report_inputs` turns
-it into the files :mod:`sar_framework.report` reads (``status.json``, ``trace.jsonl``,
-``reports.jsonl``, ``report.log``), so a replayed report is drawn by the same code as a live
-one.
+status per tick, the runner's events, the robot's poses in ``map``, the navigation goals,
+the report service's answers, and the tree and parameter files attached to it.
+:func:`write_report_inputs` turns it into the files :mod:`sar_framework.report` reads
+(``events.jsonl``, ``status.json``, ``trace.jsonl``, ``reports.jsonl``), so a replayed
+report is drawn by the same code as a live one.
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sar_framework.events.event import EVENT_TOPIC, MissionEvent
+from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.recording.bag_writer import ROS_TYPE_KEY
 from sar_framework.recording.recorder import ATTACHMENT_PARAMS, METADATA_NAME, message_class
 from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
@@ -27,10 +29,9 @@ REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
 GLOBAL_FRAME = "map"
 #: The robot's frame is the one whose name starts so (``base_link``, ``base_footprint``).
 ROBOT_FRAME_PREFIX = "base"
-DECODED_TOPICS = frozenset({STATUS_TOPIC, "/tf", "/tf_static", GOAL_STATUS_TOPIC,
-                            REPORT_EVENTS_TOPIC})
+DECODED_TOPICS = frozenset({STATUS_TOPIC, EVENT_TOPIC, "/tf", "/tf_static",
+                            GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC})
 """The topics a replay needs (the others stay undecoded)."""
-_TERMINAL = ("SUCCESS", "FAILURE")
 _REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
 
 
@@ -46,6 +47,7 @@ class Recording:
         path: The file.
         statuses: The tree status documents, in order, each with ``wall_s`` added (seconds
             since the first message of the recording).
+        events: The runner's events, in order (one this version does not know is left out).
         poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
         goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
         reports: The report service's requests with the answer (``acknowledged``).
@@ -57,6 +59,7 @@ class Recording:
 
     path: Path
     statuses: list[dict[str, Any]] = field(default_factory=list)
+    events: list[MissionEvent] = field(default_factory=list)
     poses: list[tuple[float, float, float, float]] = field(default_factory=list)
     goals: list[tuple[float, str]] = field(default_factory=list)
     reports: list[dict[str, Any]] = field(default_factory=list)
@@ -125,6 +128,8 @@ def read_recording(path: str | Path) -> Recording:
     from mcap.reader import make_reader
     from rclpy.serialization import deserialize_message
 
+    from sar_framework.ros.event_topic import from_message
+
     recording = Recording(Path(path))
     tracker = _PoseTracker()
     classes: dict[str, Any] = {}
@@ -151,6 +156,11 @@ def read_recording(path: str | Path) -> Recording:
                         continue
                     document["wall_s"] = round((message.log_time - first_ns) / 1e9, 3)
                     recording.statuses.append(document)
+                elif channel.topic == EVENT_TOPIC:
+                    try:
+                        recording.events.append(from_message(msg))
+                    except ValueError:
+                        continue  # a kind a later version added
                 elif channel.topic in ("/tf", "/tf_static"):
                     recording.poses.extend(tracker.update(msg))
                 elif channel.topic == GOAL_STATUS_TOPIC:
@@ -185,48 +195,23 @@ def read_recording(path: str | Path) -> Recording:
 def status_document(recording: Recording) -> dict[str, Any]:
     """The runner's status file (``status.json``) rebuilt from the per-tick statuses.
 
-    Events are leaf verdicts (SUCCESS/FAILURE on a tick that visited the leaf), a repeat
-    of the same verdict and message on consecutive ticks counted once; failures are leaf
-    FAILUREs after the leaf had been RUNNING, as the runner counts them.
+    What happened (leaf verdicts, failures) is in the recorded events, not here.
     """
     statuses = recording.statuses
     nodes: dict[str, str] = {}
-    events: list[dict[str, Any]] = []
-    failures: list[dict[str, Any]] = []
-    last: dict[str, tuple[str, str]] = {}
-    was_running: set[str] = set()
-    uids = [n["uid"] for n in statuses[0]["nodes"]] if statuses else []
-    leaves = {u for u in uids if not any(o.startswith(u + ".") for o in uids)}
     for document in statuses:
         for node in document["nodes"]:
-            uid, status = node["uid"], node["status"]
-            if status != "INVALID":
-                nodes[uid] = status
-            if uid not in leaves or not node["visited"]:
-                continue
-            if status == "RUNNING":
-                was_running.add(uid)
-            if status not in _TERMINAL:
-                last.pop(uid, None)
-                continue
-            if last.get(uid) == (status, node["message"]):
-                continue
-            last[uid] = (status, node["message"])
-            event = {"sim_s": document["sim_s"], "wall_s": document["wall_s"], "uid": uid,
-                     "name": node["name"], "kind": node["kind"], "status": status,
-                     "message": node["message"]}
-            events.append(event)
-            if status == "FAILURE" and uid in was_running:
-                failures.append({k: event[k] for k in ("uid", "name", "message")})
-            was_running.discard(uid)
+            if node["status"] != "INVALID":
+                nodes[node["uid"]] = node["status"]
     end = statuses[-1] if statuses else {}
+    running = [n["uid"] for n in end.get("nodes", []) if n["status"] == "RUNNING"]
     return {
         "tree": recording.metadata.get("tree", ""), "status": end.get("status", "INVALID"),
         "ticks": end.get("tick", 0), "complete": bool(end.get("complete")),
         "wall_first_tick_s": statuses[0]["wall_s"] if statuses else None,
         "sim_start_s": statuses[0].get("sim_start_s", statuses[0]["sim_s"]) if statuses else None,
         "sim_end_s": end.get("sim_s"), "wall_duration_s": round(recording.wall_duration_s, 3),
-        "nodes": nodes, "events": events, "failures": failures,
+        "nodes": nodes, "running": running,
     }
 
 
@@ -274,10 +259,10 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
     (folder / "reports.jsonl").write_text(
         "".join(json.dumps({k: v for k, v in r.items() if k != "acknowledged"}) + "\n"
                 for r in accepted), encoding="utf-8")
-    (folder / "report.log").write_text(
-        "".join(f"Report refused: '{r['survivor_id']}' at ({r['x']:.2f}, {r['y']:.2f}): "
-                "not acknowledged\n" for r in recording.reports if not r["acknowledged"]),
-        encoding="utf-8")
+    events = EventFileWriter(folder / EVENTS_FILE)
+    for event in recording.events:
+        events(event)
+    events.close()
     files: dict[str, Path] = {}
     if ATTACHMENT_PARAMS in recording.attachments:
         files["params"] = folder / ATTACHMENT_PARAMS

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_framework.events.event import EVENT_TOPIC, EVENT_TYPE
 from sar_framework.recording.bag_writer import BagWriter
 from sar_framework.recording.sources import RunSources, collect, media_type
 from sar_framework.recording.tree_status import STATUS_TOPIC, STATUS_TYPE
@@ -74,6 +75,7 @@ RECORDED_TOPICS = (
     RecordedTopic("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
     RecordedTopic("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
     RecordedTopic(STATUS_TOPIC, STATUS_TYPE),
+    RecordedTopic(EVENT_TOPIC, EVENT_TYPE, latched=True),
 )
 """What a mission recording holds (a topic nobody publishes simply stays empty). Odometry is
 left out: ``/tf`` carries the same pose, and every extra stream costs the recorder time."""

@@ -2,23 +2,25 @@
 
 The recording is decoded (:mod:`.readback`) into the files a live run leaves, then
 :func:`sar_framework.report.write_report` writes ``mission.json``, ``mission.png`` and
-``tree.svg`` exactly as after ``sar-tree run``. The tree, its includes, its local plugins
-and the parameter file come from the recording's attachments alone: they are written
-into ``DIR/recorded_files/`` (:mod:`.sources`) and the tree is built from there.
+``tree.svg`` exactly as after ``sar-tree run``; the outcome is the recorded ``completion``
+event's. The tree, its includes, its local plugins and the parameter file come from the
+recording's attachments alone: they are written into ``DIR/recorded_files/``
+(:mod:`.sources`) and the tree is built from there.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.recording.readback import (
     Recording,
     RecordingError,
     read_recording,
-    status_document,
     write_report_inputs,
 )
 from sar_framework.recording.sources import SourcesError, extract
@@ -37,10 +39,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="where the report goes (default: FILE_replay/ beside the file)")
 
 
-def outcome_of(status: dict[str, Any]) -> str:
-    """``SUCCESS`` / ``FAILURE`` for a mission that completed, else ``INTERRUPTED``."""
-    if status.get("complete") and status.get("status") in ("SUCCESS", "FAILURE"):
-        return str(status["status"])
+def outcome_of(events: Sequence[MissionEvent]) -> str:
+    """The recorded ``completion`` event's ``SUCCESS`` / ``FAILURE``, else ``INTERRUPTED``."""
+    completion = next((e for e in events if e.kind == EventKind.COMPLETION), None)
+    if completion is not None and completion.status in ("SUCCESS", "FAILURE"):
+        return completion.status
     return "INTERRUPTED"
 
 
@@ -89,10 +92,9 @@ def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]
         Path(path).with_name(f"{Path(path).stem}_replay")
     files = write_report_inputs(recording, folder)
     tree, spec = _tree_spec(recording, folder)
-    status = status_document(recording)
     inputs = MissionInputs(
         report_dir=folder, tree=tree, params_file=str(files.get("params", "")), spec=spec,
-        outcome=outcome_of(status), wall_duration_s=recording.wall_duration_s)
+        outcome=outcome_of(recording.events), wall_duration_s=recording.wall_duration_s)
     return write_report(inputs)
 
 

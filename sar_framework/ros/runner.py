@@ -21,9 +21,13 @@ When the mission is *complete* follows the ``completion`` parameter
 end with a ``one_shot``) at the root's first SUCCESS or FAILURE, after which the tree is not
 ticked again; ``rest`` (the default for a tree that ends with a ``one_shot``, such as the
 reference tree, whose root succeeds after every zone) when the tree is at rest; ``forever``
-never. On completion the runner logs ``Mission complete.`` (SUCCESS) or
-``Mission failed (...)`` (FAILURE), once; with ``exit_on_completion`` it then ends,
-otherwise it stays up (a ``rest`` tree keeps ticking, idling at its end) until SIGINT.
+never. On completion the runner emits its ``completion`` event (status SUCCESS or
+FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
+``exit_on_completion`` it then ends, otherwise it stays up (a ``rest`` tree keeps ticking,
+idling at its end) until SIGINT.
+
+Other processes read the runner's events, never its log (:mod:`.runner_events`): on
+``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
 
 Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
 3 a start-up failure (Nav2 never ready, tree setup failed or timed out). A shutdown
@@ -50,6 +54,7 @@ from typing import TYPE_CHECKING
 import py_trees
 from py_trees.common import Status
 
+from sar_framework.events.event import EventKind
 from sar_framework.mission.completion import resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
@@ -64,6 +69,7 @@ from sar_framework.mission.params_file import (
 )
 from sar_framework.recording.tree_status import TreeStatusPublisher
 from sar_framework.ros.reasons import reason_line
+from sar_framework.ros.runner_events import mission_events
 from sar_framework.ros.runner_settings import RunnerSettings, read_runner_settings
 from sar_framework.ros.status_file import (
     StatusRecorder,
@@ -139,11 +145,13 @@ class MissionRunner:
         self.completion, self.completion_why = resolve_completion(settings.completion,
                                                                   loaded.spec)
         self.tree = create_behaviour_tree(loaded.root)
+        self.events, self._events_file = mission_events(node, settings, loaded, mission,
+                                                        wall_start)
         self.recorder = StatusRecorder(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
-            completion=self.completion,
+            completion=self.completion, emitter=self.events,
         )
         self.tree.visitors.append(self.recorder)
         self.tree.add_post_tick_handler(self._after_tick)
@@ -157,7 +165,8 @@ class MissionRunner:
             RuntimeError: Setup failed or timed out; the message says which behaviour.
         """
         try:
-            self.tree.setup(node=self.node, timeout=self.settings.setup_timeout_s)
+            self.tree.setup(node=self.node, events=self.events,
+                            timeout=self.settings.setup_timeout_s)
         except Exception as err:
             raise RuntimeError(f"tree setup failed: {type(err).__name__}: {err}") from err
 
@@ -174,11 +183,11 @@ class MissionRunner:
 
         period_ms = 1000.0 / self.mission.tick_rate_hz
         self.tree.tick_tock(period_ms=period_ms)
-        self.logger.info(
-            f"Ticking {self.settings.tree} at {self.mission.tick_rate_hz:g} Hz "
-            f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} nodes); "
-            f"completion: {self.completion} ({self.completion_why})"
-        )
+        ticking = (f"Ticking {self.settings.tree} at {self.mission.tick_rate_hz:g} Hz "
+                   f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} "
+                   f"nodes); completion: {self.completion} ({self.completion_why})")
+        self.events.emit(EventKind.STARTED, message=ticking)
+        self.logger.info(ticking)
         started = time.monotonic()
         warned = False
         while not self.stop() and not self.finished:
@@ -205,10 +214,15 @@ class MissionRunner:
             self.tree.shutdown()
         except Exception as err:  # a behaviour's shutdown must not hide the exit code
             self.logger.error(f"tree shutdown: {type(err).__name__}: {err}")
+        if self._events_file is not None:
+            self._events_file.close()
 
     def _after_tick(self, tree: py_trees.trees.BehaviourTree) -> None:
         changed = self.recorder.after_tick(tree)
         for record in self.recorder.new_reasons:
+            self.events.emit(EventKind(record["what"]),
+                             source=self.loaded.behaviours.get(record["uid"]),
+                             message=record["message"])
             self.logger.warning(reason_line(record))
         self.recorder.new_reasons.clear()
         if changed and self.settings.print_tree:
@@ -219,12 +233,16 @@ class MissionRunner:
             self._stop_ticking()  # a tree that runs once is not ticked again
         if not self._announced:
             self._announced = True
-            if tree.root.status == Status.SUCCESS:
-                self.logger.info("Mission complete.")
+            status = tree.root.status
+            if status == Status.SUCCESS:
+                verdict = "Mission complete."
             else:
                 reasons = "; ".join(f"{f['name']}: {f['message']}"
                                     for f in self.recorder.failures[-3:]) or "no reason given"
-                self.logger.error(f"Mission failed ({reasons}).")
+                verdict = f"Mission failed ({reasons})."
+            self.events.emit(EventKind.COMPLETION, source=tree.root, status=status.name,
+                             message=verdict)
+            (self.logger.info if status == Status.SUCCESS else self.logger.error)(verdict)
         if self.settings.exit_on_completion:
             self.finished = True
 

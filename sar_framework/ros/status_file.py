@@ -1,26 +1,27 @@
-"""The runner's status file: node statuses, leaf verdicts and failures, kept current.
+"""The runner's status file, the tree's snapshot kept current; and the status events.
 
-Format (docs/mission-contracts.md, "Runner status file")::
+What *happened* goes out as events (:mod:`sar_framework.events`): :class:`StatusRecorder`
+emits a ``status`` event when a leaf starts (RUNNING) and when it ends SUCCESS or FAILURE
+(a leaf repeating the same verdict and message on consecutive ticks, a reactive root
+re-checking a condition while the tree idles, once), and collects the reasons
+(:mod:`.reasons`) the runner emits. The file holds what *is* (docs/mission-contracts.md,
+"Runner status file")::
 
     {"tree": "trees/search_and_rescue.yaml", "status": "SUCCESS", "ticks": 412,
      "wall_first_tick_s": 0.8, "sim_start_s": 0.0, "sim_end_s": 151.2, "wall_duration_s": 9.1,
-     "nodes": {"0": "SUCCESS", "0.0": "FAILURE", ...},
-     "events": [{"sim_s": 21.4, "wall_s": 2.1, "uid": "0.0.1", "name": "NavigateToZone",
-                 "kind": "NavigateToZone", "status": "SUCCESS", "message": "Reached zone_a."}],
-     "failures": [{"uid": "...", "name": "...", "message": "..."}]}
+     "nodes": {"0": "SUCCESS", "0.0": "FAILURE", ...}, "running": [], "complete": true}
 
 Definitions used here:
 
 - ``sim_*`` are readings of the runner node's ROS clock in seconds (``/clock`` time with
   ``use_sim_time``); ``wall_*`` are wall-clock seconds since the runner started.
-- ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status.
-- ``events`` holds every tick on which a leaf ended SUCCESS or FAILURE, with its
-  ``feedback_message``. A leaf repeating the same verdict and message on consecutive ticks
-  (a reactive root re-checking a condition while the tree idles) is recorded once.
-- ``failures`` holds the leaf FAILURE events that are failures rather than decisions: the
-  leaf had been RUNNING before it failed (conditions never run, so a condition saying "no"
-  is not listed), or its FAILURE came on the tick the root itself failed; and every
-  timeout, cancel, retry and skip (:mod:`.reasons`), each with ``what`` and its times.
+- ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status; ``running`` lists
+  the uids RUNNING after the last tick.
+- The reasons (:attr:`StatusRecorder.failures`) are the leaf FAILUREs that are failures
+  rather than decisions: the leaf had been RUNNING before it failed (conditions never run,
+  so a condition saying "no" is not listed), or its FAILURE came on the tick the root
+  itself failed; and every timeout, cancel, retry and skip, each with ``what``.
+- A runner that stops before its first tick writes ``error``: ``{"step", "message"}``.
 - ``complete`` (an addition to the contract's keys) says the mission is over
   (:mod:`sar_framework.mission.completion`). With ``completion="once"`` that is the first
   tick the root is SUCCESS or FAILURE. With ``completion="rest"`` it is once the tree is
@@ -46,6 +47,8 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.spec import Category, TreeSpec
+from sar_framework.events.emitter import NO_EVENTS, EventEmitter
+from sar_framework.events.event import EventKind
 from sar_framework.ros.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
@@ -87,9 +90,8 @@ def startup_failure_document(tree: str, step: str, message: str,
         "tree": tree, "status": Status.INVALID.name, "ticks": 0,
         "wall_first_tick_s": None, "sim_start_s": None, "sim_end_s": None,
         "wall_duration_s": round(wall_duration_s, 3),
-        "nodes": {}, "events": [],
-        "failures": [{"uid": "", "name": step, "message": message}],
-        "complete": False,
+        "nodes": {}, "running": [], "complete": False,
+        "error": {"step": step, "message": message},
     }
 
 
@@ -107,6 +109,7 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
         path: The status file; None keeps the document in memory only.
         wall_start: ``time.monotonic()`` when the runner started.
         completion: ``"once"``, ``"rest"`` or ``"forever"`` (see the module docstring).
+        emitter: Where each leaf's start (RUNNING) and verdict go as ``status`` events.
 
     Raises:
         ValueError: An unknown ``completion``.
@@ -115,12 +118,14 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
     def __init__(self, tree_file: str, spec: TreeSpec,
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
-                 wall_start: float | None = None, completion: str = "rest") -> None:
+                 wall_start: float | None = None, completion: str = "rest",
+                 emitter: EventEmitter = NO_EVENTS) -> None:
         super().__init__(full=False)
         if completion not in RECORDED_COMPLETIONS:
             raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
                              f"got {completion!r}")
         self._completion = completion
+        self._emitter = emitter
         self._tree_file = tree_file
         self._path = Path(path) if path else None
         self._sim_now = sim_now
@@ -159,6 +164,9 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             return
         status = behaviour.status
         if status == Status.RUNNING:
+            if uid not in self._running:
+                self._emitter.emit(EventKind.STATUS, source=behaviour, status=status.name,
+                                  message=str(behaviour.feedback_message or ""))
             self._running.add(uid)
             return
         if status not in _TERMINAL:
@@ -178,6 +186,8 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             "kind": self._spec_of[uid].kind, "status": status.name, "message": message,
         }
         self.events.append(event)
+        self._emitter.emit(EventKind.STATUS, source=behaviour, status=status.name,
+                          message=message)
         self._changed = True
         if status == Status.FAILURE:
             if was_running:
@@ -262,8 +272,6 @@ class StatusRecorder(py_trees.visitors.VisitorBase):
             "wall_duration_s": round(time.monotonic() - self._wall_start, 3),
             "nodes": dict(self.nodes),
             "running": list(self.running),
-            "events": list(self.events),
-            "failures": list(self.failures),
             "complete": self.complete,
         }
 

@@ -1,4 +1,9 @@
-"""One ``sar-tree run``: start the children, follow the mission, stop, report, summarise."""
+"""One ``sar-tree run``: start the children, follow the mission, stop, report, summarise.
+
+The mission is followed through the runner's events (``events.jsonl``, read as it grows):
+progress lines, the verdict and the stop come from them; child logs are copied to files
+and their warnings shown, for humans only.
+"""
 
 from __future__ import annotations
 
@@ -9,6 +14,13 @@ import time
 from pathlib import Path
 from typing import IO
 
+from sar_framework.events.event import EventKind, MissionEvent
+from sar_framework.events.jsonl import (
+    EVENTS_FILE,
+    EventFileFollower,
+    EventFileWriter,
+    JsonLinesFollower,
+)
 from sar_framework.mission.completion import DEFAULT_COMPLETION, describe_completion
 from sar_framework.recording.recorder import wait_until_recording
 from sar_framework.run.config import (
@@ -23,21 +35,22 @@ from sar_framework.run.inputs import CheckedInputs
 from sar_framework.run.outcome import (
     EXIT_INTERRUPTED,
     EXIT_USAGE,
-    VERDICT_PREFIXES,
     Outcome,
     child_exit_outcome,
+    completion_outcome,
     exit_words,
-    is_progress,
+    progress_line,
     read_status,
     runner_exit_outcome,
     summarise,
     timeout_outcome,
-    verdict_outcome,
 )
-from sar_framework.run.supervise import GOAL_ENDED, Child, Interrupt, LogLine, stop_children
+from sar_framework.run.supervise import Child, Interrupt, LogLine, stop_children
 from sar_framework.watch.child import WatchChild
 
 POLL_S = 0.05
+GOAL_ENDS = frozenset({"canceled", "aborted", "succeeded"})
+"""The simulator's trace events that end a goal (a stop may release the simulator then)."""
 
 
 class Mission:
@@ -58,12 +71,14 @@ class Mission:
         self.report_dir = Path(config.report_dir)
         self.children: list[Child] = []
         self.started = time.monotonic()
-        self.verdict_line: str | None = None  # "Mission complete." / "Mission failed (...)"
+        self.events: list[MissionEvent] = []
+        self.completion: MissionEvent | None = None  # the runner's verdict
+        self._last_progress: str | None = None  # a note repeating the event before is not shown
+        self._follower = EventFileFollower(self.report_dir / EVENTS_FILE)
+        self._trace = JsonLinesFollower(self.report_dir / "trace.jsonl")
         self.stop_s: float | None = None
         self._print_lock = threading.Lock()
         self._child_errors: dict[str, list[str]] = {}
-        self._stopping = False
-        self._goal_released = threading.Event()  # the sim answered the cancel of a stop
         self.exited: dict[str, int | None] = {}  # children that ended mid-mission
         self.watcher: WatchChild | None = None  # sar-tree run --watch
 
@@ -75,23 +90,36 @@ class Mission:
             self.out.flush()
 
     def _on_line(self, line: LogLine) -> None:
-        if self._stopping and line.child == "sim" and GOAL_ENDED.match(line.message):
-            self._goal_released.set()
+        """A child's log line: kept for error messages, shown when a warning (or -v)."""
         if line.severity in ("WARN", "ERROR", "FATAL"):
             self._child_errors.setdefault(line.child, []).append(line.message)
-        if line.child == "runner" and line.message.startswith(VERDICT_PREFIXES):
-            self.verdict_line = self.verdict_line or line.message
-        shown = (self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
-                 or (line.severity == "INFO" and is_progress(line.message)))
+        shown = self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
         if shown and self.watcher is None:
             tag = "" if line.severity in ("INFO", "") else f"{line.severity}: "
             self.say(f"[{line.wall_s:6.2f}s] {line.child:<6} | {tag}{line.message}")
+
+    def take_events(self) -> None:
+        """Read the runner's new events: note its verdict, show the progress ones."""
+        for event in self._follower.poll():
+            self.events.append(event)
+            if event.kind == EventKind.COMPLETION and self.completion is None:
+                self.completion = event
+            line = progress_line(event)
+            if line is not None and line != self._last_progress and self.watcher is None:
+                wall_s = time.monotonic() - self.started
+                self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {line}")
+            self._last_progress = line if line is not None else self._last_progress
+
+    def _goal_ended(self) -> bool:
+        """Whether the simulator's trace says a goal ended since the last call."""
+        return any(isinstance(r, dict) and r.get("event") in GOAL_ENDS
+                   for r in self._trace.poll())
 
     # life cycle ---------------------------------------------------------------------------
     def prepare(self) -> None:
         """Create the report folder and remove the previous run's outputs from it."""
         self.report_dir.mkdir(parents=True, exist_ok=True)
-        for name in ("status.json", "trace.jsonl", "reports.jsonl", "mission.json",
+        for name in ("status.json", EVENTS_FILE, "trace.jsonl", "reports.jsonl", "mission.json",
                      "mission.png", "tree.svg", "sim.log", "detect.log", "report.log",
                      "runner.log"):
             (self.report_dir / name).unlink(missing_ok=True)
@@ -143,15 +171,17 @@ class Mission:
         deadline = self.started + self.config.timeout_s
         announced = False
         while True:
+            self.take_events()
             if interrupt.is_set():
-                if self.config.keep_alive and self.verdict_line is not None:
-                    return verdict_outcome(self.verdict_line, read_status(self.report_dir))
+                if self.config.keep_alive and self.completion is not None:
+                    return completion_outcome(self.completion, self.events)
                 return Outcome("INTERRUPTED", EXIT_INTERRUPTED, "interrupted (Ctrl-C)")
             code = runner.poll()
             if code is not None:
                 runner.finish()
-                return runner_exit_outcome(code, read_status(self.report_dir),
-                                           self.verdict_line, self._last_error("runner"))
+                self.take_events()  # the last events, written before it exited
+                return runner_exit_outcome(code, self.events, read_status(self.report_dir),
+                                           self._last_error("runner"))
             for child in self.children:
                 if child is runner or child.label in self.exited or child.poll() is None:
                     continue
@@ -162,21 +192,21 @@ class Mission:
                                               self._last_error(child.label))
                 self.say(f"sar-tree run: the {child.label} process {exit_words(child.poll())} "
                          "mid-mission; the tree goes on without its service")
-            if self.verdict_line is not None and self.config.keep_alive and not announced:
+            if self.completion is not None and self.config.keep_alive and not announced:
                 announced = True
-                self.write_report(verdict_outcome(self.verdict_line,
-                                                  read_status(self.report_dir)))
+                self.write_report(completion_outcome(self.completion, self.events))
                 self.say("Staying up (--keep-alive): static TF and services remain; "
                          "Ctrl-C to exit.")
-            if time.monotonic() > deadline and self.verdict_line is None:
+            if time.monotonic() > deadline and self.completion is None:
                 return timeout_outcome(self.config.timeout_s, read_status(self.report_dir),
-                                       self.spec)
+                                       self.spec, self.events)
             time.sleep(POLL_S)
 
     def stop(self) -> None:
         """Stop every child (the simulator after the runner's cancel) and time it."""
-        self._stopping = True
-        self.stop_s = stop_children(self.children, released=self._goal_released)
+        self._trace.poll()  # what the trace said before the stop does not release it
+        self.stop_s = stop_children(self.children, released=self._goal_ended)
+        self.take_events()
         if self.watcher is not None:
             self.watcher.finish()
 
@@ -192,6 +222,27 @@ class Mission:
         return "no output"
 
     # report -------------------------------------------------------------------------------
+    def record_verdict(self, outcome: Outcome) -> None:
+        """Close the event stream with the run's ``verdict`` (after every child stopped).
+
+        Args:
+            outcome: How the mission ended.
+        """
+        last = self.events[-1] if self.events else None
+        verdict = MissionEvent(
+            kind=EventKind.VERDICT, seq=(last.seq if last else 0) + 1,
+            sim_s=last.sim_s if last else 0.0,
+            wall_s=round(time.monotonic() - self.started, 3), status=outcome.status,
+            message=outcome.reason or f"Mission {outcome.status}")
+        try:
+            writer = EventFileWriter(self.report_dir / EVENTS_FILE, append=True)
+        except OSError as err:
+            self.say(f"sar-tree run: warning: could not write the verdict event: {err}")
+            return
+        writer(verdict)
+        writer.close()
+        self.events.append(verdict)
+
     def write_report(self, outcome: Outcome) -> list[Path]:
         """Write mission.json, mission.png and tree.svg; return the files written.
 
@@ -245,6 +296,7 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         outcome.reason = "; ".join([outcome.reason, *(
             f"the {label} process had {exit_words(code)}" for label, code in mission.exited.items()
             if label != "sim")]).strip("; ")
+    mission.record_verdict(outcome)
     written = mission.write_report(outcome)
     summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s)
     return outcome.exit_code

@@ -1,5 +1,8 @@
 """Mission outcome of ``sar-tree run``: progress lines, verdict, reason, summary, exit code.
 
+Everything here is decided from the runner's events (:mod:`sar_framework.events`) and its
+exit code, never from log text.
+
 Exit codes: 0 the mission reached its declared end with SUCCESS, 1 FAILURE, a timeout or a
 failed start-up, 2 bad input (missing tree, a tree or parameter file with errors, a bad
 option), 130 interrupted.
@@ -8,7 +11,6 @@ option), 130 interrupted.
 from __future__ import annotations
 
 import json
-import re
 import signal
 from collections import Counter
 from collections.abc import Callable, Sequence
@@ -16,24 +18,29 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sar_framework.events.event import CAUSE_KINDS, REASON_KINDS, EventKind, MissionEvent
+
 EXIT_OK = 0
 EXIT_FAILURE = 1
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 
-_PROGRESS = re.compile(
-    r"^(--- Zone \d+/\d+: |Reached |Detection request for |Report received: |"
-    r"Report refused: |No survivor found at |All zones visited|Zones done, |Returning to base|"
-    r"Mission complete\.|"
-    r"Mission failed|Broadcast static TF )"
-)
-VERDICT_PREFIXES = ("Mission complete.", "Mission failed")
-"""How the runner's one verdict line starts."""
+PROGRESS_KINDS = frozenset({
+    EventKind.NAVIGATION, EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
+    EventKind.BASE_REACHED, EventKind.DETECTION, EventKind.SURVIVOR_BROADCAST,
+    EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.NOTE,
+    EventKind.COMPLETION,
+})
+"""The events shown on the console as the mission goes (:func:`progress_line`)."""
 
 
-def is_progress(message: str) -> bool:
-    """Whether an INFO line of a child is a progress line shown on the console."""
-    return _PROGRESS.match(message) is not None
+def progress_line(event: MissionEvent) -> str | None:
+    """The console line of an event, or None when it is not a progress event."""
+    if event.kind not in PROGRESS_KINDS:
+        return None
+    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
+        return f"Report for {event.survivor_id} refused by base: {event.message}"
+    return event.message
 
 
 @dataclass
@@ -59,48 +66,50 @@ def read_status(report_dir: Path) -> dict[str, Any]:
         return {}
 
 
-def last_failure(status: dict[str, Any]) -> dict[str, Any] | None:
-    """The last leaf failure or timeout the runner recorded (else its last record), or None."""
-    failures = status.get("failures") or []
-    causes = [f for f in failures if f.get("what", "failure") in ("failure", "timeout")]
-    return (causes or failures or [None])[-1]
+def last_cause(events: Sequence[MissionEvent]) -> MissionEvent | None:
+    """The last failure or timeout event (else the last reason event), or None."""
+    reasons = [e for e in events if e.kind in REASON_KINDS]
+    causes = [e for e in reasons if e.kind in CAUSE_KINDS]
+    return (causes or reasons or [None])[-1]
 
 
-def failure_reason(status: dict[str, Any], verdict_line: str | None) -> str:
-    """The last failure the runner recorded, its start-up error, or its verdict line."""
-    last = last_failure(status)
+def failure_reason(events: Sequence[MissionEvent], status: dict[str, Any]) -> str:
+    """The last failure the runner emitted, its start-up failure, or its completion."""
+    last = last_cause(events)
     if last is not None:
-        return (f"{last.get('name')} [{last.get('uid')}] failed: "
-                f"{last.get('message') or 'no reason given'}")
-    if status.get("error"):
-        return str(status.get("error"))
-    return verdict_line or "no reason given"
+        return f"{last.node_name} [{last.node_uid}] failed: {last.message or 'no reason given'}"
+    error = status.get("error")
+    if isinstance(error, dict) and error.get("message"):
+        return str(error["message"])
+    completion = next((e for e in events if e.kind == EventKind.COMPLETION), None)
+    return completion.message if completion is not None else "no reason given"
 
 
-def verdict_outcome(verdict_line: str | None, status: dict[str, Any]) -> Outcome:
-    """The outcome the runner's verdict line announced."""
-    if verdict_line and verdict_line.startswith("Mission complete."):
+def completion_outcome(completion: MissionEvent, events: Sequence[MissionEvent]) -> Outcome:
+    """The outcome the runner's ``completion`` event announced."""
+    if completion.status == "SUCCESS":
         return Outcome("SUCCESS", EXIT_OK)
-    return Outcome("FAILURE", EXIT_FAILURE, failure_reason(status, verdict_line))
+    return Outcome("FAILURE", EXIT_FAILURE, failure_reason(events, {}))
 
 
-def runner_exit_outcome(code: int, status: dict[str, Any], verdict_line: str | None,
+def runner_exit_outcome(code: int, events: Sequence[MissionEvent], status: dict[str, Any],
                         last_error: str) -> Outcome:
     """The outcome of a runner that exited with ``code``.
 
     Args:
         code: The runner's exit status.
-        status: Its status file.
-        verdict_line: Its verdict line, if it printed one.
-        last_error: Its last warning or error line.
+        events: Every event it emitted.
+        status: Its status file (start-up failures).
+        last_error: Its last warning or error line (quoted for the user, never parsed).
     """
-    if code == 0 and status.get("complete") is False:  # stopped by a signal we did not send
+    complete = any(e.kind == EventKind.COMPLETION for e in events)
+    if code == 0 and not complete:  # stopped by a signal we did not send
         return Outcome("ERROR", EXIT_FAILURE, "the runner was stopped before the mission "
                        "was complete")
     if code == 0:
         return Outcome("SUCCESS", EXIT_OK)
     if code == 1:
-        return Outcome("FAILURE", EXIT_FAILURE, failure_reason(status, verdict_line))
+        return Outcome("FAILURE", EXIT_FAILURE, failure_reason(events, status))
     if code == 2:
         return Outcome("ERROR", EXIT_USAGE, f"the runner rejected its input: {last_error}")
     return Outcome("ERROR", EXIT_FAILURE, f"the runner exited ({code}): {last_error}")
@@ -133,16 +142,17 @@ def child_exit_outcome(label: str, code: int | None, last_error: str) -> Outcome
     return Outcome("ERROR", exit_code, reason)
 
 
-def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any) -> Outcome:
+def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any,
+                    events: Sequence[MissionEvent]) -> Outcome:
     """The outcome of a mission still running after ``timeout_s`` wall seconds."""
     running = list(status.get("running") or [])
     names = {n.uid: n.name for n in spec.nodes()} if spec is not None else {}
     leaves = [u for u in running if not any(o != u and o.startswith(u + ".")
                                             for o in running)]
     where = ", ".join(f"{names.get(u, u)} [{u}]" for u in leaves) or "no node RUNNING"
-    failure = last_failure(status)
-    last = (f"; last failure: {failure.get('name')} [{failure.get('uid')}]: "
-            f"{failure.get('message')}") if failure else ""
+    failure = last_cause(events)
+    last = (f"; last failure: {failure.node_name} [{failure.node_uid}]: "
+            f"{failure.message}") if failure else ""
     return Outcome("TIMEOUT", EXIT_FAILURE,
                    f"timeout after {timeout_s:g} s; still running: {where}{last}")
 

@@ -33,8 +33,6 @@ RUNNER_STOP_S = 1.2
 OTHERS_STOP_S = 0.6
 """Wall seconds the servers and the simulator get after SIGINT before SIGKILL."""
 
-GOAL_ENDED = re.compile(r"^Goal \d+ (canceled|aborted|succeeded)")
-"""A simulator line saying a goal ended (a stop may release the simulator early)."""
 _ROS_LINE = re.compile(r"^\[(DEBUG|INFO|WARN|ERROR|FATAL)\] \[[0-9.]+\] \[([^\]]+)\]: (.*)$")
 
 
@@ -143,19 +141,19 @@ class Child:
 
 
 def stop_children(children: Sequence[Child], *, first: str = "runner", last: str = "sim",
-                  released: threading.Event | None = None) -> float:
+                  released: Callable[[], bool] | None = None) -> float:
     """Stop children in order, SIGKILL after bounds; return the wall seconds it took.
 
     ``first`` (the runner) and every other child but ``last`` get SIGINT at once; ``last``
     (the simulator, which must still serve while the runner cancels its goal) gets it when
-    ``first`` has exited or ``released`` is set (the cancel went through), whichever comes
-    first, at the latest after :data:`RUNNER_STOP_S`.
+    ``first`` has exited or ``released`` returns true (the cancel went through), whichever
+    comes first, at the latest after :data:`RUNNER_STOP_S`.
 
     Args:
         children: The children (some may have exited already).
         first: The label of the child whose exit releases ``last``.
         last: The label of the child stopped last.
-        released: Set once ``last`` may stop early (e.g. the goal cancel was seen).
+        released: Polled: true once ``last`` may stop early (e.g. its goal ended).
     """
     start = time.monotonic()
     early = [c for c in children if c.label != last]
@@ -165,7 +163,7 @@ def stop_children(children: Sequence[Child], *, first: str = "runner", last: str
         child.signal(signal.SIGINT)
     deadline = start + RUNNER_STOP_S
     while (time.monotonic() < deadline and any(c.poll() is None for c in leader)
-           and not (released is not None and released.is_set())):
+           and not (released is not None and released())):
         time.sleep(0.01)
     for child in late:
         child.signal(signal.SIGINT)

@@ -1,9 +1,10 @@
 """``/report_survivor``: validates survivor reports and records each one durably.
 
-A report is refused (``acknowledged=False``, with a warning) when its frame is not the
-global frame (``map``), a coordinate is not finite, or the survivor id is empty, longer
-than 64 characters or holds control characters. An accepted report is appended to a
-JSON Lines file and fsync-ed *before* the answer leaves, so nothing acknowledged is lost;
+A report is refused (``acknowledged=False``, ``reason`` saying why, and a warning in the
+log) when its frame is not the global frame (``map``), a coordinate is not finite, or the
+survivor id is empty, longer than 64 characters or holds control characters. An accepted
+report is appended to a JSON Lines file and fsync-ed *before* the answer leaves, so
+nothing acknowledged is lost;
 a survivor id reported again is acknowledged again but not written twice (ids already in
 the file count too, so this holds across restarts).
 
@@ -105,11 +106,13 @@ class ReportSurvivorServer(Node):
         point = request.location.point
         where = f"({point.x:.2f}, {point.y:.2f})"
         if self._refuse_all:
+            response.reason = "refuse_all is set"
             self.get_logger().warning(
-                f"Report refused: {request.survivor_id!r} at {where}: refuse_all is set")
+                f"Report refused: {request.survivor_id!r} at {where}: {response.reason}")
             return response
         reason = check_report(request, self._frame)
         if reason is not None:
+            response.reason = reason
             self.get_logger().warning(
                 f"Report refused: {request.survivor_id[:80]!r} at {where}: {reason}")
             return response
@@ -128,7 +131,8 @@ class ReportSurvivorServer(Node):
         try:
             self._log.append(self._record(request))
         except OSError as err:
-            self.get_logger().error(f"Report refused: cannot record {survivor_id}: {err}")
+            response.reason = f"cannot record {survivor_id}: {err}"
+            self.get_logger().error(f"Report refused: {response.reason}")
             return response
         self.get_logger().info(f"Report received: {survivor_id} at {where}. Acknowledged.")
         response.acknowledged = True

@@ -85,6 +85,7 @@ class TraceWriter:
         for key, value in fields.items():
             record[key] = round(value, 4) if isinstance(value, float) else value
         self._write(record)
+        self.flush()  # at once: `sar-tree run` times its stop by a goal's end
 
     def flush(self) -> None:
         """Write buffered lines to disk."""

@@ -11,16 +11,26 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
+from sar_framework.events.emitter import SETUP_KEY, EventEmitter
 from sar_framework.testing.spin import spin_until
 
 DISCOVERY_S = 15.0  # discovery across processes takes ~1-3 s; leave room on a loaded machine
 TERMINAL = (Status.SUCCESS, Status.FAILURE)
 
 
-def tree_on(node: Any, root: py_trees.behaviour.Behaviour) -> py_trees.trees.BehaviourTree:
-    """Wrap ``root`` in a BehaviourTree and set it up with the ROS node, py_trees_ros style."""
+def tree_on(node: Any, root: py_trees.behaviour.Behaviour,
+            events: EventEmitter | None = None) -> py_trees.trees.BehaviourTree:
+    """Wrap ``root`` in a BehaviourTree and set it up with the ROS node, py_trees_ros style.
+
+    Args:
+        node: The ROS node.
+        root: The tree's root.
+        events: An emitter to give the leaves, as the runner does (its ``emitted`` list
+            holds what they said); none by default.
+    """
     tree = py_trees.trees.BehaviourTree(root)
-    tree.setup(timeout=5.0, node=node)
+    extra = {} if events is None else {SETUP_KEY: events}
+    tree.setup(timeout=5.0, node=node, **extra)
     return tree
 
 
@@ -32,15 +42,17 @@ class TreeMaker:
 
     Args:
         node: The ROS node the trees are set up with.
+        events: The emitter the leaves get (see :func:`tree_on`).
     """
 
-    def __init__(self, node: Any) -> None:
+    def __init__(self, node: Any, events: EventEmitter | None = None) -> None:
         self._node = node
+        self._events = events
         self._trees: list[py_trees.trees.BehaviourTree] = []
 
     def __call__(self, root: py_trees.behaviour.Behaviour) -> py_trees.trees.BehaviourTree:
         """Return ``root`` as a tree set up on the node."""
-        self._trees.append(tree_on(self._node, root))
+        self._trees.append(tree_on(self._node, root, self._events))
         return self._trees[-1]
 
     def shutdown(self) -> None:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from sar_framework.events.event import EventKind, MissionEvent
+from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.report import MissionInputs, read_mission_layout, summarise, write_report
 from sar_framework.report_map import BLOCKED_COLOUR, fit_left, shift_into
 
@@ -13,20 +15,32 @@ from .helpers import DEFAULT_TREE, REPO
 PARAMS = REPO / "config" / "mission_params.yaml"
 
 
+def _events(folder: Path, *events: MissionEvent) -> None:
+    writer = EventFileWriter(folder / EVENTS_FILE)
+    for seq, event in enumerate(events, 1):
+        writer(event.numbered(seq))
+    writer.close()
+
+
 def _files(folder: Path) -> None:
-    events = [
-        {"sim_s": 19.0, "wall_s": 1.0, "uid": "0.0.1", "name": "NavigateToZone",
-         "kind": "NavigateToZone", "status": "SUCCESS", "message": "Reached zone_a."},
-        {"sim_s": 20.0, "wall_s": 1.1, "uid": "0.0.3.0.1", "name": "BroadcastSurvivorTF",
-         "kind": "BroadcastSurvivorTF", "status": "SUCCESS",
-         "message": "Broadcast static TF map -> survivor_1 at (-2.50, 3.20)."},
-        {"sim_s": 40.0, "wall_s": 2.0, "uid": "0.1.0", "name": "NavigateToBase",
-         "kind": "NavigateToBase", "status": "SUCCESS", "message": "Reached base station."},
-    ]
+    _events(
+        folder,
+        MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, wall_s=1.0, zone_id="zone_a",
+                     message="whatever words", position=(-3.0, 3.0, 0.0)),
+        MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=20.0, wall_s=1.1,
+                     survivor_id="survivor_1", position=(-2.5, 3.2, 0.0)),
+        MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=30.0, wall_s=1.5,
+                     survivor_id="survivor_2", position=(4.1, -2.5, 0.0)),
+        MissionEvent(EventKind.SURVIVOR_REFUSED, sim_s=30.5, wall_s=1.6,
+                     survivor_id="survivor_2", message="refuse_all is set",
+                     position=(4.1, -2.5, 0.0)),
+        MissionEvent(EventKind.BASE_REACHED, sim_s=40.0, wall_s=2.0, node_uid="0.1.0",
+                     node_name="NavigateToBase", position=(0.0, 0.0, 0.0)),
+    )
     (folder / "status.json").write_text(json.dumps({
         "status": "SUCCESS", "ticks": 80, "wall_first_tick_s": 0.5, "sim_start_s": 1.0,
         "sim_end_s": 41.0, "wall_duration_s": 2.5, "nodes": {"0": "SUCCESS"},
-        "events": events, "failures": []}))
+        "events": [], "failures": []}))
     trace = [{"sim_s": 0.0, "event": "start", "x": 0.0, "y": 0.0, "yaw": 0.0},
              {"sim_s": 1.0, "event": "accepted", "goal": 1, "x": -3.0, "y": 3.0, "yaw": 0.0},
              {"sim_s": 2.0, "x": -1.0, "y": 1.0, "yaw": 2.3, "path_m": 1.41},
@@ -36,9 +50,6 @@ def _files(folder: Path) -> None:
                                         + '{"torn li')
     (folder / "reports.jsonl").write_text(json.dumps(
         {"survivor_id": "survivor_1", "frame_id": "map", "x": -2.5, "y": 3.2, "z": 0.0}) + "\n")
-    (folder / "report.log").write_text(
-        "[WARN] [1.0] [report_survivor_server]: Report refused: 'survivor_2' at "
-        "(4.10, -2.50): refuse_all is set\n")
 
 
 def test_layout_from_the_params_file() -> None:
@@ -91,10 +102,9 @@ def test_a_label_near_the_map_edge_stays_out_of_the_legend() -> None:
 def _status(folder: Path, sim_start: float, base_at: float) -> None:
     (folder / "status.json").write_text(json.dumps({
         "status": "SUCCESS", "ticks": 10, "wall_first_tick_s": 0.5, "sim_start_s": sim_start,
-        "sim_end_s": base_at, "wall_duration_s": 6.0, "nodes": {},
-        "events": [{"sim_s": base_at, "wall_s": 5.0, "uid": "0.1.0", "name": "NavigateToBase",
-                    "kind": "NavigateToBase", "status": "SUCCESS",
-                    "message": "Reached base station."}], "failures": []}))
+        "sim_end_s": base_at, "wall_duration_s": 6.0, "nodes": {}, "events": [],
+        "failures": []}))
+    _events(folder, MissionEvent(EventKind.BASE_REACHED, sim_s=base_at, wall_s=5.0))
 
 
 def test_base_arrival_is_within_the_simulated_duration(tmp_path: Path) -> None:

@@ -198,11 +198,15 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
 
     from sar_framework import load_tree
 
-    node, make_tree, executor, _report = branch_env
+    node, _make_tree, executor, _report = branch_env
+
+    from sar_framework.events.emitter import EventEmitter
+    from sar_framework.events.event import EventKind
 
     def refuse(_request: ReportSurvivor.Request,
                response: ReportSurvivor.Response) -> ReportSurvivor.Response:
         response.acknowledged = False
+        response.reason = "the base is full"
         return response
 
     service = node.create_service(ReportSurvivor, REFUSING_SERVICE, refuse)
@@ -215,12 +219,21 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
             by_name["HandleDetection"]
         patrol.remove_child(detect)
         patrol.remove_child(handle)
-        tree = make_tree(py_trees.composites.Sequence("Branch", memory=True,
-                                                      children=[detect, handle]))
+        events = EventEmitter()
+        tree = TreeMaker(node, events)(py_trees.composites.Sequence("Branch", memory=True,
+                                                                    children=[detect, handle]))
         assert tick_until_done(executor, tree, 10.0) == Status.SUCCESS
+        tree.shutdown()
     finally:
         node.destroy_service(service)
     logged = capfd.readouterr().err
-    assert "Report for survivor_1 refused by base: not acknowledged" in logged
+    assert "Report for survivor_1 refused by base: the base is full" in logged
+    told = [(e.kind, e.survivor_id, e.message) for e in events.emitted
+            if e.kind != EventKind.DETECTION]
+    assert told == [
+        (EventKind.SURVIVOR_BROADCAST, "survivor_1",
+         "Broadcast static TF map -> survivor_1 at (-2.50, 3.20)."),
+        (EventKind.SURVIVOR_REFUSED, "survivor_1", "the base is full"),
+        (EventKind.NOTE, "", "Report for survivor_1 refused by base: the base is full")]
     assert "No survivor found" not in logged
     assert by_name["LogNoDetection"].status == Status.INVALID, "never ticked"

@@ -12,6 +12,8 @@ import pytest
 from sar_testing.processes import NodeProcess
 
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
+from sar_framework.events.jsonl import EVENTS_FILE, read_events
 from sar_framework.ros.status_file import StatusRecorder
 
 ros = pytest.mark.ros
@@ -68,6 +70,17 @@ def write_tree(tmp_path: Path, text: str, name: str = "tree.yaml") -> Path:
     return path
 
 
+def verdicts(status: Path) -> list[MissionEvent]:
+    """The leaf verdicts (``status`` events SUCCESS/FAILURE) in the events beside ``status``."""
+    return [e for e in read_events(status.with_name(EVENTS_FILE))
+            if e.kind == EventKind.STATUS and e.status in ("SUCCESS", "FAILURE")]
+
+
+def reasons(status: Path) -> list[MissionEvent]:
+    """The reason events (failure, timeout, cancel, retry, skip) beside ``status``."""
+    return [e for e in read_events(status.with_name(EVENTS_FILE)) if e.kind in REASON_KINDS]
+
+
 def run_to_end(args: list[str], tmp_path: Path, label: str = "runner",
                timeout: float = 30.0) -> tuple[int, str]:
     process = NodeProcess(args, label, log_dir=tmp_path).start()
@@ -97,18 +110,22 @@ def test_success_ticks_at_the_rate_and_writes_the_status_file(tmp_path):
     assert doc["ticks"] == 21  # 20 RUNNING ticks, then the verdict
     assert doc["nodes"] == {"0": "SUCCESS", "0.0": "SUCCESS", "0.0.0": "FAILURE",
                             "0.0.1": "SUCCESS", "0.1": "SUCCESS"}
-    events = [(e["uid"], e["name"], e["kind"], e["status"], e["message"]) for e in doc["events"]]
-    assert events == [  # the reactive selector re-checks "Check?" every tick: recorded once
+    events = verdicts(status)
+    assert [(e.node_uid, e.node_name, e.node_kind, e.status, e.message) for e in events] == [
+        # the reactive selector re-checks "Check?" every tick: recorded once
         ("0.0.0", "Check?", "Countdown", "FAILURE", "not this way"),
         ("0.0.1", "Work", "Countdown", "SUCCESS", "done after 20 ticks (4 zones)"),
         ("0.1", "Last", "Countdown", "SUCCESS", "done after 0 ticks (4 zones)"),
     ]
-    assert doc["failures"] == []  # a condition saying "no" is a decision, not a failure
+    assert reasons(status) == []  # a condition saying "no" is a decision, not a failure
     # 20 periods of 50 ms between the first tick and Work's verdict, on the ROS clock
-    took = doc["events"][1]["sim_s"] - doc["sim_start_s"]
+    took = events[1].sim_s - doc["sim_start_s"]
     assert 0.85 <= took <= 1.6, took
-    assert doc["sim_end_s"] >= doc["events"][-1]["sim_s"]
-    assert 0 < doc["wall_first_tick_s"] <= doc["events"][1]["wall_s"] <= doc["wall_duration_s"]
+    assert doc["sim_end_s"] >= events[-1].sim_s
+    assert 0 < doc["wall_first_tick_s"] <= events[1].wall_s <= doc["wall_duration_s"]
+    (completion,) = [e for e in read_events(status.with_name(EVENTS_FILE))
+                     if e.kind == EventKind.COMPLETION]
+    assert (completion.status, completion.node_uid) == ("SUCCESS", "0")
 
 
 @ros
@@ -122,8 +139,10 @@ def test_failure_exits_1_and_lists_the_failure(tmp_path):
     assert "Mission failed (Broken: boom: no luck)." in output
     doc = json.loads(status.read_text())
     assert doc["status"] == "FAILURE"
-    assert [{k: f[k] for k in ("what", "uid", "name", "message")} for f in doc["failures"]] == [
-        {"what": "failure", "uid": "0.1", "name": "Broken", "message": "boom: no luck"}]
+    assert [(e.kind, e.node_uid, e.node_name, e.message) for e in reasons(status)] == [
+        (EventKind.FAILURE, "0.1", "Broken", "boom: no luck")]
+    assert [(e.kind, e.status) for e in read_events(status.with_name(EVENTS_FILE))][-1] == (
+        EventKind.COMPLETION, "FAILURE")
     assert "Broken [0.1]: boom: no luck" in output  # the reason line
     assert doc["nodes"]["0"] == "FAILURE"
 
@@ -230,7 +249,7 @@ def test_a_tree_without_a_one_shot_at_its_end_runs_once_by_default(tmp_path):
     doc = json.loads(status.read_text())
     assert doc["ticks"] == ticks
     assert doc["complete"] is True
-    assert [e["name"] for e in doc["events"] if e["status"] == "SUCCESS"].count("Work") == 1
+    assert [e.node_name for e in verdicts(status) if e.status == "SUCCESS"].count("Work") == 1
 
 
 @ros
@@ -264,7 +283,7 @@ def test_bad_tree_exits_2_with_the_diagnostic(tmp_path, monkeypatch):
     assert "bad.yaml:14:9: error: unknown plugin 'Countdwn' (did you mean 'Countdown'?)" in output
     assert "Traceback" not in output
     doc = json.loads(status.read_text())
-    assert (doc["status"], doc["ticks"], doc["failures"][0]["name"]) == ("INVALID", 0, "tree")
+    assert (doc["status"], doc["ticks"], doc["error"]["step"]) == ("INVALID", 0, "tree")
 
 
 @ros
@@ -316,9 +335,8 @@ def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
     assert ("amcl never reported ACTIVE (/amcl/get_state never appeared) within 2 s: "
             "is Nav2 (or the simulator) running?") in output
     doc = json.loads(status.read_text())
-    (failure,) = doc["failures"]
-    assert (failure["uid"], failure["name"]) == ("", "nav2")
-    assert failure["message"].startswith("amcl never reported ACTIVE")
+    assert doc["error"]["step"] == "nav2"
+    assert doc["error"]["message"].startswith("amcl never reported ACTIVE")
 
 
 # --- the recorder alone (no ROS) -----------------------------------------------------------
@@ -465,6 +483,14 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     doc = json.loads(status.read_text())
     assert doc["status"] == "SUCCESS"
     assert doc["nodes"]["0"] == "SUCCESS"
-    assert [e["message"] for e in doc["events"] if e["name"] == "LogNoDetection"] == [
+    assert [e.message for e in verdicts(status) if e.node_name == "LogNoDetection"] == [
         "No survivor found at zone_b.", "No survivor found at zone_d."]
-    assert doc["failures"] == []
+    assert reasons(status) == []
+    told = [(e.kind, e.zone_id, e.survivor_id) for e in read_events(status.with_name(EVENTS_FILE))
+            if e.kind in (EventKind.ZONE_REACHED, EventKind.SURVIVOR_REPORTED,
+                          EventKind.BASE_REACHED)]
+    assert told == [
+        (EventKind.ZONE_REACHED, "zone_a", ""), (EventKind.SURVIVOR_REPORTED, "", "survivor_1"),
+        (EventKind.ZONE_REACHED, "zone_b", ""), (EventKind.ZONE_REACHED, "zone_c", ""),
+        (EventKind.SURVIVOR_REPORTED, "", "survivor_2"), (EventKind.ZONE_REACHED, "zone_d", ""),
+        (EventKind.BASE_REACHED, "", "")]

@@ -1,0 +1,167 @@
+"""One mission event: its kinds, its fields and its JSON encoding (no ROS).
+
+The ROS twin is ``sar_interfaces/msg/MissionEvent`` (the same fields; the kind names are
+its ``KIND_*`` constants); :mod:`sar_framework.ros.event_topic` converts between them. A
+JSON line holds every field, for example::
+
+    {"seq": 7, "kind": "zone_reached", "sim_s": 21.4, "wall_s": 2.1, "node_name": "",
+     "node_uid": "", "node_kind": "", "status": "", "message": "Reached zone_a.",
+     "zone_id": "zone_a", "survivor_id": "", "position": [-3.0, 3.0, 0.0]}
+"""
+
+from __future__ import annotations
+
+import enum
+import json
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any
+
+EVENT_TOPIC = "/sar_mission/events"
+"""The ROS topic the runner publishes the stream on (:mod:`sar_framework.ros.event_topic`)."""
+EVENT_TYPE = "sar_interfaces/msg/MissionEvent"
+"""Its message type."""
+
+
+class EventKind(str, enum.Enum):
+    """What an event says happened (the ``KIND_*`` constants of the message)."""
+
+    STARTED = "started"
+    STATUS = "status"
+    FAILURE = "failure"
+    TIMEOUT = "timeout"
+    CANCEL = "cancel"
+    RETRY = "retry"
+    SKIP = "skip"
+    NAVIGATION = "navigation"
+    ZONE_REACHED = "zone_reached"
+    ZONE_UNREACHED = "zone_unreached"
+    BASE_REACHED = "base_reached"
+    DETECTION = "detection"
+    SURVIVOR_BROADCAST = "survivor_broadcast"
+    SURVIVOR_REPORTED = "survivor_reported"
+    SURVIVOR_REFUSED = "survivor_refused"
+    NOTE = "note"
+    COMPLETION = "completion"
+    VERDICT = "verdict"
+
+
+#: The reasons the runner records for a failing or halted part of the tree.
+REASON_KINDS = frozenset({EventKind.FAILURE, EventKind.TIMEOUT, EventKind.CANCEL,
+                          EventKind.RETRY, EventKind.SKIP})
+#: The reasons that are causes of a failure (the others are what the tree did about one).
+CAUSE_KINDS = frozenset({EventKind.FAILURE, EventKind.TIMEOUT})
+
+
+class EventFormatError(ValueError):
+    """A JSON line or document that is not a mission event."""
+
+
+@dataclass(frozen=True)
+class MissionEvent:
+    """One event of the stream.
+
+    Attributes:
+        kind: What happened.
+        seq: 1, 2, 3... in emission order (0 before the emitter numbered it).
+        sim_s: The runner's ROS clock in seconds (simulated time with ``use_sim_time``).
+        wall_s: Wall seconds since the runner started.
+        node_name: The tree node it concerns ("" for the mission as a whole).
+        node_uid: That node's uid.
+        node_kind: That node's kind.
+        status: ``SUCCESS``, ``FAILURE``, ``RUNNING``, ``FOUND``, ``NONE``... or "".
+        message: One line for humans (never parsed).
+        zone_id: The zone it concerns, or "".
+        survivor_id: The survivor it concerns, or "".
+        position: ``(x, y, z)`` metres in the map frame, or None.
+    """
+
+    kind: EventKind
+    seq: int = 0
+    sim_s: float = 0.0
+    wall_s: float = 0.0
+    node_name: str = ""
+    node_uid: str = ""
+    node_kind: str = ""
+    status: str = ""
+    message: str = ""
+    zone_id: str = ""
+    survivor_id: str = ""
+    position: tuple[float, float, float] | None = None
+
+    def numbered(self, seq: int) -> MissionEvent:
+        """This event with sequence number ``seq``."""
+        return replace(self, seq=seq)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON-ready mapping (``kind`` as its name, ``position`` a list or None)."""
+        document = asdict(self)
+        document["kind"] = self.kind.value
+        document["position"] = list(self.position) if self.position is not None else None
+        return document
+
+    def to_json(self) -> str:
+        """One JSON line (no newline)."""
+        return json.dumps(self.to_dict(), separators=(",", ":"), allow_nan=False)
+
+
+_TEXT_FIELDS = ("node_name", "node_uid", "node_kind", "status", "message", "zone_id",
+                "survivor_id")
+
+
+def _number(document: dict[str, Any], key: str) -> float:
+    value = document.get(key, 0.0)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value):
+        raise EventFormatError(f"{key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def event_from_dict(document: Any) -> MissionEvent:
+    """Read an event back from :meth:`MissionEvent.to_dict`'s mapping.
+
+    Args:
+        document: The decoded JSON value.
+
+    Returns:
+        The event.
+
+    Raises:
+        EventFormatError: Not a mapping, an unknown kind, or a field of the wrong type.
+    """
+    if not isinstance(document, dict):
+        raise EventFormatError(f"an event is a JSON object, got {type(document).__name__}")
+    unknown = set(document) - {f.name for f in fields(MissionEvent)}
+    if unknown:
+        raise EventFormatError(f"unknown field(s): {', '.join(sorted(unknown))}")
+    try:
+        kind = EventKind(document.get("kind"))
+    except ValueError:
+        raise EventFormatError(f"unknown kind {document.get('kind')!r}") from None
+    seq = document.get("seq", 0)
+    if isinstance(seq, bool) or not isinstance(seq, int) or seq < 0:
+        raise EventFormatError(f"seq must be a natural number, got {seq!r}")
+    texts = {key: document.get(key, "") for key in _TEXT_FIELDS}
+    for key, value in texts.items():
+        if not isinstance(value, str):
+            raise EventFormatError(f"{key} must be a string, got {value!r}")
+    position = document.get("position")
+    if position is not None:
+        if not isinstance(position, list) or len(position) != 3:
+            raise EventFormatError(f"position must be [x, y, z] or null, got {position!r}")
+        position = tuple(_number({"position": v}, "position") for v in position)
+    return MissionEvent(kind=kind, seq=seq, sim_s=_number(document, "sim_s"),
+                        wall_s=_number(document, "wall_s"), position=position, **texts)
+
+
+def event_from_json(line: str) -> MissionEvent:
+    """Parse one JSON line.
+
+    Raises:
+        EventFormatError: Not JSON, or not an event.
+    """
+    try:
+        document = json.loads(line)
+    except ValueError as err:
+        raise EventFormatError(f"not JSON: {err}") from None
+    return event_from_dict(document)

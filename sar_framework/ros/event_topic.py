@@ -1,0 +1,93 @@
+"""The mission's event stream on ROS: ``/sar_mission/events`` (``sar_interfaces/msg/MissionEvent``).
+
+QoS (:func:`event_qos`): RELIABLE, TRANSIENT_LOCAL, KEEP_LAST :data:`EVENT_HISTORY_DEPTH`.
+Reliable because a reader decides on every event (a lost ``completion`` is a lost
+verdict); transient-local with a deep history so a reader that joins late (``sar-tree
+watch``, the recorder started after the runner, a studio) still receives the mission's
+events so far: a mission emits tens of events per zone, so 1000 hold a long mission
+whole. A subscriber must ask for the same profile to get the past.
+
+:func:`to_message` and :func:`from_message` convert between the ROS message and the
+ROS-free :class:`~sar_framework.events.event.MissionEvent`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from sar_framework.events.event import EVENT_TOPIC, EventKind, MissionEvent
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile
+
+__all__ = ["EVENT_HISTORY_DEPTH", "EVENT_TOPIC", "EventPublisher", "event_qos",
+           "from_message", "to_message"]
+
+EVENT_HISTORY_DEPTH = 1000
+"""Events the publisher keeps for late joiners."""
+_NS = 1_000_000_000
+
+
+def event_qos() -> QoSProfile:
+    """RELIABLE, TRANSIENT_LOCAL, keep last :data:`EVENT_HISTORY_DEPTH` (see the module)."""
+    from sar_framework.ros.qos import latched_qos
+
+    return latched_qos(EVENT_HISTORY_DEPTH)
+
+
+def to_message(event: MissionEvent) -> Any:
+    """The ``sar_interfaces/msg/MissionEvent`` of ``event``."""
+    from sar_interfaces.msg import MissionEvent as EventMsg
+
+    message = EventMsg()
+    stamp_ns = round(event.sim_s * _NS)
+    message.stamp.sec, message.stamp.nanosec = divmod(stamp_ns, _NS)
+    message.wall_s = float(event.wall_s)
+    message.seq = event.seq
+    message.kind = event.kind.value
+    message.node_name = event.node_name
+    message.node_uid = event.node_uid
+    message.node_kind = event.node_kind
+    message.status = event.status
+    message.message = event.message
+    message.zone_id = event.zone_id
+    message.survivor_id = event.survivor_id
+    message.has_position = event.position is not None
+    if event.position is not None:
+        message.position.x, message.position.y, message.position.z = event.position
+    return message
+
+
+def from_message(message: Any) -> MissionEvent:
+    """The event a ``sar_interfaces/msg/MissionEvent`` carries.
+
+    Raises:
+        ValueError: Its ``kind`` is not one this version knows.
+    """
+    point = message.position
+    return MissionEvent(
+        kind=EventKind(message.kind), seq=int(message.seq),
+        sim_s=round(message.stamp.sec + message.stamp.nanosec / _NS, 9),
+        wall_s=float(message.wall_s), node_name=message.node_name,
+        node_uid=message.node_uid, node_kind=message.node_kind, status=message.status,
+        message=message.message, zone_id=message.zone_id, survivor_id=message.survivor_id,
+        position=(point.x, point.y, point.z) if message.has_position else None,
+    )
+
+
+class EventPublisher:
+    """Publishes every event it is given on :data:`EVENT_TOPIC` (an event sink).
+
+    Args:
+        node: The node to publish from (the runner's).
+    """
+
+    def __init__(self, node: Node) -> None:
+        from sar_interfaces.msg import MissionEvent as EventMsg
+
+        self._publisher = node.create_publisher(EventMsg, EVENT_TOPIC, event_qos())
+
+    def __call__(self, event: MissionEvent) -> None:
+        """Publish ``event``."""
+        self._publisher.publish(to_message(event))

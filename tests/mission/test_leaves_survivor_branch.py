@@ -232,7 +232,7 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
             if e.kind != EventKind.DETECTION]
     assert told == [
         (EventKind.SURVIVOR_BROADCAST, "survivor_1",
-         "Broadcast static TF map -> survivor_1 at (-2.50, 3.20)."),
+         "Broadcast static TF map -> survivor_1 at (1.50, -2.00)."),
         (EventKind.SURVIVOR_REFUSED, "survivor_1", "the base is full"),
         (EventKind.NOTE, "", "Report for survivor_1 refused by base: the base is full")]
     assert "No survivor found" not in logged

@@ -91,3 +91,30 @@ def test_data_edges_include_scripts(tmp_path: Path) -> None:
     from sar_framework.engine.render import render_text
 
     assert "Script" in render_text(spec) and "digraph" in render_dot(spec, data=True)
+
+
+def test_labels_show_port_bindings(tmp_path: Path) -> None:
+    from sar_framework.engine.render import render_text
+
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        blackboard:
+          word: {type: str, initial: hi}
+          value: {type: int}
+        root:
+          sequence:
+            memory: false
+            children:
+              - Say: {label: a, text: "{@word}", times: 2, items: "x;y"}
+              - Emit: {value: "{=}"}
+    """), registry=reg).spec
+    assert spec is not None
+    assert render_text(spec).splitlines()[1:] == [
+        '├── --> Say label="a", text={@word}, times=2, items=["x", "y"]',
+        "└── --> Emit value={=}",
+    ]
+    # the ports left to their defaults show with --all-params, as declared
+    assert render_text(spec, all_params=True).splitlines()[2] == (
+        "└── --> Emit value={=}, number=7")
+    assert "text={@word}" in render_dot(spec)

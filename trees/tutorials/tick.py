@@ -12,6 +12,17 @@ the root's status, then every leaf that was ticked, in tree order::
     tick 1: Root RUNNING
       TakeId    SUCCESS  took survivor_1
       ReportId  RUNNING  reporting survivor_1...
+
+Each line shows the status the leaf returned when it was ticked (a leaf ticked twice in
+one tick has two lines). A node that BT.CPP reports SKIPPED shows ``SKIPPED``; a node
+whose pre-condition (``_skipIf``, ``_failureIf``...) decided without ticking it has a
+line too. ``--set NAME=VALUE`` sets a blackboard entry the caller provides (converted
+to the entry's declared type) and ``--entries`` prints the tree's declared entries after
+each tick::
+
+    tick 1: SearchZone RUNNING
+      Drive  RUNNING  driving to zone_b
+      blackboard: zone='zone_b', battery=60.0, survivors=0, found=(unset)
 """
 
 from __future__ import annotations
@@ -24,7 +35,11 @@ import py_trees
 import yaml
 
 from sar_framework import load_tree
+from sar_framework.engine.api import LoadedTree
 from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.ports import convert, is_message
+from sar_framework.engine.skipping import was_skipped
+from sar_framework.engine.spec import Category
 from sar_framework.mission.zone_manager import ZoneManager
 
 REPO = Path(__file__).resolve().parents[2]
@@ -45,21 +60,72 @@ def zone_manager_from(path: Path) -> ZoneManager:
     return ZoneManager(zones, params["base_station"])
 
 
-def leaf_lines(root: py_trees.behaviour.Behaviour, visited: set[object]) -> list[str]:
+class Visits(py_trees.visitors.VisitorBase):
+    """Every behaviour ticked on the last tick, in order, as it was right after its tick."""
+
+    def __init__(self) -> None:
+        super().__init__(full=False)
+        self.seen: list[tuple[py_trees.behaviour.Behaviour, str, str]] = []
+
+    def initialise(self) -> None:
+        """Forget the previous tick."""
+        self.seen = []
+
+    def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
+        """Record the behaviour's status (SKIPPED when it stands for it) and feedback."""
+        status = "SKIPPED" if was_skipped(behaviour) else behaviour.status.name
+        self.seen.append((behaviour, status, behaviour.feedback_message))
+
+
+def leaf_rows(visits: Visits, wrappers: set[object]) -> list[tuple[str, str, str]]:
     """Describe the leaves ticked on the last tick.
 
     Args:
-        root: The tree's root.
-        visited: ids of the behaviours ticked on the last tick.
+        visits: What the last tick visited.
+        wrappers: ids of the behaviours that carry a leaf's pre/post-conditions.
 
     Returns:
-        One ``name  STATUS  feedback`` line per ticked leaf, in tree order.
+        One ``(name, status, feedback)`` per leaf tick, in the order they were ticked,
+        and one per skipped node or condition wrapper that decided without its children.
     """
-    leaves = [b for b in root.iterate() if not b.children]
-    width = max(len(b.name) for b in leaves)
-    leaves = [b for b in leaves if b.id in visited]
-    return [f"  {b.name:<{width}}  {b.status.name:<7}  {b.feedback_message}".rstrip()
-            for b in leaves]
+    ticked = {b.id for b, _, _ in visits.seen}
+    rows = []
+    for behaviour, status, feedback in visits.seen:
+        if behaviour.children:
+            if any(child.id in ticked for child in behaviour.children):
+                continue
+            if status != "SKIPPED" and behaviour.id not in wrappers:
+                continue
+        rows.append((behaviour.name, status, feedback))
+    return rows
+
+
+def set_entries(loaded: LoadedTree, assignments: list[str]) -> str | None:
+    """Write ``NAME=VALUE`` assignments to the tree's declared entries.
+
+    Returns:
+        None, or what is wrong with an assignment.
+    """
+    declared = {entry.name: (key, entry.type) for key, entry in loaded.spec.entries.items()}
+    for assignment in assignments:
+        name, _, text = assignment.partition("=")
+        if name not in declared:
+            return f"--set {assignment}: the tree declares no entry '{name}'"
+        key, type_ = declared[name]
+        try:
+            value = text if is_message(type_) else convert(type_, text)
+        except ValueError as err:
+            return f"--set {assignment}: {err}"
+        py_trees.blackboard.Blackboard.set(key, value)
+    return None
+
+
+def entry_line(loaded: LoadedTree) -> str:
+    """The tree's declared entries and their values, on one line."""
+    storage = py_trees.blackboard.Blackboard.storage
+    shown = [f"{entry.name}={storage[key]!r}" if key in storage else f"{entry.name}=(unset)"
+             for key, entry in loaded.spec.entries.items()]
+    return "  blackboard: " + ", ".join(shown)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -74,21 +140,42 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("tree", help="the tree file")
     parser.add_argument("--ticks", type=int, default=5, help="how many ticks (default 5)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="set a declared blackboard entry before the first tick")
+    parser.add_argument("--entries", action="store_true",
+                        help="print the declared blackboard entries after each tick")
     args = parser.parse_args(argv)
     try:
         loaded = load_tree(args.tree, context={"zone_manager": zone_manager_from(PARAMS)})
     except TreeLoadError as err:
         sys.stderr.write(f"{err}\n")
         return 1
-    snapshot = py_trees.visitors.SnapshotVisitor()
+    problem = set_entries(loaded, args.set)
+    if problem:
+        sys.stderr.write(f"{problem}\n")
+        return 2
+    leaves = [n for n in loaded.spec.root.walk() if n.category is Category.LEAF]
+    wrappers = {loaded.behaviours[n.uid].id for n in leaves
+                if loaded.behaviours[n.uid].children}
+    visits = Visits()
     tree = py_trees.trees.BehaviourTree(loaded.root)
-    tree.visitors.append(snapshot)
+    tree.visitors.append(visits)
     tree.setup()
-    out: list[str] = []
+    ticks: list[tuple[str, list[tuple[str, str, str]], str]] = []
     for number in range(1, args.ticks + 1):
         tree.tick()
-        out.append(f"tick {number}: {tree.root.name} {tree.root.status.name}")
-        out.extend(leaf_lines(tree.root, set(snapshot.visited)))
+        head = f"tick {number}: {tree.root.name} {tree.root.status.name}"
+        ticks.append((head, leaf_rows(visits, wrappers),
+                      entry_line(loaded) if args.entries else ""))
+    width = max([len(n.name) for n in leaves]
+                + [len(name) for _, rows, _ in ticks for name, _, _ in rows])
+    out: list[str] = []
+    for head, rows, entries in ticks:
+        out.append(head)
+        out.extend(f"  {name:<{width}}  {status:<7}  {feedback}".rstrip()
+                   for name, status, feedback in rows)
+        if entries:
+            out.append(entries)
     sys.stdout.write("\n".join(out) + "\n")
     return 0
 

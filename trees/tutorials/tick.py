@@ -38,6 +38,7 @@ from sar_framework import load_tree
 from sar_framework.engine.api import LoadedTree
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.ports import convert, is_message
+from sar_framework.engine.scripting import ScriptError
 from sar_framework.engine.skipping import was_skipped
 from sar_framework.engine.spec import Category
 from sar_framework.mission.zone_manager import ZoneManager
@@ -135,7 +136,8 @@ def main(argv: list[str] | None = None) -> int:
         argv: Command-line arguments (default: ``sys.argv[1:]``).
 
     Returns:
-        0 when the tree loaded, 1 when it did not (the diagnostics go to stderr).
+        0 when the tree loaded and ticked, 1 when it did not load (the diagnostics go
+        to stderr) or a tick stopped on an entry without a value, 2 for a bad ``--set``.
     """
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("tree", help="the tree file")
@@ -162,8 +164,13 @@ def main(argv: list[str] | None = None) -> int:
     tree.visitors.append(visits)
     tree.setup()
     ticks: list[tuple[str, list[tuple[str, str, str]], str]] = []
+    failed = ""
     for number in range(1, args.ticks + 1):
-        tree.tick()
+        try:
+            tree.tick()
+        except (KeyError, ScriptError) as err:  # an entry without a value, as BT.CPP throws
+            failed = f"tick {number} stopped: {err.args[0]}"
+            break
         head = f"tick {number}: {tree.root.name} {tree.root.status.name}"
         ticks.append((head, leaf_rows(visits, wrappers),
                       entry_line(loaded) if args.entries else ""))
@@ -176,7 +183,10 @@ def main(argv: list[str] | None = None) -> int:
                    for name, status, feedback in rows)
         if entries:
             out.append(entries)
-    sys.stdout.write("\n".join(out) + "\n")
+    sys.stdout.write("".join(f"{line}\n" for line in out))
+    if failed:
+        sys.stderr.write(f"{failed}\n")
+        return 1
     return 0
 
 

@@ -98,7 +98,13 @@ def settings(node: NodeSpec, glyphs: Glyphs) -> list[str]:
     elif match := CONVERTER.fullmatch(node.kind):
         out.append(f"{match.group(1).upper()} {glyphs.arrow} {match.group(2).upper()}")
     out.extend(f"{key}={format_value(value, glyphs)}" for key, value in attrs.items())
-    return out
+    return [*out, *conditions(node, glyphs)]
+
+
+def conditions(node: NodeSpec, glyphs: Glyphs) -> list[str]:
+    """Describe the node's pre/post-conditions (``_skipIf="n > 9"``), as written."""
+    return [f"{key}={format_value(script.text, glyphs)}"
+            for key, script in node.scripts.items() if key.startswith("_")]
 
 
 def leaf_params(node: NodeSpec, glyphs: Glyphs, all_params: bool) -> list[str]:
@@ -120,7 +126,7 @@ def leaf_params(node: NodeSpec, glyphs: Glyphs, all_params: bool) -> list[str]:
     for key, value in port_settings(node, all_params).items():
         shown = value if entry_ref(value) is not None else format_value(value, glyphs)
         out.append(f"{key}={clean(shown)}")
-    return out
+    return [*out, *conditions(node, glyphs)]
 
 
 def port_settings(node: NodeSpec, all_params: bool) -> dict[str, Any]:

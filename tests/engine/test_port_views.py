@@ -118,3 +118,27 @@ def test_labels_show_port_bindings(tmp_path: Path) -> None:
     assert render_text(spec, all_params=True).splitlines()[2] == (
         "└── --> Emit value={=}, number=7")
     assert "text={@word}" in render_dot(spec)
+
+
+def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
+    from sar_framework.engine.render import render_text
+
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        blackboard:
+          n: {type: int, initial: 0}
+        root:
+          sequence:
+            memory: false
+            _skipIf: "n > 9"
+            children:
+              - Emit: {value: "{n}", _onSuccess: "n += 1"}
+              - Script: {code: "n := 2", _while: "n < 5"}
+    """), registry=reg).spec
+    assert spec is not None
+    assert render_text(spec).splitlines() == [
+        '[-] Sequence [sequence, reactive, _skipIf="n > 9"]',
+        '├── --> Emit value={n}, _onSuccess="n += 1"',
+        '└── --> Script code="n := 2", _while="n < 5"',
+    ]

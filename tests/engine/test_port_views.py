@@ -56,8 +56,10 @@ def test_data_edges(tmp_path: Path) -> None:
     assert data_edges(spec) == [("0.0", "0.1", "path"), ("0.1", "0.0", "here"),
                                 ("0.2", "0.3", "n")]
     source = render_dot(spec, data=True)
-    line = next(x for x in source.splitlines() if f"{node_id('0.2')} -> {node_id('0.3')}" in x)
+    # drawn from the reader with the arrow turned back, so dot keeps the children in order
+    line = next(x for x in source.splitlines() if f"{node_id('0.3')} -> {node_id('0.2')}" in x)
     assert "style=dotted" in line and "xlabel=n" in line and "constraint=false" in line
+    assert "dir=back" in line
     assert "style=dotted" not in render_dot(spec)
 
 
@@ -142,3 +144,34 @@ def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
         '├── --> Emit value={n}, _onSuccess="n += 1"',
         '└── --> Script code="n := 2", _while="n < 5"',
     ]
+
+
+def test_data_edges_keep_the_children_in_order(tmp_path: Path) -> None:
+    import shutil
+
+    import pytest
+
+    if shutil.which("dot") is None:
+        pytest.skip("Graphviz dot not installed")
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        root:
+          sequence:
+            memory: true
+            children:
+              - Emit: {value: "{n}", number: 3}
+              - sequence:
+                  memory: true
+                  children:
+                    - Emit: {value: "{m}"}
+                    - Script: {code: "k := m + n; n := 1"}
+    """), registry=reg).spec
+    assert spec is not None
+    plain = subprocess.run(["dot", "-Tplain"], input=render_dot(spec, data=True), text=True,
+                           capture_output=True, check=True).stdout
+    x = {line.split()[1]: float(line.split()[2]) for line in plain.splitlines()
+         if line.startswith("node ")}
+    first, second = node_id("0.1.0"), node_id("0.1.1")
+    assert x[node_id("0.0")] < x[node_id("0.1")] and x[first] < x[second], x
+    assert "dir=back" in render_dot(spec, data=True)  # the arrow still points at the reader

@@ -17,12 +17,12 @@ Each line shows the status the leaf returned when it was ticked (a leaf ticked t
 one tick has two lines). A node that BT.CPP reports SKIPPED shows ``SKIPPED``; a node
 whose pre-condition (``_skipIf``, ``_failureIf``...) decided without ticking it has a
 line too. ``--set NAME=VALUE`` sets a blackboard entry the caller provides (converted
-to the entry's declared type) and ``--entries`` prints the tree's declared entries after
-each tick::
+to the entry's declared type) and ``--entries`` prints the tree's declared entries
+(absolute py_trees keys) before the first tick, then those each tick changed::
 
-    tick 1: SearchZone RUNNING
-      Drive  RUNNING  driving to zone_b
-      blackboard: zone='zone_b', battery=60.0, survivors=0, found=(unset)
+    tick 2: SearchZone SUCCESS
+      Drive  SUCCESS  at zone_b
+      /battery: 60.0 -> 35.0
 """
 
 from __future__ import annotations
@@ -121,12 +121,17 @@ def set_entries(loaded: LoadedTree, assignments: list[str]) -> str | None:
     return None
 
 
-def entry_line(loaded: LoadedTree) -> str:
-    """The tree's declared entries and their values, on one line."""
+def entry_values(loaded: LoadedTree) -> dict[str, str]:
+    """The tree's declared entries, by absolute key, each value as ``repr`` shows it."""
     storage = py_trees.blackboard.Blackboard.storage
-    shown = [f"{entry.name}={storage[key]!r}" if key in storage else f"{entry.name}=(unset)"
-             for key, entry in loaded.spec.entries.items()]
-    return "  blackboard: " + ", ".join(shown)
+    return {key: repr(storage[key]) if key in storage else "(unset)"
+            for key in loaded.spec.entries}
+
+
+def changes(before: dict[str, str], after: dict[str, str]) -> list[str]:
+    """One ``  KEY: OLD -> NEW`` line per entry whose value changed."""
+    return [f"  {key}: {before[key]} -> {value}"
+            for key, value in after.items() if before[key] != value]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -145,7 +150,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                         help="set a declared blackboard entry before the first tick")
     parser.add_argument("--entries", action="store_true",
-                        help="print the declared blackboard entries after each tick")
+                        help="print the declared blackboard entries, then each tick's changes")
     args = parser.parse_args(argv)
     try:
         loaded = load_tree(args.tree, context={"zone_manager": zone_manager_from(PARAMS)})
@@ -165,6 +170,10 @@ def main(argv: list[str] | None = None) -> int:
     tree.setup()
     ticks: list[tuple[str, list[tuple[str, str, str]], str]] = []
     failed = ""
+    values = entry_values(loaded)
+    out = ["blackboard before tick 1:", *(f"  {k} = {v}" for k, v in values.items())] \
+        if args.entries else []
+    ticks: list[tuple[str, list[tuple[str, str, str]], list[str]]] = []
     for number in range(1, args.ticks + 1):
         try:
             tree.tick()
@@ -172,17 +181,16 @@ def main(argv: list[str] | None = None) -> int:
             failed = f"tick {number} stopped: {err.args[0]}"
             break
         head = f"tick {number}: {tree.root.name} {tree.root.status.name}"
+        before, values = values, entry_values(loaded)
         ticks.append((head, leaf_rows(visits, wrappers),
-                      entry_line(loaded) if args.entries else ""))
+                      changes(before, values) if args.entries else []))
     width = max([len(n.name) for n in leaves]
                 + [len(name) for _, rows, _ in ticks for name, _, _ in rows])
-    out: list[str] = []
-    for head, rows, entries in ticks:
+    for head, rows, changed in ticks:
         out.append(head)
         out.extend(f"  {name:<{width}}  {status:<7}  {feedback}".rstrip()
                    for name, status, feedback in rows)
-        if entries:
-            out.append(entries)
+        out.extend(changed)
     sys.stdout.write("".join(f"{line}\n" for line in out))
     if failed:
         sys.stderr.write(f"{failed}\n")

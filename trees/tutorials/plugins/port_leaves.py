@@ -4,7 +4,7 @@ They pass data on the blackboard, BehaviorTree.CPP's way, instead of referring t
 other by id (tutorial 3)::
 
     Drive   RUNNING one tick, then spends `cost` of the `battery` entry (FAILURE if short)
-    Scan    counts the survivors listed for `zone` and writes the count to `found`
+    Scan    counts the `sightings` in `zone` and writes the count to `found`
 
 A tree loads this file with ``plugins: [plugins/port_leaves.py]``.
 """
@@ -56,12 +56,12 @@ class Drive(py_trees.behaviour.Behaviour):
 
 @leaf(ports=[
     InputPort("zone", str, description="The zone to scan."),
-    InputPort("survivors", list, default=[],
-              description="Where the survivors are, one zone per survivor ('a;b;b')."),
+    InputPort("sightings", list, default=[],
+              description="Where survivors were seen, one zone per survivor ('a;b;b')."),
     OutputPort("found", int, description="How many survivors are in the zone."),
 ])
 class Scan(py_trees.behaviour.Behaviour):
-    """Count the survivors in `zone` and write the count to `found`; SUCCESS."""
+    """Count the survivors `sightings` lists in `zone`; write the count to `found`; SUCCESS."""
 
     def __init__(self, name: str, *, ports: Any) -> None:
         super().__init__(name)
@@ -70,7 +70,7 @@ class Scan(py_trees.behaviour.Behaviour):
     def update(self) -> Status:
         """Count, write `found`, SUCCESS."""
         zone = self.ports.get("zone")
-        found = self.ports.get("survivors").count(zone)
+        found = self.ports.get("sightings").count(zone)
         self.ports.set("found", found)
         self.feedback_message = f"{found} in {zone}"
         return Status.SUCCESS

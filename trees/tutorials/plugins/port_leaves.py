@@ -1,4 +1,4 @@
-"""Two ROS-free leaves with ports, for tutorial 9 (docs/tutorials/09_ports_blackboard_...).
+"""Two ROS-free leaves with ports, for tutorial 9, "Ports, blackboard and scripts".
 
 They pass data on the blackboard, BehaviorTree.CPP's way, instead of referring to each
 other by id (tutorial 3)::

@@ -2,12 +2,12 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python trees/tutorials/tick.py trees/tutorials/03_memory_flags.yaml --ticks 4
+    .venv/bin/python trees/tutorials/tick.py trees/tutorials/04_memory_flags.yaml --ticks 4
 
 The tree is loaded with :func:`sar_framework.load_tree`, so it is checked exactly like
 ``sar-tree validate`` does, with the context object ``zone_manager`` built from
 ``config/mission_params.yaml`` (four zones, no ROS). After each tick the script prints
-the root's status, then every leaf that was ticked, in tree order::
+the root's status, then every leaf that was ticked, in the order they were ticked::
 
     tick 1: Root RUNNING
       TakeId    SUCCESS  took survivor_1
@@ -20,9 +20,11 @@ line too. ``--set NAME=VALUE`` sets a blackboard entry the caller provides (conv
 to the entry's declared type) and ``--entries`` prints the tree's declared entries
 (absolute py_trees keys) before the first tick, then those each tick changed::
 
-    tick 2: SearchZone SUCCESS
-      Drive  SUCCESS  at zone_b
+    tick 2: Mission RUNNING
+      DriveA     SUCCESS  at zone_a
+      DriveB     RUNNING  driving to zone_b
       /battery: 60.0 -> 35.0
+      /visited: 0 -> 1
 """
 
 from __future__ import annotations
@@ -168,7 +170,6 @@ def main(argv: list[str] | None = None) -> int:
     tree = py_trees.trees.BehaviourTree(loaded.root)
     tree.visitors.append(visits)
     tree.setup()
-    ticks: list[tuple[str, list[tuple[str, str, str]], str]] = []
     failed = ""
     values = entry_values(loaded)
     out = ["blackboard before tick 1:", *(f"  {k} = {v}" for k, v in values.items())] \

@@ -1,4 +1,4 @@
-"""What a drawn node says: py_trees' kind symbol, settings and leaf params, as short text.
+"""What a drawn node says: py_trees' kind symbol, settings, leaf params and ports, as text.
 
 Shared by the Graphviz diagram (:mod:`.render`) and the terminal tree (:mod:`.text_tree`).
 """
@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sar_framework.engine.control_kinds import SYMBOLS
+from sar_framework.engine.ports import NO_DEFAULT, entry_ref
 from sar_framework.engine.spec import Category, NodeSpec
 
 MAX_VALUE_CHARS = 40
@@ -97,14 +98,21 @@ def settings(node: NodeSpec, glyphs: Glyphs) -> list[str]:
     elif match := CONVERTER.fullmatch(node.kind):
         out.append(f"{match.group(1).upper()} {glyphs.arrow} {match.group(2).upper()}")
     out.extend(f"{key}={format_value(value, glyphs)}" for key, value in attrs.items())
-    return out
+    return [*out, *conditions(node, glyphs)]
+
+
+def conditions(node: NodeSpec, glyphs: Glyphs) -> list[str]:
+    """Describe the node's pre/post-conditions (``_skipIf="n > 9"``), as written."""
+    return [f"{key}={format_value(script.text, glyphs)}"
+            for key, script in node.scripts.items() if key.startswith("_")]
 
 
 def leaf_params(node: NodeSpec, glyphs: Glyphs, all_params: bool) -> list[str]:
-    """Describe a leaf's params: ``key=value``, references as ``key -> id``.
+    """Describe a leaf's params and ports: ``key=value``, references as ``key -> id``.
 
-    Only the params the tree sets, unless ``all_params`` (then defaults too); params
-    whose value is ``None`` (an unset optional) are left out.
+    Only the params and ports the tree sets, unless ``all_params`` (then defaults too);
+    params whose value is ``None`` (an unset optional) are left out. A port bound to an
+    entry shows the binding as written (``goal={goal}``), a literal port its value.
     """
     out: list[str] = []
     for key, value in node.attrs.items():
@@ -115,4 +123,17 @@ def leaf_params(node: NodeSpec, glyphs: Glyphs, all_params: bool) -> list[str]:
             out.append(f"{key} {glyphs.arrow} {target}")
         elif value is not None:
             out.append(f"{key}={format_value(value, glyphs)}")
-    return out
+    for key, value in port_settings(node, all_params).items():
+        shown = value if entry_ref(value) is not None else format_value(value, glyphs)
+        out.append(f"{key}={clean(shown)}")
+    return [*out, *conditions(node, glyphs)]
+
+
+def port_settings(node: NodeSpec, all_params: bool) -> dict[str, Any]:
+    """The leaf's ports as written in the file, then (``all_params``) the declared defaults."""
+    shown = dict(node.ports)
+    if all_params:
+        for key, binding in node.bindings.items():
+            if key not in shown and binding.port.default is not NO_DEFAULT:
+                shown[key] = binding.port.default
+    return shown

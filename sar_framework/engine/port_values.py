@@ -35,9 +35,10 @@ class PortValues:
         bindings: Every declared port's resolved binding, by name.
     """
 
-    __slots__ = ("bindings", "keys", "literals", "variables")
+    __slots__ = ("bindings", "keys", "literals", "owner", "variables")
 
     def __init__(self, owner: str, bindings: Mapping[str, PortBinding]) -> None:
+        self.owner = owner
         self.bindings = dict(bindings)
         self.keys = {n: b.key for n, b in bindings.items() if b.key is not None}
         self.literals = {n: b.value for n, b in bindings.items()
@@ -67,7 +68,7 @@ class PortValues:
             else:
                 value = self.variables.get(name)  # type: ignore[union-attr]
         except KeyError:
-            raise KeyError(f"port '{name}': entry '{key}' has no value") from None
+            raise KeyError(f"port '{name}' of {self.owner}: entry '{key}' has no value") from None
         if type(value) is str:
             type_ = self.bindings[name].port.type
             if type_ in _CONVERTED:

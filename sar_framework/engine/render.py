@@ -327,10 +327,16 @@ def render_dot(
             edges.append((node_id(node.uid), node_id(target.uid), attrs))
 
     if data:
-        edges.extend((node_id(writer), node_id(reader), {
-            "style": "dotted", "color": "darkgreen", "fontcolor": "darkgreen",
-            "xlabel": _plain(entry), "constraint": "false"})
-            for writer, reader, entry in data_edges(spec))
+        order = {node.uid: index for index, node in enumerate(spec.root.walk())}
+        for writer, reader, entry in data_edges(spec):
+            attrs = {"style": "dotted", "color": "darkgreen", "fontcolor": "darkgreen",
+                     "xlabel": _plain(entry), "constraint": "false"}
+            tail, head = writer, reader
+            if order[writer] < order[reader]:
+                # dot lays a same-rank edge's head left of its tail, which would swap
+                # the children: draw it from the later node, arrow turned back
+                tail, head, attrs = reader, writer, {**attrs, "dir": "back"}
+            edges.append((node_id(tail), node_id(head), attrs))
     # A reference to a node outside the tree (never in a validated tree) keeps
     # its label text but gets no edge, rather than a stray node.
     known = {node_id(uid) for uid in seen}

@@ -56,7 +56,8 @@ class ScriptBindings:
         try:
             script = compile_script(text)
         except ScriptError as error:
-            self.report(self.at(start, quoted, block, error), f"script: {error.message}")
+            what = f"script '{path[-1]}' of {owner_in(doc, path)}"
+            self.report(self.at(start, quoted, block, error), f"{what}: {error.message}")
             return None
         self.origins[id(script)] = (start, quoted, block)
         return script
@@ -71,7 +72,7 @@ class ScriptBindings:
 
     def bind(self, spec: NodeSpec, scope: DataScope) -> None:
         """Resolve the variables of a node's scripts in ``scope``; note reads and writes."""
-        who = f"{spec.name} ({spec.kind})" if spec.name != spec.kind else spec.kind
+        who = owner(spec.name, spec.kind)
         for attr, script in spec.scripts.items():
             where = self.origins[id(script)][0]
             what = f"script '{attr}' of {who}"
@@ -97,8 +98,9 @@ class ScriptBindings:
                 continue  # an unknown name, already reported
             types = {name: self.type_of(key) for name, key in spec.script_keys.items()}
             start, quoted, block = self.origins[id(script)]
+            what = f"script '{attr}' of {owner(spec.name, spec.kind)}"
             for problem in script.check(types, condition=attr in CONDITIONS):
-                self.report(self.at(start, quoted, block, problem), f"script: {problem.message}")
+                self.report(self.at(start, quoted, block, problem), f"{what}: {problem.message}")
 
     def type_of(self, key: str) -> str:
         """An entry's type: declared, else the first typed port writing it, else ``any``."""
@@ -108,3 +110,18 @@ class ScriptBindings:
             if use.type != "any":
                 return use.type
         return "any"
+
+
+def owner(name: str, kind: str) -> str:
+    """How a script's node is named in a message: ``Alert (Script)``, or just ``Script``."""
+    return f"{name} ({kind})" if name != kind else kind
+
+
+def owner_in(doc: Document, path: DocPath) -> str:
+    """:func:`owner` of the node whose script attribute stands at ``path`` in ``doc``."""
+    attrs = doc.value
+    for step in path[:-1]:
+        attrs = attrs[step]
+    kind = str(path[-2])
+    name = attrs.get("name") if isinstance(attrs, dict) else None
+    return owner(name if isinstance(name, str) else kind, kind)

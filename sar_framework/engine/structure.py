@@ -353,7 +353,7 @@ class StructureCheck:
         attr = str(path[-1]) if path else ""
         port = self.port_of(path)
         if port is not None:
-            return self.wrong_port_value(attr, error, instance, got)
+            return self.wrong_port_value(attr, error, instance, got, port)
         if attr == "subtrees":
             return f"'subtrees' must be a mapping of names to nodes, got {got}"
         if attr == SUBTREE:
@@ -385,7 +385,8 @@ class StructureCheck:
         return plugin.port(path[-1]) if plugin is not None else None
 
     def wrong_port_value(
-        self, attr: str, error: jsonschema.ValidationError, instance: Any, got: str
+        self, attr: str, error: jsonschema.ValidationError, instance: Any, got: str,
+        port: Port,
     ) -> str:
         """Word a port binding of the wrong type (an unquoted ``{key}`` above all)."""
         expected = error.validator_value
@@ -394,7 +395,10 @@ class StructureCheck:
         else:
             words = [_TYPE_WORDS.get(t, "a list" if t == "array" else t)
                      for t in expected if t != "string"]
-            word = " or ".join(words) + " literal, or an entry ('{key}')"
+            if port.type in ("str", "any"):  # text is a literal too, not only an entry
+                words.insert(0, "a string")
+            listed = ", ".join(words[:-1]) + " or " if len(words) > 1 else ""
+            word = f"{listed}{words[-1]} literal, or an entry ('{{key}}')"
         hint = ""
         if isinstance(instance, dict) and len(instance) == 1 and None in instance.values():
             (name,) = instance

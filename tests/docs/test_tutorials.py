@@ -27,7 +27,7 @@ from py_trees.common import Status
 REPO = Path(__file__).resolve().parents[2]
 TUTORIALS = REPO / "docs" / "tutorials"
 TREES = REPO / "trees" / "tutorials"
-BROKEN = TUTORIALS / "broken" / "07_reading_errors.yaml"
+BROKEN = sorted((TUTORIALS / "broken").glob("*.yaml"))
 DOCS = sorted(TUTORIALS.glob("[0-9][0-9]_*.md"))
 FENCE = re.compile(r"^```console\n(.*?)^```", re.MULTILINE | re.DOTALL)
 NO_ROS = {"validate", "render", "plugins", "schema"}
@@ -113,8 +113,8 @@ def run_shown(shown: Shown, tmp_path: Path) -> tuple[int, list[str]]:
     return done.returncode, out.splitlines()
 
 
-def test_there_are_six_to_eight_tutorials_each_with_its_trees() -> None:
-    assert 6 <= len(DOCS) <= 8, [d.name for d in DOCS]
+def test_there_are_six_to_nine_tutorials_each_with_its_trees() -> None:
+    assert 6 <= len(DOCS) <= 9, [d.name for d in DOCS]
     index = (TUTORIALS / "README.md").read_text()
     for doc in DOCS:
         number = doc.name[:2]
@@ -164,12 +164,13 @@ def test_shown_command_prints_the_shown_output(shown: Shown, tmp_path: Path) -> 
         assert (REPO / shlex.split(shown.command)[-1]).exists(), "the image is not committed"
 
 
-def test_broken_tree_diagnostics_equal_the_tutorial() -> None:
+@pytest.mark.parametrize("broken", BROKEN, ids=lambda p: p.name)
+def test_broken_tree_diagnostics_equal_the_tutorial(broken: Path) -> None:
     from sar_framework.engine.api import validate
 
-    result = validate(BROKEN)
+    result = validate(broken)
     assert not result.ok
-    shown = next(s for s in ALL if s.command == f"sar-tree validate {BROKEN.relative_to(REPO)}")
+    shown = next(s for s in ALL if s.command == f"sar-tree validate {broken.relative_to(REPO)}")
     diagnostics = [str(d).replace(f"{REPO}/", "") for d in result.diagnostics]
     assert len(diagnostics) >= 4
     assert list(shown.expected) == [*diagnostics, f"{len(diagnostics)} errors"]
@@ -220,8 +221,52 @@ def test_tutorial_plugin_ticks_to_the_shown_statuses() -> None:
         assert report.reported == [ids[-1]]
 
 
+def test_port_leaves_read_and_write_their_entries() -> None:
+    from py_trees.blackboard import Blackboard
+
+    from sar_framework.engine.port_values import PortValues
+    from sar_framework.engine.ports import PortBinding
+    from sar_framework.engine.registry import discover
+
+    registry = discover(entry_points=False, plugin_paths=[TREES / "plugins" / "port_leaves.py"])
+    drive, scan = registry.get("Drive"), registry.get("Scan")
+    ports = {p.name: p for p in (*drive.ports, *scan.ports)}
+    Blackboard.clear()
+    Blackboard.set("/battery", 30.0)
+    leaf = drive.cls("Drive", ports=PortValues("Drive", {
+        "zone": PortBinding(ports["zone"], value="zone_a"),
+        "cost": PortBinding(ports["cost"], value=25.0),
+        "battery": PortBinding(ports["battery"], key="/battery")}))
+    statuses = []
+    for _ in range(4):
+        leaf.tick_once()
+        statuses.append(leaf.status)
+    assert statuses == [Status.RUNNING, Status.SUCCESS, Status.RUNNING, Status.FAILURE]
+    assert Blackboard.get("/battery") == 5.0 and leaf.feedback_message == (
+        "5% left, zone_a needs 25%")
+    counter = scan.cls("Scan", ports=PortValues("Scan", {
+        "zone": PortBinding(ports["zone"], value="b"),
+        "sightings": PortBinding(ports["sightings"], value=["a", "b", "b"]),
+        "found": PortBinding(ports["found"], key="/found")}))
+    counter.tick_once()
+    assert counter.status == Status.SUCCESS and Blackboard.get("/found") == 2
+    Blackboard.clear()
+
+
+@pytest.mark.parametrize(("assignment", "message"), [
+    ("zome=zone_a", "--set zome=zone_a: the tree declares no entry 'zome'"),
+    ("battery=full", "--set battery=full: expected a float, got 'full'"),
+])
+def test_tick_refuses_a_bad_set(assignment: str, message: str) -> None:
+    done = subprocess.run(
+        [sys.executable, "trees/tutorials/tick.py", "trees/tutorials/09_ports_and_blackboard.yaml",
+         "--set", assignment], cwd=REPO, capture_output=True, text=True, timeout=60, check=False)
+    assert (done.returncode, done.stdout, done.stderr) == (2, "", f"{message}\n")
+
+
 def test_tutorial_plugin_imports_without_ros() -> None:
     code = ("import sys, runpy; runpy.run_path('trees/tutorials/plugins/tutorial_leaves.py');"
+            "runpy.run_path('trees/tutorials/plugins/port_leaves.py');"
             "runpy.run_path('trees/tutorials/tick.py');"
             "assert 'rclpy' not in sys.modules, 'rclpy imported'")
     subprocess.run([sys.executable, "-c", code], cwd=REPO, check=True, timeout=60)

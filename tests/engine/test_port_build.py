@@ -118,7 +118,7 @@ def test_port_values_on_the_blackboard() -> None:
     count, seen, spare = InputPort("count", int), OutputPort("seen", int), OutputPort("spare")
     ports = PortValues("leaf", {"count": PortBinding(count, key="/n"),
                                 "seen": PortBinding(seen, key="/s"), "spare": PortBinding(spare)})
-    with pytest.raises(KeyError, match="port 'count': entry '/n' has no value"):
+    with pytest.raises(KeyError, match="port 'count' of leaf: entry '/n' has no value"):
         ports.get("count")
     assert "count" not in ports and ports.key("count") == "/n"
     Blackboard.set("/n", "12")  # a string in the entry converts, as BT.CPP does

@@ -429,3 +429,21 @@ def test_format_problems_worded(check: Checker) -> None:
 def test_a_required_port(check: Checker) -> None:
     assert check("format: 1\nroot: {Follow: {}}\n") == [
         "tree.yaml:2:8: error: Follow is missing required port 'path'"]
+
+
+def test_a_mapping_on_a_text_port_says_text_is_fine(check: Checker) -> None:
+    assert check("""
+        format: 1
+        root:
+          sequence:
+            memory: true
+            children:
+              - Say: {text: {word}}
+              - Say: {anything: {a: 1}}
+    """) == [
+        "tree.yaml:6:21: error: port 'text' must be bound to a string, a number or a boolean "
+        "(true or false) literal, or an entry ('{key}'), got a mapping (quote it: '\"{word}\"'; "
+        "unquoted, YAML reads {word} as a mapping)",
+        "tree.yaml:7:25: error: port 'anything' must be bound to a string, a number, a boolean "
+        "(true or false) or a list literal, or an entry ('{key}'), got a mapping",
+    ]

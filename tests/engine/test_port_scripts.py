@@ -88,15 +88,17 @@ def test_script_errors_at_file_columns(check: Checker) -> None:
               - Tick: {_skipif: "count > 1", _while: "'yes'"}
               - Script: {code: 'count := "x" + 1'}
     """) == [
-        "tree.yaml:8:41: error: script: the script ends in the middle of an expression",
-        "tree.yaml:9:33: error: script: the string 'a' is not a number (assigned to 'count', "
-        "an int)",
-        "tree.yaml:13:17: error: script: the script ends in the middle of an expression",
+        "tree.yaml:8:41: error: script 'code' of Script: the script ends in the middle of "
+        "an expression",
+        "tree.yaml:9:33: error: script 'code' of Script: the string 'a' is not a number "
+        "(assigned to 'count', an int)",
+        "tree.yaml:13:17: error: script 'code' of ScriptCondition: the script ends in the "
+        "middle of an expression",
         "tree.yaml:14:16: error: unknown param '_skipif' for plugin 'Tick' "
         "(did you mean '_skipIf'?)",
-        "tree.yaml:14:47: error: script: a condition must give a number or true/false, not a "
-        "str",
-        "tree.yaml:15:38: error: script: '+' does not apply to a str and an int",
+        "tree.yaml:14:47: error: script '_while' of Tick: a condition must give a number or "
+        "true/false, not a str",
+        "tree.yaml:15:38: error: script 'code' of Script: '+' does not apply to a str and an int",
     ]
 
 
@@ -144,7 +146,8 @@ def test_script_types_from_port_writers(check: Checker) -> None:
               - Script: {code: "here := 1"}
               - ScriptCondition: {code: "path + 1"}
     """) == [
-        "tree.yaml:8:39: error: script: '+' does not apply to a nav_msgs/msg/Path and an int",
+        "tree.yaml:8:39: error: script 'code' of ScriptCondition: '+' does not apply to a "
+        "nav_msgs/msg/Path and an int",
     ]
 
 

@@ -56,8 +56,10 @@ def test_data_edges(tmp_path: Path) -> None:
     assert data_edges(spec) == [("0.0", "0.1", "path"), ("0.1", "0.0", "here"),
                                 ("0.2", "0.3", "n")]
     source = render_dot(spec, data=True)
-    line = next(x for x in source.splitlines() if f"{node_id('0.2')} -> {node_id('0.3')}" in x)
+    # drawn from the reader with the arrow turned back, so dot keeps the children in order
+    line = next(x for x in source.splitlines() if f"{node_id('0.3')} -> {node_id('0.2')}" in x)
     assert "style=dotted" in line and "xlabel=n" in line and "constraint=false" in line
+    assert "dir=back" in line
     assert "style=dotted" not in render_dot(spec)
 
 
@@ -91,3 +93,85 @@ def test_data_edges_include_scripts(tmp_path: Path) -> None:
     from sar_framework.engine.render import render_text
 
     assert "Script" in render_text(spec) and "digraph" in render_dot(spec, data=True)
+
+
+def test_labels_show_port_bindings(tmp_path: Path) -> None:
+    from sar_framework.engine.render import render_text
+
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        blackboard:
+          word: {type: str, initial: hi}
+          value: {type: int}
+        root:
+          sequence:
+            memory: false
+            children:
+              - Say: {label: a, text: "{@word}", times: 2, items: "x;y"}
+              - Emit: {value: "{=}"}
+    """), registry=reg).spec
+    assert spec is not None
+    assert render_text(spec).splitlines()[1:] == [
+        '├── --> Say label="a", text={@word}, times=2, items=["x", "y"]',
+        "└── --> Emit value={=}",
+    ]
+    # the ports left to their defaults show with --all-params, as declared
+    assert render_text(spec, all_params=True).splitlines()[2] == (
+        "└── --> Emit value={=}, number=7")
+    assert "text={@word}" in render_dot(spec)
+
+
+def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
+    from sar_framework.engine.render import render_text
+
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        blackboard:
+          n: {type: int, initial: 0}
+        root:
+          sequence:
+            memory: false
+            _skipIf: "n > 9"
+            children:
+              - Emit: {value: "{n}", _onSuccess: "n += 1"}
+              - Script: {code: "n := 2", _while: "n < 5"}
+    """), registry=reg).spec
+    assert spec is not None
+    assert render_text(spec).splitlines() == [
+        '[-] Sequence [sequence, reactive, _skipIf="n > 9"]',
+        '├── --> Emit value={n}, _onSuccess="n += 1"',
+        '└── --> Script code="n := 2", _while="n < 5"',
+    ]
+
+
+def test_data_edges_keep_the_children_in_order(tmp_path: Path) -> None:
+    import shutil
+
+    import pytest
+
+    if shutil.which("dot") is None:
+        pytest.skip("Graphviz dot not installed")
+    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        root:
+          sequence:
+            memory: true
+            children:
+              - Emit: {value: "{n}", number: 3}
+              - sequence:
+                  memory: true
+                  children:
+                    - Emit: {value: "{m}"}
+                    - Script: {code: "k := m + n; n := 1"}
+    """), registry=reg).spec
+    assert spec is not None
+    plain = subprocess.run(["dot", "-Tplain"], input=render_dot(spec, data=True), text=True,
+                           capture_output=True, check=True).stdout
+    x = {line.split()[1]: float(line.split()[2]) for line in plain.splitlines()
+         if line.startswith("node ")}
+    first, second = node_id("0.1.0"), node_id("0.1.1")
+    assert x[node_id("0.0")] < x[node_id("0.1")] and x[first] < x[second], x
+    assert "dir=back" in render_dot(spec, data=True)  # the arrow still points at the reader

@@ -46,6 +46,7 @@ from sar_framework.interop.btcpp_models import (
     plugin_ports,
 )
 from sar_framework.interop.btcpp_scaffold import LeafDraft
+from sar_framework.interop.btcpp_scripts import CONDITION_NAMES, script_variables
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
 
@@ -117,13 +118,48 @@ class _Importer:
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
             tag = ports.pop("ID")
+        conditions = {k: v for k, v in ports.items() if k in CONDITION_NAMES}
         for key in ports:
-            if key.startswith("_") and key != "_autoremap":
-                self.problem(element, f"'{key}' on <{tag}>: BT.CPP pre/post conditions are "
-                             "scripts, which this importer does not read yet")
+            if key.startswith("_") and key != "_autoremap" and key not in conditions:
+                self.warnings.append(Problem(
+                    self.file, element.line, element.column, f"'{key}' on <{tag}> is not a "
+                    "pre/post condition BT.CPP knows (it keeps it as an attribute no node "
+                    f"reads): dropped; the conditions are {', '.join(CONDITION_NAMES)}",
+                    "warning"))
         ports = {k: v for k, v in ports.items() if not k.startswith("_") or k == "_autoremap"}
         if tag == "SubTree":
+            if conditions:
+                self.problem(element, f"{', '.join(conditions)} on <SubTree ID="
+                             f"\"{ports.get('ID')}\">: a subtree use takes no pre/post "
+                             "conditions in our tree format; put them on a node around it or "
+                             "on the subtree's root")
             return self.subtree(element, ports)
+        if not self.scripts(element, tag, conditions):
+            return None
+        found = self.node_body(element, tag, ports)
+        if found is not None and conditions:
+            next(iter(found.values())).update(conditions)
+        return found
+
+    def scripts(self, element: Element, tag: str, texts: dict[str, str]) -> bool:
+        """Compile each script; record its variables as uses; False on a syntax error."""
+        good = True
+        for key, text in texts.items():
+            found = script_variables(text)
+            if isinstance(found, str):
+                self.problem(element, f"script '{key}' of <{tag}>: {found}")
+                good = False
+                continue
+            who = f"<{tag}> script '{key}'"
+            for name in found.reads:
+                self.use(name, PortModel(key, "input", "any"), who)
+            for name in found.writes:
+                self.use(name, PortModel(key, "output", "any"), who)
+        return good
+
+    def node_body(self, element: Element, tag: str,
+                  ports: dict[str, str]) -> dict[str, Any] | None:
+        """The node ``{kind: body}`` of ``element`` (its conditions are added by the caller)."""
         ports.pop("_autoremap", None)
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
@@ -142,6 +178,10 @@ class _Importer:
                 return None
         if tag in BUILTIN_BY_ID:
             entry = BUILTIN_BY_ID[tag]
+            code = {k: v for k, v in ports.items() if kind is not None
+                    and getattr(kind.attr(k), "type", None) is AttrType.SCRIPT}
+            if not self.scripts(element, tag, code):
+                return None
             try:
                 attrs = {**dict(entry.fixed), **entry.from_ports(ports)}
             except ValueError as exc:

@@ -273,16 +273,6 @@ def btcpp_subtree_example(tmp_path: Path) -> Path:
     return xml
 
 
-def test_btcpp_subtree_example_stops_only_at_its_scripts(tmp_path: Path) -> None:
-    xml = btcpp_subtree_example(tmp_path)
-    result = import_btcpp(read_xml(xml), str(xml), default_registry())
-    assert [str(p).split(": error: ")[1][:25] for p in result.problems] == [
-        "<Script> cannot be import", "<Script> cannot be import"]
-    assert list(result.drafts) == ["SaySomething"]
-
-
-@pytest.mark.xfail(strict=True, reason="<Script> is still refused by interop/mapping.py: "
-                   "scripts are the scripts branch's (issue 18)")
 def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     xml = btcpp_subtree_example(tmp_path)
     result = import_btcpp(read_xml(xml), str(xml), default_registry())
@@ -293,9 +283,6 @@ def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     assert children[4] == {"subtree": {"tree": "Talk", "autoremap": True}}
 
 
-@pytest.mark.xfail(strict=True, reason="the spec keeps no insertion ports: "
-                   "semantics.expand sets only NodeSpec.subtree on the inserted copy, so the "
-                   "export cannot write <SubTree ID=... port=...> (ports branch)")
 def test_subtree_ports_survive_import_and_export(tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
     xml = tmp_path / "ports.xml"

@@ -9,10 +9,11 @@ a registered plugin keeps its attributes as params (converted to the declared ty
 port bindings (``{key}`` or a literal); any other leaf is *unknown*: it is kept as it is
 and described by a :class:`~.btcpp_scaffold.LeafDraft`, from which ``--scaffold`` writes a
 plugin. Entries the main tree reads and nothing writes become declared ``blackboard:``
-inputs (:mod:`.btcpp_entries`). What cannot be expressed (scripts, pre/post conditions,
-the nodes :data:`.mapping.REFUSED` names) is reported as ``file:line:col: error: ...``,
-all at once. The document still needs our validator (ids, references, ranges, ports):
-see :func:`sar_framework.interop.commands.run_import`.
+inputs (:mod:`.btcpp_entries`). Scripts and the pre/post-condition attributes are kept
+as written, each compiled and its variables recorded as uses (:mod:`.btcpp_scripts`).
+What cannot be expressed (the nodes :data:`.mapping.REFUSED` names, conditions on a
+``<SubTree>``) is reported as ``file:line:col: error: ...``, all at once. The document
+still needs our validator: see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
+from sar_framework.interop import mapping
 from sar_framework.interop.btcpp_entries import (
     Insertion,
     TreeUses,
@@ -46,7 +48,7 @@ from sar_framework.interop.btcpp_models import (
     plugin_ports,
 )
 from sar_framework.interop.btcpp_scaffold import LeafDraft
-from sar_framework.interop.btcpp_scripts import CONDITION_NAMES, script_variables
+from sar_framework.interop.btcpp_scripts import script_uses, split_conditions
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
 
@@ -118,15 +120,9 @@ class _Importer:
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
             tag = ports.pop("ID")
-        conditions = {k: v for k, v in ports.items() if k in CONDITION_NAMES}
-        for key in ports:
-            if key.startswith("_") and key != "_autoremap" and key not in conditions:
-                self.warnings.append(Problem(
-                    self.file, element.line, element.column, f"'{key}' on <{tag}> is not a "
-                    "pre/post condition BT.CPP knows (it keeps it as an attribute no node "
-                    f"reads): dropped; the conditions are {', '.join(CONDITION_NAMES)}",
-                    "warning"))
-        ports = {k: v for k, v in ports.items() if not k.startswith("_") or k == "_autoremap"}
+        ports, conditions, dropped = split_conditions(tag, ports)
+        self.warnings += [Problem(self.file, element.line, element.column, message, "warning")
+                          for message in dropped]
         if tag == "SubTree":
             if conditions:
                 self.problem(element, f"{', '.join(conditions)} on <SubTree ID="
@@ -143,19 +139,12 @@ class _Importer:
 
     def scripts(self, element: Element, tag: str, texts: dict[str, str]) -> bool:
         """Compile each script; record its variables as uses; False on a syntax error."""
-        good = True
-        for key, text in texts.items():
-            found = script_variables(text)
-            if isinstance(found, str):
-                self.problem(element, f"script '{key}' of <{tag}>: {found}")
-                good = False
-                continue
-            who = f"<{tag}> script '{key}'"
-            for name in found.reads:
-                self.use(name, PortModel(key, "input", "any"), who)
-            for name in found.writes:
-                self.use(name, PortModel(key, "output", "any"), who)
-        return good
+        uses, errors = script_uses(tag, texts)
+        for message in errors:
+            self.problem(element, message)
+        for name, port, who in uses:
+            self.use(name, port, who)
+        return not errors
 
     def node_body(self, element: Element, tag: str,
                   ports: dict[str, str]) -> dict[str, Any] | None:
@@ -367,22 +356,10 @@ class _Importer:
 
     def value(self, element: Element, key: str, text: str, kind: AttrType) -> Any:
         try:
-            if kind is AttrType.BOOLEAN:
-                lowered = text.strip().lower()
-                if lowered not in ("true", "false"):
-                    raise ValueError
-                return lowered == "true"
-            if kind is AttrType.INTEGER:
-                return int(text)
-            if kind is AttrType.NUMBER:
-                number = float(text)
-                return int(number) if number.is_integer() and "." not in text else number
-        except ValueError:
-            self.problem(element, f"'{key}' must be a {kind.value}, got '{text}'")
+            return mapping.attr_value(kind, key, text)
+        except ValueError as exc:
+            self.problem(element, str(exc))
             return text
-        if kind is AttrType.STRINGS:
-            return [part for part in text.split(";") if part]
-        return text
 
 
 def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | None = None,

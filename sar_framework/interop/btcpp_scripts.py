@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sar_framework.engine.kind_model import CONDITION_ATTRS
+from sar_framework.interop.btcpp_models import PortModel
 
 #: The pre/post-condition attributes, in BT.CPP's order.
 CONDITION_NAMES: tuple[str, ...] = tuple(a.name for a in CONDITION_ATTRS)
@@ -51,6 +52,55 @@ def script_variables(text: str) -> ScriptVariables | str:
         where = f"line {error.line}, " if error.line > 1 else ""
         return f"{error.message} ({where}column {error.column} of the script)"
     return ScriptVariables(tuple(script.reads), tuple(script.writes))
+
+
+def split_conditions(tag: str, attrs: dict[str, str]
+                     ) -> tuple[dict[str, str], dict[str, str], list[str]]:
+    """Split an element's attributes: the rest, the pre/post conditions, what is dropped.
+
+    An attribute starting with ``_`` that is no condition (``_autoremap`` aside) is
+    dropped with a warning: BT.CPP keeps it as an attribute no node reads.
+
+    Args:
+        tag: The element name (for messages).
+        attrs: Its attributes.
+
+    Returns:
+        The other attributes, the conditions (name -> script), the warnings.
+    """
+    conditions = {k: v for k, v in attrs.items() if k in CONDITION_NAMES}
+    dropped = [f"'{key}' on <{tag}> is not a pre/post condition BT.CPP knows (it keeps it "
+               f"as an attribute no node reads): dropped; the conditions are "
+               f"{', '.join(CONDITION_NAMES)}" for key in attrs
+               if key.startswith("_") and key != "_autoremap" and key not in conditions]
+    rest = {k: v for k, v in attrs.items() if not k.startswith("_") or k == "_autoremap"}
+    return rest, conditions, dropped
+
+
+def script_uses(tag: str, texts: dict[str, str]
+                ) -> tuple[list[tuple[str, PortModel, str]], list[str]]:
+    """The blackboard uses of a node's scripts, and their syntax errors.
+
+    Args:
+        tag: The node's element name (for messages).
+        texts: Script attribute -> its text.
+
+    Returns:
+        ``(entry, port, who)`` per variable (reads first, then writes, as an input or
+        output port named after the attribute), and one message per script that does not
+        compile.
+    """
+    uses: list[tuple[str, PortModel, str]] = []
+    errors: list[str] = []
+    for key, text in texts.items():
+        found = script_variables(text)
+        if isinstance(found, str):
+            errors.append(f"script '{key}' of <{tag}>: {found}")
+            continue
+        who = f"<{tag}> script '{key}'"
+        uses += [(name, PortModel(key, "input", "any"), who) for name in found.reads]
+        uses += [(name, PortModel(key, "output", "any"), who) for name in found.writes]
+    return uses, errors
 
 
 def condition_scripts(scripts: dict[str, Any]) -> dict[str, str]:

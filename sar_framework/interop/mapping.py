@@ -67,6 +67,20 @@ def _port_value(attr_type: AttrType, name: str, text: str) -> Any:
     return text
 
 
+def attr_value(attr_type: AttrType, name: str, text: str) -> Any:
+    """Convert an imported attribute to our type: integral numbers stay ints, lists split.
+
+    Raises:
+        ValueError: ``'name' must be a <type>, got '<text>'``.
+    """
+    if attr_type is AttrType.NUMBER:
+        value = _port_value(attr_type, name, text)
+        return int(value) if value.is_integer() and "." not in text else value
+    if attr_type is AttrType.STRINGS:
+        return [part for part in text.split(";") if part]
+    return _port_value(attr_type, name, text)
+
+
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
     names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")

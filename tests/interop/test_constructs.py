@@ -18,7 +18,8 @@ per tick must be equal).
 | 10_nav2_controls | RecoveryNode, PipelineSequence, RoundRobin, RateController, SingleTrigger |
 
 Nav2's nodes are not in BT.CPP, so ``10_nav2_controls`` is compared with transcripts
-written by hand from Nav2 Jazzy's sources (``nav2_behavior_tree/plugins/control`` and
+written by hand from Nav2 Jazzy's sources (and, besides, with the checker's stand-ins for
+them, ``btcpp_checker/nav2_standins.h``) (``nav2_behavior_tree/plugins/control`` and
 ``decorator``: recovery_node.cpp, pipeline_sequence.cpp, round_robin_node.cpp,
 rate_controller.cpp, single_trigger_node.cpp), traced in the comments beside them.
 """
@@ -184,6 +185,17 @@ NAV2_RUNS: list[tuple[Script, list[str]]] = [
         "visit Plan FAILURE", "visit Clear SUCCESS", "visit Plan FAILURE",
         "visit Spin SUCCESS", "visit Plan FAILURE", "tick 1 FAILURE"]),
 ]
+
+
+@pytest.mark.parametrize("index", range(len(NAV2_RUNS)), ids=["trigger", "rate", "fails"])
+def test_nav2_construct_ticks_as_the_checkers_stand_ins(index: int, tmp_path: Path,
+                                                        btcpp_checker: Path) -> None:
+    """And BT.CPP with the checker's Nav2 stand-ins (btcpp_checker/nav2_standins.h) agrees."""
+    copy = tmp_path / "10_nav2_controls.yaml"
+    copy.write_text((CONSTRUCTS / copy.name).read_text())
+    ours = compare(copy, registry(), btcpp_checker, NAV2_RUNS[index][0], max_ticks=10,
+                   tick_seconds=0.3, halts=True)
+    assert ours == NAV2_RUNS[index][1]
 
 
 @pytest.mark.parametrize(("script", "expected"), NAV2_RUNS, ids=["trigger", "rate", "fails"])

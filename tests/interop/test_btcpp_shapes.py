@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import subprocess
 import textwrap
 from pathlib import Path
 from typing import Any
@@ -281,6 +282,25 @@ def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     children = result.document["root"]["Sequence"]["children"]
     assert children[1] == {"subtree": {"tree": "Talk", "ports": {"param": "{myParam}"}}}
     assert children[4] == {"subtree": {"tree": "Talk", "autoremap": True}}
+    assert children[0] == {"Script": {"code": "myParam='Hello'"}}
+
+
+def test_btcpp_subtree_example_validates_and_exports_what_btcpp_loads(
+        tmp_path: Path, btcpp_checker: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xml = btcpp_subtree_example(tmp_path)
+    tree, back = tmp_path / "example.yaml", tmp_path / "back.xml"
+    assert main(["import", str(xml), "--scaffold", str(tmp_path / "leaves"), "-o",
+                 str(tree)]) == 0, capsys.readouterr().err
+    assert main(["validate", str(tree)]) == 0, capsys.readouterr().err
+    assert main(["export", str(tree), "-o", str(back)]) == 0, capsys.readouterr().err
+    text = back.read_text()
+    for line in ('<Script name="Script" code="myParam=\'Hello\'" />',
+                 '<SubTree ID="Talk" param="{myParam}" />', '<SubTree ID="Talk" param="World" />',
+                 '<SubTree ID="Talk" _autoremap="true" />'):
+        assert line in text, text
+    done = subprocess.run([str(btcpp_checker), str(back), str(tmp_path / "none"), "0"],
+                          capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
 
 
 def test_subtree_ports_survive_import_and_export(tmp_path: Path,

@@ -133,8 +133,10 @@ class _Importer:
         if not self.scripts(element, tag, conditions):
             return None
         found = self.node_body(element, tag, ports)
-        if found is not None and conditions:
-            next(iter(found.values())).update(conditions)
+        if found is not None and conditions:  # written before the children
+            body = next(iter(found.values()))
+            below = {key: body.pop(key) for key in ("child", "children") if key in body}
+            body.update({**conditions, **below})
         return found
 
     def scripts(self, element: Element, tag: str, texts: dict[str, str]) -> bool:

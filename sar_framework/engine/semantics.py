@@ -308,7 +308,7 @@ class Semantics(TreeFiles):
             if found.node is None:
                 return None  # its own problems are already reported
             copy = copy_spec(found.node)
-            copy.subtree = name
+            copy.subtree, copy.insertion = name, dict(node.attrs)
             data = self.bindings.insertion(node, (found.ports, found.local), uid, scope.data,
                                            self.value_locs)
             return self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)

@@ -51,6 +51,8 @@ class NodeSpec:
         id: The leaf's ``id`` as written, or None.
         refs: For a leaf: reference param name -> the referenced leaf's spec.
         subtree: Name of the subtree this node was inserted from, on the subtree's top node.
+        insertion: On the subtree's top node: the insertion's ``ports`` (inner port -> the
+            value as written) and ``autoremap``, as the tree file gives them.
         written: The names of the ``attrs`` the tree file sets (the rest are defaults).
         ports: For a leaf: its port bindings as written (``"{goal}"`` or a converted
             literal), by port name.
@@ -76,6 +78,7 @@ class NodeSpec:
     bindings: dict[str, PortBinding] = field(default_factory=dict)
     scripts: dict[str, Any] = field(default_factory=dict)
     script_keys: dict[str, str] = field(default_factory=dict)
+    insertion: dict[str, Any] = field(default_factory=dict)
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""

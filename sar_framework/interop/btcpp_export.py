@@ -24,6 +24,7 @@ from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_models import cpp_type
+from sar_framework.interop.btcpp_scripts import condition_scripts
 from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
 
 #: C++ type names BT.CPP writes in a model, by Python param type.
@@ -49,7 +50,13 @@ class _Exporter:
             if node.subtree not in self.subtrees:
                 self.subtrees[node.subtree] = ET.Element("placeholder")  # recursion guard
                 self.subtrees[node.subtree] = self.element(node, inside=node.subtree)
-            return ET.Element("SubTree", {"ID": node.subtree})
+            return ET.Element("SubTree", {"ID": node.subtree, **insertion_ports(node)})
+        element = self.node(node)
+        for name, text in condition_scripts(node.scripts).items():
+            element.set(name, text)
+        return element
+
+    def node(self, node: NodeSpec) -> ET.Element:
         if node.category is Category.LEAF and node.kind not in KINDS:
             return self.leaf(node)
         kind = KINDS[node.kind]
@@ -107,6 +114,14 @@ class _Exporter:
             for name, cpp, default, text in custom_ports(kind):
                 _port(model, name, cpp, default, text)
         return root
+
+
+def insertion_ports(node: NodeSpec) -> dict[str, str]:
+    """The attributes of a subtree insertion: its ports as written, then ``_autoremap``."""
+    ports = {name: port_text(value) for name, value in (node.insertion.get("ports") or {}).items()}
+    if node.insertion.get("autoremap"):
+        ports["_autoremap"] = "true"
+    return ports
 
 
 def _port(model: ET.Element, name: str, cpp: str | None, default: Any, text: str, *,

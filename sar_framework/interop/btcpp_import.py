@@ -9,10 +9,11 @@ a registered plugin keeps its attributes as params (converted to the declared ty
 port bindings (``{key}`` or a literal); any other leaf is *unknown*: it is kept as it is
 and described by a :class:`~.btcpp_scaffold.LeafDraft`, from which ``--scaffold`` writes a
 plugin. Entries the main tree reads and nothing writes become declared ``blackboard:``
-inputs (:mod:`.btcpp_entries`). What cannot be expressed (scripts, pre/post conditions,
-the nodes :data:`.mapping.REFUSED` names) is reported as ``file:line:col: error: ...``,
-all at once. The document still needs our validator (ids, references, ranges, ports):
-see :func:`sar_framework.interop.commands.run_import`.
+inputs (:mod:`.btcpp_entries`). Scripts and the pre/post-condition attributes are kept
+as written, each compiled and its variables recorded as uses (:mod:`.btcpp_scripts`).
+What cannot be expressed (the nodes :data:`.mapping.REFUSED` names, conditions on a
+``<SubTree>``) is reported as ``file:line:col: error: ...``, all at once. The document
+still needs our validator: see :func:`sar_framework.interop.commands.run_import`.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
+from sar_framework.interop import mapping
 from sar_framework.interop.btcpp_entries import (
     Insertion,
     TreeUses,
@@ -46,6 +48,7 @@ from sar_framework.interop.btcpp_models import (
     plugin_ports,
 )
 from sar_framework.interop.btcpp_scaffold import LeafDraft
+from sar_framework.interop.btcpp_scripts import script_uses, split_conditions
 from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
 from sar_framework.interop.xml_source import Element, Problem
 
@@ -117,13 +120,37 @@ class _Importer:
         ports = {k: v for k, v in element.attrs.items() if k not in IGNORED_ATTRS}
         if tag in EXPLICIT_TAGS and "ID" in ports:
             tag = ports.pop("ID")
-        for key in ports:
-            if key.startswith("_") and key != "_autoremap":
-                self.problem(element, f"'{key}' on <{tag}>: BT.CPP pre/post conditions are "
-                             "scripts, which this importer does not read yet")
-        ports = {k: v for k, v in ports.items() if not k.startswith("_") or k == "_autoremap"}
+        ports, conditions, dropped = split_conditions(tag, ports)
+        self.warnings += [Problem(self.file, element.line, element.column, message, "warning")
+                          for message in dropped]
         if tag == "SubTree":
+            if conditions:
+                self.problem(element, f"{', '.join(conditions)} on <SubTree ID="
+                             f"\"{ports.get('ID')}\">: a subtree use takes no pre/post "
+                             "conditions in our tree format; put them on a node around it or "
+                             "on the subtree's root")
             return self.subtree(element, ports)
+        if not self.scripts(element, tag, conditions):
+            return None
+        found = self.node_body(element, tag, ports)
+        if found is not None and conditions:  # written before the children
+            body = next(iter(found.values()))
+            below = {key: body.pop(key) for key in ("child", "children") if key in body}
+            body.update({**conditions, **below})
+        return found
+
+    def scripts(self, element: Element, tag: str, texts: dict[str, str]) -> bool:
+        """Compile each script; record its variables as uses; False on a syntax error."""
+        uses, errors = script_uses(tag, texts)
+        for message in errors:
+            self.problem(element, message)
+        for name, port, who in uses:
+            self.use(name, port, who)
+        return not errors
+
+    def node_body(self, element: Element, tag: str,
+                  ports: dict[str, str]) -> dict[str, Any] | None:
+        """The node ``{kind: body}`` of ``element`` (its conditions are added by the caller)."""
         ports.pop("_autoremap", None)
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
@@ -142,6 +169,10 @@ class _Importer:
                 return None
         if tag in BUILTIN_BY_ID:
             entry = BUILTIN_BY_ID[tag]
+            code = {k: v for k, v in ports.items() if kind is not None
+                    and getattr(kind.attr(k), "type", None) is AttrType.SCRIPT}
+            if not self.scripts(element, tag, code):
+                return None
             try:
                 attrs = {**dict(entry.fixed), **entry.from_ports(ports)}
             except ValueError as exc:
@@ -327,22 +358,10 @@ class _Importer:
 
     def value(self, element: Element, key: str, text: str, kind: AttrType) -> Any:
         try:
-            if kind is AttrType.BOOLEAN:
-                lowered = text.strip().lower()
-                if lowered not in ("true", "false"):
-                    raise ValueError
-                return lowered == "true"
-            if kind is AttrType.INTEGER:
-                return int(text)
-            if kind is AttrType.NUMBER:
-                number = float(text)
-                return int(number) if number.is_integer() and "." not in text else number
-        except ValueError:
-            self.problem(element, f"'{key}' must be a {kind.value}, got '{text}'")
+            return mapping.attr_value(kind, key, text)
+        except ValueError as exc:
+            self.problem(element, str(exc))
             return text
-        if kind is AttrType.STRINGS:
-            return [part for part in text.split(";") if part]
-        return text
 
 
 def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | None = None,

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sar_framework.engine.control_kinds import CONTROL_KINDS
-from sar_framework.engine.node_kinds import PY_TREES_KINDS, AttrType, NodeKind
+from sar_framework.engine.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
 CUSTOM_PREFIX = "Sar"
@@ -67,10 +67,24 @@ def _port_value(attr_type: AttrType, name: str, text: str) -> Any:
     return text
 
 
+def attr_value(attr_type: AttrType, name: str, text: str) -> Any:
+    """Convert an imported attribute to our type: integral numbers stay ints, lists split.
+
+    Raises:
+        ValueError: ``'name' must be a <type>, got '<text>'``.
+    """
+    if attr_type is AttrType.NUMBER:
+        value = _port_value(attr_type, name, text)
+        return int(value) if value.is_integer() and "." not in text else value
+    if attr_type is AttrType.STRINGS:
+        return [part for part in text.split(";") if part]
+    return _port_value(attr_type, name, text)
+
+
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
-    names = [a for a in kind.attrs if a.name != "name"
-             and a.type not in (AttrType.NODE, AttrType.NODES)]
+    names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
+             and a.type not in (AttrType.NODE, AttrType.NODES)]  # conditions: btcpp_scripts
 
     def to_ports(attrs: dict[str, Any]) -> dict[str, str]:
         return {a.name: port_text(attrs[a.name]) for a in names
@@ -108,6 +122,7 @@ BUILTIN: tuple[Builtin, ...] = (
     Builtin("ForceFailure", "success_is_failure"),
     Builtin("KeepRunningUntilFailure", "success_is_running"),
     *(_same(kind) for kind in CONTROL_KINDS),
+    *(_same(kind) for kind in SCRIPT_KINDS),
     _same(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),
 )
 
@@ -116,9 +131,6 @@ BUILTIN_BY_ID: dict[str, Builtin] = {b.btcpp_id: b for b in BUILTIN}
 
 #: BT.CPP (and Nav2) nodes that are refused on import, with the reason and a way out.
 REFUSED: dict[str, str] = {
-    "Precondition": "its condition is a script on the blackboard; use a condition leaf",
-    "Script": "scripts use the blackboard; this framework shares state by references",
-    "ScriptCondition": "scripts use the blackboard; use a condition leaf plugin",
     "DistanceController": "a Nav2 decorator reading the robot pose; no equivalent",
     "SpeedController": "a Nav2 decorator reading the robot speed; no equivalent",
     "GoalUpdater": "a Nav2 decorator writing the blackboard; no equivalent",

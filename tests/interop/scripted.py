@@ -66,12 +66,12 @@ class ScriptedLeaf(py_trees.behaviour.Behaviour):
 
 
 def scripted_registry(plugins: Iterable[PluginSpec]) -> Registry:
-    """A registry with a scripted leaf for each plugin: same name, params and context."""
+    """A registry with a scripted leaf for each plugin: same name, params, context, ports."""
     registry = Registry()
     for plugin in plugins:
         cls = type(plugin.name, (ScriptedLeaf,), {"__module__": __name__})
         leaf(plugin.name, params=plugin.params, context=plugin.context,
-             description=plugin.description)(cls)
+             description=plugin.description, ports=plugin.ports)(cls)
         registry.add(cls, "scripted")
     assert registry.diagnostics == [], registry.diagnostics
     return registry

@@ -125,8 +125,11 @@ def test_bad_params_point_at_their_lines_and_an_unknown_leaf_is_no_problem() -> 
     ('<root BTCPP_format="4"><BehaviorTree ID="a"><Countdown/></BehaviorTree>'
      '<BehaviorTree ID="b"><Countdown/></BehaviorTree></root>',
      "t.xml:1:1: error: which tree is the main one?"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Script code="x:=1"/>'
-     '</BehaviorTree></root>', "t.xml:1:45: error: <Script> cannot be imported: scripts"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Script code="x:=1 +"/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: script 'code' of <Script>: "),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Precondition if="a &lt;&gt; 2">'
+     '<Countdown/></Precondition></BehaviorTree></root>',
+     "t.xml:1:45: error: script 'if' of <Precondition>: "),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat><Countdown/></Repeat>'
      '</BehaviorTree></root>', "t.xml:1:45: error: <Repeat>: needs the port 'num_cycles'"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Delay delay_msec="soon"><Countdown/>'
@@ -147,8 +150,11 @@ def test_bad_params_point_at_their_lines_and_an_unknown_leaf_is_no_problem() -> 
      "blackboard entry '{t}'; ours takes a fixed value here"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown ticks="{n}"/></BehaviorTree>'
      '</root>', "t.xml:1:45: error: 'ticks' of <Countdown> is a param, not a port"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown _skipIf="a"/>'
-     '</BehaviorTree></root>', "t.xml:1:45: error: '_skipIf' on <Countdown>: BT.CPP pre/post"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown _skipIf="a ="/>'
+     '</BehaviorTree></root>', "t.xml:1:45: error: script '_skipIf' of <Countdown>: "),
+    ('<root main_tree_to_execute="t"><BehaviorTree ID="t"><SubTree ID="s" _skipIf="a"/>'
+     '</BehaviorTree><BehaviorTree ID="s"><Countdown/></BehaviorTree></root>',
+     "t.xml:1:53: error: _skipIf on <SubTree ID=\"s\">: a subtree use takes no pre/post"),
 ])
 def test_what_cannot_be_imported_is_named(xml: str, message: str) -> None:
     assert problems(xml)[0].startswith(message)

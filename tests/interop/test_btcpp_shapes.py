@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import subprocess
 import textwrap
 from pathlib import Path
 from typing import Any
@@ -273,16 +274,6 @@ def btcpp_subtree_example(tmp_path: Path) -> Path:
     return xml
 
 
-def test_btcpp_subtree_example_stops_only_at_its_scripts(tmp_path: Path) -> None:
-    xml = btcpp_subtree_example(tmp_path)
-    result = import_btcpp(read_xml(xml), str(xml), default_registry())
-    assert [str(p).split(": error: ")[1][:25] for p in result.problems] == [
-        "<Script> cannot be import", "<Script> cannot be import"]
-    assert list(result.drafts) == ["SaySomething"]
-
-
-@pytest.mark.xfail(strict=True, reason="<Script> is still refused by interop/mapping.py: "
-                   "scripts are the scripts branch's (issue 18)")
 def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     xml = btcpp_subtree_example(tmp_path)
     result = import_btcpp(read_xml(xml), str(xml), default_registry())
@@ -291,11 +282,27 @@ def test_btcpp_subtree_example_imports(tmp_path: Path) -> None:
     children = result.document["root"]["Sequence"]["children"]
     assert children[1] == {"subtree": {"tree": "Talk", "ports": {"param": "{myParam}"}}}
     assert children[4] == {"subtree": {"tree": "Talk", "autoremap": True}}
+    assert children[0] == {"Script": {"code": "myParam='Hello'"}}
 
 
-@pytest.mark.xfail(strict=True, reason="the spec keeps no insertion ports: "
-                   "semantics.expand sets only NodeSpec.subtree on the inserted copy, so the "
-                   "export cannot write <SubTree ID=... port=...> (ports branch)")
+def test_btcpp_subtree_example_validates_and_exports_what_btcpp_loads(
+        tmp_path: Path, btcpp_checker: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    xml = btcpp_subtree_example(tmp_path)
+    tree, back = tmp_path / "example.yaml", tmp_path / "back.xml"
+    assert main(["import", str(xml), "--scaffold", str(tmp_path / "leaves"), "-o",
+                 str(tree)]) == 0, capsys.readouterr().err
+    assert main(["validate", str(tree)]) == 0, capsys.readouterr().err
+    assert main(["export", str(tree), "-o", str(back)]) == 0, capsys.readouterr().err
+    text = back.read_text()
+    for line in ('<Script name="Script" code="myParam=\'Hello\'" />',
+                 '<SubTree ID="Talk" param="{myParam}" />', '<SubTree ID="Talk" param="World" />',
+                 '<SubTree ID="Talk" _autoremap="true" />'):
+        assert line in text, text
+    done = subprocess.run([str(btcpp_checker), str(back), str(tmp_path / "none"), "0"],
+                          capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+
+
 def test_subtree_ports_survive_import_and_export(tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
     xml = tmp_path / "ports.xml"

@@ -5,7 +5,9 @@
 // Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
 // Action/Condition model becomes a scripted leaf, a Sar... Decorator the py_trees
-// decorator it stands for, any other Control one that loads but cannot tick. With
+// decorator it stands for, a Nav2 control node (RecoveryNode, PipelineSequence,
+// RoundRobin, RateController, SingleTrigger) its stand-in (nav2_standins.h), any other
+// Control one that loads but cannot tick. With
 // MAX_TICKS 0 the file is only loaded (createTreeFromText: every check BT.CPP makes). SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
 // line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
@@ -18,6 +20,8 @@
 #include <behaviortree_cpp/control_node.h>
 #include <behaviortree_cpp/decorator_node.h>
 #include <tinyxml2.h>
+
+#include "nav2_standins.h"
 
 #include <algorithm>
 #include <chrono>
@@ -341,7 +345,12 @@ int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Sc
     BT::TreeNodeManifest manifest;
     manifest.registration_ID = model->Attribute("ID");
     manifest.ports = portsOf(model);
-    if(category == "Action" || category == "Condition")
+    if(auto nav2 = nav2_standins::builderFor(manifest.registration_ID))
+    {
+      manifest.type = category == "Control" ? BT::NodeType::CONTROL : BT::NodeType::DECORATOR;
+      factory.registerBuilder(manifest, nav2);
+    }
+    else if(category == "Action" || category == "Condition")
     {
       manifest.type = BT::NodeType::ACTION;
       factory.registerBuilder(manifest, [&script](const std::string& name,

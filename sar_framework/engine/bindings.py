@@ -19,6 +19,7 @@ from sar_framework.engine.ports import (
     ENTRY_NAME,
     NO_DEFAULT,
     Direction,
+    Naming,
     Port,
     PortBinding,
     convert,
@@ -167,6 +168,8 @@ class Bindings:
         """Check one port binding as written; return what the spec keeps (NO_DEFAULT: bad)."""
         if not fits_port(port, given):
             return NO_DEFAULT  # the schema check words it (an unquoted {key}, a 1.5 for an int)
+        if port.naming is not Naming.VALUE:
+            return self.entry_name(port, given, where)
         ref = entry_ref(given, port.name)
         if ref is not None:
             if not ENTRY_NAME.match(ref.name):
@@ -181,6 +184,23 @@ class Bindings:
             return NO_DEFAULT
         return self.literal(port.type, given, where, f"port '{port.name}'")
 
+    def entry_name(self, port: Port, given: str, where: SourceLocation) -> Any:
+        """Check a port whose text names an entry; return it as ``{name}`` (NO_DEFAULT: bad)."""
+        ref = entry_ref(given)
+        if ref is not None and port.naming is Naming.BARE_NAME:
+            self.report(where, f"port '{port.name}' names its entry without braces: write "
+                        f"'{ref.name}' (BT.CPP would read '{given}' as the entry whose name "
+                        f"'{ref.name}' holds, which cannot be resolved before running)")
+            return NO_DEFAULT
+        if ref is None:
+            root = given.startswith("@")
+            ref = entry_ref(f"{{{'@' if root else ''}{given[1:] if root else given}}}")
+        if ref is None or not ENTRY_NAME.match(ref.name):
+            self.report(where, f"port '{port.name}': '{given}' is not a valid entry name "
+                        "(letters, digits and '_', not starting with a digit)")
+            return NO_DEFAULT
+        return str(ref)
+
     def param_value(self, name: str, given: Any, where: SourceLocation) -> bool:
         """Report a ``{key}`` given to a param that is not a port; return whether it was."""
         if entry_ref(given) is None:
@@ -190,11 +210,15 @@ class Bindings:
         return True
 
     # -- resolution in a scope ----------------------------------------------------------
-    def bind_leaf(
+    def bind_ports(
         self, spec: NodeSpec, ports: tuple[Port, ...], scope: DataScope,
         locs: dict[tuple[SourceLocation, str], Any],
     ) -> None:
-        """Resolve a leaf's ports in ``scope`` into ``spec.bindings``; note reads and writes."""
+        """Resolve a node's ports in ``scope`` into ``spec.bindings``; note reads and writes.
+
+        A leaf's ports, and those of BT.CPP's nodes that use the blackboard
+        (:mod:`.control_kinds`).
+        """
         who = f"{spec.name} ({spec.kind})" if spec.name != spec.kind else spec.kind
         for port in ports:
             written = port.name in spec.ports

@@ -29,8 +29,12 @@ STEP = 0.3
 
 
 def _tree(tmp_path: Path, root: str) -> Path:
+    """The tree file of a case: its root node, or its ``blackboard:`` then ``root:``."""
     path = tmp_path / "tree.yaml"
-    path.write_text("format: 1\nname: t\nroot:\n" + textwrap.indent(textwrap.dedent(root), "  "))
+    text = textwrap.dedent(root).lstrip("\n")
+    if not text.startswith("blackboard:"):
+        text = "root:\n" + textwrap.indent(text, "  ")
+    path.write_text("format: 1\nname: t\n" + text)
     return path
 
 
@@ -138,8 +142,11 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
         """, {"Pick": ["SUCCESS", "SUCCESS", "FAILURE", "FAILURE", "SUCCESS"],
               "B": ["RUNNING", "RUNNING", "SUCCESS"], "Seven": ["RUNNING"]}, 6, 0),
     "Switch4, 5 and 6 fall back to the default": (f"""
-        Sequence:
-          children:
+        blackboard:
+          missing: {{type: str, description: The caller could set it; nobody does.}}
+        root:
+          Sequence:
+           children:
             - Switch4:
                 variable: "{{missing}}"
                 case_1: a

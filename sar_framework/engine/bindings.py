@@ -229,7 +229,8 @@ class Bindings:
                 spec.bindings[port.name] = PortBinding(port, value=given)
                 continue
             what = f"port '{port.name}' of {who}" + ("" if written else f" (default {given})")
-            key = self.entries.resolve(scope, ref, where, what)
+            shown = "" if port.naming is Naming.VALUE else str(ref)[1:-1]  # as written: x
+            key = self.entries.resolve(scope, ref, where, what, shown)
             if key is None:
                 continue
             if port.direction.reads:

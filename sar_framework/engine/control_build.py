@@ -5,7 +5,9 @@ ones read the build context's ``clock`` (:data:`.clock_timeout.CLOCK_KEY`, a cal
 returning seconds; default ``time.monotonic``). The blackboard nodes get a
 :class:`~.variables.Variables` over py_trees' blackboard in which each of their ports
 bound to an entry is a variable named like the port, leading to the absolute key that
-validation resolved in the node's scope (``node.bindings``, as for a leaf's ports).
+validation resolved in the node's scope (``node.bindings``, as for a leaf's ports); a
+Switch reads its variable and cases, literals or entries, through a
+:class:`~.port_values.PortValues`, as a leaf reads its ports.
 """
 
 from __future__ import annotations
@@ -31,9 +33,9 @@ from sar_framework.engine.controls import (
     timing,
     updated,
 )
-from sar_framework.engine.controls.values import DictVariables
+from sar_framework.engine.port_values import PortValues
 from sar_framework.engine.spec import Category, NodeSpec
-from sar_framework.engine.variables import BlackboardVariables, Variables
+from sar_framework.engine.variables import BlackboardVariables
 
 Behaviour = py_trees.behaviour.Behaviour
 ControlBuilder = Callable[[NodeSpec, list[Behaviour], Mapping[str, Any]], Behaviour]
@@ -101,12 +103,13 @@ def _clocked(cls: type) -> ControlBuilder:
 
 def _switch(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
             ) -> Behaviour:
-    cases = [node.attrs[f"case_{i}"] for i in range(1, SWITCH_CASES[node.kind] + 1)]
-    if _bound(node, "variable"):
-        variables: Variables = bound_variables(node, "variable")
-    else:
-        variables = DictVariables({"variable": node.bindings["variable"].value})
-    return conditionals.Switch(node.name, children, cases, "variable", variables)
+    names = [f"case_{i}" for i in range(1, SWITCH_CASES[node.kind] + 1)]
+    ports = PortValues(node.name, {n: node.bindings[n] for n in ("variable", *names)})
+    cases = ["" if _bound(node, n) else node.bindings[n].value for n in names]
+    reads = [n if _bound(node, n) else None for n in names]
+    return conditionals.Switch(node.name, children, cases, "variable",
+                               ports,  # type: ignore[arg-type]  # reads only
+                               case_variables=reads)
 
 
 def _updated(cls: type) -> ControlBuilder:

@@ -10,7 +10,8 @@ py_trees' semantics and the BT.CPP key BT.CPP's.
 Most ports here are literals (params). The attributes that read or write the blackboard
 are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the node's
 scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked with
-them: Switch's ``variable`` and SetBlackboard's ``value`` (a literal or ``{name}``, read),
+them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or ``{name}``,
+read),
 the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and ``value`` (``{name}``,
 written), and the ports BT.CPP reads as an entry's *name* (:class:`~.ports.Naming`):
 SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
@@ -85,8 +86,8 @@ def _leaf(key: str, text: str, *attrs: Attr) -> NodeKind:
 
 
 def _switch(key: str, cases: int) -> NodeKind:
-    case_attrs = [_text(f"case_{i}", f"The value that selects child {i}.")
-                  for i in range(1, cases + 1)]
+    case_attrs = [_port(f"case_{i}", "any", f"The value that selects child {i}: a literal, "
+                        "or '{name}' to read that entry.") for i in range(1, cases + 1)]
     return _control(
         key, f"Tick the child of the first of {cases} cases the variable matches, else the "
         "last child.",

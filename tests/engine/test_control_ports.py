@@ -72,7 +72,7 @@ def test_the_attributes_that_use_the_blackboard_are_ports_with_a_direction() -> 
     assert ports[("LoopInt", "value")].type == "int"
     assert ports[("LoopInt", "value")].direction is Direction.OUTPUT
     assert ports[("LoopString", "queue")].type == "list"
-    assert ("Switch3", "case_1") not in ports  # cases are literals
+    assert ports[("Switch3", "case_1")].direction is Direction.INPUT
 
 
 def test_the_schema_shows_them_as_ports(registry: Registry) -> None:
@@ -179,7 +179,7 @@ subtrees:
     root:
       WaitValueUpdate: {entry: "{mdoe}", child: {Fixed: {}}}
 """
-    assert ("port 'entry' of WaitValueUpdate: '{mdoe}' is not an entry of subtree 'Watch' "
+    assert ("port 'entry' of WaitValueUpdate: 'mdoe' is not an entry of subtree 'Watch' "
             "(did you mean 'mode'?)") in _problems(tmp_path, registry, text)
 
 
@@ -234,3 +234,30 @@ def test_pre_and_post_conditions_work_on_bt_cpp_controls(tmp_path: Path,
     assert ("RecoveryNode", True) in skipped and ("Parallel", True) in skipped
     assert ("Switch2", True) not in skipped
     assert Blackboard.storage["/done"] is True
+
+
+def test_a_switch_case_may_read_an_entry(tmp_path: Path, registry: Registry) -> None:
+    text = """\
+blackboard:
+  wanted: {type: str, initial: b}
+  unset: {type: str}
+  mode: {type: str}
+root:
+  Sequence:
+    children:
+      - SetBlackboard: {value: b, output_key: mode}
+      - Switch3:
+          variable: "{mode}"
+          case_1: "{unset}"
+          case_2: a
+          case_3: "{wanted}"
+          children: [Fixed: {name: One}, Fixed: {name: Two}, Fixed: {name: Three},
+                     Fixed: {name: Other}]
+"""
+    tree = load_tree(_write(tmp_path, text), {}, registry=registry)
+    switch = next(n for n in tree.spec.nodes() if n.kind == "Switch3")
+    assert switch.bindings["case_3"].key == "/wanted"
+    assert _ticked(tree.root).get("Three") == Status.SUCCESS
+    assert "port 'case_1' of Switch2 reads 'nope'" in _problems(
+        tmp_path, registry, "root:\n  Switch2:\n    variable: a\n    case_1: '{nope}'\n"
+        "    case_2: b\n    children: [Fixed: {}, Fixed: {}, Fixed: {}]\n")

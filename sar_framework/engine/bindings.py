@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from sar_framework.engine.control_kinds import COPIES
 from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
 from sar_framework.engine.entries import DataScope, Declared, Entries, Report
 from sar_framework.engine.node_kinds import SUBTREE
@@ -22,6 +23,7 @@ from sar_framework.engine.ports import (
     Naming,
     Port,
     PortBinding,
+    compatible,
     convert,
     entry_ref,
     is_message,
@@ -58,6 +60,7 @@ class Bindings:
     def __init__(self, entries: Entries, report: Report) -> None:
         self.entries = entries
         self.report = report
+        self.copies: list[NodeSpec] = []  # nodes of COPIES kinds, checked after the walk
 
     # -- declarations -------------------------------------------------------------------
     def main_scope(self, doc: Document) -> DataScope:
@@ -238,6 +241,8 @@ class Bindings:
             if port.direction.writes:
                 self.entries.write(key, port.type, where, what)
             spec.bindings[port.name] = PortBinding(port, key=key)
+        if spec.kind in COPIES:
+            self.copies.append(spec)
 
     def insertion(
         self, use: NodeSpec, definition: tuple[dict[str, Port] | None, dict[str, Declared] | None],
@@ -310,3 +315,33 @@ class Bindings:
                 return
         scope.local.add(inner)
         self.entries.set_initial(f"{scope.prefix}/{inner}", value)
+
+    # -- after the walk -----------------------------------------------------------------
+    def check_copies(self, locs: dict[tuple[SourceLocation, str], Any]) -> None:
+        """Type what a copying node (SetBlackboard) writes by its destination's declaration.
+
+        As BT.CPP parses a literal into a destination entry of another type than a
+        string, a literal is converted to the declared type (reported when it does not
+        convert); a copied entry's declared type must agree with the destination's.
+        """
+        for spec in self.copies:
+            source, destination = COPIES[spec.kind]
+            value, target = spec.bindings.get(source), spec.bindings.get(destination)
+            if value is None or target is None or target.key is None:
+                continue
+            declared = self.entries.declared.get(target.key)
+            if not declared or declared[0].type == "any":
+                continue
+            type_ = declared[0].type
+            where = locs.get((spec.location, PORT_LOC + source), spec.location)
+            if value.key is None and value.value is not NO_DEFAULT and type_ in BASIC_TYPES:
+                converted = self.literal(type_, value.value, where, f"port '{source}' of "
+                                         f"{spec.kind}, written to '{target.key[1:]}' "
+                                         f"(declared {type_})")
+                if converted is not NO_DEFAULT:
+                    spec.bindings[source] = PortBinding(value.port, value=converted)
+            elif value.key is not None:
+                other = self.entries.declared.get(value.key)
+                if other and not compatible(other[0].type, type_):
+                    self.report(where, f"{spec.kind} copies '{value.key[1:]}' (declared "
+                                f"{other[0].type}) to '{target.key[1:]}' (declared {type_})")

@@ -206,5 +206,8 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                 naming=Naming.BARE_NAME)),
 )
 
+#: Kinds that write one port's value to another port's entry: kind -> (source, destination).
+#: BT.CPP's SetBlackboard parses a literal into a typed destination, and copies an entry.
+COPIES = {"SetBlackboard": ("value", "output_key")}
 #: The attributes that are blackboard ports, in any kind (``"{name}"`` is an entry there).
 ENTRY_PORTS = frozenset(a.name for k in CONTROL_KINDS for a in k.attrs if a.port is not None)

@@ -126,6 +126,7 @@ class Semantics(TreeFiles):
         if root is not None:
             self.resolve_refs()
             self.entries.check()
+            self.bindings.check_copies(self.value_locs)
             self.scripts.check()
         return root
 

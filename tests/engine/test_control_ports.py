@@ -261,3 +261,23 @@ root:
     assert "port 'case_1' of Switch2 reads 'nope'" in _problems(
         tmp_path, registry, "root:\n  Switch2:\n    variable: a\n    case_1: '{nope}'\n"
         "    case_2: b\n    children: [Fixed: {}, Fixed: {}, Fixed: {}]\n")
+
+
+def test_set_blackboard_parses_a_literal_into_its_declared_entry(tmp_path: Path,
+                                                                 registry: Registry) -> None:
+    text = """\
+blackboard:
+  n: {type: int}
+  s: {type: str, initial: x}
+root:
+  SetBlackboard: {value: "7", output_key: n}
+"""
+    tree = load_tree(_write(tmp_path, text), {}, registry=registry)
+    tree.root.tick_once()
+    assert Blackboard.storage["/n"] == 7  # BT.CPP parses it into the typed entry too
+    bad = text.replace('value: "7"', "value: seven")
+    assert ("tree.yaml:6:26: error: port 'value' of SetBlackboard, written to 'n' (declared "
+            "int): expected an int, got 'seven'") in _problems(tmp_path, registry, bad)
+    copy = text.replace('value: "7"', 'value: "{s}"')
+    assert "SetBlackboard copies 's' (declared str) to 'n' (declared int)" in _problems(
+        tmp_path, registry, copy)

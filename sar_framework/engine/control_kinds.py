@@ -7,13 +7,13 @@ of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' 
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
 py_trees' semantics and the BT.CPP key BT.CPP's.
 
-Most ports here are literals (params). The attributes that read or write the blackboard
-are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the node's
-scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked with
-them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or ``{name}``,
-read),
-the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and ``value`` (``{name}``,
-written), and the ports BT.CPP reads as an entry's *name* (:class:`~.ports.Naming`):
+Most of BT.CPP's ports are literals here (params). The attributes that read or write the
+blackboard are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the
+node's scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked
+with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
+``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
+``value`` (``{name}``, written), and the ports BT.CPP reads as an entry's *name*
+(:class:`~.ports.Naming`):
 SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
 SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated (``name`` or ``{name}``).
 """

@@ -52,10 +52,10 @@ class NodeSpec:
         refs: For a leaf: reference param name -> the referenced leaf's spec.
         subtree: Name of the subtree this node was inserted from, on the subtree's top node.
         written: The names of the ``attrs`` the tree file sets (the rest are defaults).
-        ports: For a leaf: its port bindings as written (``"{goal}"`` or a converted
-            literal), by port name.
-        bindings: For a leaf: every declared port's resolved binding (absolute key or
-            literal), by port name.
+        ports: For a leaf (or a BT.CPP node's blackboard ports): its port bindings as
+            written (``"{goal}"`` or a converted literal), by port name.
+        bindings: For a leaf (or a BT.CPP node's blackboard ports): every declared port's
+            resolved binding (absolute key or literal), by port name.
         scripts: The node's compiled scripts (``code``, ``if``, ``_skipIf``...), by attribute.
         script_keys: Every variable its scripts use (``@name`` for the root's) -> the
             absolute key it resolves to in the node's scope.

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from sar_framework.engine.control_kinds import COPIES
 from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
 from sar_framework.engine.entries import DataScope, Declared, Entries, Report
 from sar_framework.engine.node_kinds import SUBTREE
@@ -19,8 +20,10 @@ from sar_framework.engine.ports import (
     ENTRY_NAME,
     NO_DEFAULT,
     Direction,
+    Naming,
     Port,
     PortBinding,
+    compatible,
     convert,
     entry_ref,
     is_message,
@@ -57,6 +60,7 @@ class Bindings:
     def __init__(self, entries: Entries, report: Report) -> None:
         self.entries = entries
         self.report = report
+        self.copies: list[NodeSpec] = []  # nodes of COPIES kinds, checked after the walk
 
     # -- declarations -------------------------------------------------------------------
     def main_scope(self, doc: Document) -> DataScope:
@@ -167,6 +171,8 @@ class Bindings:
         """Check one port binding as written; return what the spec keeps (NO_DEFAULT: bad)."""
         if not fits_port(port, given):
             return NO_DEFAULT  # the schema check words it (an unquoted {key}, a 1.5 for an int)
+        if port.naming is not Naming.VALUE:
+            return self.entry_name(port, given, where)
         ref = entry_ref(given, port.name)
         if ref is not None:
             if not ENTRY_NAME.match(ref.name):
@@ -181,6 +187,23 @@ class Bindings:
             return NO_DEFAULT
         return self.literal(port.type, given, where, f"port '{port.name}'")
 
+    def entry_name(self, port: Port, given: str, where: SourceLocation) -> Any:
+        """Check a port whose text names an entry; return it as ``{name}`` (NO_DEFAULT: bad)."""
+        ref = entry_ref(given)
+        if ref is not None and port.naming is Naming.BARE_NAME:
+            self.report(where, f"port '{port.name}' names its entry without braces: write "
+                        f"'{ref.name}' (BT.CPP would read '{given}' as the entry whose name "
+                        f"'{ref.name}' holds, which cannot be resolved before running)")
+            return NO_DEFAULT
+        if ref is None:
+            root = given.startswith("@")
+            ref = entry_ref(f"{{{'@' if root else ''}{given[1:] if root else given}}}")
+        if ref is None or not ENTRY_NAME.match(ref.name):
+            self.report(where, f"port '{port.name}': '{given}' is not a valid entry name "
+                        "(letters, digits and '_', not starting with a digit)")
+            return NO_DEFAULT
+        return str(ref)
+
     def param_value(self, name: str, given: Any, where: SourceLocation) -> bool:
         """Report a ``{key}`` given to a param that is not a port; return whether it was."""
         if entry_ref(given) is None:
@@ -190,11 +213,15 @@ class Bindings:
         return True
 
     # -- resolution in a scope ----------------------------------------------------------
-    def bind_leaf(
+    def bind_ports(
         self, spec: NodeSpec, ports: tuple[Port, ...], scope: DataScope,
         locs: dict[tuple[SourceLocation, str], Any],
     ) -> None:
-        """Resolve a leaf's ports in ``scope`` into ``spec.bindings``; note reads and writes."""
+        """Resolve a node's ports in ``scope`` into ``spec.bindings``; note reads and writes.
+
+        A leaf's ports, and those of BT.CPP's nodes that use the blackboard
+        (:mod:`.control_kinds`).
+        """
         who = f"{spec.name} ({spec.kind})" if spec.name != spec.kind else spec.kind
         for port in ports:
             written = port.name in spec.ports
@@ -205,7 +232,8 @@ class Bindings:
                 spec.bindings[port.name] = PortBinding(port, value=given)
                 continue
             what = f"port '{port.name}' of {who}" + ("" if written else f" (default {given})")
-            key = self.entries.resolve(scope, ref, where, what)
+            shown = "" if port.naming is Naming.VALUE else str(ref)[1:-1]  # as written: x
+            key = self.entries.resolve(scope, ref, where, what, shown)
             if key is None:
                 continue
             if port.direction.reads:
@@ -213,6 +241,8 @@ class Bindings:
             if port.direction.writes:
                 self.entries.write(key, port.type, where, what)
             spec.bindings[port.name] = PortBinding(port, key=key)
+        if spec.kind in COPIES:
+            self.copies.append(spec)
 
     def insertion(
         self, use: NodeSpec, definition: tuple[dict[str, Port] | None, dict[str, Declared] | None],
@@ -285,3 +315,33 @@ class Bindings:
                 return
         scope.local.add(inner)
         self.entries.set_initial(f"{scope.prefix}/{inner}", value)
+
+    # -- after the walk -----------------------------------------------------------------
+    def check_copies(self, locs: dict[tuple[SourceLocation, str], Any]) -> None:
+        """Type what a copying node (SetBlackboard) writes by its destination's declaration.
+
+        As BT.CPP parses a literal into a destination entry of another type than a
+        string, a literal is converted to the declared type (reported when it does not
+        convert); a copied entry's declared type must agree with the destination's.
+        """
+        for spec in self.copies:
+            source, destination = COPIES[spec.kind]
+            value, target = spec.bindings.get(source), spec.bindings.get(destination)
+            if value is None or target is None or target.key is None:
+                continue
+            declared = self.entries.declared.get(target.key)
+            if not declared or declared[0].type == "any":
+                continue
+            type_ = declared[0].type
+            where = locs.get((spec.location, PORT_LOC + source), spec.location)
+            if value.key is None and value.value is not NO_DEFAULT and type_ in BASIC_TYPES:
+                converted = self.literal(type_, value.value, where, f"port '{source}' of "
+                                         f"{spec.kind}, written to '{target.key[1:]}' "
+                                         f"(declared {type_})")
+                if converted is not NO_DEFAULT:
+                    spec.bindings[source] = PortBinding(value.port, value=converted)
+            elif value.key is not None:
+                other = self.entries.declared.get(value.key)
+                if other and not compatible(other[0].type, type_):
+                    self.report(where, f"{spec.kind} copies '{value.key[1:]}' (declared "
+                                f"{other[0].type}) to '{target.key[1:]}' (declared {type_})")

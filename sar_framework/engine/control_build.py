@@ -3,8 +3,11 @@
 One builder per kind, called as ``builder(node, children, context)``; the clock-driven
 ones read the build context's ``clock`` (:data:`.clock_timeout.CLOCK_KEY`, a callable
 returning seconds; default ``time.monotonic``). The blackboard nodes get a
-:class:`~.variables.Variables` over py_trees' blackboard: a variable ``name`` (written
-``"{name}"``, ``"{@name}"`` or ``name``) is the entry ``/name`` of the main tree's scope.
+:class:`~.variables.Variables` over py_trees' blackboard in which each of their ports
+bound to an entry is a variable named like the port, leading to the absolute key that
+validation resolved in the node's scope (``node.bindings``, as for a leaf's ports); a
+Switch reads its variable and cases, literals or entries, through a
+:class:`~.port_values.PortValues`, as a leaf reads its ports.
 """
 
 from __future__ import annotations
@@ -30,32 +33,42 @@ from sar_framework.engine.controls import (
     timing,
     updated,
 )
-from sar_framework.engine.controls.values import DictVariables
+from sar_framework.engine.port_values import PortValues
 from sar_framework.engine.spec import Category, NodeSpec
-from sar_framework.engine.variables import BlackboardVariables, Variables
+from sar_framework.engine.variables import BlackboardVariables
 
 Behaviour = py_trees.behaviour.Behaviour
 ControlBuilder = Callable[[NodeSpec, list[Behaviour], Mapping[str, Any]], Behaviour]
 
 
-def variable_name(text: str) -> str:
-    """The variable a port text names: ``{goal}``, ``{@goal}`` and ``goal`` all name goal."""
-    text = text.strip()
-    if len(text) > 2 and text[0] == "{" and text[-1] == "}":
-        text = text[1:-1]
-    return text.lstrip("@")
+def bound_variables(node: NodeSpec, *ports: str) -> BlackboardVariables:
+    """A view of py_trees' blackboard for ``node``: each named port bound to an entry.
+
+    Args:
+        node: The validated node (its ``bindings`` resolved).
+        ports: The ports to include; those bound to a literal or to nothing are left out.
+
+    Returns:
+        Variables named like the ports; the ports that write are writable.
+    """
+    keys = {name: binding.key for name in ports
+            if (binding := node.bindings.get(name)) is not None and binding.key is not None}
+    writable = [name for name in keys if node.bindings[name].port.direction.writes]
+    return BlackboardVariables(node.name, keys, writable)
 
 
-def is_entry(text: str) -> bool:
-    """Whether a port text names an entry (``{name}``) rather than being a literal."""
-    text = text.strip()
-    return len(text) > 2 and text[0] == "{" and text[-1] == "}"
+def _bound(node: NodeSpec, port: str) -> bool:
+    binding = node.bindings.get(port)
+    return binding is not None and binding.key is not None
 
 
-def blackboard_variables(node: NodeSpec, names: list[str], writable: list[str] = ()
-                         ) -> Variables:  # type: ignore[assignment]
-    """A view of py_trees' blackboard for ``node``: each name is the entry ``/name``."""
-    return BlackboardVariables(node.name, {name: "/" + name for name in names}, writable)
+def _literal_text(value: Any) -> str:
+    """A literal as BT.CPP's XML would hold it (a YAML list as ``a;b;c``)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, list):
+        return ";".join(_literal_text(item) for item in value)
+    return str(value)
 
 
 def _clock(context: Mapping[str, Any]) -> Callable[[], float]:
@@ -90,55 +103,49 @@ def _clocked(cls: type) -> ControlBuilder:
 
 def _switch(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
             ) -> Behaviour:
-    cases = [node.attrs[f"case_{i}"] for i in range(1, SWITCH_CASES[node.kind] + 1)]
-    text = node.attrs["variable"]
-    if is_entry(text):
-        name = variable_name(text)
-        variables = blackboard_variables(node, [name])
-    else:
-        name, variables = "variable", DictVariables({"variable": text})
-    return conditionals.Switch(node.name, children, cases, name, variables)
+    names = [f"case_{i}" for i in range(1, SWITCH_CASES[node.kind] + 1)]
+    ports = PortValues(node.name, {n: node.bindings[n] for n in ("variable", *names)})
+    cases = ["" if _bound(node, n) else node.bindings[n].value for n in names]
+    reads = [n if _bound(node, n) else None for n in names]
+    return conditionals.Switch(node.name, children, cases, "variable",
+                               ports,  # type: ignore[arg-type]  # reads only
+                               case_variables=reads)
 
 
 def _updated(cls: type) -> ControlBuilder:
     def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
               ) -> Behaviour:
-        name = variable_name(node.attrs["entry"])
-        return cls(node.name, children[0], name, blackboard_variables(node, [name]))
+        return cls(node.name, children[0], "entry", bound_variables(node, "entry"))
 
     return build
 
 
 def _loop(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
           ) -> Behaviour:
-    text, value = node.attrs["queue"], node.attrs.get("value")
-    shared = variable_name(text) if is_entry(text) else None
-    output = variable_name(value) if value else None
-    names = [name for name in (shared, output) if name is not None]
-    variables = blackboard_variables(node, names, [output] if output else [])
-    return queues.Loop(node.name, children[0], None if shared else text, variables,
-                       item=queues.ITEM_TYPES[node.kind], queue_variable=shared,
-                       value=output, if_empty=node.attrs["if_empty"])
+    shared = _bound(node, "queue")
+    literal = None if shared else _literal_text(node.bindings["queue"].value)
+    return queues.Loop(node.name, children[0], literal, bound_variables(node, "queue", "value"),
+                       item=queues.ITEM_TYPES[node.kind],
+                       queue_variable="queue" if shared else None,
+                       value="value" if _bound(node, "value") else None,
+                       if_empty=node.attrs["if_empty"])
 
 
 def _was_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                  ) -> Behaviour:
-    name = variable_name(node.attrs["entry"])
-    return updated.WasEntryUpdated(node.name, name, blackboard_variables(node, [name]))
+    return updated.WasEntryUpdated(node.name, "entry", bound_variables(node, "entry"))
 
 
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
-    value, output = node.attrs["value"], variable_name(node.attrs["output_key"])
-    names = [output] + ([variable_name(value)] if is_entry(value) else [])
-    variables = blackboard_variables(node, names, [output])
-    return leaves.SetBlackboard(node.name, value, output, variables)
+    value = "{value}" if _bound(node, "value") else node.bindings["value"].value
+    variables = bound_variables(node, "value", "output_key")
+    return leaves.SetBlackboard(node.name, value, "output_key", variables)
 
 
 def _unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                       ) -> Behaviour:
-    key = variable_name(node.attrs["key"])
-    return leaves.UnsetBlackboard(node.name, key, blackboard_variables(node, [key], [key]))
+    return leaves.UnsetBlackboard(node.name, "key", bound_variables(node, "key"))
 
 
 CONTROL_BUILDERS: dict[str, ControlBuilder] = {

@@ -7,29 +7,36 @@ of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' 
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
 py_trees' semantics and the BT.CPP key BT.CPP's.
 
-Ports here are literals; the blackboard nodes (Switch, SetBlackboard, UnsetBlackboard,
-SkipUnlessUpdated, WaitValueUpdate) name variables, written ``"{name}"`` or ``name``.
+Most of BT.CPP's ports are literals here (params). The attributes that read or write the
+blackboard are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the
+node's scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked
+with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
+``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
+``value`` (``{name}``, written), and the ports BT.CPP reads as an entry's *name*
+(:class:`~.ports.Naming`):
+SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
+SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated (``name`` or ``{name}``).
 """
 
 from __future__ import annotations
 
 from sar_framework.engine.kind_model import CONDITION_ATTRS, Attr, AttrType, NodeKind, name_attr
+from sar_framework.engine.ports import NO_DEFAULT, Direction, Naming, Port
 from sar_framework.engine.spec import Category
 
 #: Where a kind comes from, for the docs and the export.
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
                         "SingleTrigger"})
-#: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
-ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
            "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
            "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
            "ParallelAll": "/_/", "PipelineSequence": "[-]", "RecoveryNode": "{o}",
            "RoundRobin": "{o}"}
-#: LoopInt..LoopString: the type of their items, in words.
+#: LoopInt..LoopString: the type of their items, in words and as a port type.
 LOOP_ITEMS = {"LoopInt": "integer", "LoopBool": "boolean", "LoopDouble": "number",
               "LoopString": "string"}
+LOOP_TYPES = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "float", "LoopString": "str"}
 #: Switch2..Switch6: the number of cases of each.
 SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
 
@@ -52,6 +59,18 @@ def _text(name: str, text: str) -> Attr:
     return Attr(name, AttrType.STRING, required=True, min_length=1, description=text)
 
 
+def _port(name: str, type_: str, text: str, *, direction: Direction = Direction.INPUT,
+          naming: Naming = Naming.VALUE, required: bool = True) -> Attr:
+    """An attribute that is a blackboard port of the node (see the module docstring)."""
+    port = Port(name, type_, NO_DEFAULT, text, direction, naming)
+    return Attr(name, AttrType.PORT, required=required, description=text, port=port)
+
+
+def _entry() -> Attr:
+    return _port("entry", "any", "The watched entry, by name: 'name' or '{name}'.",
+                 naming=Naming.NAME)
+
+
 def _control(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
     return NodeKind(key, Category.COMPOSITE, key, text,
                     (name_attr(key), *attrs, children or _children(), *CONDITION_ATTRS))
@@ -67,12 +86,13 @@ def _leaf(key: str, text: str, *attrs: Attr) -> NodeKind:
 
 
 def _switch(key: str, cases: int) -> NodeKind:
-    case_attrs = [_text(f"case_{i}", f"The value that selects child {i}.")
-                  for i in range(1, cases + 1)]
+    case_attrs = [_port(f"case_{i}", "any", f"The value that selects child {i}: a literal, "
+                        "or '{name}' to read that entry.") for i in range(1, cases + 1)]
     return _control(
         key, f"Tick the child of the first of {cases} cases the variable matches, else the "
         "last child.",
-        _text("variable", "The variable compared with the cases: '{name}' (or a literal)."),
+        _port("variable", "any", "The value compared (as text) with the cases: '{name}' "
+              "reads that entry; a literal is compared as it is."),
         *case_attrs,
         children=_children(cases + 1, cases + 1, f"One child per case, then the default "
                            f"({cases + 1} children)."),
@@ -149,17 +169,18 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _decorator("Timeout", "Halt the child and fail if it still runs after msec.",
                _int("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
     _decorator("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
-               "tick of the child.", _text("entry", "The watched variable: '{name}'.")),
+               "tick of the child.", _entry()),
     _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
-               "of the child.", _text("entry", "The watched variable: '{name}'.")),
+               "of the child.", _entry()),
     *(_decorator(key, f"Pop the next {kind} of queue into value and tick the child; RUNNING "
                  "while values remain, if_empty once the queue is empty.",
-                 _text("queue", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared list."),
+                 _port("queue", "list", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared "
+                       "list (its values are popped from it)."),
                  Attr("if_empty", AttrType.STRING, default="SUCCESS",
                       enum=("SUCCESS", "FAILURE", "SKIPPED"),
                       description="What to return once the queue is empty."),
-                 Attr("value", AttrType.STRING, min_length=1,
-                      description="The variable each value is written to: '{name}'."))
+                 _port("value", LOOP_TYPES[key], "The entry each value is written to: "
+                       "'{name}'.", direction=Direction.OUTPUT, required=False))
       for key, kind in LOOP_ITEMS.items()),
     _decorator("RateController", "Nav2: tick the child at most hz times a second (a running "
                "child every tick).",
@@ -168,14 +189,25 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
                "the node is reset."),
     _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
-          "FAILURE.", _text("entry", "The watched variable: '{name}'.")),
+          "FAILURE.", _entry()),
     _leaf("AlwaysSuccess", "SUCCESS."),
     _leaf("AlwaysFailure", "FAILURE."),
     _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",
           _int("msec", "Milliseconds to wait.", minimum=0)),
     _leaf("SetBlackboard", "Write value (a literal, or '{entry}' to copy one) to output_key.",
-          Attr("value", AttrType.STRING, required=True,
-               description="The value written: a literal, or '{name}' to copy that entry."),
-          _text("output_key", "The variable written.")),
-    _leaf("UnsetBlackboard", "Remove the variable key.", _text("key", "The variable removed.")),
+          _port("value", "any", "The value written: a literal, or '{name}' to copy that "
+                "entry's value."),
+          _port("output_key", "any", "The entry written, by name: 'name' (BT.CPP reads "
+                "'{name}' as the entry whose name that entry holds).",
+                direction=Direction.OUTPUT, naming=Naming.BARE_NAME)),
+    _leaf("UnsetBlackboard", "Remove the entry key.",
+          _port("key", "any", "The entry removed, by name: 'name' (BT.CPP reads '{name}' as "
+                "the entry whose name that entry holds).", direction=Direction.OUTPUT,
+                naming=Naming.BARE_NAME)),
 )
+
+#: Kinds that write one port's value to another port's entry: kind -> (source, destination).
+#: BT.CPP's SetBlackboard parses a literal into a typed destination, and copies an entry.
+COPIES = {"SetBlackboard": ("value", "output_key")}
+#: The attributes that are blackboard ports, in any kind (``"{name}"`` is an entry there).
+ENTRY_PORTS = frozenset(a.name for k in CONTROL_KINDS for a in k.attrs if a.port is not None)

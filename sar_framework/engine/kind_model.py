@@ -58,7 +58,8 @@ class Attr:
         min_length: Minimum length of a string value.
         nullable: Whether ``null`` is accepted (a param defaulting to None).
         ref: For a reference param: the plugin name the referenced leaf must have.
-        port: For a leaf's port: its declaration (the value binds it, see :mod:`.ports`).
+        port: For a port (a leaf's, or a BT.CPP node's blackboard port): its declaration
+            (the value binds it, see :mod:`.ports`).
     """
 
     name: str

@@ -22,7 +22,7 @@ from typing import Any
 from py_trees.blackboard import Blackboard
 
 from sar_framework.engine.ports import NO_DEFAULT, PortBinding, convert
-from sar_framework.engine.variables import BlackboardVariables
+from sar_framework.engine.variables import BlackboardVariables, count_write
 
 _CONVERTED = frozenset({"int", "float", "bool", "list"})
 
@@ -89,6 +89,7 @@ class PortValues:
             return
         if Blackboard.activity_stream is None:
             Blackboard.storage[key] = value
+            count_write(key)
         else:
             self.variables.set(name, value)  # type: ignore[union-attr]
 

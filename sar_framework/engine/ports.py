@@ -42,6 +42,23 @@ ENTRY_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 ENTRY_REF = re.compile(r"^\{(?P<root>@?)(?P<name>[^{}]*)\}$")
 
 
+class Naming(str, Enum):
+    """How a port's text is read: a value, or the name of an entry (BT.CPP's own nodes).
+
+    BT.CPP reads some ports of its own nodes as *entry names*: ``SetBlackboard``'s
+    ``output_key``, ``UnsetBlackboard``'s ``key``, the ``entry`` of ``SkipUnlessUpdated``,
+    ``WaitValueUpdate`` and ``WasEntryUpdated``.
+    """
+
+    #: A literal value, or ``{name}`` for an entry (every leaf's port).
+    VALUE = "value"
+    #: The entry's name: ``x`` and ``{x}`` both name x (BT.CPP strips the braces).
+    NAME = "name"
+    #: The entry's name, bare: ``x`` names x. BT.CPP would read ``{x}`` as the entry whose
+    #: name x holds, which static resolution cannot follow: refused.
+    BARE_NAME = "bare name"
+
+
 class _NoDefault:
     def __repr__(self) -> str:
         return "NO_DEFAULT"
@@ -227,6 +244,8 @@ class Port:
             :data:`NO_DEFAULT` when none (an input without one must be bound).
         description: One line for docs, schema and editor hover text.
         direction: Input, output or both.
+        naming: How its text is read (:class:`Naming`): a value (leaves' ports) or the
+            name of an entry (some of BT.CPP's own nodes).
     """
 
     name: str
@@ -234,6 +253,7 @@ class Port:
     default: Any = NO_DEFAULT
     description: str = ""
     direction: Direction = Direction.INPUT
+    naming: Naming = Naming.VALUE
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "type", type_name(self.type))

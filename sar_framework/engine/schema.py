@@ -27,7 +27,14 @@ from sar_framework.engine.node_kinds import (
     NodeKind,
     leaf_attrs,
 )
-from sar_framework.engine.ports import BASIC_TYPES, ENTRY_NAME, NO_DEFAULT, Direction, Port
+from sar_framework.engine.ports import (
+    BASIC_TYPES,
+    ENTRY_NAME,
+    NO_DEFAULT,
+    Direction,
+    Naming,
+    Port,
+)
 from sar_framework.engine.registry import Registry
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -61,7 +68,7 @@ _JSON_TYPES: dict[str, tuple[type, ...]] = {
 def fits_port(port: Port, value: Any) -> bool:
     """Whether the schema lets ``value`` bind ``port`` (so other checks do not repeat it)."""
     allowed = ["string"]
-    if port.direction is Direction.INPUT:
+    if port.direction is Direction.INPUT and port.naming is Naming.VALUE:
         allowed = PORT_JSON_TYPES.get(port.type, allowed)
     for name in allowed:
         if isinstance(value, bool) and name != "boolean":
@@ -84,6 +91,8 @@ def port_schema(port: Port) -> dict[str, Any]:
     """
     head = f"{port.direction.value} port ({port.type})"
     text = f"{head}: {port.description}" if port.description else head
+    if port.naming is not Naming.VALUE:
+        return {"description": text, "type": "string", "minLength": 1}
     out: dict[str, Any] = {"description": f"{text} {_BINDING}"}
     if port.direction is Direction.INPUT and port.type in PORT_JSON_TYPES:
         out["type"] = PORT_JSON_TYPES[port.type]

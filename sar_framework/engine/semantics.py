@@ -1,6 +1,7 @@
 """Semantics: what a schema cannot say, checked while the tree's specs are made.
 
-Subtree names and recursion (in used and unused definitions; includes: :mod:`.tree_files`),
+Subtree names and recursion (in used and unused definitions, :mod:`.subtree_defs`;
+includes: :mod:`.tree_files`), every node's ports and scripts resolved in its scope,
 unique ids per scope, references to other leaves (existence, plugin type, cycles),
 ``selected`` children of a parallel, finite numbers and the nesting depth. The walk is
 tolerant: a value the schema check rejects is skipped here, so both layers report in the
@@ -10,53 +11,29 @@ same pass.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from sar_framework.engine.bindings import PORT_LOC, Bindings
-from sar_framework.engine.control_kinds import ENTRY_PORTS, threshold_problem
+from sar_framework.engine.control_kinds import threshold_problem
+from sar_framework.engine.declarations import Declaration, declaration_of
 from sar_framework.engine.diagnostics import (
     SourceLocation,
     did_you_mean,
 )
-from sar_framework.engine.entries import DataScope, Declared, Entries
-from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType, leaf_attrs
-from sar_framework.engine.plugin import Param
-from sar_framework.engine.ports import NO_DEFAULT, Port
+from sar_framework.engine.entries import DataScope, Entries
+from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.references import resolve_references
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.script_bindings import ScriptBindings
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.structure import DocPath, Document
+from sar_framework.engine.subtree_defs import Subtree, copy_spec, cycle_text, report_cycles
 from sar_framework.engine.tree_files import TreeFiles
 
 #: The message of the depth guard.
 TOO_DEEP = f"the tree is nested deeper than {MAX_DEPTH} levels"
-
-
-@dataclass
-class Subtree:
-    """A named subtree definition (with its declared ports and entries, if any)."""
-
-    name: str
-    node: NodeSpec | None
-    location: SourceLocation
-    ports: dict[str, Port] | None = None
-    local: dict[str, Declared] | None = None
-
-
-@dataclass(frozen=True)
-class Declaration:
-    """What the walk needs to know of one node kind or plugin."""
-
-    key: str
-    category: Category
-    default_name: str
-    attrs: tuple[Attr, ...]
-    defaults: dict[str, Any]
-    ref_params: tuple[Param, ...] = ()
-    ports: tuple[Port, ...] = ()
 
 
 class Scope:
@@ -144,32 +121,19 @@ class Semantics(TreeFiles):
         done = set(self.used_subtrees)
         for name, definition in self.subtrees.items():
             if name not in done:
-                self.subtree_cycles(definition.node, (name,), done)
+                report_cycles(definition.node, (name,), done, self.subtrees, self.error)
                 done.add(name)
         if root is not None:
             self.resolve_refs()
             self.entries.check()
+            self.bindings.check_copies(self.value_locs)
             self.scripts.check()
         return root
 
     def declaration(self, key: str) -> Declaration | None:
         """Return the declaration of a node kind or plugin (None when unknown)."""
         if key not in self.declarations:
-            kind = KINDS.get(key)
-            plugin = self.registry.get(key)
-            found = None
-            if kind is not None:
-                defaults = {a.name: a.default for a in kind.attrs if not a.required and a.name
-                            not in ("name", "selected") and a.type is not AttrType.SCRIPT}
-                found = Declaration(key, kind.category, kind.class_name, kind.attrs, defaults)
-            elif plugin is not None:
-                attrs = leaf_attrs(plugin)
-                defaults = {a.name: a.default for a in attrs if not a.required
-                            and a.name not in ("name", "id") and a.type is not AttrType.SCRIPT}
-                defaults = {k: v for k, v in defaults.items() if plugin.port(k) is None}
-                refs = tuple(p for p in plugin.params if p.ref is not None)
-                found = Declaration(key, Category.LEAF, key, attrs, defaults, refs, plugin.ports)
-            self.declarations[key] = found
+            self.declarations[key] = declaration_of(key, self.registry)
         return self.declarations[key]
 
     def node(
@@ -214,6 +178,8 @@ class Semantics(TreeFiles):
                 kept = self.bindings.port_value(attr.port, given, value_at)
                 if kept is not NO_DEFAULT:
                     ports[attr.name] = kept
+                if key in KINDS:  # BT.CPP's node: the text as written, for labels and export
+                    values[attr.name] = given
                 continue
             if attr.type is AttrType.SCRIPT:
                 script = self.scripts.compile(doc, at, given)
@@ -224,7 +190,6 @@ class Semantics(TreeFiles):
                 continue
             if (attr.type is AttrType.STRING and decl.category is Category.LEAF
                     and attr.name not in ("name", "id")
-                    and not (key in KINDS and attr.name in ENTRY_PORTS)  # BT.CPP's entries
                     and self.bindings.param_value(attr.name, given, doc.where(at))):
                 continue
             if attr.type in (AttrType.NODES, AttrType.NODE):
@@ -272,17 +237,21 @@ class Semantics(TreeFiles):
         return value
 
     def in_scope(self, spec: NodeSpec, decl: Declaration, scope: Scope) -> None:
-        """Note a node of the main tree: a leaf's id and references, a parallel's picks."""
+        """Note a node of the main tree: its scripts and ports, resolved in its scope.
+
+        Also a leaf's id and references, and what a composite's attributes say of its
+        children.
+        """
         if spec.scripts:
             self.scripts.bind(spec, scope.data)
+        if decl.ports:
+            self.bindings.bind_ports(spec, decl.ports, scope.data, self.value_locs)
         if decl.category is Category.LEAF:
             if spec.id is not None:
                 self.add_id(spec, scope)
             if decl.ref_params:
                 self.pending_refs.append((spec, scope))
-            if decl.ports:
-                self.bindings.bind_leaf(spec, decl.ports, scope.data, self.value_locs)
-        else:
+        elif id(spec) not in self.incomplete:
             self.check_children(spec)
 
     def expand(
@@ -296,8 +265,7 @@ class Semantics(TreeFiles):
         if node.kind == SUBTREE:
             name = node.name
             if name in chain:
-                cycle = " -> ".join((*chain[chain.index(name):], name))
-                self.error(node.location, f"recursive subtree: {cycle}")
+                self.error(node.location, cycle_text(chain, name))
                 return None
             found = self.subtrees.get(name)
             if found is None:
@@ -313,44 +281,19 @@ class Semantics(TreeFiles):
                                            self.value_locs)
             return self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
         node.uid = uid
-        if node.id is not None:
-            self.add_id(node, scope)
-        if node.scripts:
-            self.scripts.bind(node, scope.data)
-        if node.category is Category.LEAF:
-            decl = self.declaration(node.kind)
-            if decl is not None and decl.ref_params:
-                self.pending_refs.append((node, scope))
-            if decl is not None and decl.ports:
-                self.bindings.bind_leaf(node, decl.ports, scope.data, self.value_locs)
-            return node
-        children = []
-        for index, child in enumerate(node.children):
-            expanded = self.expand(child, f"{uid}.{index}", scope, chain, depth + 1)
-            if expanded is not None:
-                children.append(expanded)
-        if len(children) != len(node.children):
-            self.incomplete.add(id(node))
-        node.children = children
-        if id(node) not in self.incomplete:
-            self.check_children(node)
+        decl = self.declaration(node.kind)
+        if node.category is not Category.LEAF:
+            children = []
+            for index, child in enumerate(node.children):
+                expanded = self.expand(child, f"{uid}.{index}", scope, chain, depth + 1)
+                if expanded is not None:
+                    children.append(expanded)
+            if len(children) != len(node.children):
+                self.incomplete.add(id(node))
+            node.children = children
+        if decl is not None:
+            self.in_scope(node, decl, scope)
         return node
-
-    def subtree_cycles(self, node: NodeSpec | None, chain: tuple[str, ...], done: set[str]) -> None:
-        """Report recursion in a subtree definition no tree uses (a used one is expanded)."""
-        if node is None:
-            return
-        if node.kind != SUBTREE:
-            for child in node.children:
-                self.subtree_cycles(child, chain, done)
-            return
-        name = node.name
-        if name in chain:
-            cycle = " -> ".join((*chain[chain.index(name):], name))
-            self.error(node.location, f"recursive subtree: {cycle}")
-        elif name not in done and name in self.subtrees:
-            self.subtree_cycles(self.subtrees[name].node, (*chain, name), done)
-            done.add(name)
 
     def add_id(self, node: NodeSpec, scope: Scope) -> None:
         """Record a leaf's id in its scope; report a duplicate."""
@@ -391,9 +334,3 @@ class Semantics(TreeFiles):
         """Point every reference param at its leaf; report dangling, mistyped, cyclic ones."""
         resolve_references(self.pending_refs, self.declaration, self.value_locs, self.error)
 
-
-def copy_spec(node: NodeSpec) -> NodeSpec:
-    """Return a fresh copy of a subtree definition's spec (uids and refs cleared)."""
-    return NodeSpec(node.kind, node.category, node.name, "", node.location, dict(node.attrs),
-                    [copy_spec(c) for c in node.children], node.id, {}, node.subtree,
-                    node.written, node.ports, {}, node.scripts)

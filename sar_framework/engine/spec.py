@@ -54,10 +54,10 @@ class NodeSpec:
         insertion: On the subtree's top node: the insertion's ``ports`` (inner port -> the
             value as written) and ``autoremap``, as the tree file gives them.
         written: The names of the ``attrs`` the tree file sets (the rest are defaults).
-        ports: For a leaf: its port bindings as written (``"{goal}"`` or a converted
-            literal), by port name.
-        bindings: For a leaf: every declared port's resolved binding (absolute key or
-            literal), by port name.
+        ports: For a leaf (or a BT.CPP node's blackboard ports): its port bindings as
+            written (``"{goal}"`` or a converted literal), by port name.
+        bindings: For a leaf (or a BT.CPP node's blackboard ports): every declared port's
+            resolved binding (absolute key or literal), by port name.
         scripts: The node's compiled scripts (``code``, ``if``, ``_skipIf``...), by attribute.
         script_keys: Every variable its scripts use (``@name`` for the root's) -> the
             absolute key it resolves to in the node's scope.

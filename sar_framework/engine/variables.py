@@ -38,6 +38,15 @@ class Variables(Protocol):
 _WRITES: dict[str, int] = {}
 
 
+def count_write(key: str) -> None:
+    """Note a write of the absolute ``key`` made without a :class:`BlackboardVariables`.
+
+    A leaf's output port writes py_trees' storage directly while the activity stream is
+    off (:mod:`.port_values`); SkipUnlessUpdated and friends must still see it.
+    """
+    _WRITES[key] = _WRITES.get(key, 0) + 1
+
+
 class BlackboardVariables:
     """A :class:`Variables` view of py_trees' blackboard through one client.
 
@@ -72,8 +81,7 @@ class BlackboardVariables:
     def set(self, name: str, value: Any) -> None:
         """Give ``name`` a value (it must be writable)."""
         self.client.set(name, value, overwrite=True)
-        key = self.keys[name]
-        _WRITES[key] = _WRITES.get(key, 0) + 1
+        count_write(self.keys[name])
 
     def unset(self, name: str) -> None:
         """Remove ``name``'s value (no error when it has none)."""

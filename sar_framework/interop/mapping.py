@@ -94,8 +94,9 @@ def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
         known = {a.name for a in names}
         extra = sorted(set(ports) - known - {"name"})
         if extra:
+            own = sorted(k for k in known if not k.startswith("_"))  # not _skipIf...
             raise ValueError(f"no port {', '.join(repr(e) for e in extra)} (its ports: "
-                             f"{', '.join(sorted(known)) or 'none'})")
+                             f"{', '.join(own) or 'none'})")
         missing = [a.name for a in names if a.required and a.name not in ports]
         if missing:
             raise ValueError(f"needs the port '{missing[0]}'")

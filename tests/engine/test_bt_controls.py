@@ -200,7 +200,7 @@ def test_the_blackboard_nodes_share_py_trees_blackboard_entries(tmp_path: Path,
           case_2: "2"
           children: [Fixed: {status: failure}, Fixed: {name: Two, status: success},
                      Fixed: {status: failure}]
-      - UnsetBlackboard: {key: "{mode}"}
+      - UnsetBlackboard: {key: mode}
 """)
     root = load_tree(path, {}, registry=registry).root
     assert tick(root) == Status.SUCCESS

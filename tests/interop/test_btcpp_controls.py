@@ -29,8 +29,12 @@ STEP = 0.3
 
 
 def _tree(tmp_path: Path, root: str) -> Path:
+    """The tree file of a case: its root node, or its ``blackboard:`` then ``root:``."""
     path = tmp_path / "tree.yaml"
-    path.write_text("format: 1\nname: t\nroot:\n" + textwrap.indent(textwrap.dedent(root), "  "))
+    text = textwrap.dedent(root).lstrip("\n")
+    if not text.startswith("blackboard:"):
+        text = "root:\n" + textwrap.indent(text, "  ")
+    path.write_text("format: 1\nname: t\n" + text)
     return path
 
 
@@ -137,9 +141,30 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                 children: {_leaves("A", "B", "Seven", "Default")}
         """, {"Pick": ["SUCCESS", "SUCCESS", "FAILURE", "FAILURE", "SUCCESS"],
               "B": ["RUNNING", "RUNNING", "SUCCESS"], "Seven": ["RUNNING"]}, 6, 0),
+    "Switch2 with cases read from entries": (f"""
+        blackboard:
+          unset: {{type: str, description: Nobody sets it; the case is passed over.}}
+          wanted: {{type: str}}
+        root:
+          Sequence:
+            children:
+              - IfThenElse:
+                  children:
+                    - Tick: {{name: Pick}}
+                    - SetBlackboard: {{value: b, output_key: wanted}}
+                    - SetBlackboard: {{value: c, output_key: wanted}}
+              - Switch2:
+                  variable: b
+                  case_1: "{{unset}}"
+                  case_2: "{{wanted}}"
+                  children: {_leaves("One", "Two", "Other")}
+        """, {"Pick": ["SUCCESS", "FAILURE", "SUCCESS"]}, 3, 0),
     "Switch4, 5 and 6 fall back to the default": (f"""
-        Sequence:
-          children:
+        blackboard:
+          missing: {{type: str, description: The caller could set it; nobody does.}}
+        root:
+          Sequence:
+           children:
             - Switch4:
                 variable: "{{missing}}"
                 case_1: a

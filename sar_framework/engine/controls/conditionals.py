@@ -157,7 +157,10 @@ class Switch(BtControl):
         children: One child per case, then the default.
         cases: The case values (``case_1``, ``case_2``, ...).
         variable: The variable's name in ``variables``.
-        variables: Where the variable is read.
+        variables: Where the variable is read (and the cases named by ``case_variables``).
+        case_variables: Per case, the name in ``variables`` to read it from at each tick
+            (its entry unset: the case is passed over, as BT.CPP does), or None for the
+            literal of ``cases``.
 
     Raises:
         ValueError: The number of children is not the number of cases plus one.
@@ -166,12 +169,14 @@ class Switch(BtControl):
     marks_running = False
 
     def __init__(self, name: str, children: Children[Behaviour], cases: Children[str],
-                 variable: str, variables: Variables) -> None:
+                 variable: str, variables: Variables,
+                 *, case_variables: Children[str | None] = ()) -> None:
         if len(children) != len(cases) + 1:
             raise ValueError(f"'{name}' has {len(cases)} cases: it needs {len(cases) + 1} "
                              f"children (one per case, then the default), got {len(children)}")
         super().__init__(name, children)
-        self.cases = [str(case) for case in cases]
+        self.cases = [as_text(case) for case in cases]
+        self.case_variables = list(case_variables) + [None] * (len(cases) - len(case_variables))
         self.variable = variable
         self.variables = variables
         self.running = -1
@@ -180,7 +185,11 @@ class Switch(BtControl):
         """The index of the child to tick this time."""
         if self.variable in self.variables:
             value = as_text(self.variables.get(self.variable))
-            for index, case in enumerate(self.cases):
+            for index, literal in enumerate(self.cases):
+                read = self.case_variables[index]
+                if read is not None and read not in self.variables:
+                    continue
+                case = literal if read is None else as_text(self.variables.get(read))
                 if case_matches(value, case):
                     return index
         return len(self.cases)

@@ -10,6 +10,7 @@ else that offers the same four methods.
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import py_trees
 from py_trees.common import Status
@@ -95,7 +96,8 @@ class SetBlackboard(py_trees.behaviour.Behaviour):
 
     Args:
         name: The behaviour's name.
-        value: The literal to write, or ``"{entry}"`` to copy that entry's value.
+        value: The literal to write (a string as written, or a value), or ``"{entry}"``
+            to copy that entry's value.
         output_key: The name of the variable written.
         variables: Where both live.
 
@@ -103,10 +105,10 @@ class SetBlackboard(py_trees.behaviour.Behaviour):
         KeyError: On update, ``value`` names an entry that has no value.
     """
 
-    def __init__(self, name: str, value: str, output_key: str, variables: Variables) -> None:
+    def __init__(self, name: str, value: Any, output_key: str, variables: Variables) -> None:
         super().__init__(name)
         self.value = value
-        self.source = entry_name(value)
+        self.source = entry_name(value) if isinstance(value, str) else None
         self.output_key = output_key
         self.variables = variables
 

@@ -1,9 +1,9 @@
-"""Variables held in a plain dict, with write versions: literals and unit tests.
+"""Variables held in a plain dict, with write versions: for unit tests.
 
 :class:`DictVariables` is the smallest :class:`~sar_framework.engine.variables.Variables`:
-the builder gives it to a Switch whose ``variable`` is a literal, and tests give it to
-the blackboard nodes. Like :class:`~sar_framework.engine.variables.BlackboardVariables`
-it counts writes per name (``version``), which SkipUnlessUpdated and WaitValueUpdate read.
+tests give it to the blackboard nodes. Like
+:class:`~sar_framework.engine.variables.BlackboardVariables` it counts writes per name
+(``version``), which SkipUnlessUpdated and WaitValueUpdate read.
 """
 
 from __future__ import annotations

@@ -1,0 +1,91 @@
+"""Pre/post-condition attributes on BT.CPP's control nodes, ticked alike by BT.CPP 4.7.3.
+
+``_skipIf``, ``_failureIf`` and ``_onSuccess`` on a Fallback, a Parallel and a Switch2,
+whose scripts read an entry SetBlackboard writes (Nav2's RecoveryNode, which the checker
+does not have, is covered in tests/engine/test_control_ports.py). The exporter does not
+write the conditions yet, so they are added to its XML here, on the elements of the same
+names.
+"""
+
+from __future__ import annotations
+
+import textwrap
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from interop.scripted import run_checker, run_py_trees, scripted_registry
+from sar_framework.engine.api import load_spec
+from sar_framework.engine.registry import discover
+from sar_framework.interop.btcpp_export import export_btcpp
+
+pytestmark = pytest.mark.timeout(600)
+GENERIC = Path(__file__).resolve().parents[2] / "tests" / "engine" / "plugins_for_tests" / "generic"
+
+#: node name -> its condition attributes (in the YAML and added to the XML).
+CONDITIONS = {
+    "Recover": {"_skipIf": "flag == 1"},
+    "Both": {"_skipIf": "flag == 0", "_onSuccess": "done := 1"},
+    "Choose": {"_failureIf": "flag == 1"},
+}
+
+TREE = """\
+format: 1
+name: t
+root:
+  Sequence:
+    children:
+      - IfThenElse:
+          children:
+            - Tick: {name: Pick}
+            - SetBlackboard: {value: "1", output_key: flag}
+            - SetBlackboard: {value: "0", output_key: flag}
+      - Fallback:
+          name: Recover
+          children: [Tick: {name: Act}, Tick: {name: Fix}]
+      - Parallel:
+          name: Both
+          children: [Tick: {name: P1}, Tick: {name: P2}]
+      - Switch2:
+          name: Choose
+          variable: "{flag}"
+          case_1: "0"
+          case_2: "1"
+          children: [Tick: {name: Zero}, Tick: {name: One}, Tick: {name: Other}]
+"""
+
+
+def _yaml() -> str:
+    text = TREE
+    for name, attrs in CONDITIONS.items():
+        lines = "".join(f"\n          {k}: \"{v}\"" for k, v in attrs.items())
+        text = text.replace(f"name: {name}", f"name: {name}{lines}")
+    return text
+
+
+def _with_conditions(xml: str) -> str:
+    root = ET.fromstring(xml)
+    for element in root.iter():
+        for key, code in CONDITIONS.get(element.get("name", ""), {}).items():
+            element.set(key, code)
+    return ET.tostring(root, encoding="unicode")
+
+
+def test_conditions_on_bt_cpp_controls_tick_as_in_btcpp(btcpp_checker: Path,
+                                                        tmp_path: Path) -> None:
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(_yaml())
+    registry = discover([GENERIC], builtins=False, entry_points=False)
+    xml = tmp_path / "tree.xml"
+    exported = export_btcpp(load_spec(tree, registry=registry), registry)
+    assert "_skipIf" not in exported  # when the exporter writes them, drop _with_conditions
+    xml.write_text(_with_conditions(exported))
+    script = {"Pick": ["SUCCESS", "FAILURE", "FAILURE", "SUCCESS"], "Act": ["FAILURE", "SUCCESS"],
+              "P1": ["RUNNING", "SUCCESS"]}
+    ours = run_py_trees(tree, scripted_registry(registry), script, 6, all_ticks=True)
+    theirs = run_checker(btcpp_checker, xml, script, 6, all_ticks=True)
+    assert theirs == ours
+    shown = textwrap.indent("\n".join(ours), "  ")
+    assert "visit P1 RUNNING" in shown and "visit Fix SUCCESS" in shown  # both were ticked
+    assert "tick 2 FAILURE" in shown  # Choose's _failureIf

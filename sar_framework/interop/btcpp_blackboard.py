@@ -159,17 +159,18 @@ def merged_section(declared: dict[str, dict[str, Any]] | None,
         initial value is converted to the declared type (a list from ``a;b``).
     """
     section = {name: dict(decl) for name, decl in (declared or {}).items()}
-    for name, value in initial.items():
-        decl = section.setdefault(name, {"type": _literal_type(value)})
-        kind = decl.get("type", "any")
-        if isinstance(value, str) and kind == "list":
-            value = [part for part in value.split(";") if part] if value else []
-        elif isinstance(value, str):
-            value = convert_literal(value, kind)
-        elif kind == "float" and isinstance(value, int):
-            value = float(value)
-        decl["initial"] = value
+    for name, written in initial.items():
+        decl = section.setdefault(name, {"type": _literal_type(written)})
+        decl["initial"] = _typed(written, decl.get("type", "any"))
     return {name: _ordered(decl) for name, decl in section.items()}
+
+
+def _typed(value: Any, kind: str) -> Any:
+    if isinstance(value, str) and kind == "list":
+        return [part for part in value.split(";") if part]
+    if isinstance(value, str):
+        return convert_literal(value, kind)
+    return float(value) if kind == "float" and isinstance(value, int) else value
 
 
 def _literal_type(value: Any) -> str:
@@ -180,3 +181,36 @@ def _ordered(decl: dict[str, Any]) -> dict[str, Any]:
     keys = ("type", "initial", "description")
     return {k: decl[k] for k in keys if k in decl} | {k: v for k, v in decl.items()
                                                         if k not in keys}
+
+
+def scope_section(declared: Element | None,
+                  initial: dict[str, Any] | None) -> dict[str, dict[str, Any]] | None:
+    """The ``blackboard:`` section our export wrote for one tree, else None.
+
+    Args:
+        declared: The tree's ``<Blackboard>`` element, if the file has one.
+        initial: The values its initial-value wrapper sets, if it has one.
+    """
+    if declared is None and initial is None:
+        return None
+    return merged_section(read_declarations(declared) if declared is not None else None,
+                          initial or {})
+
+
+def with_private(definition: Any, body: Any, section: dict[str, dict[str, Any]]) -> Any:
+    """A subtree definition with ``section`` as its ``blackboard:``.
+
+    Args:
+        definition: The definition so far: its root ``body``, or the long form.
+        body: The subtree's root node.
+        section: Its declarations.
+
+    Returns:
+        The long form ``{ports, blackboard, root}``.
+    """
+    if definition is body:
+        return {"blackboard": section, "root": body}
+    definition.pop("blackboard", None)
+    root = definition.pop("root")
+    definition.update(blackboard=section, root=root)
+    return definition

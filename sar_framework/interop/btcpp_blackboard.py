@@ -63,9 +63,20 @@ def script_literal(value: Any) -> str:
 
 
 def initial_code(declared: Mapping[str, Declared]) -> str:
-    """The script assigning every declared initial value (empty when there is none)."""
-    return "; ".join(f"{name} := {script_literal(decl.initial)}"
-                     for name, decl in declared.items() if decl.initial is not NO_DEFAULT)
+    """The script assigning every declared initial value (empty when there is none).
+
+    Raises:
+        ValueError: ``file:line:col: error: ...`` at a value the script cannot write.
+    """
+    parts = []
+    for name, decl in declared.items():
+        if decl.initial is NO_DEFAULT:
+            continue
+        try:
+            parts.append(f"{name} := {script_literal(decl.initial)}")
+        except ValueError as exc:
+            raise ValueError(f"{decl.where}: error: '{name}': {exc}") from None
+    return "; ".join(parts)
 
 
 def with_initial(root: ET.Element, declared: Mapping[str, Declared]) -> ET.Element:

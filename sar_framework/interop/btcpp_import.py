@@ -28,11 +28,7 @@ from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
 from sar_framework.interop import mapping
-from sar_framework.interop.btcpp_blackboard import (
-    scope_section,
-    unwrap_initial,
-    with_private,
-)
+from sar_framework.interop.btcpp_blackboard import scope_section, unwrap_initial, with_private
 from sar_framework.interop.btcpp_entries import (
     Insertion,
     TreeUses,

@@ -66,6 +66,7 @@ class Bindings:
     def main_scope(self, doc: Document) -> DataScope:
         """Return the main tree's scope, with its ``blackboard:`` entries declared."""
         scope = DataScope("", "the main tree", self.blackboard(doc, ("blackboard",)))
+        self.entries.scopes[""] = dict(scope.declared or {})
         for name, decl in (scope.declared or {}).items():
             self.entries.declare(f"/{name}", decl)
         return scope
@@ -82,6 +83,7 @@ class Bindings:
             return value, at, None, None
         ports = self.subtree_ports(doc, (*at, "ports"))
         local = self.blackboard(doc, (*at, "blackboard"), caller_sets=False)
+        self.entries.scopes.setdefault(name, dict(local or {}))
         return value["root"], (*at, "root"), ports, local
 
     def type_of(self, doc: Document, path: DocPath, given: Any) -> str:

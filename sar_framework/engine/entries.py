@@ -141,6 +141,9 @@ class Entries:
         self.initial: dict[str, Any] = {}
         self.reads: dict[str, list[Use]] = {}
         self.writes: dict[str, list[Use]] = {}
+        #: Each scope's ``blackboard:`` section as declared: ``""`` for the main tree,
+        #: else the subtree definition's name.
+        self.scopes: dict[str, dict[str, Declared]] = {}
 
     def declare(self, key: str, entry: Declared) -> None:
         """Note a declaration of ``key`` (and its initial value)."""

@@ -19,7 +19,7 @@ from enum import Enum
 from typing import Any
 
 from sar_framework.engine.diagnostics import SourceLocation
-from sar_framework.engine.entries import Entry
+from sar_framework.engine.entries import Declared, Entry
 from sar_framework.engine.ports import PortBinding
 
 
@@ -101,6 +101,8 @@ class TreeSpec:
         format: The format version (1).
         plugin_paths: Extra plugin modules/dirs the file named, resolved to absolute paths.
         entries: Every blackboard entry the tree uses, by absolute key (type, initial value).
+        declarations: Each scope's ``blackboard:`` section as written (``""``: the main
+            tree; else a subtree definition's name): name -> declaration, in file order.
     """
 
     name: str
@@ -110,6 +112,7 @@ class TreeSpec:
     format: int = 1
     plugin_paths: list[str] = field(default_factory=list)
     entries: dict[str, Entry] = field(default_factory=dict)
+    declarations: dict[str, dict[str, Declared]] = field(default_factory=dict)
 
     def nodes(self) -> Iterator[NodeSpec]:
         """Yield every node of the tree, depth first."""

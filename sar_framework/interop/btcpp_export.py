@@ -9,7 +9,9 @@ palette declares them; BT.CPP's own nodes need no model); a leaf's ports
 ``output_port``, ``inout_port``), C++ type (none for ``any``), default and description.
 Leaf params and port bindings (``{key}`` or literals) are written when they differ from
 the declared default, and a leaf's ``name`` when it is not the plugin name (BT.CPP's
-default too); reference params carry the referenced leaf's ``id``.
+default too); reference params carry the referenced leaf's ``id``. Each scope's
+``blackboard:`` section is written as :mod:`.btcpp_blackboard` says: a run-once ``Script``
+of its initial values before its root, and a ``<Blackboard>`` element of its declarations.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from sar_framework.engine.plugin import REQUIRED, PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.interop.btcpp_blackboard import declarations_element, with_initial
 from sar_framework.interop.btcpp_models import cpp_type
 from sar_framework.interop.btcpp_scripts import condition_scripts
 from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
@@ -38,8 +41,9 @@ ID_PORT_TEXT = "Unique id of this leaf; other leaves' reference ports name it."
 class _Exporter:
     """Walks a spec once, collecting subtree definitions and the models used."""
 
-    def __init__(self, registry: Registry) -> None:
+    def __init__(self, registry: Registry, spec: TreeSpec) -> None:
         self.registry = registry
+        self.declarations = spec.declarations
         self.subtrees: dict[str, ET.Element] = {}
         self.leaf_models: dict[str, PluginSpec] = {}
         self.custom_models: set[str] = set()
@@ -49,7 +53,9 @@ class _Exporter:
         if node.subtree is not None and node.subtree != inside:
             if node.subtree not in self.subtrees:
                 self.subtrees[node.subtree] = ET.Element("placeholder")  # recursion guard
-                self.subtrees[node.subtree] = self.element(node, inside=node.subtree)
+                self.subtrees[node.subtree] = with_initial(
+                    self.element(node, inside=node.subtree),
+                    self.declarations.get(node.subtree, {}))
             return ET.Element("SubTree", {"ID": node.subtree, **insertion_ports(node)})
         element = self.node(node)
         for name, text in condition_scripts(node.scripts).items():
@@ -144,8 +150,8 @@ def export_btcpp(spec: TreeSpec, registry: Registry) -> str:
     Returns:
         The XML document, indented, with an XML declaration.
     """
-    exporter = _Exporter(registry)
-    main = exporter.element(spec.root)
+    exporter = _Exporter(registry, spec)
+    main = with_initial(exporter.element(spec.root), spec.declarations.get("", {}))
     root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": spec.name})
     tree = ET.SubElement(root, "BehaviorTree", {"ID": spec.name})
     if spec.description:
@@ -153,6 +159,10 @@ def export_btcpp(spec: TreeSpec, registry: Registry) -> str:
     tree.append(main)
     for name, body in exporter.subtrees.items():
         ET.SubElement(root, "BehaviorTree", {"ID": name}).append(body)
+    for name, scope in [(spec.name, ""), *((n, n) for n in exporter.subtrees)]:
+        declared = declarations_element(name, spec.declarations.get(scope, {}))
+        if declared is not None:
+            root.append(declared)
     root.append(exporter.models())
     ET.indent(root, space="  ")
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, "unicode") + "\n"

@@ -18,6 +18,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sar_framework.interop.btcpp_blackboard import DECLARATIONS_TAG
 from sar_framework.interop.btcpp_models import NodeModel, read_models
 from sar_framework.interop.xml_source import Element, Problem, XmlError, read_xml
 
@@ -38,12 +39,15 @@ class BtcppFile:
         trees: Tree ID -> where it is, in document order (includes first, as BT.CPP).
         main: The main tree's ID, or None when it cannot be told (see problems).
         models: Node ID -> model, from the files' ``<TreeNodesModel>``.
+        declarations: Tree ID -> its ``<Blackboard>`` element (our export's declarations
+            of that tree's ``blackboard:`` section; BT.CPP ignores it).
         problems: Every problem, in reading order.
     """
 
     trees: dict[str, TreeSource] = field(default_factory=dict)
     main: str | None = None
     models: dict[str, NodeModel] = field(default_factory=dict)
+    declarations: dict[str, Element] = field(default_factory=dict)
     problems: list[Problem] = field(default_factory=list)
 
 
@@ -106,11 +110,13 @@ class _Reader:
                                                 "would silently keep this one"))
             self.result.trees[tree_id] = TreeSource(element, file)
         for element in root.children:
-            if element.tag not in ("include", "TreeNodesModel", "BehaviorTree"):
+            if element.tag == DECLARATIONS_TAG and element.attrs.get("ID"):
+                self.result.declarations[element.attrs["ID"]] = element
+            elif element.tag not in ("include", "TreeNodesModel", "BehaviorTree"):
                 self.result.problems.append(_at(file, element, f"unexpected <{element.tag}> "
                                                 "under <root> (BT.CPP reads only "
                                                 "<BehaviorTree>, <TreeNodesModel> and "
-                                                "<include>)"))
+                                                "<include>; ours also <Blackboard ID=...>)"))
 
     def add_models(self, element: Element, file: str) -> None:
         models, problems = read_models(element, file)

@@ -28,6 +28,7 @@ from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
 from sar_framework.interop import mapping
+from sar_framework.interop.btcpp_blackboard import scope_section, unwrap_initial, with_private
 from sar_framework.interop.btcpp_entries import (
     Insertion,
     TreeUses,
@@ -94,6 +95,8 @@ class _Importer:
         self.draft_uses: list[tuple[str, LeafDraft, set[str], str]] = []
         self.uses: dict[str, TreeUses] = {}
         self.literals: list[tuple[dict[str, Any], str, str, LeafDraft]] = []
+        #: Tree ID -> the initial values its exported wrapper sets (see .btcpp_blackboard).
+        self.initial: dict[str, dict[str, Any]] = {}
 
     def problem(self, element: Element, message: str) -> None:
         self.problems.append(Problem(self.file, element.line, element.column, message))
@@ -106,12 +109,21 @@ class _Importer:
             self.problem(where.element, f"<BehaviorTree ID=\"{tree}\"> must hold exactly one "
                          f"node, it holds {len(where.element.children)} (BT.CPP refuses it)")
             return None
-        return self.node(where.element.children[0])
+        top = where.element.children[0]
+        unwrapped = unwrap_initial(top)
+        if unwrapped is not None:
+            top, self.initial[tree] = unwrapped
+            self.at = f"{self.file}:{where.element.line}:{where.element.column}"
+            for name in self.initial[tree]:
+                self.use(name, PortModel("code", "output", "any"),
+                         f"<BehaviorTree ID=\"{tree}\">'s initial values", "code")
+        return self.node(top)
 
-    def use(self, entry: str, port: PortModel | None, node: str) -> None:
+    def use(self, entry: str, port: PortModel | None, node: str, name: str) -> None:
+        """Record port ``name`` bound to ``{entry}`` (``{=}``: the entry named like it)."""
         direction = port.direction if port is not None else "inout"
         self.uses[self.tree].uses.append(Use(
-            entry, direction != "output", direction != "input",
+            name if entry == "=" else entry, direction != "output", direction != "input",
             port.type if port is not None else "any", node, self.at))
 
     def node(self, element: Element) -> dict[str, Any] | None:
@@ -145,7 +157,7 @@ class _Importer:
         for message in errors:
             self.problem(element, message)
         for name, port, who in uses:
-            self.use(name, port, who)
+            self.use(name, port, who, port.name)
         return not errors
 
     def node_body(self, element: Element, tag: str,
@@ -162,7 +174,7 @@ class _Importer:
                 continue
             attr = kind.attr(key)  # type: ignore[union-attr]
             if key in ENTRY_PORTS and tag in KINDS:
-                self.use(entry_key(value) or "", None, f"<{tag}> port '{key}'")
+                self.use(entry_key(value) or "", None, f"<{tag}> port '{key}'", key)
             elif attr is None or attr.port is None:
                 self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
                              f"'{value}'; ours takes a fixed value here: give one")
@@ -211,7 +223,7 @@ class _Importer:
                 continue
             port = attr.port
             self.use(entry, PortModel(name, port.direction.value, port.type),
-                     f"<{tag}> port '{name}'")
+                     f"<{tag}> port '{name}'", name)
 
     def default_uses(self) -> None:
         """Record the entries scaffolded ports use by default where the file leaves them."""
@@ -259,7 +271,7 @@ class _Importer:
             entry = entry_key(text)
             if entry is not None:
                 self.use(entry, model.port(key) if model is not None else None,
-                         f"<{tag}> port '{key}'")
+                         f"<{tag}> port '{key}'", key)
                 body[key] = text
             else:
                 body[key] = text
@@ -301,7 +313,7 @@ class _Importer:
             elif key in declared:
                 entry = entry_key(text)
                 if entry is not None:
-                    self.use(entry, declared[key], f"<{tag}> port '{key}'")
+                    self.use(entry, declared[key], f"<{tag}> port '{key}'", key)
                     body[key] = text
                 else:
                     body[key] = convert_literal(text, declared[key].type)
@@ -398,7 +410,10 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
     if description:
         document["description"] = description
     main_uses = effective_uses(main_tree, importer.uses)
-    if caller_inputs(main_uses):
+    section = scope_section(source.declarations.get(main_tree), importer.initial.get(main_tree))
+    if section is not None:
+        document["blackboard"] = section
+    elif caller_inputs(main_uses):
         document["blackboard"] = blackboard_declarations(main_uses, Path(file).name)
     subtrees = {}
     for name, body in bodies.items():
@@ -409,7 +424,11 @@ def import_btcpp(root: Element, file: str, registry: Registry, *, main: str | No
                 name, body, importer.uses, insertions=insertions,
                 uses_written=importer.subtree_bodies.get(name, []),
                 model=source.models.get(name), source=Path(source.trees[name].file).name)
+            private = scope_section(source.declarations.get(name), importer.initial.get(name))
+            if private is not None:
+                subtrees[name] = with_private(subtrees[name], body, private)
     if subtrees:
         document["subtrees"] = subtrees
     document["root"] = bodies[main_tree]
     return ImportResult(document, [], drafts, importer.warnings)
+

@@ -67,7 +67,12 @@ def run_export(args: argparse.Namespace) -> int:
         if result.library is not None and not result.diagnostics:
             _complain(f"{args.tree}: a library of subtrees has no root to export")
         return EXIT_ERRORS
-    return _write(export_btcpp(result.spec, result.registry), args.output)
+    try:
+        text = export_btcpp(result.spec, result.registry)
+    except ValueError as exc:  # a value BT.CPP's XML cannot carry, located
+        _complain(str(exc))
+        return EXIT_ERRORS
+    return _write(text, args.output)
 
 
 def _document_yaml(document: dict[str, Any], source: str) -> str:

@@ -11,7 +11,7 @@ from sar_framework.cli import main
 from sar_framework.engine.api import load_spec
 from sar_framework.engine.node_kinds import PY_TREES_KINDS
 from sar_framework.engine.registry import default_registry, extend
-from sar_framework.engine.spec import NodeSpec
+from sar_framework.engine.spec import NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_import import import_btcpp
 from sar_framework.interop.xml_source import parse_xml
 
@@ -29,19 +29,26 @@ def shape(node: NodeSpec) -> tuple[Any, ...]:
             [shape(child) for child in node.children])
 
 
+def declarations(spec: TreeSpec) -> dict[str, list[tuple[Any, ...]]]:
+    """Each scope's ``blackboard:`` section: (name, type, initial, description) in order."""
+    return {scope: [(d.name, d.type, d.initial, d.description) for d in declared.values()]
+            for scope, declared in spec.declarations.items() if declared}
+
+
 @pytest.mark.parametrize("tree", TREES, ids=[p.name for p in TREES])
 def test_yaml_to_xml_to_yaml_gives_the_same_tree(tree: Path, tmp_path: Path,
                                                  capsys: pytest.CaptureFixture[str]) -> None:
     """Leaves and BT.CPP kinds come back as they were; a py_trees kind with a BT.CPP twin
     (``sequence``, ``retry``...) comes back as that BT.CPP kind: the XML is a fixed point."""
     xml, back, again = tmp_path / "tree.xml", tmp_path / "back.yaml", tmp_path / "again.xml"
-    plugins = ["--plugin-path", str(TUTORIAL_PLUGINS)]
+    plugins = ["--plugin-path", str(TUTORIAL_PLUGINS.parent)]  # every tutorial plugin
     assert main(["export", str(tree), "-o", str(xml), *plugins]) == 0
     assert main(["import", str(xml), "-o", str(back), *plugins]) == 0, capsys.readouterr().err
     assert main(["export", str(back), "-o", str(again), *plugins]) == 0
     assert again.read_text() == xml.read_text()
     original, loaded = load_spec(tree), load_spec(back)
     assert (loaded.name, loaded.description) == (original.name, original.description)
+    assert declarations(loaded) == declarations(original)
     if not any(n.kind in PY_TREES_KINDS for n in original.nodes()):
         assert shape(loaded.root) == shape(original.root)
 

@@ -25,9 +25,10 @@ launch: setup  ## the reference mission under ros2 launch (real launch/launch_ro
 	@$(BIN)/ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded
 
 # Two worker processes (pytest-xdist), each on a ROS domain of its own; a file's tests stay
-# on one worker, so a module's shared mission runs once.
+# on one worker, so a module's shared mission runs once; files with slow tests go first
+# (tests/conftest.py), in that order.
 PYTEST_WORKERS ?= 2
-XDIST := -n $(PYTEST_WORKERS) --dist loadfile
+XDIST := -n $(PYTEST_WORKERS) --dist loadfile --no-loadscope-reorder
 
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@$(BIN)/python -m pytest -q -p no:cacheprovider $(XDIST); rc=$$?; \

@@ -17,9 +17,15 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
+# Two test workers (and other work) share the cores: a property test's examples are the same,
+# only timing-based health checks and deadlines would fail them at random.
+settings.register_profile("shared_cores", deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("shared_cores")
 _lease: DomainLease | None = None
 
 
@@ -53,11 +59,15 @@ def pytest_report_header(config: pytest.Config) -> str:
 def slow_first(items: list[pytest.Item]) -> None:
     """Put the files holding ``slow`` tests first, each file's tests kept together, in order.
 
+    Files that need the BehaviorTree.CPP checker count as slow: its first build takes
+    minutes.
+
     Under ``-n 2 --dist loadfile --no-loadscope-reorder`` the workers take files in this
     order: the long end-to-end files start at once and the many quick files fill the gaps,
     instead of two long files left for the end.
     """
-    slow_files = {item.path for item in items if "slow" in item.keywords}
+    slow_files = {item.path for item in items if "slow" in item.keywords
+                  or "btcpp_checker" in getattr(item, "fixturenames", ())}  # a C++ build
     items.sort(key=lambda item: item.path not in slow_files)  # stable: file order kept
 
 

@@ -121,6 +121,7 @@ print("STARTED", flush=True)
 SHUT_DOWN_AND_LIVE_ON = "rclpy.shutdown()\nimport time\ntime.sleep(3.0)\n"
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(basic_navigator_class() is None,
                     reason="real-stack tier: nav2_simple_commander is not installed")
 @pytest.mark.parametrize("end", ["", SHUT_DOWN_AND_LIVE_ON], ids=["exit", "shutdown-then-live"])

@@ -152,6 +152,10 @@ def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
                     return "EXIT=" in text
 
                 spin_until(executor, over, 150.0)
+                drawn_tick = re.search(r"search_and_rescue  tick (\d+)", seen["final"])
+                if snapshots and drawn_tick:  # its snapshot may still be on its way
+                    spin_until(executor, lambda: int(drawn_tick.group(1)) in seen["by_tick"],
+                               5.0)
             seen["code"] = mission.wait(timeout=30)
         finally:
             mission.stop()

@@ -24,14 +24,20 @@ launch: setup  ## the reference mission under ros2 launch (real launch/launch_ro
 	@[ -x $(BIN)/ros2 ] || { echo "make launch needs the ROS 2 stack in .venv: run make setup with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC=DIR" >&2; exit 2; }
 	@$(BIN)/ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded
 
+# Two worker processes (pytest-xdist), each on a ROS domain of its own; a file's tests stay
+# on one worker, so a module's shared mission runs once; files with slow tests go first
+# (tests/conftest.py), in that order.
+PYTEST_WORKERS ?= 2
+XDIST := -n $(PYTEST_WORKERS) --dist loadfile --no-loadscope-reorder
+
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
-	@$(BIN)/python -m pytest -q -p no:cacheprovider; rc=$$?; \
+	@$(BIN)/python -m pytest -q -p no:cacheprovider $(XDIST); rc=$$?; \
 	  [ $$rc -ne 5 ] || echo "make test: pytest collected no tests" >&2; exit $$rc
 	@$(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider tests/engine; rc=$$?; \
 	  [ $$rc -ne 5 ] || echo "make test: no engine tests collected" >&2; exit $$rc
 
 test-fast: setup  ## tests without the slow end-to-end runs
-	@$(BIN)/python -m pytest -q -p no:cacheprovider -m "not slow"
+	@$(BIN)/python -m pytest -q -p no:cacheprovider $(XDIST) -m "not slow"
 
 lint: setup  ## ruff check
 	@$(BIN)/ruff check sar_framework plugins tests benchmarks tools launch

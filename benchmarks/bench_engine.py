@@ -5,7 +5,8 @@ competes for the CPU):
 
 * ``sar-tree validate`` of trees/search_and_rescue.yaml, the whole process, against
   ``python -c "import yaml, jsonschema"`` (the two libraries validation needs), the
-  commands alternating so that they share the machine's noise; goal: ratio <= 1.3. Twice:
+  commands alternating so that they share the machine's noise; the ratio is context, not a
+  goal (a validate of about 150 ms is not a cost a user feels; issue 19). Twice:
   without ``.pyc`` files for sources that have none (``PYTHONDONTWRITEBYTECODE=1`` and an
   editable install: ours are compiled on every run) and with them (as a regular install
   has). Beside it, for scale: the floor plus the built-in plugins (what validating must
@@ -287,7 +288,7 @@ def process_rows(runs: int, baseline: Path | None) -> list[tuple[str, str, str]]
         times = process_times(runs, bytecode, baseline)
         mode = "with .pyc" if bytecode else "no .pyc"
         rows.append(ratio_row(f"sar-tree validate, reference tree ({mode})", times,
-                              "validate", 1.3))
+                              "validate", None))
         if baseline is not None:
             rows.append(ratio_row(f"  baseline {baseline} ({mode})", times, "baseline", None))
         rows += [

@@ -1,8 +1,13 @@
 """Test-run set-up shared by every test.
 
-The whole run gets a ROS environment of its own before anything imports rclpy:
-loopback-only discovery and a ROS_DOMAIN_ID leased for the run (see sar_testing.ros_env).
-Child processes inherit it.
+Each test process gets a ROS environment of its own before anything imports rclpy:
+loopback-only discovery and a ROS_DOMAIN_ID leased for it (see sar_testing.ros_env). Under
+pytest-xdist (``-n 2``) every worker process leases its own domain, so the missions two
+workers run at once never see each other's nodes; the controller, which runs no test,
+leases none. Child processes inherit their test process's domain.
+
+Tests marked ``soak`` (long repetitions under load) run only when asked for by name:
+``-m soak``.
 """
 
 from __future__ import annotations
@@ -12,15 +17,28 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
+# Two test workers (and other work) share the cores: a property test's examples are the same,
+# only timing-based health checks and deadlines would fail them at random.
+settings.register_profile("shared_cores", deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("shared_cores")
 _lease: DomainLease | None = None
 
 
+def is_xdist_controller(config: pytest.Config) -> bool:
+    """Whether this process hands the tests to xdist workers instead of running them."""
+    return not hasattr(config, "workerinput") and bool(config.getoption("numprocesses", None))
+
+
 def pytest_configure(config: pytest.Config) -> None:
-    """Lease a domain id and set the ROS environment for this run."""
+    """Lease a domain id and set the ROS environment for this test process."""
     global _lease  # noqa: PLW0603 - one lease per test process
+    if is_xdist_controller(config):
+        return
     _lease = lease_domain_id()
     apply_local_ros_env(_lease.domain_id)
 
@@ -33,11 +51,38 @@ def pytest_unconfigure(config: pytest.Config) -> None:
 
 def pytest_report_header(config: pytest.Config) -> str:
     """Show which domain this run uses."""
+    if is_xdist_controller(config):
+        return "ROS: LOCALHOST discovery, a ROS_DOMAIN_ID leased by each worker"
     return f"ROS: LOCALHOST discovery, ROS_DOMAIN_ID={_lease.domain_id if _lease else '?'}"
 
 
+def slow_first(items: list[pytest.Item]) -> None:
+    """Put the files holding ``slow`` tests first, each file's tests kept together, in order.
+
+    Files that need the BehaviorTree.CPP checker count as slow: its first build takes
+    minutes.
+
+    Under ``-n 2 --dist loadfile --no-loadscope-reorder`` the workers take files in this
+    order: the long end-to-end files start at once and the many quick files fill the gaps,
+    instead of two long files left for the end.
+    """
+    slow_files = {item.path for item in items if "slow" in item.keywords
+                  or "btcpp_checker" in getattr(item, "fixturenames", ())}  # a C++ build
+    items.sort(key=lambda item: item.path not in slow_files)  # stable: file order kept
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Skip ROS tests, with a reason, in an environment without rclpy (the compat venv)."""
+    """Leave out soak tests unless ``-m`` names them; skip ROS tests without rclpy.
+
+    ROS tests are skipped, with a reason, in an environment without rclpy (the compat venv).
+    """
+    if "soak" not in (config.getoption("markexpr", "") or ""):
+        soak = [item for item in items if "soak" in item.keywords]
+        if soak:
+            config.hook.pytest_deselected(items=soak)
+            items[:] = [item for item in items if "soak" not in item.keywords]
+    if hasattr(config, "workerinput"):
+        slow_first(items)
     if importlib.util.find_spec("rclpy") is not None:
         return
     skip = pytest.mark.skip(reason="rclpy is not installed in this interpreter")

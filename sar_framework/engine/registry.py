@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import importlib.metadata
 import importlib.util
 import pkgutil
 import threading
@@ -27,7 +28,6 @@ from types import ModuleType
 from typing import Any
 
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
-from sar_framework.engine.entry_points import declared_anywhere
 from sar_framework.engine.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
 from sar_framework.engine.plugin_import import (
@@ -249,10 +249,6 @@ class Registry:
 
     def import_entry_points(self) -> None:
         """Register the plugins of every installed ``sar_framework.plugins`` entry point."""
-        if not declared_anywhere(ENTRY_POINT_GROUP):
-            return  # no installed distribution names the group: nothing to load
-        import importlib.metadata
-
         try:
             points = importlib.metadata.entry_points(group=ENTRY_POINT_GROUP)
         except Exception as exc:  # broken metadata of some installed distribution

@@ -184,12 +184,16 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
     finally:
         if probe is not None:
             probe.close()
-        if waiter.is_alive():  # it spins the node: leave both to the shutdown
-            atexit.register(_join_after_shutdown, waiter)
-    if failure:
-        raise Nav2StartupError(f"BasicNavigator.waitUntilNav2Active failed: {failure[0]}")
-    if not waiter.is_alive():
+        failed = list(failure)  # what the waiter met before we stopped listening
+        # Destroyed even while the waiter still waits for a reply DDS dropped: its loop can
+        # then only end in InvalidHandle (caught in _wait_quietly). Left alive, it asked
+        # rclpy for a new global executor after the context's shutdown, which rclpy cannot
+        # build any more ("Exception ignored in: Executor.__del__" and a traceback).
         nav.destroy_node()
+        if waiter.is_alive():  # inside the global executor's wait until the shutdown
+            atexit.register(_join_after_shutdown, waiter)
+    if failed:
+        raise Nav2StartupError(f"BasicNavigator.waitUntilNav2Active failed: {failed[0]}")
     _log(logger, "Nav2 is ACTIVE and AMCL has its initial pose")
 
 

@@ -76,6 +76,7 @@ from sar_framework.ros.status_file import (
     startup_failure_document,
     write_json_atomically,
 )
+from sar_framework.ros.stop_signals import stopping
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -113,7 +114,8 @@ class StopRequest:
 
     def _handle(self, signum: int, _frame: FrameType | None) -> None:
         if self.requested:
-            return  # Ctrl-C seen twice (terminal and launch): the shutdown is already bounded
+            return  # a SIGTERM after the first stop: the shutdown is already bounded
+        stopping()  # Ctrl-C seen twice (terminal and launch): the second is ignored
         self.requested = True
         self.signal_name = signal.Signals(signum).name
 

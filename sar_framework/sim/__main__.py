@@ -63,6 +63,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from rclpy.logging import get_logger
     from rclpy.signals import SignalHandlerOptions
 
+    from sar_framework.ros.stop_signals import stopping
     from sar_framework.sim.sim_node import SimConfigError, Simulator
 
     # Our own handlers: rclpy's would shut the context down before a goal in flight
@@ -71,6 +72,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     stop = threading.Event()
 
     def request_stop(_signum: int, _frame: FrameType | None) -> None:
+        if not stop.is_set():
+            stopping()  # a second Ctrl-C (terminal and launch) must not end the stop early
         stop.set()
 
     signal.signal(signal.SIGINT, request_stop)

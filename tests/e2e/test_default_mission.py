@@ -1,4 +1,13 @@
-"""The reference mission through ``sar-tree run``: the spec's expected run, exactly."""
+"""The reference mission through ``sar-tree run``: the spec's expected run, exactly.
+
+One run for the module (``--keep-alive``); while it stays up after the mission, /tf_static is
+probed twice: by a late subscriber that keeps every message, and as ``ros2 topic echo
+/tf_static --once`` sees it. ``--once`` prints the first message a late subscriber gets. With
+the stand-in broadcaster at depth 100 that was the first of all past messages, holding only
+survivor_1; tf2_ros's broadcaster keeps one message with every frame. Where the ros2 CLI is
+installed it is run itself; elsewhere an rclpy subscriber with the QoS ``ros2 topic echo``
+picks stands in.
+"""
 
 from __future__ import annotations
 
@@ -11,6 +20,7 @@ from pathlib import Path
 
 import pytest
 from sar_testing.leaf_harness import TfStaticRecorder
+from sar_testing.ros2_cli import ros2_executable, run_ros2
 from sar_testing.spin import ros_node, spin_until
 
 from .helpers import (
@@ -65,6 +75,29 @@ def _in_order(text: str, lines: list[str]) -> None:
         start, last = max(start, found + 1), max(last, printed[found][0])
 
 
+def first_message_frames() -> list[str]:
+    """The child frames of the first /tf_static message a late ``echo``-like subscriber gets."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from tf2_msgs.msg import TFMessage
+
+    qos = QoSProfile(depth=5, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)  # sensor_data, adapted
+    with ros_node("tf_static_echo_once") as (node, executor):
+        messages: list[TFMessage] = []
+        node.create_subscription(TFMessage, "/tf_static", messages.append, qos)
+        assert spin_until(executor, lambda: bool(messages), 15.0), "no /tf_static message"
+        return [t.child_frame_id for t in messages[0].transforms]
+
+
+def echo_once_frames() -> list[str]:
+    """The child frames ``ros2 topic echo /tf_static --once`` prints (or its stand-in)."""
+    if ros2_executable() is None:
+        return first_message_frames()
+    echoed = run_ros2("topic", "echo", "/tf_static", "--once")
+    return [line.split(":", 1)[1].strip() for line in echoed.splitlines()
+            if line.strip().startswith("child_frame_id:")]
+
+
 @pytest.fixture(scope="module")
 def default_run(tmp_path_factory: pytest.TempPathFactory) -> dict:
     """Run the default mission once with --keep-alive, probe /tf_static, then Ctrl-C."""
@@ -78,12 +111,16 @@ def default_run(tmp_path_factory: pytest.TempPathFactory) -> dict:
             spin_until(executor, lambda: {"survivor_1", "survivor_2"} <= recorder.child_frames(),
                        timeout=15)
             transforms = {t.child_frame_id: t for m in recorder.messages for t in m.transforms}
+        try:
+            echoed = echo_once_frames()
+        except AssertionError as err:  # reported by its own test, not by every test here
+            echoed = [f"<the echo found nothing: {err}>"]
         process.send_signal(signal.SIGINT)
         code = process.wait(timeout=10)
     finally:
         process.stop()
     return {"code": code, "output": process.output, "report": report, "children": children,
-            "transforms": transforms}
+            "transforms": transforms, "echo_once": echoed}
 
 
 def test_exits_zero_and_prints_the_spec_lines_in_order(default_run: dict) -> None:
@@ -105,6 +142,11 @@ def test_a_late_tf_static_subscriber_sees_both_survivor_frames(default_run: dict
         assert t.header.frame_id == "map"
         assert (t.transform.translation.x, t.transform.translation.y) == pytest.approx((x, y))
         assert t.transform.rotation.w == pytest.approx(1.0)
+
+
+def test_echo_once_shows_every_survivor(default_run: dict) -> None:
+    echoed = default_run["echo_once"]
+    assert {"survivor_1", "survivor_2"} <= set(echoed), (echoed, default_run["output"][-2000:])
 
 
 def test_no_child_process_outlives_the_run(default_run: dict) -> None:

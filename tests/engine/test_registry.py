@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
 import sys
 import textwrap
 from pathlib import Path
 
 import pytest
 
-from sar_framework.engine.registry import discover
+from sar_framework.engine.registry import ENTRY_POINT_GROUP, discover
 
-from .conftest import GENERIC_PLUGINS, write
+from .conftest import GENERIC_PLUGINS, VENV_BIN, write
 
 PLUGIN = """
 import py_trees
@@ -205,3 +207,28 @@ def test_a_different_definition_of_an_installed_name_names_both(
         "local/clash.py:4:1: error: plugin 'Clash' is defined twice: in "
         "sar_test_pkg_clash.leaves (site/sar_test_pkg_clash/leaves.py) and in local/clash.py"
     ]
+
+
+def test_validate_imports_installed_plugins_and_reports_their_failures(tmp_path: Path) -> None:
+    site = tmp_path / "site"
+    dist = site / "sar_installed-1.0.dist-info"
+    write(dist, "METADATA", "Metadata-Version: 2.1\nName: sar_installed\nVersion: 1.0\n")
+    write(dist, "entry_points.txt", f"[{ENTRY_POINT_GROUP}]\ngood = sar_installed_good\n"
+          "broken = sar_installed_broken\n")
+    write(site, "sar_installed_good.py", PLUGIN.format(name="FromSite"))
+    write(site, "sar_installed_broken.py", "X = 1\n\nraise RuntimeError('no hardware')\n")
+    write(tmp_path, "tree.yaml", "format: 1\nroot: {FromSite: {}}\n")
+    code = ("import sys\nfrom sar_framework.cli import main\n"
+            "code = main(['validate', 'tree.yaml'])\n"
+            "print(sys.modules['sar_installed_good'].FromSite.__name__)\nsys.exit(code)\n")
+    path = os.pathsep.join(p for p in (str(site), os.environ.get("PYTHONPATH", "")) if p)
+    run = subprocess.run([str(VENV_BIN / "python"), "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, env=dict(os.environ, PYTHONPATH=path), check=False,
+                         timeout=120)
+    assert run.returncode == 1, run.stderr
+    assert run.stderr.splitlines() == [
+        "site/sar_installed_broken.py:3:1: error: cannot import plugin module "
+        "'sar_installed_broken': RuntimeError: no hardware",
+        "1 error",
+    ]
+    assert run.stdout.splitlines()[-1] == "FromSite"  # imported, not read

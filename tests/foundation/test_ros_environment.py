@@ -8,6 +8,8 @@
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -23,6 +25,21 @@ DISCOVERY_S = 15.0  # discovery across processes takes ~3 s; leave room on a loa
 def test_run_is_isolated_on_loopback_and_own_domain() -> None:
     assert os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
     assert 1 <= int(os.environ["ROS_DOMAIN_ID"]) <= 101
+
+
+def test_each_xdist_worker_leases_a_domain_of_its_own(tmp_path: Path) -> None:
+    pytest.importorskip("xdist", reason="pytest-xdist is not installed")
+    probe = Path(__file__).with_name("xdist_probe.py")
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", "2", str(probe)],
+        cwd=probe.parents[2], capture_output=True, text=True, timeout=120, check=False,
+        env={**os.environ, "SAR_XDIST_PROBE_DIR": str(tmp_path)})
+    assert done.returncode == 0, done.stdout + done.stderr
+    seen = {tuple(f.read_text().split()) for f in tmp_path.glob("*.txt")}
+    by_worker = dict(seen)
+    assert sorted(by_worker) == ["gw0", "gw1"], seen
+    assert len(set(by_worker.values())) == 2, seen  # one domain per worker
+    assert len(seen) == 2, seen  # and each worker kept its own all along
 
 
 def test_detect_survivor_call_between_processes(ros: tuple, tmp_path: Path) -> None:

@@ -445,6 +445,7 @@ def test_recorder_running_lists_only_what_runs_now():
 
 
 @ros
+@pytest.mark.slow
 def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     """trees/search_and_rescue.yaml with the real servers and a quick fake Nav2."""
     reports = tmp_path / "reports.jsonl"

@@ -8,25 +8,20 @@ without a traceback).
 
 from __future__ import annotations
 
-import contextlib
-import os
 import re
-import signal
 import subprocess
-import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from sar_testing import launch_ctrl_c
+from sar_testing.launch_ctrl_c import ROS2, ctrl_c_mid_mission, kill_group
 
-ROS2 = Path(sys.prefix) / "bin" / "ros2"
 pytestmark = [
     pytest.mark.ros, pytest.mark.slow,
     pytest.mark.skipif(not ROS2.exists(), reason="real-stack tier: ros2cli / launch not built "
                        "(make setup with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC)"),
 ]
-LAUNCH = ["launch", "sar_framework", "search_and_rescue.launch.py", "nav2:=embedded"]
 SPEC_LINES = ("--- Zone 1/4: zone_a", "Reached zone_a.", "Broadcast static TF map -> survivor_1",
               "Report received: survivor_1", "No survivor found at zone_b.",
               "All zones visited. Returning to base.", "Reached base station.",
@@ -35,12 +30,7 @@ SPEC_LINES = ("--- Zone 1/4: zone_a", "Reached zone_a.", "Broadcast static TF ma
 
 def launch(tmp_path: Path, *arguments: str) -> subprocess.Popen[str]:
     print("tier: real ROS 2 stack (ros2 launch from .venv)")
-    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), RCUTILS_COLORIZED_OUTPUT="0",
-               PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen(
-        [str(ROS2), *LAUNCH, f"report_file:={tmp_path / 'reports.jsonl'}", *arguments],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-        start_new_session=True)
+    proc = launch_ctrl_c.launch(tmp_path, *arguments)
     STARTED.append(proc)
     return proc
 
@@ -53,22 +43,7 @@ def no_launch_outlives_its_test() -> Iterator[None]:
     """Kill what a failed test left running: later tests must not meet its nodes."""
     yield
     while STARTED:
-        proc = STARTED.pop()
-        # Also after launch itself exited: a launch that failed can leave a child behind.
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(proc.pid, signal.SIGKILL)
-        proc.communicate(timeout=30)
-
-
-def node_names(expected: set[str], bound_s: float) -> list[str]:
-    """``ros2 node list``, asked again until it names every expected node or the bound ends."""
-    deadline = time.monotonic() + bound_s
-    while True:
-        listed = subprocess.run(
-            [str(ROS2), "node", "list", "--no-daemon", "--spin-time", "3"],
-            capture_output=True, text=True, timeout=60, check=True).stdout.split()
-        if expected <= set(listed) or time.monotonic() > deadline:
-            return listed
+        kill_group(STARTED.pop())
 
 
 def test_the_reference_mission_completes_and_is_recorded_under_ros2_launch(tmp_path):
@@ -100,27 +75,9 @@ def test_a_runner_that_fails_fails_the_launch(tmp_path):
 
 
 def test_node_names_are_unique_and_ctrl_c_ends_every_process_cleanly(tmp_path):
-    proc = launch(tmp_path, "speed:=1.0")  # a slow mission: still running when we look
-    lines: list[str] = []
-    deadline = time.monotonic() + 90
-    assert proc.stdout is not None
-    while time.monotonic() < deadline:
-        line = proc.stdout.readline()
-        lines.append(line)
-        if "--- Zone 1/4" in line or not line:
-            break
-    assert any("--- Zone 1/4" in line for line in lines), "".join(lines)
-    expected = {"/sar_mission_runner", "/sar_sim", "/amcl", "/bt_navigator",
-                "/detect_survivor_server", "/report_survivor_server"}
-    listed = node_names(expected, 30.0)  # discovery of a busy process can take a while
-    assert expected <= set(listed), listed
-    assert len(listed) == len(set(listed)), listed
-    os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: launch and its children, and
-    rest, _ = proc.communicate(timeout=60)  # launch forwards SIGINT to them once more
-    output = "".join(lines) + rest
-    assert proc.returncode == 0, output
-    assert "Traceback" not in output and "KeyboardInterrupt" not in output, output
-    for process in ("sar-sim", "sar-detect-survivor-server", "sar-report-survivor-server",
-                    "sar-mission-runner"):
-        assert re.search(rf"\[{process}-\d\]: process has finished cleanly", output), process
-    assert "process has died" not in output, output  # the runner's was "exit code 130"
+    """Every node name listed once; after Ctrl-C launch exits 0, each process finished cleanly.
+
+    The scenario and its checks are shared with ``benchmarks/soak_launch_ctrl_c.py``.
+    """
+    run = ctrl_c_mid_mission(tmp_path)
+    assert run.failures() == [], run.output

@@ -20,6 +20,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 TUTORIAL = REPO / "docs" / "tutorials" / "02_writing_a_plugin.md"
+pytestmark = pytest.mark.slow  # a pip install and two pytest runs in child processes
 BLOCK = re.compile(r"^```(?:python|toml)\n# (battery_leaves/\S+)\n(.*?)^```", re.M | re.S)
 
 

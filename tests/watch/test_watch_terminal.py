@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import shlex
@@ -12,6 +13,7 @@ import time
 import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import py_trees
 import pytest
@@ -71,28 +73,6 @@ def terminal() -> Iterator[Callable[[list[str]], Terminal]]:
 SAR_TREE = [sys.executable, "-m", "sar_framework"]
 
 
-def test_watch_follows_a_mission_and_exits_when_it_is_over(terminal, tmp_path: Path) -> None:
-    screen = terminal([*SAR_TREE, "watch", "--wait", "60"])
-    screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
-    mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"], tmp_path / "report")
-    try:
-        running = screen.wait_for(
-            lambda s: "* NavigateToZone  navigating to zone_" in s and "ticks/s" in s, 60)
-        assert "search_and_rescue  tick " in running
-        assert "* MissionOrReturnToBase [selector]" in running
-        assert "running branch: MissionOrReturnToBase → Patrol → NavigateToZone" in running
-        assert "zone zone_" in running
-        assert "blackboard: no keys written by the leaves" in running
-        final = screen.wait_for(lambda s: "EXIT=" in s, 90)
-        assert mission.wait(timeout=30) == 0
-    finally:
-        mission.stop()
-    assert "EXIT=0" in final
-    assert "✓ NavigateToBase  Reached base station." in final
-    assert "mission over: SUCCESS" in final
-    assert "sar-tree watch: the mission is over;" in final
-
-
 def test_watch_without_a_mission_says_so(terminal) -> None:
     screen = terminal([*SAR_TREE, "watch", "--wait", "2"])
     final = screen.wait_for(lambda s: "EXIT=" in s, 30)
@@ -129,34 +109,84 @@ def open_snapshot_stream(node, executor) -> str:
     return call_service(node, executor, OpenSnapshotStream, found[0], request).topic_name
 
 
-def test_watch_shows_what_the_snapshot_stream_says(terminal, tmp_path: Path) -> None:
-    pytest.importorskip("py_trees_ros_interfaces.msg", reason="py_trees_ros is not installed")
-    from py_trees_ros_interfaces.msg import BehaviourTree
+SYMBOLS = {1: "-", 2: "*", 3: "✓", 4: "✕"}  # py_trees_ros_interfaces' INVALID..FAILURE
+RUNNING = "* NavigateToZone  navigating to zone_"
 
-    symbols = {1: "-", 2: "*", 3: "✓", 4: "✕"}  # the message's INVALID..FAILURE
-    assert set(symbols.values()) == {py_trees.display.unicode_symbols[s]
-                                     for s in py_trees.common.Status}
-    screen = terminal([*SAR_TREE, "watch", "--wait", "60"])
-    screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
-    mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"], tmp_path / "report")
-    by_tick: dict[int, list[tuple[str, str]]] = {}
+
+@pytest.fixture(scope="module")
+def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """One mission at speed 10, followed by ``sar-tree watch`` in a terminal and, where
+    py_trees_ros is installed, by a listener of the runner's snapshot stream.
+
+    Returns the watch's screen while a zone goal runs (``running``) and at its end
+    (``final``), the mission's exit code and the stream's statuses by tick (``by_tick``).
+    """
+    snapshots = importlib.util.find_spec("py_trees_ros_interfaces") is not None
+    screen = Terminal([*SAR_TREE, "watch", "--wait", "60"])
+    seen: dict[str, Any] = {"running": "", "final": "", "by_tick": {}, "snapshots": snapshots}
     try:
-        with ros_node("snapshot_listener") as (node, executor):
-            topic = open_snapshot_stream(node, executor)
-            node.create_subscription(BehaviourTree, topic, lambda m: by_tick.__setitem__(
-                m.statistics.count + 1, sorted((symbols[b.status], b.name) for b in m.behaviours)),
-                100)
-            final = ""
+        screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
+        mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"],
+                               tmp_path_factory.mktemp("watched") / "report")
+        try:
+            with ros_node("snapshot_listener") as (node, executor):
+                if snapshots:
+                    from py_trees_ros_interfaces.msg import BehaviourTree
 
-            def over() -> bool:
-                nonlocal final
-                final = screen.screen()
-                return "EXIT=" in final
+                    by_tick = seen["by_tick"]
+                    node.create_subscription(
+                        BehaviourTree, open_snapshot_stream(node, executor),
+                        lambda m: by_tick.__setitem__(m.statistics.count + 1, sorted(
+                            (SYMBOLS[b.status], b.name) for b in m.behaviours)), 100)
+                last_look = 0.0
 
-            assert spin_until(executor, over, 90.0), screen.screen()
-        assert mission.wait(timeout=30) == 0
+                def over() -> bool:
+                    nonlocal last_look
+                    if time.monotonic() - last_look < 0.2:
+                        return False
+                    last_look = time.monotonic()
+                    text = screen.screen()
+                    if not seen["running"] and RUNNING in text and "ticks/s" in text:
+                        seen["running"] = text
+                    seen["final"] = text
+                    return "EXIT=" in text
+
+                spin_until(executor, over, 150.0)
+                drawn_tick = re.search(r"search_and_rescue  tick (\d+)", seen["final"])
+                if snapshots and drawn_tick:  # its snapshot may still be on its way
+                    spin_until(executor, lambda: int(drawn_tick.group(1)) in seen["by_tick"],
+                               5.0)
+            seen["code"] = mission.wait(timeout=30)
+        finally:
+            mission.stop()
     finally:
-        mission.stop()
+        screen.close()
+    return seen
+
+
+def test_watch_follows_a_mission_and_exits_when_it_is_over(watched_mission) -> None:
+    running, final = watched_mission["running"], watched_mission["final"]
+    assert running, f"no screen with a zone goal running:\n{final}"
+    assert "search_and_rescue  tick " in running
+    assert "* MissionOrReturnToBase [selector]" in running
+    assert "running branch: MissionOrReturnToBase → Patrol → NavigateToZone" in running
+    assert "zone zone_" in running
+    assert "blackboard: no keys written by the leaves" in running
+    assert "EXIT=" in final, final
+    assert watched_mission["code"] == 0
+    assert "EXIT=0" in final
+    assert "✓ NavigateToBase  Reached base station." in final
+    assert "mission over: SUCCESS" in final
+    assert "sar-tree watch: the mission is over;" in final
+
+
+def test_watch_shows_what_the_snapshot_stream_says(watched_mission) -> None:
+    if not watched_mission["snapshots"]:
+        pytest.skip("py_trees_ros is not installed")
+    assert set(SYMBOLS.values()) == {py_trees.display.unicode_symbols[s]
+                                     for s in py_trees.common.Status}
+    final, by_tick = watched_mission["final"], watched_mission["by_tick"]
+    assert watched_mission["code"] == 0
     assert "EXIT=0" in final and "mission over: SUCCESS" in final
     words = " ".join(final.split())  # the source line may wrap
     assert "py_trees_ros snapshots on /sar_mission_runner/snapshot_streams/" in words

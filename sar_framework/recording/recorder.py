@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 from sar_framework.events.event import EVENT_TOPIC, EVENT_TYPE
 from sar_framework.recording.bag_writer import BagWriter
 from sar_framework.recording.sources import RunSources, collect, media_type
-from sar_framework.recording.tree_status import STATUS_TOPIC, STATUS_TYPE
+from sar_framework.runner.tree_status import STATUS_TOPIC, STATUS_TYPE
 
 if TYPE_CHECKING:
     from rclpy.node import Node

@@ -1,7 +1,7 @@
 """``sar-tree watch``: attach to a running mission and show its tree live in the terminal.
 
 Listens on the ROS domain of the environment (``ROS_DOMAIN_ID``) to the tree status the
-runner publishes each tick (:mod:`sar_framework.recording.tree_status`) and redraws the
+runner publishes each tick (:mod:`sar_framework.runner.tree_status`) and redraws the
 frame of :mod:`.view` with rich's ``Live`` display, at most :data:`MAX_FPS` times a
 second. It ends by itself when the mission is over (the runner's verdict) or when the
 runner goes away, and on Ctrl-C; when no mission shows up within ``--wait`` seconds it
@@ -19,7 +19,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
-from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 from sar_framework.watch.snapshot_source import SnapshotFeed
 
 EXIT_OK = 0

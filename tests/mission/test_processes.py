@@ -133,7 +133,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
     assert [(s.label, s.executable) for s in specs] == [
         (p.label, p.executable) for p in mission_processes(settings)]
     runner = specs[-1]
-    assert runner.module == "sar_framework.ros.runner"
+    assert runner.module == "sar_framework.runner.node"
     assert runner.ros_args == ("--params-file", str(PARAMS), "-p", f"tree:={TREE}",
                                "-p", "use_sim_time:=true", "-p", "exit_on_completion:=false",
                                "-p", f"status_file:={tmp_path / 'status.json'}",

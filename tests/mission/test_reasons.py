@@ -10,8 +10,8 @@ from py_trees.common import Status
 
 from sar_framework import load_tree
 from sar_framework.mission.zone_manager import ZoneManager
-from sar_framework.ros.reasons import reason_line
-from sar_framework.ros.status_file import StatusRecorder
+from sar_framework.runner.reasons import reason_line
+from sar_framework.runner.status_file import StatusRecorder
 
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
 

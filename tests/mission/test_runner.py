@@ -14,14 +14,14 @@ from sar_testing.processes import NodeProcess
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, read_events
-from sar_framework.ros.status_file import StatusRecorder
+from sar_framework.runner.status_file import StatusRecorder
 
 ros = pytest.mark.ros
 REPO = Path(__file__).resolve().parents[2]
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
 NODES = REPO / "tests" / "sar_testing" / "nodes"
 MISSION_PARAMS = REPO / "config" / "mission_params.yaml"
-RUNNER = ["-m", "sar_framework.ros.runner"]
+RUNNER = ["-m", "sar_framework.runner.node"]
 
 OK_TREE = """\
 format: 1

@@ -10,7 +10,7 @@ Start-up, in order; each step is bounded and fails with one clear message:
 1. every ``--params-file`` is checked in pure Python (file:line:col messages) before rcl
    parses it (:mod:`sar_framework.mission.params_file`);
 2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
-   parameters (:mod:`.runner_settings`) and the mission's (zones, ``tick_rate_hz``) are read;
+   parameters (:mod:`.settings`) and the mission's (zones, ``tick_rate_hz``) are read;
 3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
@@ -26,7 +26,7 @@ FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, 
 ``exit_on_completion`` it then ends, otherwise it stays up (a ``rest`` tree keeps ticking,
 idling at its end) until SIGINT.
 
-Other processes read the runner's events, never its log (:mod:`.runner_events`): on
+Other processes read the runner's events, never its log (:mod:`.mission_events`): on
 ``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
 
 Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
@@ -67,15 +67,15 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
-from sar_framework.recording.tree_status import TreeStatusPublisher
-from sar_framework.ros.reasons import reason_line
-from sar_framework.ros.runner_events import mission_events
-from sar_framework.ros.runner_settings import RunnerSettings, read_runner_settings
-from sar_framework.ros.status_file import (
+from sar_framework.runner.mission_events import mission_events
+from sar_framework.runner.reasons import reason_line
+from sar_framework.runner.settings import RunnerSettings, read_runner_settings
+from sar_framework.runner.status_file import (
     StatusRecorder,
     startup_failure_document,
     write_json_atomically,
 )
+from sar_framework.runner.tree_status import TreeStatusPublisher
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -132,7 +132,7 @@ class MissionRunner:
 
     def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
                  loaded: LoadedTree, *, stop: StopRequest, wall_start: float) -> None:
-        from sar_framework.ros.tree_ticker import create_behaviour_tree
+        from sar_framework.runner.tree_ticker import create_behaviour_tree
 
         self.node = node
         self.settings = settings
@@ -179,7 +179,7 @@ class MissionRunner:
         Returns:
             The exit code.
         """
-        from sar_framework.ros.tree_ticker import implementation_name
+        from sar_framework.runner.tree_ticker import implementation_name
 
         period_ms = 1000.0 / self.mission.tick_rate_hz
         self.tree.tick_tock(period_ms=period_ms)
@@ -304,7 +304,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.engine.diagnostics import TreeLoadError
-    from sar_framework.ros.nav2_startup import (
+    from sar_framework.runner.nav2_startup import (
         Nav2StartupError,
         StartupInterrupted,
         seed_amcl_and_wait_for_nav2,

@@ -49,7 +49,7 @@ from py_trees.common import Status
 from sar_framework.engine.spec import Category, TreeSpec
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter
 from sar_framework.events.event import EventKind
-from sar_framework.ros.reasons import EXPLAINING_DECORATORS, ReasonLog
+from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 #: How the end of a mission is recognised (see the module docstring).

@@ -22,17 +22,10 @@ from sar_framework.events.jsonl import (
     JsonLinesFollower,
 )
 from sar_framework.mission.completion import DEFAULT_COMPLETION, describe_completion
-from sar_framework.recording.recorder import wait_until_recording
-from sar_framework.run.config import (
-    RunConfig,
-    RunUsageError,
-    check_config,
-    child_specs,
-    config_from_args,
-    ros_environment,
-)
-from sar_framework.run.inputs import CheckedInputs
-from sar_framework.run.outcome import (
+from sar_framework.orchestrate.config import check_config, child_specs, ros_environment
+from sar_framework.orchestrate.inputs import CheckedInputs
+from sar_framework.orchestrate.options import RunConfig, RunUsageError, config_from_args
+from sar_framework.orchestrate.outcome import (
     EXIT_INTERRUPTED,
     EXIT_USAGE,
     Outcome,
@@ -45,7 +38,8 @@ from sar_framework.run.outcome import (
     summarise,
     timeout_outcome,
 )
-from sar_framework.run.supervise import Child, Interrupt, LogLine, stop_children
+from sar_framework.orchestrate.supervise import Child, Interrupt, LogLine, stop_children
+from sar_framework.recording.recorder import wait_until_recording
 from sar_framework.watch.child import WatchChild
 
 POLL_S = 0.05
@@ -53,7 +47,7 @@ GOAL_ENDS = frozenset({"canceled", "aborted", "succeeded"})
 """The simulator's trace events that end a goal (a stop may release the simulator then)."""
 
 
-class Mission:
+class Orchestrator:
     """One ``sar-tree run``: children, progress, stop, report.
 
     Args:
@@ -277,7 +271,7 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         0 SUCCESS, 1 FAILURE/timeout/start-up failure, 2 input rejected by a child,
         130 interrupted.
     """
-    mission = Mission(config, inputs, out)
+    mission = Orchestrator(config, inputs, out)
     interrupt = Interrupt()
     interrupt.install()
     try:
@@ -306,7 +300,7 @@ def run_command(args: argparse.Namespace) -> int:
     """``sar-tree run``: check the input, run the mission, return the exit code.
 
     Args:
-        args: Parsed arguments (see :func:`~sar_framework.run.config.configure`).
+        args: Parsed arguments (see :func:`~sar_framework.orchestrate.options.configure`).
 
     Returns:
         The exit code.

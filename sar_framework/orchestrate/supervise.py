@@ -26,7 +26,7 @@ from pathlib import Path
 from types import FrameType
 from typing import IO, Any
 
-from sar_framework.run.config import ChildSpec
+from sar_framework.orchestrate.config import ChildSpec
 
 RUNNER_STOP_S = 1.2
 """Wall seconds the runner gets to cancel its goals and exit after SIGINT."""

@@ -71,7 +71,7 @@ from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
 from sar_framework.runner.settings import RunnerSettings, read_runner_settings
 from sar_framework.runner.status_file import (
-    StatusRecorder,
+    StatusFileWriter,
     startup_failure_document,
     write_json_atomically,
 )
@@ -147,16 +147,16 @@ class MissionRunner:
         self.tree = create_behaviour_tree(loaded.root)
         self.events, self._events_file = mission_events(node, settings, loaded, mission,
                                                         wall_start)
-        self.recorder = StatusRecorder(
+        self.status_writer = StatusFileWriter(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
             completion=self.completion, emitter=self.events,
         )
-        self.tree.visitors.append(self.recorder)
+        self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
         TreeStatusPublisher(node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
-                            complete=lambda: self.recorder.complete).attach(self.tree)
+                            complete=lambda: self.status_writer.complete).attach(self.tree)
 
     def setup(self) -> None:
         """Set up every behaviour with the node (bounded).
@@ -192,7 +192,7 @@ class MissionRunner:
         warned = False
         while not self.stop() and not self.finished:
             executor.spin_once(timeout_sec=0.1)
-            if (not warned and self.recorder.ticks == 0 and self.settings.use_sim_time
+            if (not warned and self.status_writer.ticks == 0 and self.settings.use_sim_time
                     and time.monotonic() - started > NO_CLOCK_WARNING_S):
                 warned = True
                 self.logger.warning(f"no tick within {NO_CLOCK_WARNING_S:g} s: use_sim_time is "
@@ -204,9 +204,9 @@ class MissionRunner:
 
     def exit_code(self) -> int:
         """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 0 (stopped by a signal)."""
-        if not self.recorder.complete:
+        if not self.status_writer.complete:
             return EXIT_STOPPED
-        return EXIT_SUCCESS if self.recorder.status == Status.SUCCESS else EXIT_FAILURE
+        return EXIT_SUCCESS if self.status_writer.status == Status.SUCCESS else EXIT_FAILURE
 
     def shutdown(self) -> None:
         """Shut the behaviours down and destroy the node (the tree owns it now)."""
@@ -218,16 +218,16 @@ class MissionRunner:
             self._events_file.close()
 
     def _after_tick(self, tree: py_trees.trees.BehaviourTree) -> None:
-        changed = self.recorder.after_tick(tree)
-        for record in self.recorder.new_reasons:
+        changed = self.status_writer.after_tick(tree)
+        for record in self.status_writer.new_reasons:
             self.events.emit(EventKind(record["what"]),
                              source=self.loaded.behaviours.get(record["uid"]),
                              message=record["message"])
             self.logger.warning(reason_line(record))
-        self.recorder.new_reasons.clear()
+        self.status_writer.new_reasons.clear()
         if changed and self.settings.print_tree:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
-        if not self.recorder.complete:
+        if not self.status_writer.complete:
             return
         if self.completion == "once":
             self._stop_ticking()  # a tree that runs once is not ticked again
@@ -238,7 +238,7 @@ class MissionRunner:
                 verdict = "Mission complete."
             else:
                 reasons = "; ".join(f"{f['name']}: {f['message']}"
-                                    for f in self.recorder.failures[-3:]) or "no reason given"
+                                    for f in self.status_writer.failures[-3:]) or "no reason given"
                 verdict = f"Mission failed ({reasons})."
             self.events.emit(EventKind.COMPLETION, source=tree.root, status=status.name,
                              message=verdict)
@@ -263,7 +263,7 @@ class MissionRunner:
             deadline = time.monotonic() + CANCEL_GRACE_S
             while time.monotonic() < deadline:
                 executor.spin_once(timeout_sec=0.05)
-        self.recorder.write()
+        self.status_writer.write()
 
 
 def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLocation]]:

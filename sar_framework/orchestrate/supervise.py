@@ -5,15 +5,13 @@ a Ctrl-C in the terminal reaches only ``sar-tree run``, which then stops the run
 (its running leaves cancel their goals while the simulator still serves), then the servers
 and the simulator, and kills whatever is still alive after a bound. A child also receives
 SIGTERM if ``sar-tree run`` dies without cleaning up (Linux ``PR_SET_PDEATHSIG``), so no
-child outlives it.
+child outlives it. The process itself is a :class:`~sar_framework.child_process.ChildProcess`,
+the wrapper the watcher and the test kit use too.
 """
 
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
-import os
 import re
 import signal
 import subprocess
@@ -24,8 +22,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType
-from typing import IO, Any
+from typing import Any
 
+from sar_framework.child_process import ChildProcess
 from sar_framework.orchestrate.config import ChildSpec
 
 RUNNER_STOP_S = 1.2
@@ -34,23 +33,6 @@ OTHERS_STOP_S = 0.6
 """Wall seconds the servers and the simulator get after SIGINT before SIGKILL."""
 
 _ROS_LINE = re.compile(r"^\[(DEBUG|INFO|WARN|ERROR|FATAL)\] \[[0-9.]+\] \[([^\]]+)\]: (.*)$")
-
-
-def _parent_death_signal() -> Callable[[], None] | None:
-    """A ``preexec_fn`` asking Linux to SIGTERM the child when this process dies."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-    except OSError:
-        return None
-    prctl = libc.prctl
-    pr_set_pdeathsig = 1
-
-    def preexec() -> None:
-        prctl(pr_set_pdeathsig, int(signal.SIGTERM))
-
-    return preexec
 
 
 @dataclass
@@ -72,8 +54,14 @@ class LogLine:
     wall_s: float
 
 
-class Child:
-    """A running child process whose output goes to a log file and to a line callback.
+def start_child(spec: ChildSpec, env: dict[str, str], log_path: Path,
+                on_line: Callable[[LogLine], None], started: float) -> ChildProcess:
+    """Start one child of the mission: ``python -m MODULE --ros-args ...``.
+
+    It runs in a session of its own and dies with this process; its output goes to
+    ``log_path`` and, once :meth:`~ChildProcess.start_reading` is called, to ``on_line``
+    as :class:`LogLine` (a line that is not a ROS log line keeps the last severity: the
+    continuation of a multi-line message).
 
     Args:
         spec: What to run.
@@ -82,65 +70,22 @@ class Child:
         on_line: Called (from a reader thread) with every line.
         started: ``time.monotonic()`` of the mission start.
     """
+    last = ["", ""]  # severity, node of the last ROS log line
 
-    def __init__(self, spec: ChildSpec, env: dict[str, str], log_path: Path,
-                 on_line: Callable[[LogLine], None], started: float) -> None:
-        self.spec = spec
-        self.log_path = log_path
-        self._on_line = on_line
-        self._started = started
-        self._log: IO[str] = log_path.open("w", encoding="utf-8")
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", spec.module, "--ros-args", *spec.ros_args],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-            env=env, start_new_session=True,
-            # Safe here: Mission.start forks every child before any reader thread starts.
-            preexec_fn=_parent_death_signal(),  # noqa: PLW1509
-        )
-        self._reader = threading.Thread(target=self._read, name=f"read-{spec.label}",
-                                        daemon=True)
+    def parse(text: str) -> None:
+        match = _ROS_LINE.match(text)
+        if match:
+            last[0], last[1], message = match.groups()
+        else:
+            message = text
+        on_line(LogLine(spec.label, last[0], last[1], message, time.monotonic() - started))
 
-    @property
-    def label(self) -> str:
-        """The child's label."""
-        return self.spec.label
-
-    def start_reading(self) -> None:
-        """Start the thread that copies the output to the log and the callback."""
-        self._reader.start()
-
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        severity, node = "", ""
-        for raw in iter(self.proc.stdout.readline, b""):
-            text = raw.decode("utf-8", "replace").rstrip("\n")
-            self._log.write(text + "\n")
-            self._log.flush()
-            match = _ROS_LINE.match(text)
-            if match:
-                severity, node, message = match.groups()
-            else:
-                message = text  # continuation of a multi-line message keeps its severity
-            self._on_line(LogLine(self.label, severity, node, message,
-                                  time.monotonic() - self._started))
-        self._log.close()
-
-    def poll(self) -> int | None:
-        """The exit code, or None while it runs."""
-        return self.proc.poll()
-
-    def signal(self, sig: int) -> None:
-        """Send ``sig`` to the child's process group (if it still runs)."""
-        if self.proc.poll() is None:
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(self.proc.pid, sig)
-
-    def finish(self, timeout: float = 1.0) -> None:
-        """Wait for the reader thread to drain the output."""
-        self._reader.join(timeout=timeout)
+    argv = [sys.executable, "-m", spec.module, "--ros-args", *spec.ros_args]
+    return ChildProcess(argv, spec.label, env=env, log_path=log_path, on_line=parse,
+                        die_with_parent=True).start()
 
 
-def stop_children(children: Sequence[Child], *, first: str = "runner", last: str = "sim",
+def stop_children(children: Sequence[ChildProcess], *, first: str = "runner", last: str = "sim",
                   released: Callable[[], bool] | None = None) -> float:
     """Stop children in order, SIGKILL after bounds; return the wall seconds it took.
 
@@ -175,9 +120,9 @@ def stop_children(children: Sequence[Child], *, first: str = "runner", last: str
             child.signal(signal.SIGKILL)
     for child in children:
         with contextlib.suppress(subprocess.TimeoutExpired):
-            child.proc.wait(timeout=1.0)
+            child.wait(timeout=1.0)
     for child in children:
-        child.finish(timeout=0.5)
+        child.finish_reading(timeout=0.5)
     return time.monotonic() - start
 
 

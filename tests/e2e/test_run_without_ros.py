@@ -42,7 +42,7 @@ def starting(spec, *args, **kwargs):
     os._exit(17)
 
 
-mission.Child = starting
+mission.start_child = starting
 from sar_framework.cli import main
 
 sys.exit(main(sys.argv[1:]))

@@ -39,8 +39,9 @@ from sar_framework.orchestrate.outcome import (
     summarise,
     timeout_outcome,
 )
-from sar_framework.orchestrate.supervise import Interrupt, LogLine, start_child, stop_children
+from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
 from sar_framework.recording.recorder import wait_until_recording
+from sar_framework.stop_signals import stop_on_signals
 from sar_framework.watch.child import start_watcher, stop_watcher
 
 POLL_S = 0.05
@@ -273,8 +274,7 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         130 interrupted.
     """
     mission = Orchestrator(config, inputs, out)
-    interrupt = Interrupt()
-    interrupt.install()
+    interrupt = stop_on_signals()
     try:
         mission.prepare()
         mission.start()

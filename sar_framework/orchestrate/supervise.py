@@ -16,13 +16,10 @@ import re
 import signal
 import subprocess
 import sys
-import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from types import FrameType
-from typing import Any
 
 from sar_framework.child_process import ChildProcess
 from sar_framework.orchestrate.config import ChildSpec
@@ -124,26 +121,3 @@ def stop_children(children: Sequence[ChildProcess], *, first: str = "runner", la
     for child in children:
         child.finish_reading(timeout=0.5)
     return time.monotonic() - start
-
-
-class Interrupt:
-    """SIGINT/SIGTERM set an event the main loop polls (:meth:`install` in the main thread)."""
-
-    def __init__(self) -> None:
-        self.event = threading.Event()
-        self.name = ""
-        self._previous: dict[int, Any] = {}
-
-    def install(self) -> None:
-        """Install the handlers, keeping the previous ones."""
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            self._previous[sig] = signal.signal(sig, self._handle)
-
-    def restore(self) -> None:
-        """Put the previous handlers back."""
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-
-    def _handle(self, signum: int, _frame: FrameType | None) -> None:
-        self.name = signal.Signals(signum).name
-        self.event.set()

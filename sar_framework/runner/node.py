@@ -44,11 +44,9 @@ process of the group and ``ros2 launch`` forwards it once more.
 
 from __future__ import annotations
 
-import signal
 import sys
 import time
 from collections.abc import Sequence
-from types import FrameType
 from typing import TYPE_CHECKING
 
 import py_trees
@@ -76,6 +74,7 @@ from sar_framework.runner.status_file import (
     write_json_atomically,
 )
 from sar_framework.runner.tree_status import TreeStatusPublisher
+from sar_framework.stop_signals import StopSignals
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -95,29 +94,6 @@ CANCEL_GRACE_S = 0.5
 NO_CLOCK_WARNING_S = 5.0
 
 
-class StopRequest:
-    """SIGINT/SIGTERM set a flag the loops poll; a repeated signal changes nothing."""
-
-    def __init__(self) -> None:
-        self.requested = False
-        self.signal_name = ""
-
-    def install(self) -> None:
-        """Install the handlers (main thread only)."""
-        signal.signal(signal.SIGINT, self._handle)
-        signal.signal(signal.SIGTERM, self._handle)
-
-    def __call__(self) -> bool:
-        """Return whether a stop was requested."""
-        return self.requested
-
-    def _handle(self, signum: int, _frame: FrameType | None) -> None:
-        if self.requested:
-            return  # Ctrl-C seen twice (terminal and launch): the shutdown is already bounded
-        self.requested = True
-        self.signal_name = signal.Signals(signum).name
-
-
 class MissionRunner:
     """Ticks a loaded tree on a node and reports its progress.
 
@@ -131,7 +107,7 @@ class MissionRunner:
     """
 
     def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
-                 loaded: LoadedTree, *, stop: StopRequest, wall_start: float) -> None:
+                 loaded: LoadedTree, *, stop: StopSignals, wall_start: float) -> None:
         from sar_framework.runner.tree_ticker import create_behaviour_tree
 
         self.node = node
@@ -190,15 +166,15 @@ class MissionRunner:
         self.logger.info(ticking)
         started = time.monotonic()
         warned = False
-        while not self.stop() and not self.finished:
+        while not self.stop and not self.finished:
             executor.spin_once(timeout_sec=0.1)
             if (not warned and self.status_writer.ticks == 0 and self.settings.use_sim_time
                     and time.monotonic() - started > NO_CLOCK_WARNING_S):
                 warned = True
                 self.logger.warning(f"no tick within {NO_CLOCK_WARNING_S:g} s: use_sim_time is "
                                     "true; is /clock being published?")
-        if self.stop():
-            self.logger.info(f"{self.stop.signal_name}: stopping the tree")
+        if self.stop:
+            self.logger.info(f"{self.stop.name}: stopping the tree")
         self._halt(executor)
         return self.exit_code()
 
@@ -319,7 +295,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         early_logger.error(str(err))
         return EXIT_CONFIG
 
-    stop = StopRequest()
+    stop = StopSignals()
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop.install()
     node: Node | None = None
@@ -362,14 +338,14 @@ def run(argv: Sequence[str] | None = None) -> int:
         if settings.seed_amcl:
             seed_amcl_and_wait_for_nav2(
                 pose=settings.initial_pose, timeout_s=settings.nav2_timeout_s,
-                use_sim_time=settings.use_sim_time, should_stop=stop, logger=logger)
+                use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
         runner = MissionRunner(node, settings, mission, loaded, stop=stop,
                                wall_start=wall_start)
         try:
             runner.setup()
         except RuntimeError as err:
             return fail(EXIT_STARTUP, "setup", str(err))
-        if stop():
+        if stop:
             return EXIT_STOPPED
         executor = SingleThreadedExecutor()
         executor.add_node(node)

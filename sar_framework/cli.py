@@ -222,13 +222,13 @@ def _run_schema(args: argparse.Namespace) -> int:
 
 # -- run --------------------------------------------------------------------------------
 def _configure_run(parser: argparse.ArgumentParser) -> None:
-    from sar_framework.run import configure  # lazy: nothing of ROS is imported here
+    from sar_framework.orchestrate import configure  # lazy: nothing of ROS is imported here
 
     configure(parser)
 
 
 def _run_run(args: argparse.Namespace) -> int:
-    from sar_framework.run import run_command
+    from sar_framework.orchestrate import run_command
 
     return run_command(args)
 
@@ -238,7 +238,7 @@ def _configure_faults(parser: argparse.ArgumentParser) -> None:
 
 
 def _run_faults(args: argparse.Namespace) -> int:
-    from sar_framework.run.faults import faults_table
+    from sar_framework.orchestrate.faults import faults_table
 
     sys.stdout.write(faults_table())
     return EXIT_OK

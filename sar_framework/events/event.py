@@ -1,7 +1,7 @@
 """One mission event: its kinds, its fields and its JSON encoding (no ROS).
 
 The ROS twin is ``sar_interfaces/msg/MissionEvent`` (the same fields; the kind names are
-its ``KIND_*`` constants); :mod:`sar_framework.ros.event_topic` converts between them. A
+its ``KIND_*`` constants); :mod:`sar_framework.runner.event_topic` converts between them. A
 JSON line holds every field, for example::
 
     {"seq": 7, "kind": "zone_reached", "sim_s": 21.4, "wall_s": 2.1, "node_name": "",
@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 EVENT_TOPIC = "/sar_mission/events"
-"""The ROS topic the runner publishes the stream on (:mod:`sar_framework.ros.event_topic`)."""
+"""The ROS topic the runner publishes the stream on (:mod:`sar_framework.runner.event_topic`)."""
 EVENT_TYPE = "sar_interfaces/msg/MissionEvent"
 """Its message type."""
 

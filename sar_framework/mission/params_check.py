@@ -1,7 +1,7 @@
 """Values checked against a node's parameter table in pure Python, before the node starts.
 
 Each node declares its parameters once, as a table of
-:class:`~sar_framework.engine.param.Param` (:data:`sar_framework.run.inputs.NODE_PARAMETERS`
+:class:`~sar_framework.engine.param.Param` (:data:`sar_framework.orchestrate.inputs.NODE_PARAMETERS`
 names every table). With it ``sar-tree run`` checks the mission parameter file and each
 ``--X-param NAME:=VALUE`` before any process starts: unknown names (with a did-you-mean),
 wrong types and impossible values are all reported at once, each with its file, line and

@@ -161,7 +161,7 @@ def runner(settings: MissionSettings) -> Process | None:
     _set(parameters, "nav2_timeout_s", settings.nav2_timeout_s)
     _set(parameters, "tick_rate_hz", settings.tick_rate_hz)
     _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
-    return Process("runner", "sar-mission-runner", "sar_framework.ros.runner",
+    return Process("runner", "sar-mission-runner", "sar_framework.runner.node",
                    (settings.params_file,), parameters)
 
 

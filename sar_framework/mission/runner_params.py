@@ -1,7 +1,7 @@
 """The tree runner's parameters (``sar_mission_runner``): the mission's and its own, once.
 
 No ROS here: :data:`RUNNER_PARAMETERS` is read by the runner
-(:mod:`sar_framework.ros.runner_settings`, :mod:`.params`), by ``sar-tree run``'s
+(:mod:`sar_framework.runner.settings`, :mod:`.params`), by ``sar-tree run``'s
 checks of the parameter file and of ``--runner-param``, and by the documentation
 (docs/parameters.md, checked by a test).
 """

@@ -22,7 +22,7 @@ from sar_framework.events.event import EVENT_TOPIC, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.recording.bag_writer import ROS_TYPE_KEY
 from sar_framework.recording.recorder import ATTACHMENT_PARAMS, METADATA_NAME, message_class
-from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 
 GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
 REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
@@ -128,7 +128,7 @@ def read_recording(path: str | Path) -> Recording:
     from mcap.reader import make_reader
     from rclpy.serialization import deserialize_message
 
-    from sar_framework.ros.event_topic import from_message
+    from sar_framework.runner.event_topic import from_message
 
     recording = Recording(Path(path))
     tracker = _PoseTracker()

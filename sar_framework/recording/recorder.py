@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 from sar_framework.events.event import EVENT_TOPIC, EVENT_TYPE
 from sar_framework.recording.bag_writer import BagWriter
 from sar_framework.recording.sources import RunSources, collect, media_type
-from sar_framework.recording.tree_status import STATUS_TOPIC, STATUS_TYPE
+from sar_framework.runner.tree_status import STATUS_TOPIC, STATUS_TYPE
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -215,12 +215,12 @@ def run(argv: Sequence[str] | None = None) -> int:
     from sar_framework.mission.params_file import ParamsError
     from sar_framework.recording.params import RECORDER_PARAMETERS
     from sar_framework.ros.parameters import declare_table
-    from sar_framework.ros.stop_signals import stop_on_signals
+    from sar_framework.stop_signals import stop_on_signals
 
     # Our own handlers: the context stays valid while the file is closed after a signal.
     rclpy.init(args=list(sys.argv if argv is None else argv),
                signal_handler_options=SignalHandlerOptions.NO)
-    stop, _previous = stop_on_signals()
+    stop = stop_on_signals()
     node = Node(NODE_NAME)
     writer: BagWriter | None = None
     try:

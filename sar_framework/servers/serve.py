@@ -38,9 +38,9 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.recording.introspection import enable_service_introspection
-    from sar_framework.ros.stop_signals import stop_on_signals
+    from sar_framework.stop_signals import stop_on_signals
 
-    stop, _previous = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers
+    stop = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers
     rclpy.init(args=list(sys.argv if argv is None else argv),
                signal_handler_options=SignalHandlerOptions.NO)
     node = None

@@ -10,12 +10,10 @@ exits within a second on SIGINT/SIGTERM, aborting a goal in flight first.
 
 from __future__ import annotations
 
-import signal
 import sys
 import threading
 import time
 from collections.abc import Sequence
-from types import FrameType
 
 RESULT_FLUSH_S = 0.15
 """Wall seconds the executor keeps spinning after a goal was aborted at shutdown."""
@@ -63,21 +61,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     from rclpy.logging import get_logger
     from rclpy.signals import SignalHandlerOptions
 
-    from sar_framework.ros.stop_signals import stopping
     from sar_framework.sim.sim_node import SimConfigError, Simulator
+    from sar_framework.stop_signals import stop_on_signals
 
     # Our own handlers: rclpy's would shut the context down before a goal in flight
     # could be aborted and its result sent.
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    stop = threading.Event()
-
-    def request_stop(_signum: int, _frame: FrameType | None) -> None:
-        if not stop.is_set():
-            stopping()  # a second Ctrl-C (terminal and launch) must not end the stop early
-        stop.set()
-
-    signal.signal(signal.SIGINT, request_stop)
-    signal.signal(signal.SIGTERM, request_stop)
+    stop = stop_on_signals()
     try:
         sim = Simulator()
     except SimConfigError as exc:
@@ -94,7 +84,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sim.node.get_logger().info(sim.ready_message())
     crashed = False
     try:
-        while not stop.wait(0.1):
+        while not stop.event.wait(0.1):
             if not (spinner.is_alive() and sim.alive):
                 crashed = True
                 break

@@ -1,7 +1,7 @@
 """Fault injection: rejected, aborted and late goals, blocked areas of the map.
 
 ``sar-tree faults`` lists every fault ``sar-tree run`` can inject
-(:mod:`sar_framework.run.faults`, from the parameter tables).
+(:mod:`sar_framework.orchestrate.faults`, from the parameter tables).
 
 Plain Python (no ROS). The simulator node reads these settings from its parameters:
 

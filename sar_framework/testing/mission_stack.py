@@ -10,6 +10,10 @@ They run on the ROS environment of the calling process (a private domain with
 :func:`~sar_framework.testing.ros_env.lease_domain_id`, as the ``sar_ros_domain``
 fixture sets it). The simulator runs on simulated time (``speed`` simulated seconds per
 wall second) and the servers follow it (``use_sim_time``).
+
+Their command lines come from :mod:`sar_framework.mission.processes`, the one description
+of the mission's processes that ``sar-tree run`` and the launch file start from too: the
+stack is that mission without its runner.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from sar_framework.mission.processes import MissionSettings, mission_processes, ros_arguments
 from sar_framework.testing.processes import NodeProcess
 
 READY_S = 30.0  # start-up on a loaded 2-core machine: imports and discovery
@@ -39,18 +44,13 @@ class MissionStack:
         self.log_dir = Path(log_dir)
         self.log_dir.mkdir(parents=True, exist_ok=True)
         self.report_file = self.log_dir / "reports.jsonl"
-        sim_time = ["-p", "use_sim_time:=true"]
-        detect = ["-p", f"survivors_file:={survivors}"] if survivors else []
-        sim = ["-p", f"speed:={float(speed)!r}"] if speed is not None else []
+        settings = MissionSettings(tree="", params_file="", speed=speed,
+                                   survivors_file=str(survivors or ""),
+                                   report_file=str(self.report_file))
         self.processes = [
-            NodeProcess(["-m", "sar_framework.sim", "--ros-args", *sim], "sim",
-                        log_dir=self.log_dir),
-            NodeProcess(["-m", "sar_framework.servers.detect_survivor_server", "--ros-args",
-                         *sim_time, *detect], "detect", log_dir=self.log_dir),
-            NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
-                         *sim_time, "-p", f"report_file:={self.report_file}"], "report",
-                        log_dir=self.log_dir),
-        ]
+            NodeProcess(["-m", process.module, "--ros-args", *ros_arguments(process)],
+                        process.label, log_dir=self.log_dir)
+            for process in mission_processes(settings) if process.label != "runner"]
 
     def start(self) -> MissionStack:
         """Start all three and wait until each has logged ``ready``."""

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import os
 import re
-import signal
-import subprocess
 import sys
 import tempfile
 import time
@@ -25,9 +23,15 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import TracebackType
 
+from sar_framework.child_process import ChildProcess
 
-class NodeProcess:
+
+class NodeProcess(ChildProcess):
     """A child Python process running a ROS node, its output captured to a file.
+
+    The :class:`~sar_framework.child_process.ChildProcess` that ``sar-tree run`` starts its
+    children with, plus what a test wants: the venv's interpreter, the test run's
+    environment, :meth:`wait_for_output`, and a ``with`` block that stops it.
 
     Args:
         args: Arguments after the interpreter (``["-m", "pkg.module", ...]`` or a script).
@@ -38,42 +42,18 @@ class NodeProcess:
 
     def __init__(self, args: Sequence[str], label: str, *, env: dict[str, str] | None = None,
                  log_dir: Path | None = None) -> None:
-        self.args = [sys.executable, *args]
-        self.label = label
-        self.env = {**os.environ, **(env or {})}
         folder = log_dir or Path(tempfile.mkdtemp(prefix="sar_node_"))
-        self.log_path = folder / f"{label}.log"
-        self._proc: subprocess.Popen[bytes] | None = None
+        super().__init__([sys.executable, *args], label, env={**os.environ, **(env or {})},
+                         log_path=folder / f"{label}.log")
 
     def start(self) -> NodeProcess:
         """Start the process (its own process group, so a stop reaches its children)."""
-        with self.log_path.open("wb") as log:
-            self._proc = subprocess.Popen(
-                self.args, stdout=log, stderr=subprocess.STDOUT, env=self.env,
-                start_new_session=True,
-            )
+        super().start()
         return self
-
-    @property
-    def started(self) -> bool:
-        """Whether :meth:`start` was called."""
-        return self._proc is not None
-
-    @property
-    def pid(self) -> int:
-        """The child's process id."""
-        assert self._proc is not None, "not started"
-        return self._proc.pid
-
-    @property
-    def output(self) -> str:
-        """Everything the process has printed so far."""
-        return self.log_path.read_text(errors="replace") if self.log_path.exists() else ""
 
     def returncode(self) -> int | None:
         """The exit code, or None while it runs."""
-        assert self._proc is not None, "not started"
-        return self._proc.poll()
+        return self.poll()
 
     def wait_for_output(self, pattern: str, timeout: float = 20.0) -> re.Match[str]:
         """Wait until the output matches a regular expression.
@@ -105,28 +85,9 @@ class NodeProcess:
                 )
             time.sleep(0.05)
 
-    def wait(self, timeout: float) -> int:
-        """Wait for the process to end by itself; return its exit code."""
-        assert self._proc is not None, "not started"
-        return self._proc.wait(timeout=timeout)
-
     def send_signal(self, sig: int) -> None:
         """Send a signal to the process group."""
-        assert self._proc is not None, "not started"
-        if self._proc.poll() is None:
-            os.killpg(self._proc.pid, sig)
-
-    def stop(self, timeout: float = 5.0) -> int:
-        """SIGINT (ROS's Ctrl-C), then SIGKILL if it has not ended within ``timeout``."""
-        assert self._proc is not None, "not started"
-        if self._proc.poll() is None:
-            self.send_signal(signal.SIGINT)
-            try:
-                self._proc.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
-                self.send_signal(signal.SIGKILL)
-                self._proc.wait(timeout=timeout)
-        return self._proc.returncode
+        self.signal(sig)
 
     def __enter__(self) -> NodeProcess:
         return self.start()

@@ -1,7 +1,7 @@
 """``sar-tree watch``: attach to a running mission and show its tree live in the terminal.
 
 Listens on the ROS domain of the environment (``ROS_DOMAIN_ID``) to the tree status the
-runner publishes each tick (:mod:`sar_framework.recording.tree_status`) and redraws the
+runner publishes each tick (:mod:`sar_framework.runner.tree_status`) and redraws the
 frame of :mod:`.view` with rich's ``Live`` display, at most :data:`MAX_FPS` times a
 second. It ends by itself when the mission is over (the runner's verdict) or when the
 runner goes away, and on Ctrl-C; when no mission shows up within ``--wait`` seconds it
@@ -12,14 +12,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import time
 from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
-from sar_framework.recording.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 from sar_framework.watch.snapshot_source import SnapshotFeed
 
 EXIT_OK = 0
@@ -105,13 +104,13 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     from rich.live import Live
     from std_msgs.msg import String
 
-    from sar_framework.ros.stop_signals import stop_on_signals
+    from sar_framework.stop_signals import stop_on_signals
     from sar_framework.watch.snapshot_source import snapshots_available
     from sar_framework.watch.view import frame
 
     console = console or Console()
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
-    stop, previous = stop_on_signals()
+    stop = stop_on_signals()
     node = Node("sar_tree_watch")
     state = WatchState()
     node.create_subscription(String, STATUS_TOPIC,
@@ -164,8 +163,7 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
         executor.shutdown(timeout_sec=0.0)
         node.destroy_node()
         rclpy.try_shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+        stop.restore()
     if stop:
         return EXIT_INTERRUPTED
     if state.document is None:

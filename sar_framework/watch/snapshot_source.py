@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.recording.tree_status import STATUS_TOPIC
+from sar_framework.runner.tree_status import STATUS_TOPIC
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -51,7 +51,7 @@ def snapshot_nodes(message: Any) -> list[dict[str, Any]]:
         message: The snapshot.
 
     Returns:
-        Node dicts as :func:`~sar_framework.recording.tree_status.decode_status` makes
+        Node dicts as :func:`~sar_framework.runner.tree_status.decode_status` makes
         them (``uid`` is the path of child indices, ``kind`` the behaviour's class name).
     """
     by_id = {bytes(b.own_id.uuid): b for b in message.behaviours}

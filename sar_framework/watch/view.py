@@ -76,7 +76,7 @@ def blackboard_view(blackboard: dict[str, str]) -> RenderableType:
 
 def frame(document: dict[str, Any], ticks_per_s: float | None = None,
           source: str = "") -> RenderableType:
-    """One whole frame for a status document (see :mod:`sar_framework.recording.tree_status`).
+    """One whole frame for a status document (see :mod:`sar_framework.runner.tree_status`).
 
     Args:
         document: The decoded status document.

@@ -7,20 +7,20 @@ import subprocess
 import sys
 from pathlib import Path
 
-from sar_framework.run.inputs import NODE_PARAMETERS
-from sar_framework.run.parameter_docs import default_text, document, markdown_table
+from sar_framework.orchestrate.inputs import NODE_PARAMETERS
+from sar_framework.orchestrate.parameter_docs import default_text, document, markdown_table
 from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]
 DOC = REPO / "docs" / "parameters.md"
 TABLE_MODULES = ("sar_framework.mission.runner_params", "sar_framework.sim.params",
                  "sar_framework.servers.params", "sar_framework.recording.params",
-                 "sar_framework.run.inputs", "sar_framework.run.parameter_docs")
+                 "sar_framework.orchestrate.inputs", "sar_framework.orchestrate.parameter_docs")
 
 
 def test_docs_parameters_md_is_generated_from_the_tables() -> None:
     assert DOC.read_text() == document(), (
-        "docs/parameters.md is stale: python -m sar_framework.run.parameter_docs "
+        "docs/parameters.md is stale: python -m sar_framework.orchestrate.parameter_docs "
         "> docs/parameters.md")
 
 

@@ -6,8 +6,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from sar_framework.run.config import RunConfig, child_specs
-from sar_framework.run.inputs import check_inputs
+from sar_framework.orchestrate.config import child_specs
+from sar_framework.orchestrate.inputs import check_inputs
+from sar_framework.orchestrate.options import RunConfig
 
 from .helpers import DEFAULT_TREE, REPO, SIX_ZONES
 
@@ -105,8 +106,8 @@ def test_run_help_explains_completion_and_points_at_the_faults() -> None:
 
 def test_every_listed_fault_is_a_parameter_the_child_reads(capsys) -> None:
     from sar_framework.cli import main
-    from sar_framework.run.faults import FAULTS
-    from sar_framework.run.inputs import child_parameters
+    from sar_framework.orchestrate.faults import FAULTS
+    from sar_framework.orchestrate.inputs import child_parameters
 
     assert main(["faults"]) == 0
     listed = capsys.readouterr().out

@@ -1,6 +1,7 @@
 """``sar-tree run`` checks its inputs with no ROS importable, up to starting its children.
 
-Regression: ``run/inputs.py`` imported the simulator node (rclpy, every Nav2 stand-in server,
+Regression: ``run/inputs.py`` (now ``orchestrate/inputs.py``) imported the simulator node
+(rclpy, every Nav2 stand-in server,
 ``nav2_msgs``) only to read its parameter table, so in a half-built environment the run
 raised ``ModuleNotFoundError: nav2_msgs`` before anything was checked.
 """
@@ -32,7 +33,7 @@ class Blocker:
 
 sys.meta_path.insert(0, Blocker())
 
-import sar_framework.run.mission as mission
+import sar_framework.orchestrate.orchestrator as mission
 
 
 def starting(spec, *args, **kwargs):
@@ -41,7 +42,7 @@ def starting(spec, *args, **kwargs):
     os._exit(17)
 
 
-mission.Child = starting
+mission.start_child = starting
 from sar_framework.cli import main
 
 sys.exit(main(sys.argv[1:]))

@@ -6,7 +6,7 @@ import io
 import json
 from pathlib import Path
 
-from sar_framework.run.outcome import Outcome, summarise
+from sar_framework.orchestrate.outcome import Outcome, summarise
 
 
 def test_a_repeated_failure_on_the_way_is_noted_once_with_its_count(tmp_path: Path) -> None:

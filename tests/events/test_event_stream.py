@@ -167,7 +167,7 @@ def test_the_zone_manager_tells_reached_and_unreached_zones() -> None:
 
 @pytest.mark.ros
 def test_the_ros_message_carries_every_field() -> None:
-    from sar_framework.ros.event_topic import event_qos, from_message, to_message
+    from sar_framework.runner.event_topic import event_qos, from_message, to_message
 
     message = to_message(FULL)
     assert (message.stamp.sec, message.stamp.nanosec) == (21, 400_000_000)

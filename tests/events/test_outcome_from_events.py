@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from sar_framework.events.event import EventKind, MissionEvent
-from sar_framework.run.outcome import (
+from sar_framework.orchestrate.outcome import (
     EXIT_FAILURE,
     EXIT_OK,
     completion_outcome,

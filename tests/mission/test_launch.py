@@ -18,7 +18,8 @@ import yaml
 
 from sar_framework.mission import processes
 from sar_framework.mission.params_file import check_params_file
-from sar_framework.run.config import DEFAULT_PARAMS, RunConfig, check_config, child_specs
+from sar_framework.orchestrate.config import check_config, child_specs
+from sar_framework.orchestrate.options import DEFAULT_PARAMS, RunConfig
 from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]

@@ -2,28 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import pytest
 from py_trees.common import Status
 from sar_plugins.advance_zone import AdvanceZone
 from sar_plugins.is_survivor_detected import IsSurvivorDetected
 from sar_plugins.log_no_detection import LogNoDetection
 from sar_plugins.zones_remaining import ZonesRemaining
-from sar_testing.leaf_harness import spec_zone_manager
-
-
-@dataclass
-class FixedDetector:
-    """Stands in for DetectSurvivor: a settable detection result."""
-
-    pose: tuple[float, float] | None = None
-
-    def was_found(self) -> bool:
-        return self.pose is not None
-
-    def survivor_pose(self) -> tuple[float, float] | None:
-        return self.pose
+from sar_testing.leaf_harness import FixedDetector, spec_zone_manager
 
 
 def test_zones_remaining_follows_the_zone_manager() -> None:

@@ -3,29 +3,22 @@
 from __future__ import annotations
 
 import importlib.util
-from dataclasses import dataclass
 
 import pytest
 from py_trees.common import Status
 from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
-from sar_testing.leaf_harness import NODES, TfStaticRecorder, spec_zone_manager, tree_on
+from sar_testing.leaf_harness import (
+    NODES,
+    FixedDetector,
+    TfStaticRecorder,
+    spec_zone_manager,
+    tree_on,
+)
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
 pytestmark = pytest.mark.ros
 
-
-@dataclass
-class FixedDetector:
-    """Stands in for DetectSurvivor: a settable detection result."""
-
-    pose: tuple[float, float] | None = None
-
-    def was_found(self) -> bool:
-        return self.pose is not None
-
-    def survivor_pose(self) -> tuple[float, float] | None:
-        return self.pose
 
 
 def transform(child: str, x: float):

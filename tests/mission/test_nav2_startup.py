@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from sar_testing.processes import NodeProcess
 
-from sar_framework.ros.nav2_startup import (
+from sar_framework.runner.nav2_startup import (
     InitialPose,
     Nav2StartupError,
     StartupInterrupted,
@@ -105,7 +105,7 @@ def test_a_get_state_reply_lost_by_dds_is_asked_again(ros, tmp_path):
 
 BASIC_NAVIGATOR_SCRIPT = """
 import rclpy
-from sar_framework.ros.nav2_startup import seed_amcl_and_wait_for_nav2
+from sar_framework.runner.nav2_startup import seed_amcl_and_wait_for_nav2
 
 class Printer:
     info = staticmethod(print)

@@ -229,7 +229,7 @@ def test_runner_stops_on_a_malformed_mission_with_one_line_and_no_traceback(tmp_
     monkeypatch.chdir(tmp_path)
     write(tmp_path, GOOD.replace('["zone_a", "zone_b"]', '["zone_a", "zone_e"]'),
           "mission_params.yaml")
-    runner = NodeProcess(["-m", "sar_framework.ros.runner", "--ros-args", "--params-file",
+    runner = NodeProcess(["-m", "sar_framework.runner.node", "--ros-args", "--params-file",
                           "mission_params.yaml", "-p", "seed_amcl:=false"], "runner",
                          log_dir=tmp_path).start()
     assert runner.wait(timeout=30) == 2

@@ -22,7 +22,8 @@ from sar_framework.mission.processes import (
     ros_arguments,
     ros_value,
 )
-from sar_framework.run.config import RunConfig, check_config, child_specs, mission_settings
+from sar_framework.orchestrate.config import check_config, child_specs, mission_settings
+from sar_framework.orchestrate.options import RunConfig
 
 REPO = Path(__file__).resolve().parents[2]
 TREE = REPO / "trees" / "search_and_rescue.yaml"
@@ -34,7 +35,7 @@ EVERYTHING = MissionSettings(tree=str(TREE), params_file=str(PARAMS), record="/t
 def test_the_description_imports_neither_ros_nor_launch() -> None:
     code = ("import sys, sar_framework.mission.processes\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('rclpy', 'launch', "
-            "'launch_ros', 'rcl_interfaces', 'ament_index_python', 'sar_framework.run')))")
+            "'launch_ros', 'rcl_interfaces', 'ament_index_python', 'sar_framework.orchestrate')))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=False, timeout=60)
     assert done.returncode == 0, done.stderr
@@ -133,7 +134,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
     assert [(s.label, s.executable) for s in specs] == [
         (p.label, p.executable) for p in mission_processes(settings)]
     runner = specs[-1]
-    assert runner.module == "sar_framework.ros.runner"
+    assert runner.module == "sar_framework.runner.node"
     assert runner.ros_args == ("--params-file", str(PARAMS), "-p", f"tree:={TREE}",
                                "-p", "use_sim_time:=true", "-p", "exit_on_completion:=false",
                                "-p", f"status_file:={tmp_path / 'status.json'}",

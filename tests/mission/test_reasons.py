@@ -10,8 +10,8 @@ from py_trees.common import Status
 
 from sar_framework import load_tree
 from sar_framework.mission.zone_manager import ZoneManager
-from sar_framework.ros.reasons import reason_line
-from sar_framework.ros.status_file import StatusRecorder
+from sar_framework.runner.reasons import reason_line
+from sar_framework.runner.status_file import StatusFileWriter
 
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
 
@@ -48,28 +48,28 @@ root:
 """
 
 
-def _run(tmp_path: Path, ticks: int) -> StatusRecorder:
+def _run(tmp_path: Path, ticks: int) -> StatusFileWriter:
     path = tmp_path / "t.yaml"
     path.write_text(TREE)
     zones = ZoneManager([{"id": "zone_a", "x": 0.0, "y": 0.0, "yaw": 0.0}],
                         {"x": 0.0, "y": 0.0, "yaw": 0.0})
     loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
-    recorder = StatusRecorder(str(path), loaded.spec, loaded.behaviours, lambda: 0.0)
+    writer = StatusFileWriter(str(path), loaded.spec, loaded.behaviours, lambda: 0.0)
     tree = py_trees.trees.BehaviourTree(loaded.root)
-    tree.visitors.append(recorder)
-    tree.add_post_tick_handler(recorder.after_tick)
+    tree.visitors.append(writer)
+    tree.add_post_tick_handler(writer.after_tick)
     for _ in range(ticks):
         tree.tick()
         time.sleep(0.01)
-        if recorder.status != Status.RUNNING:
+        if writer.status != Status.RUNNING:
             break
-    return recorder
+    return writer
 
 
 def test_every_failure_retry_skip_timeout_and_cancel_has_a_line(tmp_path: Path) -> None:
     """Regression: a timeout, retry or skip printed nothing; mission.json had no failures."""
-    recorder = _run(tmp_path, 60)
-    lines = [reason_line(r) for r in recorder.new_reasons]
+    writer = _run(tmp_path, 60)
+    lines = [reason_line(r) for r in writer.new_reasons]
     assert lines[:5] == [
         "NavA [0.0.0.0]: goal to zone_a aborted",
         "RetryA [0.0.0] retry: attempt 1/2 failed (goal to zone_a aborted); trying again",
@@ -83,6 +83,6 @@ def test_every_failure_retry_skip_timeout_and_cancel_has_a_line(tmp_path: Path) 
     # halts Long (a cancel)
     assert "Later [0.2.0]: not yet" in lines
     assert any(line.startswith("Long [0.2.1] cancel: halted (") for line in lines)
-    assert recorder.failures == recorder.new_reasons
-    assert {r["what"] for r in recorder.failures} == {"failure", "retry", "skip", "timeout",
+    assert writer.failures == writer.new_reasons
+    assert {r["what"] for r in writer.failures} == {"failure", "retry", "skip", "timeout",
                                                       "cancel"}

@@ -14,14 +14,14 @@ from sar_testing.processes import NodeProcess
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, read_events
-from sar_framework.ros.status_file import StatusRecorder
+from sar_framework.runner.status_file import StatusFileWriter
 
 ros = pytest.mark.ros
 REPO = Path(__file__).resolve().parents[2]
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
 NODES = REPO / "tests" / "sar_testing" / "nodes"
 MISSION_PARAMS = REPO / "config" / "mission_params.yaml"
-RUNNER = ["-m", "sar_framework.ros.runner"]
+RUNNER = ["-m", "sar_framework.runner.node"]
 
 OK_TREE = """\
 format: 1
@@ -339,9 +339,9 @@ def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
     assert doc["error"]["message"].startswith("amcl never reported ACTIVE")
 
 
-# --- the recorder alone (no ROS) -----------------------------------------------------------
+# --- the status file writer alone (no ROS) -----------------------------------------------
 
-def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
+def test_status_writer_suppresses_idle_repeats_but_keeps_new_executions():
     from sar_framework.engine.diagnostics import SourceLocation
 
     where = SourceLocation("t.yaml", 1, 1)
@@ -357,20 +357,20 @@ def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
 
     leaf = Check("Check?")
     root = py_trees.composites.Selector("Root", memory=False, children=[leaf])
-    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    writer = StatusFileWriter("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
     tree = py_trees.trees.BehaviourTree(root)
-    tree.visitors.append(recorder)
-    tree.add_post_tick_handler(recorder.after_tick)
+    tree.visitors.append(writer)
+    tree.add_post_tick_handler(writer.after_tick)
     for _ in range(5):
         tree.tick()
-    assert [e["status"] for e in recorder.events] == ["FAILURE", "SUCCESS", "FAILURE"]
-    assert recorder.ticks == 5
+    assert [e["status"] for e in writer.events] == ["FAILURE", "SUCCESS", "FAILURE"]
+    assert writer.ticks == 5
     # the root failed on the ticks its only child failed instantly: those are failures
-    assert [f["uid"] for f in recorder.failures] == ["0.0"]
-    assert recorder.complete is False  # the last tick's verdict was new
+    assert [f["uid"] for f in writer.failures] == ["0.0"]
+    assert writer.complete is False  # the last tick's verdict was new
 
 
-def test_recorder_rest_detection():
+def test_status_writer_rest_detection():
     from sar_framework.engine.diagnostics import SourceLocation
 
     where = SourceLocation("t.yaml", 1, 1)
@@ -390,21 +390,21 @@ def test_recorder_rest_detection():
 
     leaf = Step()
     root = py_trees.decorators.OneShot("Once", leaf, py_trees.common.OneShotPolicy.ON_COMPLETION)
-    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    writer = StatusFileWriter("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
     tree = py_trees.trees.BehaviourTree(root)
-    tree.visitors.append(recorder)
-    tree.add_post_tick_handler(recorder.after_tick)
+    tree.visitors.append(writer)
+    tree.add_post_tick_handler(writer.after_tick)
     states = []
     for _ in range(4):
         tree.tick()
-        states.append((recorder.status.name, recorder.complete))
+        states.append((writer.status.name, writer.complete))
     assert states == [("RUNNING", False), ("SUCCESS", False), ("SUCCESS", True), ("SUCCESS", True)]
-    assert recorder.document()["complete"] is True
+    assert writer.document()["complete"] is True
     with pytest.raises(ValueError, match="completion"):
-        StatusRecorder("t.yaml", spec, {}, lambda: 0.0, completion="sometimes")
+        StatusFileWriter("t.yaml", spec, {}, lambda: 0.0, completion="sometimes")
 
 
-def test_recorder_running_lists_only_what_runs_now():
+def test_status_writer_running_lists_only_what_runs_now():
     """Regression: a leaf halted by its parent must not be reported as still running.
 
     ``nodes`` keeps each node's last non-INVALID status (for the coloured tree.svg), so a
@@ -431,15 +431,15 @@ def test_recorder_running_lists_only_what_runs_now():
 
     guard, work = Guard("Guard?"), Work("Work")
     root = py_trees.composites.Selector("Root", memory=False, children=[guard, work])
-    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": guard, "0.1": work},
+    writer = StatusFileWriter("t.yaml", spec, {"0": root, "0.0": guard, "0.1": work},
                               lambda: 0.0)
     tree = py_trees.trees.BehaviourTree(root)
-    tree.visitors.append(recorder)
-    tree.add_post_tick_handler(recorder.after_tick)
+    tree.visitors.append(writer)
+    tree.add_post_tick_handler(writer.after_tick)
     tree.tick()  # Guard fails, Work runs
-    assert recorder.document()["running"] == ["0", "0.1"]
+    assert writer.document()["running"] == ["0", "0.1"]
     tree.tick()  # Guard now runs: the reactive selector halts Work
-    document = recorder.document()
+    document = writer.document()
     assert document["running"] == ["0", "0.0"]
     assert document["nodes"]["0.1"] == "RUNNING"  # last non-INVALID status, for colouring
 

@@ -24,14 +24,14 @@ FLOOD_PERIOD_S = 0.005
 
 SLOW_TO_FINALIZE = """
 import time
-from sar_framework.ros.stop_signals import stop_on_signals
+from sar_framework.stop_signals import stop_on_signals
 
 class SlowToFinalize:
     def __del__(self):  # module teardown, after Python has reset its signal handlers
         time.sleep(0.3)
 
 keep = SlowToFinalize()
-stop, _ = stop_on_signals()
+stop = stop_on_signals()
 print("ready", flush=True)
 while not stop:
     time.sleep(0.01)
@@ -85,17 +85,16 @@ def test_a_process_interrupted_until_it_has_ended_exits_0(tmp_path: Path, module
     assert "Traceback" not in server.output, server.output
 
 
-
-def test_the_runner_ignores_sigint_once_stopping() -> None:
-    from sar_framework.ros.runner import StopRequest
+def test_the_stop_flag_ignores_sigint_once_stopping() -> None:
+    """The one stop helper every process uses (runner, simulator, servers, recorder)."""
+    from sar_framework.stop_signals import StopSignals
 
     previous = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        stop = StopRequest()
-        stop.install()
-        assert not stop()
+        stop = StopSignals().install()
+        assert not stop
         os.kill(os.getpid(), signal.SIGINT)
-        assert stop() and stop.signal_name == "SIGINT"
+        assert stop and stop.name == "SIGINT"
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
         assert signal.getsignal(signal.SIGTERM) is not signal.SIG_IGN
     finally:

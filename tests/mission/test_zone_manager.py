@@ -5,16 +5,9 @@ import math
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from sar_testing.leaf_harness import BASE, SPEC_ZONES
 
 from sar_framework.mission import ZoneManager
-
-SPEC_ZONES = [
-    {"id": "zone_a", "x": -3.0, "y": 3.0, "yaw": 0.0},
-    {"id": "zone_b", "x": 3.5, "y": 3.0, "yaw": 1.57},
-    {"id": "zone_c", "x": 4.0, "y": -3.0, "yaw": 3.14},
-    {"id": "zone_d", "x": -3.5, "y": -3.0, "yaw": -1.57},
-]
-BASE = {"x": 0.0, "y": 0.0, "yaw": 0.0}
 
 
 def make() -> ZoneManager:

@@ -132,9 +132,9 @@ def test_the_real_classes_are_chosen_when_importable() -> None:
     from sar_testing.spin import ros_node
     from tf2_ros import StaticTransformBroadcaster
 
-    from sar_framework.ros.nav2_startup import basic_navigator_class
     from sar_framework.ros.static_tf import make_static_broadcaster
-    from sar_framework.ros.tree_ticker import create_behaviour_tree, implementation_name
+    from sar_framework.runner.nav2_startup import basic_navigator_class
+    from sar_framework.runner.tree_ticker import create_behaviour_tree, implementation_name
 
     tree = create_behaviour_tree(py_trees.behaviours.Success("only"))
     assert type(tree) is BehaviourTree and implementation_name(tree) == "py_trees_ros"

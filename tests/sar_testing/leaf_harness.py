@@ -7,6 +7,7 @@ import them from this module.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -40,3 +41,16 @@ BASE = {"x": 0.0, "y": 0.0, "yaw": 0.0}
 def spec_zone_manager(zones: list[dict[str, Any]] | None = None) -> ZoneManager:
     """A ZoneManager with the spec's zones (or ``zones``) and base station."""
     return ZoneManager(SPEC_ZONES if zones is None else zones, BASE)
+
+
+@dataclass
+class FixedDetector:
+    """Stands in for DetectSurvivor: a settable detection result."""
+
+    pose: tuple[float, float] | None = None
+
+    def was_found(self) -> bool:
+        return self.pose is not None
+
+    def survivor_pose(self) -> tuple[float, float] | None:
+        return self.pose

@@ -10,7 +10,7 @@ import pytest
 from sar_testing.spin import ros_node, spin_until
 
 from sar_framework import load_tree
-from sar_framework.recording.tree_status import STATUS_TOPIC, TreeStatusPublisher, decode_status
+from sar_framework.runner.tree_status import STATUS_TOPIC, TreeStatusPublisher, decode_status
 from sar_framework.watch.snapshot_source import SnapshotFeed
 
 pytestmark = pytest.mark.ros

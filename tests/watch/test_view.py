@@ -10,7 +10,7 @@ import pytest
 from sar_testing.spin import ros_node, spin_until
 
 from sar_framework import load_tree
-from sar_framework.recording.tree_status import (
+from sar_framework.runner.tree_status import (
     STATUS_TOPIC,
     StatusFormatError,
     TreeStatusPublisher,

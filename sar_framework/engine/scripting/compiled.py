@@ -56,7 +56,8 @@ class CompiledScript:
         Returns:
             One :class:`ScriptError` per problem, in script order.
         """
-        return typecheck.check(self, types, closed=closed, condition=condition)
+        return typecheck.check(self.statements, self.text, types, closed=closed,
+                               condition=condition)
 
     def run(self, variables: Variables) -> Any:
         """Run every statement in order; return the value of the last one.

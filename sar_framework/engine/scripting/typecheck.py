@@ -10,14 +10,10 @@ that is not 0 or 1), never on types. Expressions whose type cannot be known are 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
 
 from . import nodes, values
 from .errors import ScriptError
-
-if TYPE_CHECKING:
-    from .compiled import CompiledScript
 
 ANY = "any"
 NUMERIC = ("int", "float", "bool")
@@ -43,20 +39,24 @@ def _kind(t: str) -> str:
     return "opaque"
 
 
-def check(script: CompiledScript, types: Mapping[str, str], *, closed: bool = True,
-          condition: bool = False) -> list[ScriptError]:
-    """Return ``script``'s type problems (see :meth:`.CompiledScript.check`)."""
+def check(statements: Sequence[nodes.Node], text: str, types: Mapping[str, str], *,
+          closed: bool = True, condition: bool = False) -> list[ScriptError]:
+    """Return the type problems of a script's parsed ``statements`` (its ``text``).
+
+    :meth:`.CompiledScript.check` documents the arguments; this module does not know
+    that class, so the two do not import each other.
+    """
     checker = _Checker({name: normalised(t) for name, t in types.items()}, closed)
     last = ANY
     try:
-        for statement in script.statements:
+        for statement in statements:
             last = checker.infer(statement)
     except RecursionError:
-        return [ScriptError("the script is nested too deeply", 1, 1, script.text)]
+        return [ScriptError("the script is nested too deeply", 1, 1, text)]
     if condition and _kind(last) in ("str", "opaque"):
-        checker.problem(script.statements[-1], f"a condition must give a number or "
+        checker.problem(statements[-1], f"a condition must give a number or "
                                                 f"true/false, not {_a(last)}")
-    return [problem.in_script(script.text) for problem in checker.problems]
+    return [problem.in_script(text) for problem in checker.problems]
 
 
 class _Checker:

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 from typing import IO
 
+from sar_framework.child_process import ChildProcess
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import (
     EVENTS_FILE,
@@ -22,17 +23,10 @@ from sar_framework.events.jsonl import (
     JsonLinesFollower,
 )
 from sar_framework.mission.completion import DEFAULT_COMPLETION, describe_completion
-from sar_framework.recording.recorder import wait_until_recording
-from sar_framework.run.config import (
-    RunConfig,
-    RunUsageError,
-    check_config,
-    child_specs,
-    config_from_args,
-    ros_environment,
-)
-from sar_framework.run.inputs import CheckedInputs
-from sar_framework.run.outcome import (
+from sar_framework.orchestrate.config import check_config, child_specs, ros_environment
+from sar_framework.orchestrate.inputs import CheckedInputs
+from sar_framework.orchestrate.options import RunConfig, RunUsageError, config_from_args
+from sar_framework.orchestrate.outcome import (
     EXIT_INTERRUPTED,
     EXIT_USAGE,
     Outcome,
@@ -45,15 +39,17 @@ from sar_framework.run.outcome import (
     summarise,
     timeout_outcome,
 )
-from sar_framework.run.supervise import Child, Interrupt, LogLine, stop_children
-from sar_framework.watch.child import WatchChild
+from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
+from sar_framework.recording.recorder import wait_until_recording
+from sar_framework.stop_signals import stop_on_signals
+from sar_framework.watch.child import start_watcher, stop_watcher
 
 POLL_S = 0.05
 GOAL_ENDS = frozenset({"canceled", "aborted", "succeeded"})
 """The simulator's trace events that end a goal (a stop may release the simulator then)."""
 
 
-class Mission:
+class Orchestrator:
     """One ``sar-tree run``: children, progress, stop, report.
 
     Args:
@@ -69,7 +65,7 @@ class Mission:
         self.spec = inputs.spec
         self.out = out if out is not None else sys.stdout
         self.report_dir = Path(config.report_dir)
-        self.children: list[Child] = []
+        self.children: list[ChildProcess] = []
         self.started = time.monotonic()
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
@@ -80,7 +76,7 @@ class Mission:
         self._print_lock = threading.Lock()
         self._child_errors: dict[str, list[str]] = {}
         self.exited: dict[str, int | None] = {}  # children that ended mid-mission
-        self.watcher: WatchChild | None = None  # sar-tree run --watch
+        self.watcher: ChildProcess | None = None  # sar-tree run --watch
 
     # progress -----------------------------------------------------------------------------
     def say(self, text: str) -> None:
@@ -138,8 +134,8 @@ class Mission:
         self.say("sar-tree run: " + describe_completion(
             str(self.inputs.runner_values.get("completion", DEFAULT_COMPLETION)), self.spec))
         for spec in child_specs(self.config, self.report_dir, self.inputs.zones):
-            self.children.append(Child(spec, env, self.report_dir / f"{spec.label}.log",
-                                       self._on_line, self.started))
+            self.children.append(start_child(spec, env, self.report_dir / f"{spec.label}.log",
+                                             self._on_line, self.started))
             if spec.label == "recorder" and self.config.record:
                 recorder = self.children[-1]
                 wait_until_recording(Path(self.config.record),
@@ -147,13 +143,13 @@ class Mission:
         for child in self.children:
             child.start_reading()
         if self.config.watch:
-            self.watcher = WatchChild(env)
+            self.watcher = start_watcher(env)
         # Import the report's libraries now, not after a Ctrl-C (numpy, Pillow, graphviz).
         import sar_framework.engine.render
         import sar_framework.report
         import sar_framework.sim.occupancy  # noqa: F401
 
-    def child(self, label: str) -> Child | None:
+    def child(self, label: str) -> ChildProcess | None:
         """The child called ``label``, if it was started."""
         return next((c for c in self.children if c.label == label), None)
 
@@ -178,14 +174,14 @@ class Mission:
                 return Outcome("INTERRUPTED", EXIT_INTERRUPTED, "interrupted (Ctrl-C)")
             code = runner.poll()
             if code is not None:
-                runner.finish()
+                runner.finish_reading()
                 self.take_events()  # the last events, written before it exited
                 return runner_exit_outcome(code, self.events, read_status(self.report_dir),
                                            self._last_error("runner"))
             for child in self.children:
                 if child is runner or child.label in self.exited or child.poll() is None:
                     continue
-                child.finish()
+                child.finish_reading()
                 self.exited[child.label] = child.poll()
                 if child.label == "sim" or child.poll() == EXIT_USAGE:  # the clock, bad input
                     return child_exit_outcome(child.label, child.poll(),
@@ -208,7 +204,7 @@ class Mission:
         self.stop_s = stop_children(self.children, released=self._goal_ended)
         self.take_events()
         if self.watcher is not None:
-            self.watcher.finish()
+            stop_watcher(self.watcher)
 
     def _last_error(self, label: str) -> str:
         errors = self._child_errors.get(label)
@@ -277,9 +273,8 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         0 SUCCESS, 1 FAILURE/timeout/start-up failure, 2 input rejected by a child,
         130 interrupted.
     """
-    mission = Mission(config, inputs, out)
-    interrupt = Interrupt()
-    interrupt.install()
+    mission = Orchestrator(config, inputs, out)
+    interrupt = stop_on_signals()
     try:
         mission.prepare()
         mission.start()
@@ -306,7 +301,7 @@ def run_command(args: argparse.Namespace) -> int:
     """``sar-tree run``: check the input, run the mission, return the exit code.
 
     Args:
-        args: Parsed arguments (see :func:`~sar_framework.run.config.configure`).
+        args: Parsed arguments (see :func:`~sar_framework.orchestrate.options.configure`).
 
     Returns:
         The exit code.

@@ -1,6 +1,6 @@
 """The runner's status file, the tree's snapshot kept current; and the status events.
 
-What *happened* goes out as events (:mod:`sar_framework.events`): :class:`StatusRecorder`
+What *happened* goes out as events (:mod:`sar_framework.events`): :class:`StatusFileWriter`
 emits a ``status`` event when a leaf starts (RUNNING) and when it ends SUCCESS or FAILURE
 (a leaf repeating the same verdict and message on consecutive ticks, a reactive root
 re-checking a condition while the tree idles, once), and collects the reasons
@@ -17,7 +17,7 @@ Definitions used here:
   ``use_sim_time``); ``wall_*`` are wall-clock seconds since the runner started.
 - ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status; ``running`` lists
   the uids RUNNING after the last tick.
-- The reasons (:attr:`StatusRecorder.failures`) are the leaf FAILUREs that are failures
+- The reasons (:attr:`StatusFileWriter.failures`) are the leaf FAILUREs that are failures
   rather than decisions: the leaf had been RUNNING before it failed (conditions never run,
   so a condition saying "no" is not listed), or its FAILURE came on the tick the root
   itself failed; and every timeout, cancel, retry and skip, each with ``what``.
@@ -49,7 +49,7 @@ from py_trees.common import Status
 from sar_framework.engine.spec import Category, TreeSpec
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter
 from sar_framework.events.event import EventKind
-from sar_framework.ros.reasons import EXPLAINING_DECORATORS, ReasonLog
+from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 #: How the end of a mission is recognised (see the module docstring).
@@ -95,7 +95,7 @@ def startup_failure_document(tree: str, step: str, message: str,
     }
 
 
-class StatusRecorder(py_trees.visitors.VisitorBase):
+class StatusFileWriter(py_trees.visitors.VisitorBase):
     """Watches a ticking tree and keeps the status document (and file) current.
 
     Add it to ``tree.visitors`` (it sees every behaviour ticked) and call

@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING
 
 from sar_framework.mission.params_file import KeyLocation, ParamsError
 from sar_framework.mission.runner_params import DEFAULT_TREE, RUNNER_PARAMETERS
-from sar_framework.ros.nav2_startup import InitialPose
 from sar_framework.ros.parameters import declare_table
+from sar_framework.runner.nav2_startup import InitialPose
 
 if TYPE_CHECKING:
     from rclpy.node import Node

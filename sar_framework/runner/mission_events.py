@@ -14,7 +14,7 @@ if TYPE_CHECKING:
 
     from sar_framework.engine.api import LoadedTree
     from sar_framework.mission.params import MissionParams
-    from sar_framework.ros.runner_settings import RunnerSettings
+    from sar_framework.runner.settings import RunnerSettings
 
 
 def mission_events(node: Node, settings: RunnerSettings, loaded: LoadedTree,
@@ -32,7 +32,7 @@ def mission_events(node: Node, settings: RunnerSettings, loaded: LoadedTree,
     Returns:
         The emitter and the file writer (None without a status file), to close at the end.
     """
-    from sar_framework.ros.event_topic import EventPublisher
+    from sar_framework.runner.event_topic import EventPublisher
 
     clock = node.get_clock()
     kinds = {n.uid: n.kind for n in loaded.spec.nodes()}

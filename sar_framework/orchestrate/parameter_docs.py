@@ -1,6 +1,6 @@
 """docs/parameters.md, generated from every node's parameter table.
 
-``python -m sar_framework.run.parameter_docs > docs/parameters.md`` writes it; a test
+``python -m sar_framework.orchestrate.parameter_docs > docs/parameters.md`` writes it; a test
 fails when the committed file and the tables disagree.
 """
 
@@ -12,7 +12,7 @@ from typing import Any
 
 from sar_framework.engine.param import REQUIRED, Param, type_name
 from sar_framework.mission.processes import MissionSettings, mission_processes
-from sar_framework.run.inputs import NODE_PARAMETERS
+from sar_framework.orchestrate.inputs import NODE_PARAMETERS
 
 _ROOT = str(Path(__file__).resolve().parents[2]) + "/"
 
@@ -20,7 +20,7 @@ INTRO = """\
 # Node parameters
 
 Generated from each node's parameter table by
-`python -m sar_framework.run.parameter_docs > docs/parameters.md` (a test fails when this
+`python -m sar_framework.orchestrate.parameter_docs > docs/parameters.md` (a test fails when this
 file and the tables disagree). Each table is declared once, in a module without ROS, as
 `sar_framework.engine.param.Param` entries (the type leaf params are declared with too), and
 read by the node's ROS declarations (descriptors with ranges: `ros2 param describe`), by

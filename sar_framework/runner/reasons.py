@@ -1,6 +1,6 @@
 """Why things happen in a ticking tree: one record per failure, timeout, cancel, retry, skip.
 
-:class:`ReasonLog` is fed by the status recorder (:mod:`.status_file`) with what each tick
+:class:`ReasonLog` is fed by the status file writer (:mod:`.status_file`) with what each tick
 did and keeps one record per event worth telling a user::
 
     {"what": "timeout", "uid": "0.0.1.0", "name": "VisitWithin180s", "kind": "timeout",

@@ -1,7 +1,7 @@
 """The faults ``sar-tree run`` can inject (``sar-tree faults``), read from the node tables.
 
 A fault is a parameter of the simulator or of a server (its unit, default and meaning come
-from that node's table, :data:`~sar_framework.run.inputs.NODE_PARAMETERS`), or a flag that
+from that node's table, :data:`~sar_framework.orchestrate.inputs.NODE_PARAMETERS`), or a flag that
 leaves a server out. This module only says which, with an example each.
 """
 
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from sar_framework.engine.param import type_name
 from sar_framework.mission.params_check import find_param
-from sar_framework.run.inputs import child_parameters
+from sar_framework.orchestrate.inputs import child_parameters
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
 from sar_framework.sim.params import SIM_PARAMETERS, SPEED
 
 if TYPE_CHECKING:
-    from sar_framework.run.config import RunConfig
+    from sar_framework.orchestrate.options import RunConfig
 
 CHILDREN = ("sim", "detect", "report", "runner")
 """The children ``sar-tree run`` takes parameters for (``--sim-param`` ...)."""

@@ -145,7 +145,7 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
-    from sar_framework.ros.lifecycle_probe import LifecycleProbe
+    from sar_framework.runner.lifecycle_probe import LifecycleProbe
 
     nav = navigator_cls(node_name="sar_nav2_startup")
     nav.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])

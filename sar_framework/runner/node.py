@@ -10,7 +10,7 @@ Start-up, in order; each step is bounded and fails with one clear message:
 1. every ``--params-file`` is checked in pure Python (file:line:col messages) before rcl
    parses it (:mod:`sar_framework.mission.params_file`);
 2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
-   parameters (:mod:`.runner_settings`) and the mission's (zones, ``tick_rate_hz``) are read;
+   parameters (:mod:`.settings`) and the mission's (zones, ``tick_rate_hz``) are read;
 3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
@@ -26,7 +26,7 @@ FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, 
 ``exit_on_completion`` it then ends, otherwise it stays up (a ``rest`` tree keeps ticking,
 idling at its end) until SIGINT.
 
-Other processes read the runner's events, never its log (:mod:`.runner_events`): on
+Other processes read the runner's events, never its log (:mod:`.mission_events`): on
 ``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
 
 Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
@@ -44,11 +44,9 @@ process of the group and ``ros2 launch`` forwards it once more.
 
 from __future__ import annotations
 
-import signal
 import sys
 import time
 from collections.abc import Sequence
-from types import FrameType
 from typing import TYPE_CHECKING
 
 import py_trees
@@ -67,16 +65,16 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
-from sar_framework.recording.tree_status import TreeStatusPublisher
-from sar_framework.ros.reasons import reason_line
-from sar_framework.ros.runner_events import mission_events
-from sar_framework.ros.runner_settings import RunnerSettings, read_runner_settings
-from sar_framework.ros.status_file import (
-    StatusRecorder,
+from sar_framework.runner.mission_events import mission_events
+from sar_framework.runner.reasons import reason_line
+from sar_framework.runner.settings import RunnerSettings, read_runner_settings
+from sar_framework.runner.status_file import (
+    StatusFileWriter,
     startup_failure_document,
     write_json_atomically,
 )
-from sar_framework.ros.stop_signals import stopping
+from sar_framework.runner.tree_status import TreeStatusPublisher
+from sar_framework.stop_signals import StopSignals
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
@@ -96,30 +94,6 @@ CANCEL_GRACE_S = 0.5
 NO_CLOCK_WARNING_S = 5.0
 
 
-class StopRequest:
-    """SIGINT/SIGTERM set a flag the loops poll; a repeated signal changes nothing."""
-
-    def __init__(self) -> None:
-        self.requested = False
-        self.signal_name = ""
-
-    def install(self) -> None:
-        """Install the handlers (main thread only)."""
-        signal.signal(signal.SIGINT, self._handle)
-        signal.signal(signal.SIGTERM, self._handle)
-
-    def __call__(self) -> bool:
-        """Return whether a stop was requested."""
-        return self.requested
-
-    def _handle(self, signum: int, _frame: FrameType | None) -> None:
-        if self.requested:
-            return  # a SIGTERM after the first stop: the shutdown is already bounded
-        stopping()  # Ctrl-C seen twice (terminal and launch): the second is ignored
-        self.requested = True
-        self.signal_name = signal.Signals(signum).name
-
-
 class MissionRunner:
     """Ticks a loaded tree on a node and reports its progress.
 
@@ -133,8 +107,8 @@ class MissionRunner:
     """
 
     def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
-                 loaded: LoadedTree, *, stop: StopRequest, wall_start: float) -> None:
-        from sar_framework.ros.tree_ticker import create_behaviour_tree
+                 loaded: LoadedTree, *, stop: StopSignals, wall_start: float) -> None:
+        from sar_framework.runner.tree_ticker import create_behaviour_tree
 
         self.node = node
         self.settings = settings
@@ -149,16 +123,16 @@ class MissionRunner:
         self.tree = create_behaviour_tree(loaded.root)
         self.events, self._events_file = mission_events(node, settings, loaded, mission,
                                                         wall_start)
-        self.recorder = StatusRecorder(
+        self.status_writer = StatusFileWriter(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
             completion=self.completion, emitter=self.events,
         )
-        self.tree.visitors.append(self.recorder)
+        self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
         TreeStatusPublisher(node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
-                            complete=lambda: self.recorder.complete).attach(self.tree)
+                            complete=lambda: self.status_writer.complete).attach(self.tree)
 
     def setup(self) -> None:
         """Set up every behaviour with the node (bounded).
@@ -181,7 +155,7 @@ class MissionRunner:
         Returns:
             The exit code.
         """
-        from sar_framework.ros.tree_ticker import implementation_name
+        from sar_framework.runner.tree_ticker import implementation_name
 
         period_ms = 1000.0 / self.mission.tick_rate_hz
         self.tree.tick_tock(period_ms=period_ms)
@@ -192,23 +166,23 @@ class MissionRunner:
         self.logger.info(ticking)
         started = time.monotonic()
         warned = False
-        while not self.stop() and not self.finished:
+        while not self.stop and not self.finished:
             executor.spin_once(timeout_sec=0.1)
-            if (not warned and self.recorder.ticks == 0 and self.settings.use_sim_time
+            if (not warned and self.status_writer.ticks == 0 and self.settings.use_sim_time
                     and time.monotonic() - started > NO_CLOCK_WARNING_S):
                 warned = True
                 self.logger.warning(f"no tick within {NO_CLOCK_WARNING_S:g} s: use_sim_time is "
                                     "true; is /clock being published?")
-        if self.stop():
-            self.logger.info(f"{self.stop.signal_name}: stopping the tree")
+        if self.stop:
+            self.logger.info(f"{self.stop.name}: stopping the tree")
         self._halt(executor)
         return self.exit_code()
 
     def exit_code(self) -> int:
         """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 0 (stopped by a signal)."""
-        if not self.recorder.complete:
+        if not self.status_writer.complete:
             return EXIT_STOPPED
-        return EXIT_SUCCESS if self.recorder.status == Status.SUCCESS else EXIT_FAILURE
+        return EXIT_SUCCESS if self.status_writer.status == Status.SUCCESS else EXIT_FAILURE
 
     def shutdown(self) -> None:
         """Shut the behaviours down and destroy the node (the tree owns it now)."""
@@ -220,16 +194,16 @@ class MissionRunner:
             self._events_file.close()
 
     def _after_tick(self, tree: py_trees.trees.BehaviourTree) -> None:
-        changed = self.recorder.after_tick(tree)
-        for record in self.recorder.new_reasons:
+        changed = self.status_writer.after_tick(tree)
+        for record in self.status_writer.new_reasons:
             self.events.emit(EventKind(record["what"]),
                              source=self.loaded.behaviours.get(record["uid"]),
                              message=record["message"])
             self.logger.warning(reason_line(record))
-        self.recorder.new_reasons.clear()
+        self.status_writer.new_reasons.clear()
         if changed and self.settings.print_tree:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
-        if not self.recorder.complete:
+        if not self.status_writer.complete:
             return
         if self.completion == "once":
             self._stop_ticking()  # a tree that runs once is not ticked again
@@ -240,7 +214,7 @@ class MissionRunner:
                 verdict = "Mission complete."
             else:
                 reasons = "; ".join(f"{f['name']}: {f['message']}"
-                                    for f in self.recorder.failures[-3:]) or "no reason given"
+                                    for f in self.status_writer.failures[-3:]) or "no reason given"
                 verdict = f"Mission failed ({reasons})."
             self.events.emit(EventKind.COMPLETION, source=tree.root, status=status.name,
                              message=verdict)
@@ -265,7 +239,7 @@ class MissionRunner:
             deadline = time.monotonic() + CANCEL_GRACE_S
             while time.monotonic() < deadline:
                 executor.spin_once(timeout_sec=0.05)
-        self.recorder.write()
+        self.status_writer.write()
 
 
 def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLocation]]:
@@ -306,7 +280,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.engine.diagnostics import TreeLoadError
-    from sar_framework.ros.nav2_startup import (
+    from sar_framework.runner.nav2_startup import (
         Nav2StartupError,
         StartupInterrupted,
         seed_amcl_and_wait_for_nav2,
@@ -321,7 +295,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         early_logger.error(str(err))
         return EXIT_CONFIG
 
-    stop = StopRequest()
+    stop = StopSignals()
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop.install()
     node: Node | None = None
@@ -364,14 +338,14 @@ def run(argv: Sequence[str] | None = None) -> int:
         if settings.seed_amcl:
             seed_amcl_and_wait_for_nav2(
                 pose=settings.initial_pose, timeout_s=settings.nav2_timeout_s,
-                use_sim_time=settings.use_sim_time, should_stop=stop, logger=logger)
+                use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
         runner = MissionRunner(node, settings, mission, loaded, stop=stop,
                                wall_start=wall_start)
         try:
             runner.setup()
         except RuntimeError as err:
             return fail(EXIT_STARTUP, "setup", str(err))
-        if stop():
+        if stop:
             return EXIT_STOPPED
         executor = SingleThreadedExecutor()
         executor.add_node(node)

@@ -1,0 +1,169 @@
+"""The children of ``sar-tree run``: its inputs checked, what the mission starts, how.
+
+Everything here happens before a process starts: :func:`check_config` checks every input
+(:mod:`.inputs`), :func:`mission_settings` says what the mission starts
+(:mod:`sar_framework.mission.processes`, the description the launch file shares),
+:func:`child_specs` turns it into command lines and :func:`ros_environment` gives their
+environment. The options themselves are :mod:`.options`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from sar_framework.mission.processes import (
+    MissionSettings,
+    ParamValue,
+    mission_processes,
+    ros_arguments,
+)
+from sar_framework.orchestrate.inputs import CheckedInputs, check_inputs, parse_entry
+from sar_framework.orchestrate.options import DEFAULT_DOMAIN_ID, RunConfig, RunUsageError
+
+
+@dataclass(frozen=True)
+class ChildSpec:
+    """One process of the mission as ``sar-tree run`` starts it.
+
+    Attributes:
+        label: Short name used in progress lines and for the log file (``runner.log``).
+        module: The Python module run with ``-m``.
+        ros_args: Everything after ``--ros-args``.
+        executable: The console script of the same program (what the launch file starts).
+    """
+
+    label: str
+    module: str
+    ros_args: tuple[str, ...]
+    executable: str = ""
+
+
+def check_config(config: RunConfig) -> CheckedInputs:
+    """Check every input before any process starts (:mod:`sar_framework.orchestrate.inputs`).
+
+    Args:
+        config: The configuration.
+
+    Returns:
+        What the checks found (the tree's spec, the runner's parameters, the zones).
+
+    Raises:
+        RunUsageError: One problem or more; the message holds every one, a line each.
+    """
+    inputs, problems = check_inputs(config)
+    if inputs is None:
+        raise RunUsageError("\n".join(problems) or f"cannot use {config.tree}")
+    return inputs
+
+
+def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str:
+    """A ``blocked_zones`` entry with a mission zone name replaced by ``x:y:radius``.
+
+    Args:
+        entry: ``zone_b``, ``zone_b:0.8``, a world marker name or ``x:y:radius``.
+        zones: Mission zone id -> ``(x, y)``.
+    """
+    from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
+
+    name, _, radius = entry.strip().partition(":")
+    if name not in zones:
+        return entry
+    x, y = zones[name]
+    return f"{x:g}:{y:g}:{radius or f'{DEFAULT_NAMED_RADIUS:g}'}"
+
+
+def entry_values(entries: Sequence[str],
+                 zones: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
+    """``NAME:=VALUE`` entries as typed values, read as rcl reads them (the last one wins).
+
+    Mission zone names in a ``blocked_zones`` list become ``x:y:radius`` (the simulator
+    knows its world's markers, not the mission's zones).
+
+    Args:
+        entries: ``--sim-param`` (or ``--detect-param``...) entries, already checked.
+        zones: Mission zone id -> ``(x, y)``.
+    """
+    values: dict[str, ParamValue] = {}
+    for entry in entries:
+        parsed = parse_entry(entry)
+        if parsed is None:
+            continue  # check_config reported it; nothing starts with it
+        name, value = parsed
+        if name == "blocked_zones" and isinstance(value, list):
+            value = [blocked_zone_entry(str(e), zones or {}) for e in value]
+        values[name] = value
+    return values
+
+
+def ros_environment(base: dict[str, str] | None = None, *,
+                    log_dir: Path | None = None) -> dict[str, str]:
+    """The environment every child runs with.
+
+    Loopback-only discovery, the caller's ``ROS_DOMAIN_ID`` or :data:`DEFAULT_DOMAIN_ID`,
+    unbuffered, uncoloured output.
+
+    Args:
+        base: The environment to start from (``os.environ`` by default).
+        log_dir: Where rcl writes its log files (``ROS_LOG_DIR``), if given.
+
+    Returns:
+        A new environment mapping.
+    """
+    env = dict(os.environ if base is None else base)
+    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    env.pop("ROS_LOCALHOST_ONLY", None)
+    if not env.get("ROS_DOMAIN_ID", "").strip():
+        env["ROS_DOMAIN_ID"] = str(DEFAULT_DOMAIN_ID)
+    env.setdefault("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
+    env["PYTHONUNBUFFERED"] = "1"
+    env["RCUTILS_COLORIZED_OUTPUT"] = "0"
+    if log_dir is not None:
+        env["ROS_LOG_DIR"] = str(log_dir)
+    return env
+
+
+def mission_settings(config: RunConfig, report_dir: Path,
+                     zones: dict[str, tuple[float, float]] | None = None) -> MissionSettings:
+    """What the mission starts, from ``sar-tree run``'s options.
+
+    The trace, status and report files go into the report folder; the servers and the
+    runner follow ``/clock`` only with the simulator; the runner stays up with
+    ``--keep-alive``; ``--sim-param`` and the like are set last.
+
+    Args:
+        config: The configuration.
+        report_dir: The report folder.
+        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+    """
+    return MissionSettings(
+        tree=config.tree, params_file=config.params, use_sim_time=config.sim,
+        simulator=config.sim, speed=config.speed, trace_file=str(report_dir / "trace.jsonl"),
+        detect_server=config.detect_server, survivors_file=config.survivors or "",
+        report_server=config.report_server, report_file=str(report_dir / "reports.jsonl"),
+        exit_on_completion=not config.keep_alive,
+        status_file=str(report_dir / "status.json"),
+        plugin_paths=tuple(config.plugin_paths), record=config.record or "",
+        extra={"sim": entry_values(config.sim_params, zones),
+               "detect": entry_values(config.detect_params),
+               "report": entry_values(config.report_params),
+               "runner": entry_values(config.runner_params)})
+
+
+def child_specs(config: RunConfig, report_dir: Path,
+                zones: dict[str, tuple[float, float]] | None = None) -> list[ChildSpec]:
+    """The processes of a mission, in start order (the runner last), as command lines.
+
+    Args:
+        config: The configuration.
+        report_dir: The report folder (status, trace and report files go there).
+        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+
+    Returns:
+        One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
+        of :func:`mission_settings`).
+    """
+    return [ChildSpec(p.label, p.module, tuple(ros_arguments(p)), p.executable)
+            for p in mission_processes(mission_settings(config, report_dir, zones))]

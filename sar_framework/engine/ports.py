@@ -227,6 +227,9 @@ class Port:
             :data:`NO_DEFAULT` when none (an input without one must be bound).
         description: One line for docs, schema and editor hover text.
         direction: Input, output or both.
+        optional: An input without a default that the tree may leave unbound: the leaf
+            reads it as BT.CPP's ``getInput`` is read, and does without when it is not
+            there (Nav2's ``server_timeout``, ``server_name``).
     """
 
     name: str
@@ -234,6 +237,7 @@ class Port:
     default: Any = NO_DEFAULT
     description: str = ""
     direction: Direction = Direction.INPUT
+    optional: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "type", type_name(self.type))
@@ -255,12 +259,14 @@ class Port:
 
     @property
     def required(self) -> bool:
-        """Whether the tree must bind it (an input or inout port with no default)."""
-        return self.default is NO_DEFAULT and self.direction is not Direction.OUTPUT
+        """Whether the tree must bind it (an input or inout port with no default, not optional)."""
+        return (self.default is NO_DEFAULT and not self.optional
+                and self.direction is not Direction.OUTPUT)
 
 
 def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
-    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = ""
+    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = "",
+    *, optional: bool = False,
 ) -> Port:
     """Declare a port the leaf reads.
 
@@ -269,8 +275,10 @@ def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
         type: The type (see :func:`type_name`).
         default: A literal or ``"{key}"`` when the tree does not bind it.
         description: One line for docs and editors.
+        optional: Without a default, the tree may still leave it unbound (the leaf's
+            ``ports.get`` then raises KeyError, and ``name in ports`` is False).
     """
-    return Port(name, type, default, description, Direction.INPUT)
+    return Port(name, type, default, description, Direction.INPUT, optional)
 
 
 def OutputPort(  # noqa: N802 - named like BT.CPP's OutputPort<T>()

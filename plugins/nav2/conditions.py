@@ -21,7 +21,7 @@ from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 
 from ._common import navigator_setting, node_now, optional_input, planar_distance
-from ._tf import robot_pose
+from ._tf import robot_pose, tf_buffer
 
 POSE = "geometry_msgs/msg/PoseStamped"
 PATH = "nav_msgs/msg/Path"
@@ -121,6 +121,12 @@ class GoalReached(Nav2Condition):
     The tolerance is the node's ``goal_reached_tol`` parameter when declared, else 0.25 m
     (Nav2 Jazzy's default); the robot's pose is TF's ``global_frame`` -> ``robot_base_frame``.
     """
+
+    def setup(self, **kwargs: Any) -> None:
+        """Keep the node and start listening to TF (Nav2's shared ``tf_buffer``)."""
+        super().setup(**kwargs)
+        if self.node is not None:
+            tf_buffer(self.node)
 
     def tolerance(self) -> float:
         """``goal_reached_tol`` (m)."""

@@ -19,7 +19,7 @@ from sar_framework.engine.ports import InputPort, OutputPort
 
 from .._ros_leaf import RosLeaf
 from ._common import navigator_setting, optional_input, planar_distance
-from ._tf import robot_pose
+from ._tf import robot_pose, tf_buffer
 
 PATH = "nav_msgs/msg/Path"
 
@@ -54,6 +54,11 @@ class RemovePassedGoals(RosLeaf):
     def __init__(self, name: str, *, ports: Any) -> None:
         super().__init__(name)
         self.ports = ports
+
+    def setup(self, **kwargs: Any) -> None:
+        """Take the node and start listening to TF."""
+        super().setup(**kwargs)
+        tf_buffer(self.node)
 
     def update(self) -> Status:
         """SUCCESS with ``output_goals`` written; FAILURE without a robot pose."""

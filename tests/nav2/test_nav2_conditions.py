@@ -17,11 +17,12 @@ from py_trees.common import Status
 from sar_framework.engine.api import load_tree
 
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
-from geometry_msgs.msg import PoseStamped  # noqa: E402
-from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose, FollowPath  # noqa: E402
-from nav_msgs.msg import Odometry, Path as PathMsg  # noqa: E402
-from sar_plugins.nav2.conditions import Deceleration  # noqa: E402
-from sar_plugins.nav2.path_tools import remove_passed, truncate  # noqa: E402
+from geometry_msgs.msg import PoseStamped
+from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose, FollowPath
+from nav_msgs.msg import Odometry
+from nav_msgs.msg import Path as PathMsg
+from sar_plugins.nav2.conditions import Deceleration
+from sar_plugins.nav2.path_tools import remove_passed, truncate
 
 
 @pytest.fixture(autouse=True)
@@ -164,7 +165,7 @@ def test_goal_reached_within_nav2s_tolerance(tmp_path: Path, robot: tuple[float,
 
 def odometry(t: float, vx: float) -> Odometry:
     msg = Odometry()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = int(t), int(round((t % 1) * 1e9))
+    msg.header.stamp.sec, msg.header.stamp.nanosec = int(t), round((t % 1) * 1e9)
     msg.twist.twist.linear.x = vx
     return msg
 

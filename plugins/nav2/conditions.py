@@ -79,7 +79,7 @@ class _GoalWatch(Nav2Condition):
         return False
 
 
-@leaf(ports=[_GOAL, _GOALS])
+@leaf(condition=True, ports=[_GOAL, _GOALS])
 class GoalUpdated(_GoalWatch):
     """Nav2's GoalUpdated: SUCCESS when goal or goals changed since this node became active."""
 
@@ -93,7 +93,7 @@ class GoalUpdated(_GoalWatch):
         return Status.SUCCESS if self.changed() else Status.FAILURE
 
 
-@leaf(ports=[_GOAL, _GOALS])
+@leaf(condition=True, ports=[_GOAL, _GOALS])
 class GlobalUpdatedGoal(_GoalWatch):
     """Nav2's GlobalUpdatedGoal: like GoalUpdated, but remembering across resets."""
 
@@ -109,7 +109,7 @@ class GlobalUpdatedGoal(_GoalWatch):
         return Status.SUCCESS if self.changed() else Status.FAILURE
 
 
-@leaf(ports=[
+@leaf(condition=True, ports=[
     InputPort("goal", POSE, optional=True, description="Destination to check."),
     InputPort("global_frame", str, optional=True, description="Reference frame."),
     InputPort("robot_base_frame", str, optional=True, description="Robot base frame. If not "
@@ -177,7 +177,7 @@ class Deceleration:
         self.stuck = self.accel < self.limit
 
 
-@leaf()
+@leaf(condition=True)
 class IsStuck(Nav2Condition):
     """Nav2's IsStuck: SUCCESS while ``odom`` shows a deceleration beyond -10 m/s²."""
 
@@ -212,7 +212,7 @@ class IsStuck(Nav2Condition):
             self._subscription = None
 
 
-@leaf(ports=[InputPort("seconds", float, default=1.0,
+@leaf(condition=True, ports=[InputPort("seconds", float, default=1.0,
                        description="The time passed to return success (s).")])
 class TimeExpired(Nav2Condition):
     """Nav2's TimeExpired: SUCCESS once every ``seconds`` of an active period, else FAILURE."""
@@ -231,7 +231,7 @@ class TimeExpired(Nav2Condition):
         return Status.SUCCESS
 
 
-@leaf(ports=[
+@leaf(condition=True, ports=[
     InputPort("seconds", float, default=1.0, description="Time to check if expired."),
     InputPort("path", PATH, optional=True,
               description="Check if path has been updated to enable timer reset."),
@@ -300,7 +300,7 @@ class _RecoveryHelp(Nav2Condition):
         return Status.SUCCESS if helps else Status.FAILURE
 
 
-@leaf(ports=_CODE_PORTS)
+@leaf(condition=True, ports=_CODE_PORTS)
 class WouldAControllerRecoveryHelp(_RecoveryHelp):
     """Nav2's WouldAControllerRecoveryHelp: a controller error a recovery may fix.
 
@@ -310,7 +310,7 @@ class WouldAControllerRecoveryHelp(_RecoveryHelp):
     TABLE = CONTROLLER_CODES
 
 
-@leaf(ports=_CODE_PORTS)
+@leaf(condition=True, ports=_CODE_PORTS)
 class WouldAPlannerRecoveryHelp(_RecoveryHelp):
     """Nav2's WouldAPlannerRecoveryHelp: the planners' UNKNOWN, NO_VALID_PATH or TIMEOUT."""
 

@@ -23,7 +23,7 @@ from .conditions import Nav2Condition
 _serial = itertools.count()
 
 
-@leaf(ports=[
+@leaf(condition=True, ports=[
     InputPort("path", "nav_msgs/msg/Path", optional=True,
               description="The global path to check for validity."),
     timeout_port(),

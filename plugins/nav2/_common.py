@@ -2,9 +2,10 @@
 
 Nav2's nodes read some settings from the BT navigator rather than from their ports:
 ``default_server_timeout`` (20 ms), ``wait_for_service_timeout`` (1000 ms),
-``robot_base_frame`` (``base_link``), ``global_frame`` (``map``), ``transform_tolerance``
-(0.1 s). Here they are the ROS parameters of the node given to ``setup(node=...)`` when it
-declares them, else Nav2's defaults. No ROS package is imported at module level.
+``robot_base_frame`` (``base_link``), ``global_frame`` (``map``), ``odom_topic``
+(``odom``, IsStuck's odometry). Here they are the ROS parameters of the node given to
+``setup(node=...)`` when it declares them, else Nav2's defaults. No ROS package is
+imported at module level.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ NAVIGATOR_DEFAULTS: dict[str, Any] = {
     "wait_for_service_timeout": 1000,
     "robot_base_frame": "base_link",
     "global_frame": "map",
-    "transform_tolerance": 0.1,
+    "odom_topic": "odom",
 }
 
 _TIMEOUT_TEXT = ("{what} server timeout (ms). If not provided, uses the BT Navigator's "

@@ -179,7 +179,11 @@ class Deceleration:
 
 @leaf(condition=True)
 class IsStuck(Nav2Condition):
-    """Nav2's IsStuck: SUCCESS while ``odom`` shows a deceleration beyond -10 m/s²."""
+    """Nav2's IsStuck: SUCCESS while odometry shows a deceleration beyond -10 m/s².
+
+    The odometry topic is the navigator's ``odom_topic`` (a parameter of the node when
+    declared; else ``odom``).
+    """
 
     def __init__(self, name: str, *, ports: Any = None) -> None:
         super().__init__(name, ports=ports)
@@ -187,13 +191,14 @@ class IsStuck(Nav2Condition):
         self._subscription: Any = None
 
     def setup(self, **kwargs: Any) -> None:
-        """Subscribe to ``odom`` (Nav2's topic) on the node."""
+        """Subscribe to the navigator's ``odom_topic`` on the node."""
         super().setup(**kwargs)
         if self.node is not None and self._subscription is None:
             from nav_msgs.msg import Odometry
 
+            topic = navigator_setting(self.node, "odom_topic")
             self._subscription = self.node.create_subscription(
-                Odometry, "odom", self.on_odometry, 10)
+                Odometry, topic, self.on_odometry, 10)
 
     def on_odometry(self, message: Any) -> None:
         """Feed one odometry message to the test."""

@@ -127,6 +127,21 @@ def _was_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str
     return updated.WasEntryUpdated(node.name, name, blackboard_variables(node, [name]))
 
 
+def _goal_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                  ) -> Behaviour:
+    goal, goals = variable_name(node.attrs["goal"]), variable_name(node.attrs["goals"])
+    return nav2_decorators.GoalUpdatedController(
+        node.name, children[0], goal, goals, blackboard_variables(node, [goal, goals]))
+
+
+def _path_longer(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                 ) -> Behaviour:
+    path = variable_name(node.attrs["path"])
+    return nav2_decorators.PathLongerOnApproach(
+        node.name, children[0], path, blackboard_variables(node, [path]),
+        prox_len=node.attrs["prox_len"], length_factor=node.attrs["length_factor"])
+
+
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
     value, output = node.attrs["value"], variable_name(node.attrs["output_key"])
@@ -172,6 +187,8 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "WaitValueUpdate": _updated(updated.WaitValueUpdate),
     "RateController": _clocked(nav2_decorators.RateController),
     "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
+    "GoalUpdatedController": _goal_updated,
+    "PathLongerOnApproach": _path_longer,
     "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
     "AlwaysFailure": _plain(leaves.AlwaysFailure),
     "Sleep": _clocked(leaves.Sleep),

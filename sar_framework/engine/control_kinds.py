@@ -18,9 +18,10 @@ from sar_framework.engine.spec import Category
 
 #: Where a kind comes from, for the docs and the export.
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
-                        "SingleTrigger"})
+                        "SingleTrigger", "GoalUpdatedController", "PathLongerOnApproach"})
 #: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
-ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue"})
+ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue", "goal",
+                         "goals", "path"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
            "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
@@ -167,6 +168,20 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                     description="Child ticks per second.")),
     _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
                "the node is reset."),
+    _decorator("GoalUpdatedController", "Nav2: tick the child when goal or goals changed "
+               "(starting counts) and while it runs; else RUNNING.",
+               Attr("goal", AttrType.STRING, default="{goal}", min_length=1,
+                    description="The goal variable: '{name}'."),
+               Attr("goals", AttrType.STRING, default="{goals}", min_length=1,
+                    description="The goal list variable: '{name}'.")),
+    _decorator("PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal "
+               "is length_factor times longer while the old one was shorter than prox_len; "
+               "else SUCCESS.",
+               _text("path", "The path variable: '{name}'."),
+               Attr("prox_len", AttrType.NUMBER, default=3.0, minimum=0.0,
+                    description="Proximity length (m) for the path to be longer on approach."),
+               Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
+                    description="How many times longer the new path must be.")),
     _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
           "FAILURE.", _text("entry", "The watched variable: '{name}'.")),
     _leaf("AlwaysSuccess", "SUCCESS."),

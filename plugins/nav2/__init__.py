@@ -18,8 +18,8 @@ whether the embedded simulator or a real Nav2 answers. Modules, by family:
   PathExpiringTimer, WouldAControllerRecoveryHelp, WouldAPlannerRecoveryHelp;
   ``path_valid``: IsPathValid.
 
-Nav2's decorators (DistanceController, SpeedController, GoalUpdater,
-GoalUpdatedController, PathLongerOnApproach) are not here: plugins are leaves only.
+Nav2's decorators are node kinds of the engine (``engine/controls/nav2_decorators.py``,
+``nav2_robot.py``), not plugins: plugins are leaves.
 The registry finds the leaves through this package's names (it imports ``sar_plugins``'
 modules one level deep).
 """

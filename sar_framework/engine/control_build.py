@@ -24,6 +24,7 @@ from sar_framework.engine.controls import (
     loops,
     nav2_controls,
     nav2_decorators,
+    nav2_robot,
     parallels,
     queues,
     sequences,
@@ -31,6 +32,7 @@ from sar_framework.engine.controls import (
     updated,
 )
 from sar_framework.engine.controls.values import DictVariables
+from sar_framework.engine.robot_context import pose_source, speed_source, update_source
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.variables import BlackboardVariables, Variables
 
@@ -142,6 +144,30 @@ def _path_longer(node: NodeSpec, children: list[Behaviour], context: Mapping[str
         prox_len=node.attrs["prox_len"], length_factor=node.attrs["length_factor"])
 
 
+def _distance(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+              ) -> Behaviour:
+    return nav2_robot.DistanceController(node.name, children[0], pose_source(context),
+                                         **node.attrs)
+
+
+def _speed(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+           ) -> Behaviour:
+    attrs = dict(node.attrs)
+    goal, goals = variable_name(attrs.pop("goal")), variable_name(attrs.pop("goals"))
+    return nav2_robot.SpeedController(
+        node.name, children[0], speed_source(context), blackboard_variables(node, [goal, goals]),
+        goal=goal, goals=goals, clock=_clock(context), **attrs)
+
+
+def _goal_updater(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                  ) -> Behaviour:
+    read = variable_name(node.attrs["input_goal"])
+    write = variable_name(node.attrs["output_goal"])
+    return nav2_robot.GoalUpdater(
+        node.name, children[0], update_source(context),
+        blackboard_variables(node, [read, write], [write]), input_goal=read, output_goal=write)
+
+
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
     value, output = node.attrs["value"], variable_name(node.attrs["output_key"])
@@ -189,6 +215,9 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
     "GoalUpdatedController": _goal_updated,
     "PathLongerOnApproach": _path_longer,
+    "DistanceController": _distance,
+    "SpeedController": _speed,
+    "GoalUpdater": _goal_updater,
     "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
     "AlwaysFailure": _plain(leaves.AlwaysFailure),
     "Sleep": _clocked(leaves.Sleep),

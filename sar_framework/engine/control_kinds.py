@@ -18,10 +18,11 @@ from sar_framework.engine.spec import Category
 
 #: Where a kind comes from, for the docs and the export.
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
-                        "SingleTrigger", "GoalUpdatedController", "PathLongerOnApproach"})
+                        "SingleTrigger", "GoalUpdatedController", "PathLongerOnApproach",
+                        "DistanceController", "SpeedController", "GoalUpdater"})
 #: The attributes that name variables (``"{name}"`` is an entry there, not a literal).
 ENTRY_PORTS = frozenset({"variable", "entry", "value", "output_key", "key", "queue", "goal",
-                         "goals", "path"})
+                         "goals", "path", "input_goal", "output_goal"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
            "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
@@ -47,6 +48,14 @@ def _int(name: str, text: str, *, default: int | None = None, minimum: int | Non
          ) -> Attr:
     return Attr(name, AttrType.INTEGER, required=default is None, default=default,
                 minimum=minimum, description=text)
+
+
+def _number(name: str, default: float, text: str) -> Attr:
+    return Attr(name, AttrType.NUMBER, default=default, minimum=0.0, description=text)
+
+
+def _frame(name: str, text: str) -> Attr:
+    return Attr(name, AttrType.STRING, default="", description=text)
 
 
 def _text(name: str, text: str) -> Attr:
@@ -182,6 +191,24 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                     description="Proximity length (m) for the path to be longer on approach."),
                Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
                     description="How many times longer the new path must be.")),
+    _decorator("DistanceController", "Nav2: tick the child each time the robot travelled "
+               "distance metres (and on the first tick, and while it runs); else RUNNING.",
+               _number("distance", 1.0, "Metres travelled between ticks of the child."),
+               _frame("global_frame", "Reference frame ('': the navigator's, map)."),
+               _frame("robot_base_frame", "Robot frame ('': the navigator's, base_link).")),
+    _decorator("SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate "
+               "as the robot's speed goes from min_speed to max_speed; else RUNNING.",
+               _number("min_rate", 0.1, "Hz at min_speed and below."),
+               _number("max_rate", 1.0, "Hz at max_speed and above."),
+               _number("min_speed", 0.0, "m/s."), _number("max_speed", 0.5, "m/s."),
+               Attr("goal", AttrType.STRING, default="{goal}", min_length=1,
+                    description="The goal variable: '{name}' (a new goal ticks the child)."),
+               Attr("goals", AttrType.STRING, default="{goals}", min_length=1,
+                    description="The goal list variable: '{name}'.")),
+    _decorator("GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on "
+               "the goal_update topic; then tick the child.",
+               _text("input_goal", "The original goal: '{name}'."),
+               _text("output_goal", "The goal to use: '{name}'.")),
     _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
           "FAILURE.", _text("entry", "The watched variable: '{name}'.")),
     _leaf("AlwaysSuccess", "SUCCESS."),

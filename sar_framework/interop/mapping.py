@@ -119,9 +119,6 @@ REFUSED: dict[str, str] = {
     "Precondition": "its condition is a script on the blackboard; use a condition leaf",
     "Script": "scripts use the blackboard; this framework shares state by references",
     "ScriptCondition": "scripts use the blackboard; use a condition leaf plugin",
-    "DistanceController": "a Nav2 decorator reading the robot pose; no equivalent",
-    "SpeedController": "a Nav2 decorator reading the robot speed; no equivalent",
-    "GoalUpdater": "a Nav2 decorator writing the blackboard; no equivalent",
 }
 
 

@@ -45,6 +45,7 @@ def ros(sim: NodeProcess) -> Iterator[tuple[Any, Any]]:
 
     with ros_node("nav2_leaves_test") as (node, executor):
         node.declare_parameter("default_server_timeout", 2000)
+        node.declare_parameter("odom_topic", "/odometry/filtered")  # as config/nav2_params
         probe = ActionClient(node, Spin, "spin")
         assert spin_until(executor, probe.server_is_ready, DISCOVERY_S), sim.output
         probe.destroy()
@@ -178,3 +179,58 @@ def test_a_halted_follow_path_cancels_its_goal(ros: tuple[Any, Any], trees: Tree
     from action_msgs.msg import GoalStatus
 
     assert spin_until(executor, lambda: handle.status == GoalStatus.STATUS_CANCELED, 5.0)
+
+
+DISTANCE = """
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+  path: {type: nav_msgs/msg/Path}
+  replan: {type: nav_msgs/msg/Path}
+root:
+  Sequence:
+    children:
+      - ComputePathToPose: {goal: "{goal}", path: "{path}"}
+      - PipelineSequence:
+          children:
+            - DistanceController:
+                distance: 0.3
+                child: {ComputePathToPose: {goal: "{goal}", path: "{replan}"}}
+            - FollowPath: {path: "{path}"}
+"""
+
+
+def test_distance_controller_replans_on_the_runners_robot_state(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    """Nav2's replanning-by-distance shape, on the runner's context sources (TF, odometry).
+
+    The replanned path is not followed: the simulator's follower does not finish a path
+    swapped in mid-drive that starts behind the robot (issue 21, point 3).
+    """
+    from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+    from sar_framework.ros.robot_state import robot_context
+
+    node, executor = ros
+    context = robot_context(node)
+    tree_file = tmp_path / "t.yaml"
+    tree_file.write_text("format: 1\n" + DISTANCE)
+    root = load_tree(tree_file, context).root  # starts the pose source (DistanceController)
+    context[ROBOT_SPEED_KEY].start()  # no SpeedController here: started by hand
+    assert spin_until(executor, lambda: context[ROBOT_POSE_KEY]("", "") is not None, 10.0)
+    start = context[ROBOT_POSE_KEY]("", "")
+    far = math.hypot(*start) > 1.0  # free places: the spawn, and where the first test drove
+    Blackboard.storage["/goal"] = pose(0.0, 0.0) if far else pose(1.0, -0.5)
+    tree = trees(root)
+    speeds: list[float] = []
+    replans: list[int] = []
+
+    def step() -> None:
+        tree.tick()
+        speeds.append(context[ROBOT_SPEED_KEY]() or 0.0)
+        latest = Blackboard.storage.get("/replan")
+        if latest is not None and (not replans or replans[-1] != id(latest)):
+            replans.append(id(latest))
+
+    assert spin_until(executor, lambda: root.status == Status.SUCCESS, 30.0, step=step), [
+        b.feedback_message for b in root.iterate()]
+    assert len(replans) >= 3  # at the start, then every 0.3 m of the ~1.1 m drive
+    assert max(speeds) > 0.05  # the odometry source saw the robot move

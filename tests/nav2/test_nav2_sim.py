@@ -234,3 +234,58 @@ def test_distance_controller_replans_on_the_runners_robot_state(
         b.feedback_message for b in root.iterate()]
     assert len(replans) >= 3  # at the start, then every 0.3 m of the ~1.1 m drive
     assert max(speeds) > 0.05  # the odometry source saw the robot move
+
+
+THROUGH = """
+blackboard:
+  goals: {type: list}
+  path: {type: nav_msgs/msg/Path}
+  smooth: {type: nav_msgs/msg/Path}
+  controller: {type: str}
+  done: {type: bool, initial: false}
+root:
+  Sequence:
+    children:
+      - ControllerSelector: {default_controller: FollowPath, selected_controller: "{controller}"}
+      - RemovePassedGoals: {input_goals: "{goals}", output_goals: "{goals}", radius: 0.3}
+      - ComputePathThroughPoses: {goals: "{goals}", path: "{path}"}
+      - SmoothPath: {unsmoothed_path: "{path}", smoothed_path: "{smooth}",
+                     was_completed: "{done}"}
+      - FollowPath: {path: "{smooth}", controller_id: "{controller}"}
+      - CancelControl: {}
+"""
+
+
+def test_through_poses_smoothed_and_followed_with_the_selected_controller(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    from sar_framework.engine.robot_context import ROBOT_POSE_KEY
+    from sar_framework.ros.robot_state import robot_context
+
+    node, executor = ros
+    where = robot_context(node)[ROBOT_POSE_KEY]
+    where.start()
+    assert spin_until(executor, lambda: where("", "") is not None, 10.0)
+    here = where("", "")
+    root = build(tmp_path, THROUGH)
+    # the robot's own place first: RemovePassedGoals drops it (within 0.3 m)
+    Blackboard.storage["/goals"] = [pose(*here), pose(0.5, -0.3), pose(1.0, -0.5)]
+    assert run(ros, trees, root) == Status.SUCCESS, [b.feedback_message for b in root.iterate()]
+    assert len(Blackboard.storage["/goals"]) == 2
+    assert Blackboard.storage["/controller"] == "FollowPath"
+    assert Blackboard.storage["/done"] is True
+    end = Blackboard.storage["/smooth"].poses[-1].pose.position
+    assert (end.x, end.y) == pytest.approx((1.0, -0.5), abs=0.06)
+    assert math.dist(where("", ""), (1.0, -0.5)) < 0.3
+
+
+def test_navigate_to_pose_hands_the_goal_to_the_navigator(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    root = build(tmp_path, "blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
+                           "  code: {type: int, initial: -1}\n"
+                           "root:\n  NavigateToPose: {goal: '{goal}', error_code_id: '{code}'}\n")
+    Blackboard.storage["/goal"] = pose(0.0, 3.0)  # inside a wall: the navigator aborts
+    assert run(ros, trees, root) == Status.FAILURE
+    assert Blackboard.storage["/code"] == 206  # the planner's GOAL_OCCUPIED, as Jazzy's
+    Blackboard.storage["/goal"] = pose(0.5, -0.3)
+    assert run(ros, trees, root) == Status.SUCCESS
+    assert Blackboard.storage["/code"] == 0

@@ -82,7 +82,7 @@ def test_navigator_imports_validates_renders_and_exports_to_what_btcpp_loads(
     tree = tmp_path / f"{xml.stem}.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0, capsys.readouterr().err
-    assert "plugins:" in tree.read_text()
+    assert "plugins:" not in tree.read_text()  # every Nav2 leaf is one of sar_plugins.nav2
     assert main(["validate", str(tree)]) == 0, capsys.readouterr().err
     svg = tmp_path / f"{xml.stem}.svg"
     assert main(["render", str(tree), "-o", str(svg)]) == 0, capsys.readouterr().err
@@ -96,14 +96,19 @@ def test_navigator_imports_validates_renders_and_exports_to_what_btcpp_loads(
     assert done.stdout.startswith("models ")
 
 
-def test_odometry_scaffold_takes_its_ports_from_the_palette(tmp_path: Path) -> None:
-    xml = next(p for p in NAVIGATORS if p.stem == "odometry_calibration")
-    tree = tmp_path / "odometry.yaml"
+DOCK_XML = ('<root><BehaviorTree ID="t"><Sequence>\n<DockRobot dock_id="d1" '
+            'max_staging_time="2.0"/></Sequence></BehaviorTree></root>')
+
+
+def test_a_scaffold_takes_its_ports_from_the_palette(tmp_path: Path) -> None:
+    xml = tmp_path / "dock.xml"  # DockRobot: a palette leaf sar_plugins.nav2 does not provide
+    xml.write_text(DOCK_XML)
+    tree = tmp_path / "dock.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
-    leaves = (tmp_path / "leaves" / "odometry_calibration_leaves.py").read_text()
-    assert "class DriveOnHeading(py_trees.behaviour.Behaviour):" in leaves
-    assert "InputPort('dist_to_travel', float, default=0.15" in leaves
+    leaves = (tmp_path / "leaves" / "dock_leaves.py").read_text()
+    assert "class DockRobot(py_trees.behaviour.Behaviour):" in leaves
+    assert "InputPort('max_staging_time', float, default=1000.0" in leaves
     assert "# InputPort('server_name', str" in leaves  # BT.CPP-optional, never set
 
 
@@ -121,7 +126,9 @@ def test_only_the_refused_control_nodes_stop_an_import(
                "node this framework has no kind for" in line) for line in errors), errors
 
 
-def test_nav2_wait_is_not_our_wait(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_nav2_wait_imports_as_nav2_wait(tmp_path: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """Before: our dwell was 'Wait', so Nav2's <Wait> was scaffolded as 'BtcppWait'."""
     xml = tmp_path / "wait.xml"
     xml.write_text('<root><BehaviorTree ID="t"><Wait wait_duration="5.0"/></BehaviorTree>'
                    '</root>')
@@ -129,25 +136,27 @@ def test_nav2_wait_is_not_our_wait(tmp_path: Path, capsys: pytest.CaptureFixture
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
     err = capsys.readouterr().err
-    assert (f"{xml}:1:28: warning: <Wait> is not the registered plugin 'Wait': its model "
-            f"({PALETTE}:") in err
-    assert "scaffolded as 'BtcppWait'" in err
-    assert "BtcppWait: {wait_duration: 5.0}" in tree.read_text()
+    assert "warning" not in err and "Btcpp" not in err
+    text = tree.read_text()
+    assert "Wait: {wait_duration: 5.0}" in text and "plugins:" not in text
+    spec = load_tree(tree, {}).spec
+    assert spec.root.kind == "Wait" and spec.root.ports["wait_duration"] == 5.0
 
 
 def test_scaffolded_leaves_build_and_fail_saying_they_are_not_written(tmp_path: Path) -> None:
-    xml = next(p for p in NAVIGATORS if p.stem == "odometry_calibration")
-    tree = tmp_path / "odometry.yaml"
+    xml = tmp_path / "dock.xml"
+    xml.write_text(DOCK_XML)
+    tree = tmp_path / "dock.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
     loaded = load_tree(tree, {})
     loaded.root.tick_once()
     assert loaded.root.status == Status.FAILURE
-    first = next(b for b in loaded.root.iterate() if b.name == "DriveOnHeading")
+    first = next(b for b in loaded.root.iterate() if b.name == "DockRobot")
     # (its status is reset to INVALID: BT.CPP's Sequence resets its children when it ends)
-    assert first.feedback_message == ("DriveOnHeading is scaffolded: its behaviour is not "
+    assert first.feedback_message == ("DockRobot is scaffolded: its behaviour is not "
                                       "written yet")
-    assert first.ports.get("dist_to_travel") == 2.0  # type: ignore[attr-defined]
+    assert first.ports.get("max_staging_time") == 2.0  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize(("stem", "entry", "kind", "text"), [

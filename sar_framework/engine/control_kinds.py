@@ -76,7 +76,7 @@ def _port(name: str, type_: str, text: str, *, direction: Direction = Direction.
 
     ``optional``: an input the tree may leave unbound (Nav2's ``getInputOrBlackboard``).
     """
-    port = Port(name, type_, NO_DEFAULT, text, direction, naming, optional)
+    port = Port(name, type_, NO_DEFAULT, text, direction, naming=naming, optional=optional)
     return Attr(name, AttrType.PORT, required=required and not optional, description=text,
                 port=port)
 

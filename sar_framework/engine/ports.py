@@ -298,7 +298,7 @@ def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
         optional: Without a default, the tree may still leave it unbound (the leaf's
             ``ports.get`` then raises KeyError, and ``name in ports`` is False).
     """
-    return Port(name, type, default, description, Direction.INPUT, optional)
+    return Port(name, type, default, description, Direction.INPUT, optional=optional)
 
 
 def OutputPort(  # noqa: N802 - named like BT.CPP's OutputPort<T>()

@@ -83,7 +83,8 @@ def test_path_longer_on_approach_far_from_the_goal_does_nothing() -> None:
 def test_both_load_from_a_tree_file_on_the_blackboard(tmp_path: Path,
                                                       registry: Registry) -> None:
     tree = tmp_path / "goal.yaml"
-    tree.write_text("format: 1\nroot:\n  GoalUpdatedController:\n    child:\n"
+    tree.write_text("format: 1\nblackboard:\n  path: {type: nav_msgs/msg/Path}\n"
+                    "root:\n  GoalUpdatedController:\n    child:\n"
                     "      PathLongerOnApproach:\n        path: '{path}'\n        prox_len: 1.5\n"
                     "        child: {Fixed: {status: running}}\n")
     Blackboard.storage.clear()

@@ -139,7 +139,9 @@ def test_goal_updater_takes_a_newer_goal_only() -> None:
 
 def test_they_load_from_a_tree_file_with_the_context(tmp_path: Path, registry: Registry) -> None:
     tree = tmp_path / "robot.yaml"
-    tree.write_text("format: 1\nroot:\n  DistanceController:\n    distance: 2.0\n    child:\n"
+    tree.write_text("format: 1\nblackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
+                    "  updated: {type: geometry_msgs/msg/PoseStamped}\n"
+                    "root:\n  DistanceController:\n    distance: 2.0\n    child:\n"
                     "      SpeedController:\n        max_rate: 2.0\n        child:\n"
                     "          GoalUpdater:\n            input_goal: '{goal}'\n"
                     "            output_goal: '{updated}'\n"

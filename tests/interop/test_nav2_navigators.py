@@ -2,14 +2,11 @@
 
 The trees and the palette are read where ROS installs them (``share/`` under
 ``$AMENT_PREFIX_PATH``) or from the ROS overlay's sources; they are never copied here.
-Each file is imported with ``--scaffold`` (every Nav2 leaf becomes a scaffolded plugin)
-and ``--nodes-model nav2_tree_nodes.xml`` (their ports), the tree file is validated,
-drawn as SVG with graphviz, exported back to BT.CPP XML, and the real BehaviorTree.CPP
-4.7.3 (the checker, ``MAX_TICKS`` 0) loads the export: every check ``createTreeFromText``
-makes. A file that uses a control node the importer does not map yet (one
-:data:`~sar_framework.interop.mapping.REFUSED` names, or a palette Control/Decorator
-with no mapping) is an expected failure naming those nodes, and a second test checks
-that those nodes are the only thing stopping its import.
+Each file is imported with ``--scaffold`` and ``--nodes-model nav2_tree_nodes.xml``
+(their ports): every Nav2 leaf is one of ``sar_plugins.nav2`` and every control and
+decorator one of our kinds, so nothing is scaffolded. The tree file is validated, drawn
+as SVG with graphviz, exported back to BT.CPP XML, and the real BehaviorTree.CPP 4.7.3
+(the checker, ``MAX_TICKS`` 0) loads the export: every check ``createTreeFromText`` makes.
 """
 
 from __future__ import annotations
@@ -24,9 +21,7 @@ from py_trees.common import Status
 
 from sar_framework.cli import main
 from sar_framework.engine.api import load_tree
-from sar_framework.interop.btcpp_file import read_palette
-from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED
-from sar_framework.interop.xml_source import Element, read_xml
+from sar_framework.interop.xml_source import Element
 
 OVERLAY = Path("/work/shared/ros-overlay/src")
 pytestmark = pytest.mark.timeout(1200)
@@ -53,29 +48,12 @@ def tags(element: Element) -> set[str]:
     return found
 
 
-def missing_controls(path: Path) -> set[str]:
-    """The control and decorator nodes of ``path`` that the importer cannot map yet."""
-    models = read_palette(str(PALETTE))[0]
-    unmapped = {tag for tag, model in models.items() if not model.is_leaf
-                and tag not in BUILTIN_BY_ID and tag not in CUSTOM_KINDS}
-    return tags(read_xml(path)) & (set(REFUSED) | unmapped)
-
-
-def case(path: Path) -> object:
-    refused = sorted(missing_controls(path))
-    if not refused:
-        return path
-    reason = (f"uses {', '.join(refused)}, which interop/mapping.py does not map yet "
-              "(Nav2/BT.CPP control nodes: the controls branch)")
-    return pytest.param(path, marks=pytest.mark.xfail(strict=True, reason=reason))
-
-
 def test_all_twelve_navigator_trees_are_found() -> None:
     assert len(NAVIGATORS) == 12, NAVIGATORS
     assert PALETTE.is_file()
 
 
-@pytest.mark.parametrize("xml", [case(p) for p in NAVIGATORS], ids=[p.stem for p in NAVIGATORS])
+@pytest.mark.parametrize("xml", NAVIGATORS, ids=[p.stem for p in NAVIGATORS])
 def test_navigator_imports_validates_renders_and_exports_to_what_btcpp_loads(
         xml: Path, tmp_path: Path, btcpp_checker: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
@@ -110,20 +88,6 @@ def test_a_scaffold_takes_its_ports_from_the_palette(tmp_path: Path) -> None:
     assert "class DockRobot(py_trees.behaviour.Behaviour):" in leaves
     assert "InputPort('max_staging_time', float, default=1000.0" in leaves
     assert "# InputPort('server_name', str" in leaves  # BT.CPP-optional, never set
-
-
-@pytest.mark.parametrize("xml", NAVIGATORS, ids=[p.stem for p in NAVIGATORS])
-def test_only_the_refused_control_nodes_stop_an_import(
-        xml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    refused = missing_controls(xml)
-    code = main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
-                 str(tmp_path / "leaves"), "-o", str(tmp_path / "t.yaml")])
-    errors = [line for line in capsys.readouterr().err.splitlines() if ": error: " in line]
-    assert code == (1 if refused else 0)
-    named = {line.split("<")[1].split(">")[0] for line in errors}
-    assert named == refused, errors
-    assert all(line.startswith(f"{xml}:") and ("> cannot be imported: " in line or
-               "node this framework has no kind for" in line) for line in errors), errors
 
 
 def test_nav2_wait_imports_as_nav2_wait(tmp_path: Path,

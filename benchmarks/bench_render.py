@@ -92,7 +92,7 @@ def synthetic_tree(size: int, fanout: int = 4) -> TreeSpec:
     for node in list(frontier):
         if node.category is Category.DECORATOR and not node.children:
             node.children.append(
-                NodeSpec("Wait", Category.LEAF, "Wait", f"{node.uid}.0", loc, {"seconds": 1.0})
+                NodeSpec("Dwell", Category.LEAF, "Dwell", f"{node.uid}.0", loc, {"duration": 1.0})
             )
     return TreeSpec("bench", "synthetic benchmark tree", root, "bench.yaml")
 

@@ -1,6 +1,7 @@
 """Built-in leaf plugins of sar_framework (import name ``sar_plugins``).
 
-One module per leaf. Modules import ROS packages lazily, inside ``setup()``,
+One module per leaf, and the package ``nav2`` (Nav2's palette as leaves, one module per
+family; :mod:`sar_plugins.nav2`). Modules import ROS packages lazily, inside ``setup()``,
 so validating or rendering a tree never needs ROS.
 
 Modules whose names start with ``_`` are shared helpers and hold no plugin:

@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from .detect_survivor import DetectSurvivor
 
 
-@leaf(params=[Param("detector", ref="DetectSurvivor",
+@leaf(condition=True, params=[Param("detector", ref="DetectSurvivor",
                     description="id of the DetectSurvivor leaf whose result to read.")])
 class IsSurvivorDetected(py_trees.behaviour.Behaviour):
     """Condition: SUCCESS if the referenced DetectSurvivor leaf found a survivor, else FAILURE.

@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from sar_framework.mission.zone_manager import ZoneManager
 
 
-@leaf(context=["zone_manager"])
+@leaf(context=["zone_manager"], condition=True)
 class ZonesRemaining(py_trees.behaviour.Behaviour):
     """Condition: SUCCESS while the ZoneManager has a zone left to visit, else FAILURE.
 

@@ -1,4 +1,6 @@
-"""The ``sar-tree`` command line: validate | render | plugins | schema | run | export | import.
+"""The ``sar-tree`` command line.
+
+Subcommands: validate | render | plugins | schema | run | export | import | palette.
 
 Each subcommand is a :class:`Command` (its arguments and a function returning the
 exit code) registered in :data:`_COMMANDS`; each imports what it needs inside its
@@ -289,6 +291,8 @@ _COMMANDS: dict[str, Command] = {
                 interop.configure_export, interop.run_export),
         Command("import", "turn BehaviorTree.CPP 4 XML into a validated tree file",
                 interop.configure_import, interop.run_import),
+        Command("palette", "write a Groot2 <TreeNodesModel> of every registered leaf",
+                interop.configure_palette, interop.run_palette),
         Command("replay", "draw a mission's report again from its recording (.mcap)",
                 _configure_replay, _run_replay),
         Command("watch", "show the running mission's tree live in the terminal",

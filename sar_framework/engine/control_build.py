@@ -27,6 +27,7 @@ from sar_framework.engine.controls import (
     loops,
     nav2_controls,
     nav2_decorators,
+    nav2_robot,
     parallels,
     queues,
     sequences,
@@ -34,6 +35,8 @@ from sar_framework.engine.controls import (
     updated,
 )
 from sar_framework.engine.port_values import PortValues
+from sar_framework.engine.ports import NO_DEFAULT
+from sar_framework.engine.robot_context import pose_source, speed_source, update_source
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.variables import BlackboardVariables
 
@@ -136,6 +139,53 @@ def _was_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str
     return updated.WasEntryUpdated(node.name, "entry", bound_variables(node, "entry"))
 
 
+def _goal_variables(node: NodeSpec) -> BlackboardVariables:
+    """``goal`` and ``goals`` as bound, else the root's entries (``getInputOrBlackboard``)."""
+    keys: dict[str, str] = {}
+    for name in ("goal", "goals"):
+        binding = node.bindings.get(name)
+        if binding is None or (binding.key is None and binding.value is NO_DEFAULT):
+            keys[name] = f"/{name}"
+        elif binding.key is not None:
+            keys[name] = binding.key
+    return BlackboardVariables(node.name, keys, [])
+
+
+def _goal_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                  ) -> Behaviour:
+    return nav2_decorators.GoalUpdatedController(node.name, children[0], "goal", "goals",
+                                                 _goal_variables(node))
+
+
+def _path_longer(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                 ) -> Behaviour:
+    return nav2_decorators.PathLongerOnApproach(
+        node.name, children[0], "path", bound_variables(node, "path"),
+        prox_len=node.attrs["prox_len"], length_factor=node.attrs["length_factor"])
+
+
+def _distance(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+              ) -> Behaviour:
+    return nav2_robot.DistanceController(node.name, children[0], pose_source(context),
+                                         **node.attrs)
+
+
+def _speed(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+           ) -> Behaviour:
+    attrs = {k: v for k, v in node.attrs.items() if k not in ("goal", "goals")}
+    return nav2_robot.SpeedController(
+        node.name, children[0], speed_source(context), _goal_variables(node),
+        goal="goal", goals="goals", clock=_clock(context), **attrs)
+
+
+def _goal_updater(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                  ) -> Behaviour:
+    return nav2_robot.GoalUpdater(
+        node.name, children[0], update_source(context),
+        bound_variables(node, "input_goal", "output_goal"), input_goal="input_goal",
+        output_goal="output_goal")
+
+
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
     value = "{value}" if _bound(node, "value") else node.bindings["value"].value
@@ -179,6 +229,11 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "WaitValueUpdate": _updated(updated.WaitValueUpdate),
     "RateController": _clocked(nav2_decorators.RateController),
     "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
+    "GoalUpdatedController": _goal_updated,
+    "PathLongerOnApproach": _path_longer,
+    "DistanceController": _distance,
+    "SpeedController": _speed,
+    "GoalUpdater": _goal_updater,
     "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
     "AlwaysFailure": _plain(leaves.AlwaysFailure),
     "Sleep": _clocked(leaves.Sleep),

@@ -16,6 +16,9 @@ with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal
 (:class:`~.ports.Naming`):
 SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
 SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated (``name`` or ``{name}``).
+Nav2's decorators' ``goal`` and ``goals`` (optional: unbound, the root's entry of that
+name is read, as Nav2's ``getInputOrBlackboard``), ``path``, ``input_goal`` and
+``output_goal`` (written) are ports too, typed as Nav2's palette types them.
 """
 
 from __future__ import annotations
@@ -26,7 +29,8 @@ from sar_framework.engine.spec import Category
 
 #: Where a kind comes from, for the docs and the export.
 NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
-                        "SingleTrigger"})
+                        "SingleTrigger", "GoalUpdatedController", "PathLongerOnApproach",
+                        "DistanceController", "SpeedController", "GoalUpdater"})
 #: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
 SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
            "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
@@ -36,6 +40,8 @@ SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}
 #: LoopInt..LoopString: the type of their items, in words and as a port type.
 LOOP_ITEMS = {"LoopInt": "integer", "LoopBool": "boolean", "LoopDouble": "number",
               "LoopString": "string"}
+#: The ROS message types of Nav2's decorators' ports (by name: the engine imports no ROS).
+POSE, PATH = "geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Path"
 LOOP_TYPES = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "float", "LoopString": "str"}
 #: Switch2..Switch6: the number of cases of each.
 SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
@@ -55,15 +61,32 @@ def _int(name: str, text: str, *, default: int | None = None, minimum: int | Non
                 minimum=minimum, description=text)
 
 
-def _text(name: str, text: str) -> Attr:
-    return Attr(name, AttrType.STRING, required=True, min_length=1, description=text)
+def _number(name: str, default: float, text: str) -> Attr:
+    return Attr(name, AttrType.NUMBER, default=default, minimum=0.0, description=text)
+
+
+def _frame(name: str, text: str) -> Attr:
+    return Attr(name, AttrType.STRING, default="", description=text)
 
 
 def _port(name: str, type_: str, text: str, *, direction: Direction = Direction.INPUT,
-          naming: Naming = Naming.VALUE, required: bool = True) -> Attr:
-    """An attribute that is a blackboard port of the node (see the module docstring)."""
-    port = Port(name, type_, NO_DEFAULT, text, direction, naming)
-    return Attr(name, AttrType.PORT, required=required, description=text, port=port)
+          naming: Naming = Naming.VALUE, required: bool = True, optional: bool = False
+          ) -> Attr:
+    """An attribute that is a blackboard port of the node (see the module docstring).
+
+    ``optional``: an input the tree may leave unbound (Nav2's ``getInputOrBlackboard``).
+    """
+    port = Port(name, type_, NO_DEFAULT, text, direction, naming=naming, optional=optional)
+    return Attr(name, AttrType.PORT, required=required and not optional, description=text,
+                port=port)
+
+
+def _goal_ports(text: str = "") -> tuple[Attr, Attr]:
+    """Nav2's ``goal`` and ``goals`` inputs, read with ``getInputOrBlackboard``."""
+    return (_port("goal", POSE, "Destination to check: '{name}'; unbound, the root's "
+                  f"'goal' entry{text}.", optional=True),
+            _port("goals", "list", "Vector of goals to check: '{name}'; unbound, the root's "
+                  "'goals' entry.", optional=True))
 
 
 def _entry() -> Attr:
@@ -188,6 +211,33 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                     description="Child ticks per second.")),
     _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
                "the node is reset."),
+    _decorator("GoalUpdatedController", "Nav2: tick the child when goal or goals changed "
+               "(starting counts) and while it runs; else RUNNING.",
+               *_goal_ports()),
+    _decorator("PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal "
+               "is length_factor times longer while the old one was shorter than prox_len; "
+               "else SUCCESS.",
+               _port("path", PATH, "The path created by the planner: '{name}'."),
+               Attr("prox_len", AttrType.NUMBER, default=3.0, minimum=0.0,
+                    description="Proximity length (m) for the path to be longer on approach."),
+               Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
+                    description="How many times longer the new path must be.")),
+    _decorator("DistanceController", "Nav2: tick the child each time the robot travelled "
+               "distance metres (and on the first tick, and while it runs); else RUNNING.",
+               _number("distance", 1.0, "Metres travelled between ticks of the child."),
+               _frame("global_frame", "Reference frame ('': the navigator's, map)."),
+               _frame("robot_base_frame", "Robot frame ('': the navigator's, base_link).")),
+    _decorator("SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate "
+               "as the robot's speed goes from min_speed to max_speed; else RUNNING.",
+               _number("min_rate", 0.1, "Hz at min_speed and below."),
+               _number("max_rate", 1.0, "Hz at max_speed and above."),
+               _number("min_speed", 0.0, "m/s."), _number("max_speed", 0.5, "m/s."),
+               *_goal_ports(" (a new goal ticks the child)")),
+    _decorator("GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on "
+               "the goal_update topic; then tick the child.",
+               _port("input_goal", POSE, "The original goal: '{name}'."),
+               _port("output_goal", POSE, "The goal to use (input_goal or a newer one): "
+                     "'{name}'.", direction=Direction.OUTPUT)),
     _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
           "FAILURE.", _entry()),
     _leaf("AlwaysSuccess", "SUCCESS."),

@@ -228,6 +228,12 @@ UNSUPPORTED_DECORATORS: dict[str, str] = {
     "status_to_blackboard": "writes the blackboard; this framework shares state by references",
     "for_each": "py_trees 2.6 only and blackboard based",
 }
+#: Params of leaves that were renamed: (kind, param) -> what to write now (CHANGELOG.md).
+MOVED_PARAMS: dict[tuple[str, str], str] = {
+    ("Wait", "duration"): "'Wait' is Nav2's Wait (a goal to the 'wait' behaviour server, "
+                          "port 'wait_duration'); the dwell on the node's clock that took "
+                          "'duration' is now 'Dwell': write Dwell: {duration: ...}",
+}
 
 
 def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:

@@ -53,6 +53,8 @@ class PluginSpec:
         ports: The declared ports (:mod:`.ports`), in declaration order; a leaf with
             ports is constructed with ``ports=PortValues(...)``.
         source: Where it was found (module, file or entry point); set by the registry.
+        condition: Whether it is a condition (BT.CPP's ``Condition``: it answers in the tick,
+            never RUNNING) rather than an action; palettes and exports say which.
     """
 
     name: str
@@ -62,6 +64,7 @@ class PluginSpec:
     context: tuple[str, ...] = ()
     source: str = field(default="", compare=False)
     ports: tuple[Port, ...] = ()
+    condition: bool = False
 
     def param(self, name: str) -> Param | None:
         """Return the declared param called ``name``, or None."""
@@ -88,6 +91,7 @@ def leaf(
     context: Sequence[str] = (),
     description: str | None = None,
     ports: Sequence[Port] = (),
+    condition: bool = False,
 ) -> Callable[[_T], _T]:
     """Mark a behaviour class as a leaf plugin.
 
@@ -98,6 +102,7 @@ def leaf(
         description: Defaults to the first paragraph of the class docstring.
         ports: The blackboard ports (:func:`.ports.InputPort`, ``OutputPort``,
             ``BidirectionalPort``).
+        condition: A condition (answers in the tick), not an action.
 
     Returns:
         A class decorator that records a :class:`PluginSpec` on the class and returns it.
@@ -130,6 +135,7 @@ def leaf(
             params=tuple(params),
             context=tuple(context),
             ports=tuple(ports),
+            condition=condition,
         )
         setattr(cls, PLUGIN_ATTRIBUTE, spec)
         return cls

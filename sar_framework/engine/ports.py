@@ -246,6 +246,9 @@ class Port:
         direction: Input, output or both.
         naming: How its text is read (:class:`Naming`): a value (leaves' ports) or the
             name of an entry (some of BT.CPP's own nodes).
+        optional: An input without a default that the tree may leave unbound: the leaf
+            reads it as BT.CPP's ``getInput`` is read, and does without when it is not
+            there (Nav2's ``server_timeout``, ``server_name``).
     """
 
     name: str
@@ -254,6 +257,7 @@ class Port:
     description: str = ""
     direction: Direction = Direction.INPUT
     naming: Naming = Naming.VALUE
+    optional: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "type", type_name(self.type))
@@ -275,12 +279,14 @@ class Port:
 
     @property
     def required(self) -> bool:
-        """Whether the tree must bind it (an input or inout port with no default)."""
-        return self.default is NO_DEFAULT and self.direction is not Direction.OUTPUT
+        """Whether the tree must bind it (an input or inout port with no default, not optional)."""
+        return (self.default is NO_DEFAULT and not self.optional
+                and self.direction is not Direction.OUTPUT)
 
 
 def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
-    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = ""
+    name: str, type: type | str = "any", default: Any = NO_DEFAULT, description: str = "",
+    *, optional: bool = False,
 ) -> Port:
     """Declare a port the leaf reads.
 
@@ -289,8 +295,10 @@ def InputPort(  # noqa: N802 - named like BT.CPP's InputPort<T>()
         type: The type (see :func:`type_name`).
         default: A literal or ``"{key}"`` when the tree does not bind it.
         description: One line for docs and editors.
+        optional: Without a default, the tree may still leave it unbound (the leaf's
+            ``ports.get`` then raises KeyError, and ``name in ports`` is False).
     """
-    return Port(name, type, default, description, Direction.INPUT)
+    return Port(name, type, default, description, Direction.INPUT, optional=optional)
 
 
 def OutputPort(  # noqa: N802 - named like BT.CPP's OutputPort<T>()

@@ -20,6 +20,7 @@ from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, did_you
 from sar_framework.engine.node_kinds import (
     KINDS,
     MAX_DEPTH,
+    MOVED_PARAMS,
     SUBTREE,
     TOP_LEVEL,
     UNSUPPORTED_DECORATORS,
@@ -310,6 +311,8 @@ class StructureCheck:
             return f"unknown key '{key}' in subtree definition '{owner}'" + suggest(key, names)
         if len(path) >= 2 and path[-2] in ("blackboard", "ports"):
             return f"unknown key '{key}' for '{owner}'" + suggest(key, names)
+        if (owner, key) in MOVED_PARAMS:
+            return f"unknown param '{key}' for plugin '{owner}': {MOVED_PARAMS[owner, key]}"
         if owner in self.registry:
             plugin = self.registry.get(owner)
             what = "param or port" if plugin is not None and plugin.ports else "param"

@@ -17,7 +17,6 @@ of its initial values before its root, and a ``<Blackboard>`` element of its dec
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from typing import Any
 
 from sar_framework.engine.control_kinds import NAV2_KINDS
 from sar_framework.engine.node_kinds import KINDS
@@ -27,15 +26,9 @@ from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_blackboard import declarations_element, with_initial
 from sar_framework.interop.btcpp_models import cpp_type
+from sar_framework.interop.btcpp_palette import PORT_ELEMENTS, leaf_model, model_port
 from sar_framework.interop.btcpp_scripts import condition_scripts
 from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
-
-#: C++ type names BT.CPP writes in a model, by Python param type.
-CPP_TYPES: dict[type, str] = {str: "std::string", int: "int", float: "double", bool: "bool"}
-#: Port direction -> the ``<TreeNodesModel>`` element BT.CPP declares it with.
-PORT_ELEMENTS = {"input": "input_port", "output": "output_port", "inout": "inout_port"}
-#: The description of the ``id`` port every leaf model gets.
-ID_PORT_TEXT = "Unique id of this leaf; other leaves' reference ports name it."
 
 
 class _Exporter:
@@ -101,24 +94,17 @@ class _Exporter:
     def models(self) -> ET.Element:
         root = ET.Element("TreeNodesModel")
         for plugin in sorted(self.leaf_models.values(), key=lambda p: p.name):
-            model = ET.SubElement(root, "Action", {"ID": plugin.name})
-            _port(model, "id", "std::string", None, ID_PORT_TEXT)
-            for param in plugin.params:
-                cpp = "std::string" if param.ref is not None else CPP_TYPES[param.type]
-                text = param.description or (f"id of a {param.ref} leaf" if param.ref else "")
-                default = None if param.default is REQUIRED else param.default
-                _port(model, param.name, cpp, default, text)
-            for port in plugin.ports:
-                default = None if port.default is NO_DEFAULT else port.default
-                _port(model, port.name, cpp_type(port.type), default, port.description,
-                      element=PORT_ELEMENTS[port.direction.value])
+            leaf_model(plugin, root, description=False)
         for key in sorted(self.custom_models | self.nav2_models):
             kind = KINDS[key]
             category = "Control" if kind.category is Category.COMPOSITE else "Decorator"
             ident = kind.key if key in self.nav2_models else custom_id(kind)
             model = ET.SubElement(root, category, {"ID": ident})
             for name, cpp, default, text in custom_ports(kind):
-                _port(model, name, cpp, default, text)
+                model_port(model, name, cpp, default, text)
+            for port in (a.port for a in kind.attrs if a.port is not None):
+                model_port(model, port.name, cpp_type(port.type), None, port.description,
+                           element=PORT_ELEMENTS[port.direction.value])
         return root
 
 
@@ -128,16 +114,6 @@ def insertion_ports(node: NodeSpec) -> dict[str, str]:
     if node.insertion.get("autoremap"):
         ports["_autoremap"] = "true"
     return ports
-
-
-def _port(model: ET.Element, name: str, cpp: str | None, default: Any, text: str, *,
-          element: str = "input_port") -> None:
-    attrs = {"name": name}
-    if cpp is not None:
-        attrs["type"] = cpp
-    if default is not None:
-        attrs["default"] = port_text(default)
-    ET.SubElement(model, element, attrs).text = text or None
 
 
 def export_btcpp(spec: TreeSpec, registry: Registry) -> str:

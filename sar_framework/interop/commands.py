@@ -174,3 +174,21 @@ def run_import(args: argparse.Namespace) -> int:
     if check.spec is None:
         return EXIT_ERRORS
     return _write(text, args.output)
+
+
+def configure_palette(parser: argparse.ArgumentParser) -> None:
+    """Add ``sar-tree palette``'s arguments."""
+    _add_common(parser, "palette")
+
+
+def run_palette(args: argparse.Namespace) -> int:
+    """Write the Groot2 ``<TreeNodesModel>`` of every registered leaf."""
+    from sar_framework.engine.registry import default_registry, extend
+    from sar_framework.interop.btcpp_palette import palette_text
+
+    registry = extend(default_registry().copy(), args.plugin_path)
+    for problem in registry.diagnostics:
+        _complain(str(problem))
+    if any(d.severity == "error" for d in registry.diagnostics):
+        return EXIT_ERRORS
+    return _write(palette_text(registry), args.output)

@@ -132,9 +132,6 @@ BUILTIN_BY_ID: dict[str, Builtin] = {b.btcpp_id: b for b in BUILTIN}
 
 #: BT.CPP (and Nav2) nodes that are refused on import, with the reason and a way out.
 REFUSED: dict[str, str] = {
-    "DistanceController": "a Nav2 decorator reading the robot pose; no equivalent",
-    "SpeedController": "a Nav2 decorator reading the robot speed; no equivalent",
-    "GoalUpdater": "a Nav2 decorator writing the blackboard; no equivalent",
 }
 
 

@@ -260,9 +260,10 @@ def _load(settings: RunnerSettings, mission: MissionParams, node: Node) -> Loade
 
     from sar_framework import load_tree
     from sar_framework.engine.clock_timeout import CLOCK_KEY
+    from sar_framework.ros.robot_state import robot_context
 
-    return load_tree(settings.tree, context={"zone_manager": mission.zone_manager,
-                                             CLOCK_KEY: now}, plugin_paths=settings.plugin_paths)
+    context = {"zone_manager": mission.zone_manager, CLOCK_KEY: now, **robot_context(node)}
+    return load_tree(settings.tree, context=context, plugin_paths=settings.plugin_paths)
 
 
 def run(argv: Sequence[str] | None = None) -> int:

@@ -18,14 +18,14 @@ root:
     name: Steps
     memory: true
     children:
-      - Wait: {name: Dwell, duration: 4.0}
+      - Dwell: {name: Dwell, duration: 4.0}
       - failure_is_success:
           name: GiveUp
           child:
             timeout:
               name: Within3s
               duration: 3.0
-              child: {Wait: {name: Long, duration: 1000.0}}
+              child: {Dwell: {name: Long, duration: 1000.0}}
 """
 
 

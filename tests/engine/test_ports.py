@@ -12,6 +12,7 @@ from sar_framework.engine.ports import (
     Direction,
     EntryRef,
     InputPort,
+    Naming,
     OutputPort,
     compatible,
     convert,
@@ -85,6 +86,13 @@ def test_port_declarations() -> None:
     assert path.direction.writes and not path.direction.reads and not path.required
     both = BidirectionalPort("count", int, default="{count}")
     assert both.direction.reads and both.direction.writes and both.default == "{count}"
+
+
+def test_an_optional_input_still_reads_a_value() -> None:
+    timeout = InputPort("server_timeout", int, optional=True)
+    assert timeout.optional and not timeout.required
+    assert timeout.naming is Naming.VALUE  # optional is not read as the naming field
+    assert not InputPort("goal").optional and InputPort("goal").naming is Naming.VALUE
 
 
 @pytest.mark.parametrize(

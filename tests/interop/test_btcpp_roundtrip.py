@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from interop.test_nav2_navigators import NAVIGATORS, PALETTE, missing_controls
+from interop.test_nav2_navigators import NAVIGATORS, PALETTE
 from sar_framework.cli import main
 from sar_framework.engine.api import load_spec
 from sar_framework.engine.spec import NodeSpec
@@ -81,10 +81,7 @@ def test_several_trees_with_ports_round_trip(tmp_path: Path, btcpp_checker: Path
     assert '<output_port name="code" type="int" />' in exported
 
 
-ROUND_TRIPS = [p for p in NAVIGATORS if not missing_controls(p)]
-
-
-@pytest.mark.parametrize("xml", ROUND_TRIPS, ids=[p.stem for p in ROUND_TRIPS])
+@pytest.mark.parametrize("xml", NAVIGATORS, ids=[p.stem for p in NAVIGATORS])
 def test_nav2_navigator_round_trips(xml: Path, tmp_path: Path, btcpp_checker: Path,
                                     capsys: pytest.CaptureFixture[str]) -> None:
     first, again = round_trip(xml, tmp_path, btcpp_checker, capsys,

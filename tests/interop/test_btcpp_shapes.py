@@ -192,33 +192,34 @@ def test_unknown_leaves_are_drafted_with_guessed_or_modelled_ports(tmp_path: Pat
             <Sequence>
               <Probe hz="1" gain="0.5" on="true" label="x" target="{goal}"/>
               <Probe hz="2.5"/>
-              <Spin spin_dist="1.57" typo="3"/>
+              <DockRobot max_staging_time="1.5" typo="3"/>
             </Sequence>
           </BehaviorTree>
         </root>
     """, tmp_path, models=read_palette(str(PALETTE))[0])
     assert errors(result, tmp_path) == [
-        "t.xml:6:7: error: <Spin> has no port 'typo' in its model (nav2_tree_nodes.xml:"
-        "242); BT.CPP refuses a port that providedPorts() does not declare"
+        "t.xml:6:7: error: <DockRobot> has no port 'typo' in its model (nav2_tree_nodes.xml:"
+        "265); BT.CPP refuses a port that providedPorts() does not declare"
         .replace("nav2_tree_nodes.xml", str(PALETTE))]
     probe = result.drafts["Probe"]
     assert probe.guessed == {"hz": ("input", "float"), "gain": ("input", "float"),
                              "on": ("input", "bool"), "label": ("input", "str"),
                              "target": ("inout", "any")}
-    assert result.drafts["Spin"].model is not None
+    assert result.drafts["DockRobot"].model is not None
     fixed = run("""
         <root><BehaviorTree ID="t"><Sequence>
-          <Probe hz="1" target="{goal}"/><Probe hz="2.5"/><Spin spin_dist="1.57"/>
+          <Probe hz="1" target="{goal}"/><Probe hz="2.5"/><DockRobot max_staging_time="1.5"/>
         </Sequence></BehaviorTree></root>
     """, tmp_path, models=read_palette(str(PALETTE))[0])
     assert fixed.document is not None
     children = fixed.document["root"]["Sequence"]["children"]
     assert children == [{"Probe": {"hz": 1.0, "target": "{goal}"}}, {"Probe": {"hz": 2.5}},
-                        {"Spin": {"spin_dist": 1.57}}]
+                        {"DockRobot": {"max_staging_time": 1.5}}]
     text = scaffold_module(list(fixed.drafts.values()), "t.xml")
     compile(text, "leaves.py", "exec")
     assert "BidirectionalPort('target', 'any', default='{=}', description='Guessed" in text
-    assert "InputPort('spin_dist', float, default=1.57, description='Spin distance" in text
+    assert ("InputPort('max_staging_time', float, default=1000.0, description='Maximum time"
+            in text)
     assert "OutputPort('error_code_id', int" in text
     assert 'return Status.FAILURE' in text
 
@@ -321,9 +322,9 @@ def test_without_scaffold_unknown_leaves_are_warnings_and_the_tree_is_still_chec
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     xml = tmp_path / "probe.xml"
     xml.write_text('<root><BehaviorTree ID="t"><Sequence>\n<Probe hz="1"/>\n'
-                   '<Wait duration="{n}"/></Sequence></BehaviorTree></root>')
+                   '<Dwell duration="{n}"/></Sequence></BehaviorTree></root>')
     assert main(["import", str(xml)]) == 1
-    assert "'duration' of <Wait> is a param, not a port" in capsys.readouterr().err
+    assert "'duration' of <Dwell> is a param, not a port" in capsys.readouterr().err
     xml.write_text('<root><BehaviorTree ID="t">\n<Probe hz="1"/></BehaviorTree></root>')
     assert main(["import", str(xml), "-o", str(tmp_path / "probe.yaml")]) == 0
     err = capsys.readouterr().err

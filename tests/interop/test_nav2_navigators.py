@@ -2,14 +2,11 @@
 
 The trees and the palette are read where ROS installs them (``share/`` under
 ``$AMENT_PREFIX_PATH``) or from the ROS overlay's sources; they are never copied here.
-Each file is imported with ``--scaffold`` (every Nav2 leaf becomes a scaffolded plugin)
-and ``--nodes-model nav2_tree_nodes.xml`` (their ports), the tree file is validated,
-drawn as SVG with graphviz, exported back to BT.CPP XML, and the real BehaviorTree.CPP
-4.7.3 (the checker, ``MAX_TICKS`` 0) loads the export: every check ``createTreeFromText``
-makes. A file that uses a control node the importer does not map yet (one
-:data:`~sar_framework.interop.mapping.REFUSED` names, or a palette Control/Decorator
-with no mapping) is an expected failure naming those nodes, and a second test checks
-that those nodes are the only thing stopping its import.
+Each file is imported with ``--scaffold`` and ``--nodes-model nav2_tree_nodes.xml``
+(their ports): every Nav2 leaf is one of ``sar_plugins.nav2`` and every control and
+decorator one of our kinds, so nothing is scaffolded. The tree file is validated, drawn
+as SVG with graphviz, exported back to BT.CPP XML, and the real BehaviorTree.CPP 4.7.3
+(the checker, ``MAX_TICKS`` 0) loads the export: every check ``createTreeFromText`` makes.
 """
 
 from __future__ import annotations
@@ -24,9 +21,7 @@ from py_trees.common import Status
 
 from sar_framework.cli import main
 from sar_framework.engine.api import load_tree
-from sar_framework.interop.btcpp_file import read_palette
-from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED
-from sar_framework.interop.xml_source import Element, read_xml
+from sar_framework.interop.xml_source import Element
 
 OVERLAY = Path("/work/shared/ros-overlay/src")
 pytestmark = pytest.mark.timeout(1200)
@@ -53,36 +48,19 @@ def tags(element: Element) -> set[str]:
     return found
 
 
-def missing_controls(path: Path) -> set[str]:
-    """The control and decorator nodes of ``path`` that the importer cannot map yet."""
-    models = read_palette(str(PALETTE))[0]
-    unmapped = {tag for tag, model in models.items() if not model.is_leaf
-                and tag not in BUILTIN_BY_ID and tag not in CUSTOM_KINDS}
-    return tags(read_xml(path)) & (set(REFUSED) | unmapped)
-
-
-def case(path: Path) -> object:
-    refused = sorted(missing_controls(path))
-    if not refused:
-        return path
-    reason = (f"uses {', '.join(refused)}, which interop/mapping.py does not map yet "
-              "(Nav2/BT.CPP control nodes: the controls branch)")
-    return pytest.param(path, marks=pytest.mark.xfail(strict=True, reason=reason))
-
-
 def test_all_twelve_navigator_trees_are_found() -> None:
     assert len(NAVIGATORS) == 12, NAVIGATORS
     assert PALETTE.is_file()
 
 
-@pytest.mark.parametrize("xml", [case(p) for p in NAVIGATORS], ids=[p.stem for p in NAVIGATORS])
+@pytest.mark.parametrize("xml", NAVIGATORS, ids=[p.stem for p in NAVIGATORS])
 def test_navigator_imports_validates_renders_and_exports_to_what_btcpp_loads(
         xml: Path, tmp_path: Path, btcpp_checker: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
     tree = tmp_path / f"{xml.stem}.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0, capsys.readouterr().err
-    assert "plugins:" in tree.read_text()
+    assert "plugins:" not in tree.read_text()  # every Nav2 leaf is one of sar_plugins.nav2
     assert main(["validate", str(tree)]) == 0, capsys.readouterr().err
     svg = tmp_path / f"{xml.stem}.svg"
     assert main(["render", str(tree), "-o", str(svg)]) == 0, capsys.readouterr().err
@@ -96,32 +74,25 @@ def test_navigator_imports_validates_renders_and_exports_to_what_btcpp_loads(
     assert done.stdout.startswith("models ")
 
 
-def test_odometry_scaffold_takes_its_ports_from_the_palette(tmp_path: Path) -> None:
-    xml = next(p for p in NAVIGATORS if p.stem == "odometry_calibration")
-    tree = tmp_path / "odometry.yaml"
+DOCK_XML = ('<root><BehaviorTree ID="t"><Sequence>\n<DockRobot dock_id="d1" '
+            'max_staging_time="2.0"/></Sequence></BehaviorTree></root>')
+
+
+def test_a_scaffold_takes_its_ports_from_the_palette(tmp_path: Path) -> None:
+    xml = tmp_path / "dock.xml"  # DockRobot: a palette leaf sar_plugins.nav2 does not provide
+    xml.write_text(DOCK_XML)
+    tree = tmp_path / "dock.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
-    leaves = (tmp_path / "leaves" / "odometry_calibration_leaves.py").read_text()
-    assert "class DriveOnHeading(py_trees.behaviour.Behaviour):" in leaves
-    assert "InputPort('dist_to_travel', float, default=0.15" in leaves
+    leaves = (tmp_path / "leaves" / "dock_leaves.py").read_text()
+    assert "class DockRobot(py_trees.behaviour.Behaviour):" in leaves
+    assert "InputPort('max_staging_time', float, default=1000.0" in leaves
     assert "# InputPort('server_name', str" in leaves  # BT.CPP-optional, never set
 
 
-@pytest.mark.parametrize("xml", NAVIGATORS, ids=[p.stem for p in NAVIGATORS])
-def test_only_the_refused_control_nodes_stop_an_import(
-        xml: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    refused = missing_controls(xml)
-    code = main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
-                 str(tmp_path / "leaves"), "-o", str(tmp_path / "t.yaml")])
-    errors = [line for line in capsys.readouterr().err.splitlines() if ": error: " in line]
-    assert code == (1 if refused else 0)
-    named = {line.split("<")[1].split(">")[0] for line in errors}
-    assert named == refused, errors
-    assert all(line.startswith(f"{xml}:") and ("> cannot be imported: " in line or
-               "node this framework has no kind for" in line) for line in errors), errors
-
-
-def test_nav2_wait_is_not_our_wait(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_nav2_wait_imports_as_nav2_wait(tmp_path: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """Before: our dwell was 'Wait', so Nav2's <Wait> was scaffolded as 'BtcppWait'."""
     xml = tmp_path / "wait.xml"
     xml.write_text('<root><BehaviorTree ID="t"><Wait wait_duration="5.0"/></BehaviorTree>'
                    '</root>')
@@ -129,25 +100,27 @@ def test_nav2_wait_is_not_our_wait(tmp_path: Path, capsys: pytest.CaptureFixture
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
     err = capsys.readouterr().err
-    assert (f"{xml}:1:28: warning: <Wait> is not the registered plugin 'Wait': its model "
-            f"({PALETTE}:") in err
-    assert "scaffolded as 'BtcppWait'" in err
-    assert "BtcppWait: {wait_duration: 5.0}" in tree.read_text()
+    assert "warning" not in err and "Btcpp" not in err
+    text = tree.read_text()
+    assert "Wait: {wait_duration: 5.0}" in text and "plugins:" not in text
+    spec = load_tree(tree, {}).spec
+    assert spec.root.kind == "Wait" and spec.root.ports["wait_duration"] == 5.0
 
 
 def test_scaffolded_leaves_build_and_fail_saying_they_are_not_written(tmp_path: Path) -> None:
-    xml = next(p for p in NAVIGATORS if p.stem == "odometry_calibration")
-    tree = tmp_path / "odometry.yaml"
+    xml = tmp_path / "dock.xml"
+    xml.write_text(DOCK_XML)
+    tree = tmp_path / "dock.yaml"
     assert main(["import", str(xml), "--nodes-model", str(PALETTE), "--scaffold",
                  str(tmp_path / "leaves"), "-o", str(tree)]) == 0
     loaded = load_tree(tree, {})
     loaded.root.tick_once()
     assert loaded.root.status == Status.FAILURE
-    first = next(b for b in loaded.root.iterate() if b.name == "DriveOnHeading")
+    first = next(b for b in loaded.root.iterate() if b.name == "DockRobot")
     # (its status is reset to INVALID: BT.CPP's Sequence resets its children when it ends)
-    assert first.feedback_message == ("DriveOnHeading is scaffolded: its behaviour is not "
+    assert first.feedback_message == ("DockRobot is scaffolded: its behaviour is not "
                                       "written yet")
-    assert first.ports.get("dist_to_travel") == 2.0  # type: ignore[attr-defined]
+    assert first.ports.get("max_staging_time") == 2.0  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize(("stem", "entry", "kind", "text"), [

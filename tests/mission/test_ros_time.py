@@ -19,11 +19,11 @@ root:
     name: Steps
     memory: true
     children:
-      - Wait: {name: Dwell, duration: 2.0}
+      - Dwell: {name: Dwell, duration: 2.0}
       - timeout:
           name: Within3s
           duration: 3.0
-          child: {Wait: {name: Long, duration: 100.0}}
+          child: {Dwell: {name: Long, duration: 100.0}}
 """
 
 

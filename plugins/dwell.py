@@ -1,4 +1,4 @@
-"""Wait: RUNNING for a duration of the node's clock (ROS time), then SUCCESS."""
+"""Dwell: RUNNING for a duration of the node's clock (ROS time), then SUCCESS."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from sar_framework.engine.plugin import Param, leaf
 @leaf(params=[Param("duration", float, default=1.0, minimum=0.0,
                     description="Seconds to wait, on the node's clock (simulated time with "
                                 "use_sim_time).")])
-class Wait(py_trees.behaviour.Behaviour):
+class Dwell(py_trees.behaviour.Behaviour):
     """Dwell: RUNNING for ``duration`` seconds from its start, then SUCCESS.
 
     Time is the ROS node's clock given to ``setup(node=...)`` (so ``/clock`` time with

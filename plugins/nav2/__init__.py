@@ -1,0 +1,52 @@
+"""Nav2's node palette as leaves (``nav2_behavior_tree``'s ``nav2_tree_nodes.xml``, Jazzy).
+
+The action and condition nodes Nav2's navigator trees use, with Nav2's names, ports, port
+types and defaults (a test compares them with the palette), talking to Nav2's servers by
+Nav2's default names (``server_name`` / ``service_name`` change them). No leaf knows
+whether the embedded simulator or a real Nav2 answers. Modules, by family:
+
+- ``_action``, ``_service``: the asynchronous bases (goal or request sent once, polled,
+  cancelled on a halt, verdict latched); ``_common``: the navigator's defaults, ports;
+  ``_tf``: the robot's pose;
+- ``planning``: ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath;
+- ``behaviors``: Spin, BackUp, DriveOnHeading, Wait;
+- ``navigators``: NavigateToPose, NavigateThroughPoses, CancelControl;
+- ``costmaps``: ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion;
+- ``selectors``: ControllerSelector, PlannerSelector;
+- ``path_tools``: RemovePassedGoals, TruncatePath;
+- ``conditions``: GoalUpdated, GlobalUpdatedGoal, GoalReached, IsStuck, TimeExpired,
+  PathExpiringTimer, WouldAControllerRecoveryHelp, WouldAPlannerRecoveryHelp;
+  ``path_valid``: IsPathValid.
+
+Nav2's decorators are node kinds of the engine (``engine/controls/nav2_decorators.py``,
+``nav2_robot.py``), not plugins: plugins are leaves.
+The registry finds the leaves through this package's names (it imports ``sar_plugins``'
+modules one level deep).
+"""
+
+from .behaviors import BackUp, DriveOnHeading, Spin, Wait
+from .conditions import (
+    GlobalUpdatedGoal,
+    GoalReached,
+    GoalUpdated,
+    IsStuck,
+    PathExpiringTimer,
+    TimeExpired,
+    WouldAControllerRecoveryHelp,
+    WouldAPlannerRecoveryHelp,
+)
+from .costmaps import ClearCostmapAroundRobot, ClearCostmapExceptRegion, ClearEntireCostmap
+from .navigators import CancelControl, NavigateThroughPoses, NavigateToPose
+from .path_tools import RemovePassedGoals, TruncatePath
+from .path_valid import IsPathValid
+from .planning import ComputePathThroughPoses, ComputePathToPose, FollowPath, SmoothPath
+from .selectors import ControllerSelector, PlannerSelector
+
+__all__ = [
+    "BackUp", "CancelControl", "ClearCostmapAroundRobot", "ClearCostmapExceptRegion",
+    "ClearEntireCostmap", "ComputePathThroughPoses", "ComputePathToPose", "ControllerSelector",
+    "DriveOnHeading", "FollowPath", "GlobalUpdatedGoal", "GoalReached", "GoalUpdated",
+    "IsPathValid", "IsStuck", "NavigateThroughPoses", "NavigateToPose", "PathExpiringTimer",
+    "PlannerSelector", "RemovePassedGoals", "SmoothPath", "Spin", "TimeExpired", "TruncatePath",
+    "Wait", "WouldAControllerRecoveryHelp", "WouldAPlannerRecoveryHelp",
+]

@@ -1,0 +1,291 @@
+"""Nav2's leaves against the embedded simulator over real DDS, with the real rclpy.
+
+One simulator (``python -m sar_framework.sim``, 30x) and one test node for the module.
+The leaves talk to the simulator by Nav2's default names; the test node declares the BT
+navigator's ``default_server_timeout`` (2 s: this machine is loaded) as bt_navigator would.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from py_trees.blackboard import Blackboard
+from py_trees.common import Status
+from sar_testing.leaf_harness import TreeMaker, tick_until_done, wait_for_service
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import ros_node, spin_until
+
+from sar_framework.engine.api import load_tree
+
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
+pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
+SPEED = 30.0
+DISCOVERY_S = 15.0
+
+
+@pytest.fixture(scope="module")
+def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
+    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}"]
+    proc = NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")).start()
+    try:
+        proc.wait_for_output("ready", timeout=30)
+        yield proc
+    finally:
+        proc.stop()
+
+
+@pytest.fixture(scope="module")
+def ros(sim: NodeProcess) -> Iterator[tuple[Any, Any]]:
+    from nav2_msgs.action import Spin
+    from rclpy.action import ActionClient
+
+    with ros_node("nav2_leaves_test") as (node, executor):
+        node.declare_parameter("default_server_timeout", 2000)
+        node.declare_parameter("odom_topic", "/odometry/filtered")  # as config/nav2_params
+        probe = ActionClient(node, Spin, "spin")
+        assert spin_until(executor, probe.server_is_ready, DISCOVERY_S), sim.output
+        probe.destroy()
+        yield node, executor
+
+
+@pytest.fixture
+def trees(ros: tuple[Any, Any]) -> Iterator[TreeMaker]:
+    Blackboard.storage.clear()
+    maker = TreeMaker(ros[0])
+    yield maker
+    maker.shutdown()
+
+
+def pose(x: float, y: float, yaw: float = 0.0) -> Any:
+    from geometry_msgs.msg import PoseStamped
+
+    msg = PoseStamped()
+    msg.header.frame_id = "map"
+    msg.pose.position.x, msg.pose.position.y = x, y
+    msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return msg
+
+
+def build(tmp_path: Path, text: str) -> Any:
+    tree = tmp_path / "t.yaml"
+    tree.write_text("format: 1\n" + text)
+    return load_tree(tree, {}).root
+
+
+def run(ros: tuple[Any, Any], trees: TreeMaker, root: Any, timeout: float = 30.0) -> Status:
+    return tick_until_done(ros[1], trees(root), timeout)
+
+
+NAVIGATE = """
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+  path: {type: nav_msgs/msg/Path}
+  plan_error: {type: int, initial: -1}
+  follow_error: {type: int, initial: -1}
+root:
+  Sequence:
+    children:
+      - ComputePathToPose: {goal: "{goal}", path: "{path}", error_code_id: "{plan_error}"}
+      - FollowPath: {path: "{path}", error_code_id: "{follow_error}"}
+      - GoalReached: {goal: "{goal}"}
+"""
+
+
+def test_compute_path_then_follow_it_through_the_blackboard(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    root = build(tmp_path, NAVIGATE)
+    Blackboard.storage["/goal"] = pose(1.0, -0.5)
+    assert run(ros, trees, root) == Status.SUCCESS, [b.feedback_message for b in root.iterate()]
+    path = Blackboard.storage["/path"]
+    end = path.poses[-1].pose.position
+    assert len(path.poses) > 5 and (end.x, end.y) == pytest.approx((1.0, -0.5), abs=0.06)
+    assert Blackboard.storage["/plan_error"] == 0
+    assert Blackboard.storage["/follow_error"] == 0
+
+
+def test_a_goal_in_a_wall_fails_with_nav2s_error_code_and_clears_the_path(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    from nav2_msgs.action import ComputePathToPose
+    from nav_msgs.msg import Path as PathMsg
+
+    root = build(tmp_path, NAVIGATE)
+    Blackboard.storage["/goal"] = pose(0.0, 3.0)  # inside wall_v_top
+    Blackboard.storage["/path"] = PathMsg(poses=[pose(0.0, 0.0)])
+    assert run(ros, trees, root) == Status.FAILURE
+    assert Blackboard.storage["/plan_error"] == ComputePathToPose.Result.GOAL_OCCUPIED
+    assert Blackboard.storage["/path"].poses == []  # cleared, as Nav2's on_aborted does
+    assert Blackboard.storage["/follow_error"] == -1  # FollowPath never ran
+
+
+def yaw_from_tf(node: Any, executor: Any) -> float:
+    from sar_plugins.nav2._common import yaw_of
+    from sar_plugins.nav2._tf import robot_pose
+
+    found: list[Any] = []
+    spin_until(executor, lambda: bool(found.append(robot_pose(node, "map", "base_link"))
+                                      or found[-1]), 5.0)
+    assert found[-1] is not None
+    return yaw_of(found[-1].pose.orientation)
+
+
+def test_spin_turns_the_robot_and_counts_a_recovery(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    before = yaw_from_tf(*ros)
+    root = build(tmp_path, "root:\n  Spin: {spin_dist: 1.57, error_code_id: '{code}'}\n"
+                           "blackboard:\n  code: {type: int, initial: -1}\n")
+    assert run(ros, trees, root) == Status.SUCCESS
+    assert Blackboard.storage["/code"] == 0
+    assert Blackboard.storage["/number_recoveries"] == 1
+    turned = math.remainder(yaw_from_tf(*ros) - before, math.tau)
+    assert turned == pytest.approx(1.57, abs=0.15)
+
+
+def test_backup_wait_and_clear_costmap(ros: tuple[Any, Any], trees: TreeMaker,
+                                      tmp_path: Path) -> None:
+    from nav2_msgs.srv import ClearEntireCostmap
+
+    wait_for_service(ros[0], ros[1], ClearEntireCostmap,
+                     "/local_costmap/clear_entirely_local_costmap")
+    root = build(tmp_path, """
+root:
+  Sequence:
+    children:
+      - BackUp: {backup_dist: 0.2, backup_speed: 0.2}
+      - Wait: {wait_duration: 2.0}
+      - ClearEntireCostmap: {service_name: local_costmap/clear_entirely_local_costmap}
+""")
+    assert run(ros, trees, root) == Status.SUCCESS, [b.feedback_message for b in root.iterate()]
+    assert Blackboard.storage["/number_recoveries"] == 2  # BackUp and Wait, as in Nav2
+
+
+def test_a_halted_follow_path_cancels_its_goal(ros: tuple[Any, Any], trees: TreeMaker,
+                                               tmp_path: Path) -> None:
+    root = build(tmp_path, NAVIGATE)
+    Blackboard.storage["/goal"] = pose(-3.0, 3.0)  # zone_a: several seconds of driving
+    tree = trees(root)
+    executor = ros[1]
+    follow = next(b for b in root.iterate() if type(b).__name__ == "FollowPath")
+    assert spin_until(executor, lambda: follow.status == Status.RUNNING
+                      and follow.feedback_message.startswith("goal sent"), 20.0, step=tree.tick)
+    spin_until(executor, lambda: False, 0.3, step=tree.tick)
+    handle = follow._handle
+    assert handle is not None
+    root.stop(Status.INVALID)  # the parent halts the branch
+    assert "goal cancelled" in follow.feedback_message
+    from action_msgs.msg import GoalStatus
+
+    assert spin_until(executor, lambda: handle.status == GoalStatus.STATUS_CANCELED, 5.0)
+
+
+DISTANCE = """
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+  path: {type: nav_msgs/msg/Path}
+  replan: {type: nav_msgs/msg/Path}
+root:
+  Sequence:
+    children:
+      - ComputePathToPose: {goal: "{goal}", path: "{path}"}
+      - PipelineSequence:
+          children:
+            - DistanceController:
+                distance: 0.3
+                child: {ComputePathToPose: {goal: "{goal}", path: "{replan}"}}
+            - FollowPath: {path: "{path}"}
+"""
+
+
+def test_distance_controller_replans_on_the_runners_robot_state(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    """Nav2's replanning-by-distance shape, on the runner's context sources (TF, odometry).
+
+    The replanned path is not followed: the simulator's follower does not finish a path
+    swapped in mid-drive that starts behind the robot (issue 21, point 3).
+    """
+    from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+    from sar_framework.ros.robot_state import robot_context
+
+    node, executor = ros
+    context = robot_context(node)
+    tree_file = tmp_path / "t.yaml"
+    tree_file.write_text("format: 1\n" + DISTANCE)
+    root = load_tree(tree_file, context).root  # starts the pose source (DistanceController)
+    context[ROBOT_SPEED_KEY].start()  # no SpeedController here: started by hand
+    assert spin_until(executor, lambda: context[ROBOT_POSE_KEY]("", "") is not None, 10.0)
+    start = context[ROBOT_POSE_KEY]("", "")
+    far = math.hypot(*start) > 1.0  # free places: the spawn, and where the first test drove
+    Blackboard.storage["/goal"] = pose(0.0, 0.0) if far else pose(1.0, -0.5)
+    tree = trees(root)
+    speeds: list[float] = []
+    replans: list[int] = []
+
+    def step() -> None:
+        tree.tick()
+        speeds.append(context[ROBOT_SPEED_KEY]() or 0.0)
+        latest = Blackboard.storage.get("/replan")
+        if latest is not None and (not replans or replans[-1] != id(latest)):
+            replans.append(id(latest))
+
+    assert spin_until(executor, lambda: root.status == Status.SUCCESS, 30.0, step=step), [
+        b.feedback_message for b in root.iterate()]
+    assert len(replans) >= 3  # at the start, then every 0.3 m of the ~1.1 m drive
+    assert max(speeds) > 0.05  # the odometry source saw the robot move
+
+
+THROUGH = """
+blackboard:
+  goals: {type: list}
+  path: {type: nav_msgs/msg/Path}
+  smooth: {type: nav_msgs/msg/Path}
+  controller: {type: str}
+  done: {type: bool, initial: false}
+root:
+  Sequence:
+    children:
+      - ControllerSelector: {default_controller: FollowPath, selected_controller: "{controller}"}
+      - RemovePassedGoals: {input_goals: "{goals}", output_goals: "{goals}", radius: 0.3}
+      - ComputePathThroughPoses: {goals: "{goals}", path: "{path}"}
+      - SmoothPath: {unsmoothed_path: "{path}", smoothed_path: "{smooth}",
+                     was_completed: "{done}"}
+      - FollowPath: {path: "{smooth}", controller_id: "{controller}"}
+      - CancelControl: {}
+"""
+
+
+def test_through_poses_smoothed_and_followed_with_the_selected_controller(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    from sar_framework.engine.robot_context import ROBOT_POSE_KEY
+    from sar_framework.ros.robot_state import robot_context
+
+    node, executor = ros
+    where = robot_context(node)[ROBOT_POSE_KEY]
+    where.start()
+    assert spin_until(executor, lambda: where("", "") is not None, 10.0)
+    here = where("", "")
+    root = build(tmp_path, THROUGH)
+    # the robot's own place first: RemovePassedGoals drops it (within 0.3 m)
+    Blackboard.storage["/goals"] = [pose(*here), pose(0.5, -0.3), pose(1.0, -0.5)]
+    assert run(ros, trees, root) == Status.SUCCESS, [b.feedback_message for b in root.iterate()]
+    assert len(Blackboard.storage["/goals"]) == 2
+    assert Blackboard.storage["/controller"] == "FollowPath"
+    assert Blackboard.storage["/done"] is True
+    end = Blackboard.storage["/smooth"].poses[-1].pose.position
+    assert (end.x, end.y) == pytest.approx((1.0, -0.5), abs=0.06)
+    assert math.dist(where("", ""), (1.0, -0.5)) < 0.3
+
+
+def test_navigate_to_pose_hands_the_goal_to_the_navigator(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    root = build(tmp_path, "blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
+                           "  code: {type: int, initial: -1}\n"
+                           "root:\n  NavigateToPose: {goal: '{goal}', error_code_id: '{code}'}\n")
+    Blackboard.storage["/goal"] = pose(0.0, 3.0)  # inside a wall: the navigator aborts
+    assert run(ros, trees, root) == Status.FAILURE
+    assert Blackboard.storage["/code"] == 206  # the planner's GOAL_OCCUPIED, as Jazzy's
+    Blackboard.storage["/goal"] = pose(0.5, -0.3)
+    assert run(ros, trees, root) == Status.SUCCESS
+    assert Blackboard.storage["/code"] == 0

@@ -101,6 +101,7 @@ class TreeSpec:
         format: The format version (1).
         plugin_paths: Extra plugin modules/dirs the file named, resolved to absolute paths.
         entries: Every blackboard entry the tree uses, by absolute key (type, initial value).
+        completion: The file's top-level ``completion`` key ("" when not set).
     """
 
     name: str
@@ -110,6 +111,7 @@ class TreeSpec:
     format: int = 1
     plugin_paths: list[str] = field(default_factory=list)
     entries: dict[str, Entry] = field(default_factory=dict)
+    completion: str = ""
 
     def nodes(self) -> Iterator[NodeSpec]:
         """Yield every node of the tree, depth first."""

@@ -149,6 +149,47 @@ def describe(value: Any, node: Node | None = None) -> str:
     return f"a {type(value).__name__} '{text}' (quote it to make a string)"
 
 
+#: What an unknown plugin name with nothing close to it is told: the two routes to a leaf.
+UNKNOWN_PLUGIN_HINT = (
+    " (if it is a leaf of your own: install its package (an entry point in group "
+    "'sar_framework.plugins'), or name its module, .py file or folder in the tree's "
+    "'plugins:' key or with --plugin-path; see docs/tutorials/02_writing_a_plugin.md)")
+
+
+def node_label(kind: str, path: DocPath, value: Any) -> str:
+    """Name the node at ``path`` (its attributes) for a message.
+
+    ``sequence 'Patrol'`` when it has a name; otherwise where it is: ``the root sequence``,
+    ``sequence (child 2 of selector 'Mission')``, ``sequence (the child of timeout)``.
+
+    Args:
+        kind: The node's kind.
+        path: The path of its attribute mapping in the document.
+        value: The document's value.
+    """
+    def at(where: DocPath) -> Any:
+        node = value
+        for key in where:
+            try:
+                node = node[key]
+            except (KeyError, IndexError, TypeError):
+                return None
+        return node
+
+    attrs = at(path)
+    if isinstance(attrs, dict) and isinstance(attrs.get("name"), str):
+        return f"{kind} '{attrs['name']}'"
+    above = path[:-1]  # the node's own mapping {kind: attrs}
+    if above and above[-1] == "root":
+        return f"the root {kind}"
+    if len(above) >= 3 and isinstance(above[-1], int) and above[-2] == "children":
+        parent = node_label(str(above[-3]), above[:-2], value)
+        return f"{kind} (child {above[-1] + 1} of {parent})"
+    if len(above) >= 2 and above[-1] == "child":
+        return f"{kind} (the child of {node_label(str(above[-2]), above[:-1], value)})"
+    return kind
+
+
 def number(value: float) -> str:
     """Print a bound or a value the way it was most likely written (``1`` not ``1.0``)."""
     return str(int(value)) if isinstance(value, float) and value.is_integer() else str(value)
@@ -237,7 +278,8 @@ class StructureCheck:
             yield doc.where(path), (f"'{attr}' must be {sign} {number(error.validator_value)}, "
                                     f"got {number(instance)}")
         elif kind == "minItems" and attr == "children" and error.validator_value == 1:
-            yield doc.where(path), f"{owner} has no children (a composite needs at least one)"
+            yield doc.where(path), (f"{node_label(owner, path[:-1], doc.value)} has no children "
+                                    "(a composite needs at least one)")
         elif kind == "pattern" and "propertyNames" in error.schema_path:
             yield doc.key_where((*path, instance)), (
                 f"'{instance}' is not a valid entry name (letters, digits and '_', "
@@ -303,7 +345,8 @@ class StructureCheck:
             if key in UNSUPPORTED_DECORATORS:
                 return f"decorator '{key}' is not supported: {UNSUPPORTED_DECORATORS[key]}"
             candidates = [*KINDS, SUBTREE, *self.registry.names()]
-            return f"unknown plugin '{key}'{did_you_mean(key, candidates)}"
+            return f"unknown plugin '{key}'" + (did_you_mean(key, candidates)
+                                                 or UNKNOWN_PLUGIN_HINT)
         owner = str(path[-1])
         names = self.attr_names(owner) or list(error_schema.get("properties", {}))
         if len(path) == 2 and path[0] == "subtrees":

@@ -159,6 +159,7 @@ def validate_file(
             source=shown,
             plugin_paths=[plugin_path(e, d) for e, d, _ in plugin_entries],
             entries=checker.entries.entries(),
+            completion=str(main.value.get("completion") or "") if main is not None else "",
         )
     return ValidationResult(
         spec, diagnostics, in_order(checker.structural), reg,

@@ -16,15 +16,14 @@ Start-up, in order; each step is bounded and fails with one clear message:
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
 
-When the mission is *complete* follows the ``completion`` parameter
-(:mod:`sar_framework.mission.completion`): ``once`` (the default for a tree that does not
-end with a ``one_shot``) at the root's first SUCCESS or FAILURE, after which the tree is not
-ticked again; ``rest`` (the default for a tree that ends with a ``one_shot``, such as the
-reference tree, whose root succeeds after every zone) when the tree is at rest; ``forever``
-never. On completion the runner emits its ``completion`` event (status SUCCESS or
-FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
-``exit_on_completion`` it then ends, otherwise it stays up (a ``rest`` tree keeps ticking,
-idling at its end) until SIGINT.
+When the mission is *complete* follows the ``completion`` parameter or the tree file's
+``completion`` key (:mod:`sar_framework.mission.completion`): ``end`` (the default) when
+the tree reaches its declared end (the root fails, or succeeds as the one_shot on its
+final path latches); ``once`` at the root's first SUCCESS or FAILURE; ``rest`` when the
+tree is at rest; ``forever`` never. A complete mission is not ticked again. On
+completion the runner emits its ``completion`` event (status SUCCESS or FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
+``exit_on_completion`` it then ends, otherwise it stays up (not ticking; its figures
+frozen at completion) until SIGINT.
 
 Other processes read the runner's events, never its log (:mod:`.runner_events`): on
 ``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
@@ -55,7 +54,7 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.events.event import EventKind
-from sar_framework.mission.completion import resolve_completion
+from sar_framework.mission.completion import ending_one_shot, resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
     ParamsError,
@@ -152,6 +151,7 @@ class MissionRunner:
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
             completion=self.completion, emitter=self.events,
+            end_uid=getattr(ending_one_shot(loaded.spec), "uid", None),
         )
         self.tree.visitors.append(self.recorder)
         self.tree.add_post_tick_handler(self._after_tick)
@@ -229,8 +229,8 @@ class MissionRunner:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
         if not self.recorder.complete:
             return
-        if self.completion == "once":
-            self._stop_ticking()  # a tree that runs once is not ticked again
+        if self.completion != "forever":
+            self._stop_ticking()  # a finished mission is never ticked again
         if not self._announced:
             self._announced = True
             status = tree.root.status

@@ -45,6 +45,7 @@ from sar_framework.run.outcome import (
     summarise,
     timeout_outcome,
 )
+from sar_framework.run.repeats import RepeatCollapser
 from sar_framework.run.supervise import Child, Interrupt, LogLine, stop_children
 from sar_framework.watch.child import WatchChild
 
@@ -73,7 +74,7 @@ class Mission:
         self.started = time.monotonic()
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
-        self._last_progress: str | None = None  # a note repeating the event before is not shown
+        self._repeats = RepeatCollapser()  # a line repeating a recent one is counted
         self._follower = EventFileFollower(self.report_dir / EVENTS_FILE)
         self._trace = JsonLinesFollower(self.report_dir / "trace.jsonl")
         self.stop_s: float | None = None
@@ -96,7 +97,14 @@ class Mission:
         shown = self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
         if shown and self.watcher is None:
             tag = "" if line.severity in ("INFO", "") else f"{line.severity}: "
-            self.say(f"[{line.wall_s:6.2f}s] {line.child:<6} | {tag}{line.message}")
+            self._show(line.wall_s, line.child, f"{tag}{line.message}")
+
+    def _show(self, wall_s: float, child: str, text: str) -> None:
+        """Print a child's line unless it repeats a recent one (then it is counted)."""
+        with self._print_lock:
+            shown = self._repeats.lines(f"{child:<6} | {text}")
+        for line in shown:
+            self.say(f"[{wall_s:6.2f}s] {line}")
 
     def take_events(self) -> None:
         """Read the runner's new events: note its verdict, show the progress ones."""
@@ -105,10 +113,15 @@ class Mission:
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
             line = progress_line(event)
-            if line is not None and line != self._last_progress and self.watcher is None:
-                wall_s = time.monotonic() - self.started
-                self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {line}")
-            self._last_progress = line if line is not None else self._last_progress
+            if line is not None and self.watcher is None:
+                self._show(time.monotonic() - self.started, "runner", line)
+
+    def flush_repeats(self) -> None:
+        """Print the count of the lines held back, if any."""
+        with self._print_lock:
+            held = self._repeats.flush()
+        for line in held:
+            self.say(f"[{time.monotonic() - self.started:6.2f}s] {line}")
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""
@@ -207,6 +220,7 @@ class Mission:
         self._trace.poll()  # what the trace said before the stop does not release it
         self.stop_s = stop_children(self.children, released=self._goal_ended)
         self.take_events()
+        self.flush_repeats()
         if self.watcher is not None:
             self.watcher.finish()
 
@@ -294,11 +308,12 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         interrupt.restore()
     if mission.exited and outcome.status != "SUCCESS":
         outcome.reason = "; ".join([outcome.reason, *(
-            f"the {label} process had {exit_words(code)}" for label, code in mission.exited.items()
+            f"the {label} process {exit_words(code)}" for label, code in mission.exited.items()
             if label != "sim")]).strip("; ")
     mission.record_verdict(outcome)
     written = mission.write_report(outcome)
-    summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s)
+    summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s,
+              recording=Path(config.record) if config.record else None)
     return outcome.exit_code
 
 

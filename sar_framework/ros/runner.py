@@ -21,7 +21,8 @@ When the mission is *complete* follows the ``completion`` parameter or the tree 
 the tree reaches its declared end (the root fails, or succeeds as the one_shot on its
 final path latches); ``once`` at the root's first SUCCESS or FAILURE; ``rest`` when the
 tree is at rest; ``forever`` never. A complete mission is not ticked again. On
-completion the runner emits its ``completion`` event (status SUCCESS or FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
+completion the runner emits its ``completion`` event (status SUCCESS or FAILURE) and logs
+``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
 ``exit_on_completion`` it then ends, otherwise it stays up (not ticking; its figures
 frozen at completion) until SIGINT.
 

@@ -39,6 +39,7 @@ from sar_framework.run.outcome import (
     child_exit_outcome,
     completion_outcome,
     exit_words,
+    exited_children,
     progress_line,
     read_status,
     runner_exit_outcome,
@@ -307,9 +308,7 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         mission.stop()
         interrupt.restore()
     if mission.exited and outcome.status != "SUCCESS":
-        outcome.reason = "; ".join([outcome.reason, *(
-            f"the {label} process {exit_words(code)}" for label, code in mission.exited.items()
-            if label != "sim")]).strip("; ")
+        outcome.reason = "; ".join([outcome.reason, *exited_children(mission.exited)]).strip("; ")
     mission.record_verdict(outcome)
     written = mission.write_report(outcome)
     summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s,

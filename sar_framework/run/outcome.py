@@ -125,6 +125,12 @@ def exit_words(code: int | None) -> str:
     return f"exited with status {code}"
 
 
+def exited_children(exited: dict[str, int | None]) -> list[str]:
+    """``the detect process was killed by SIGKILL`` for each server that ended mid-mission."""
+    return [f"the {label} process {exit_words(code)}" for label, code in exited.items()
+            if label != "sim"]
+
+
 def child_exit_outcome(label: str, code: int | None, last_error: str) -> Outcome:
     """The outcome of a run whose simulator (its clock) ended, or a child refused its input.
 

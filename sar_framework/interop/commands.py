@@ -106,7 +106,6 @@ def run_import(args: argparse.Namespace) -> int:
     from sar_framework.interop.btcpp_file import read_palette
     from sar_framework.interop.btcpp_import import import_btcpp
     from sar_framework.interop.btcpp_scaffold import scaffold_module
-    from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS
     from sar_framework.interop.xml_source import XmlError, read_xml
 
     if not _input_file(args.xml) or not all(_input_file(m) for m in args.nodes_model):
@@ -150,7 +149,7 @@ def run_import(args: argparse.Namespace) -> int:
                 _complain(f"{module}: scaffolded {len(drafts)} leaves: "
                           f"{', '.join(d.plugin for d in drafts)}")
             else:
-                known = [*registry.names(), *BUILTIN_BY_ID, *CUSTOM_KINDS]
+                known = list(registry.names())  # a leaf's tag: the leaves it may mean
                 for draft in (d for d in drafts if d.plugin == d.tag):
                     where = draft.where
                     _complain(f"{where.file}:{where.line}:{where.column}: warning: no plugin "

@@ -170,7 +170,7 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         status_file=files["status_file"],
         exit_on_completion=True,
         # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
-        nav2_timeout_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
+        nav2_timeout_wall_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
         tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
         record=str(Path(record).expanduser().absolute()) if record else "",
     )

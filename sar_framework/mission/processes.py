@@ -15,7 +15,7 @@ What the two genuinely do differently is a setting, not a second list:
   (:func:`new_run_folder`), so a mission never inherits an earlier one's survivors.
   Reusing a report log across runs is explicit: the launch's ``report_file`` argument.
 - The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
-  to Gazebo: it sets ``nav2_timeout_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
+  to Gazebo: it sets ``nav2_timeout_wall_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
   simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the
   runner's own bound (its default, or the mission parameter file's).
 - ``sar-tree run`` leaves the detect server's ``survivors_file`` unset unless
@@ -93,7 +93,7 @@ class MissionSettings:
         report_file: The report server's JSON Lines file of acknowledged reports.
         exit_on_completion: The runner ends when the mission is complete.
         status_file: The runner's JSON status file.
-        nav2_timeout_s: The runner's bound on the Nav2 start-up.
+        nav2_timeout_wall_s: The runner's bound on the Nav2 start-up.
         tick_rate_hz: The runner's tick rate (over the parameter file's).
         plugin_paths: Extra plugin locations for the runner (the recorder keeps their files).
         record: Start the recorder writing this MCAP file.
@@ -112,7 +112,7 @@ class MissionSettings:
     report_file: str = ""
     exit_on_completion: bool = True
     status_file: str = ""
-    nav2_timeout_s: float | None = None
+    nav2_timeout_wall_s: float | None = None
     tick_rate_hz: float | None = None
     plugin_paths: tuple[str, ...] = ()
     record: str = ""
@@ -195,7 +195,7 @@ def runner(settings: MissionSettings) -> Process | None:
         "tree": settings.tree, "use_sim_time": settings.use_sim_time,
         "exit_on_completion": settings.exit_on_completion}
     _set(parameters, "status_file", settings.status_file)
-    _set(parameters, "nav2_timeout_s", settings.nav2_timeout_s)
+    _set(parameters, "nav2_timeout_wall_s", settings.nav2_timeout_wall_s)
     _set(parameters, "tick_rate_hz", settings.tick_rate_hz)
     _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
     return Process("runner", "sar-mission-runner", "sar_framework.ros.runner",

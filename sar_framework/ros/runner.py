@@ -13,7 +13,7 @@ Start-up, in order; each step is bounded and fails with one clear message:
    parameters (:mod:`.runner_settings`) and the mission's (zones, ``tick_rate_hz``) are read;
 3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
-5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
+5. the tree is set up with ``node=`` (bounded by ``setup_timeout_wall_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
 
 When the mission is *complete* follows the ``completion`` parameter or the tree file's
@@ -167,7 +167,7 @@ class MissionRunner:
         """
         try:
             self.tree.setup(node=self.node, events=self.events,
-                            timeout=self.settings.setup_timeout_s)
+                            timeout=self.settings.setup_timeout_wall_s)
         except Exception as err:
             raise RuntimeError(f"tree setup failed: {type(err).__name__}: {err}") from err
 
@@ -362,7 +362,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                         f"cannot build {settings.tree}: {type(err).__name__}: {err}")
         if settings.seed_amcl:
             seed_amcl_and_wait_for_nav2(
-                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_s,
+                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
                 use_sim_time=settings.use_sim_time, should_stop=stop, logger=logger)
         runner = MissionRunner(node, settings, mission, loaded, stop=stop,
                                wall_start=wall_start)

@@ -314,12 +314,12 @@ def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_dif
     launch = launched(tmp_path, nav2="bringup", use_sim_time="false",
                       survivors_file=str(SURVIVORS))
     run = run_children(tmp_path, sim=False, survivors=str(SURVIVORS))  # Nav2 already up
-    assert launch[-1][1]["nav2_timeout_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
-    assert "nav2_timeout_s" not in run[-1][1]  # the runner's own bound (or the file's)
+    assert launch[-1][1]["nav2_timeout_wall_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
+    assert "nav2_timeout_wall_s" not in run[-1][1]  # the runner's own bound (or the file's)
     assert_same_but(
         launch, run,
         run_only={"sar-mission-runner": {"status_file": str(tmp_path / "status.json")}},
-        launch_only={"sar-mission-runner": {"nav2_timeout_s": processes.BRINGUP_NAV2_TIMEOUT_S}})
+        launch_only={"sar-mission-runner": {"nav2_timeout_wall_s": processes.BRINGUP_NAV2_TIMEOUT_S}})
 
 
 @needs_launch

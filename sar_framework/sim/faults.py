@@ -183,7 +183,8 @@ def make_faults(
         raise FaultConfigError(
             f"abort_goal_numbers: goal numbers are 1-based, got {sorted(numbers)}"
         )
-    for name, value in (("abort_delay_s", abort_delay_s), ("accept_delay_wall_s", accept_delay_wall_s)):
+    for name, value in (("abort_delay_s", abort_delay_s),
+                        ("accept_delay_wall_s", accept_delay_wall_s)):
         if not (math.isfinite(value) and value >= 0.0):
             raise FaultConfigError(f"{name}: expected a number >= 0, got {value!r}")
     zones = tuple(

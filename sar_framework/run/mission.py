@@ -75,6 +75,7 @@ class Mission:
         self.started = time.monotonic()
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
+        self.completion_wall_s: float | None = None  # when it came (--keep-alive's figures)
         self._repeats = RepeatCollapser()  # a line repeating a recent one is counted
         self._follower = EventFileFollower(self.report_dir / EVENTS_FILE)
         self._trace = JsonLinesFollower(self.report_dir / "trace.jsonl")
@@ -113,6 +114,7 @@ class Mission:
             self.events.append(event)
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
+                self.completion_wall_s = time.monotonic() - self.started
             line = progress_line(event)
             if line is not None and self.watcher is None:
                 self._show(time.monotonic() - self.started, "runner", line)
@@ -269,7 +271,9 @@ class Mission:
         inputs = MissionInputs(
             report_dir=self.report_dir, tree=self.config.tree, params_file=self.config.params,
             spec=self.spec, outcome=outcome.status, reason=outcome.reason,
-            wall_duration_s=time.monotonic() - self.started,
+            wall_duration_s=(self.completion_wall_s
+                             if self.config.keep_alive and self.completion_wall_s is not None
+                             else time.monotonic() - self.started),
             blocked_areas=self.inputs.blocked_areas,
         )
         try:

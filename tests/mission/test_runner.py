@@ -359,7 +359,9 @@ def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
 
     leaf = Check("Check?")
     root = py_trees.composites.Selector("Root", memory=False, children=[leaf])
-    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    # ticked on and on (a complete mission is never ticked again, so: forever)
+    recorder = StatusRecorder("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0,
+                              completion="forever")
     tree = py_trees.trees.BehaviourTree(root)
     tree.visitors.append(recorder)
     tree.add_post_tick_handler(recorder.after_tick)
@@ -369,7 +371,7 @@ def test_recorder_suppresses_idle_repeats_but_keeps_new_executions():
     assert recorder.ticks == 5
     # the root failed on the ticks its only child failed instantly: those are failures
     assert [f["uid"] for f in recorder.failures] == ["0.0"]
-    assert recorder.complete is False  # the last tick's verdict was new
+    assert recorder.complete is False
 
 
 def test_recorder_rest_detection():

@@ -46,7 +46,7 @@ from sar_framework.run.outcome import (
     summarise,
     timeout_outcome,
 )
-from sar_framework.run.repeats import RepeatCollapser
+from sar_framework.run.repeats import RepeatCollapser, numbers_as_one
 from sar_framework.run.supervise import Child, Interrupt, LogLine, stop_children
 from sar_framework.watch.child import WatchChild
 
@@ -99,12 +99,17 @@ class Mission:
         shown = self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
         if shown and self.watcher is None:
             tag = "" if line.severity in ("INFO", "") else f"{line.severity}: "
-            self._show(line.wall_s, line.child, f"{tag}{line.message}")
+            self._show(line.wall_s, line.child, f"{tag}{line.message}", log_line=True)
 
-    def _show(self, wall_s: float, child: str, text: str) -> None:
-        """Print a child's line unless it repeats a recent one (then it is counted)."""
+    def _show(self, wall_s: float, child: str, text: str, *, log_line: bool = False) -> None:
+        """Print a child's line unless it repeats a recent one (then it is counted).
+
+        A process's log line counts as a repeat whatever its numbers (goal counters,
+        timings); an event's line only when it is the same text.
+        """
+        line = f"{child:<6} | {text}"
         with self._print_lock:
-            shown = self._repeats.lines(f"{child:<6} | {text}")
+            shown = self._repeats.lines(line, numbers_as_one(line) if log_line else None)
         for line in shown:
             self.say(f"[{wall_s:6.2f}s] {line}")
 

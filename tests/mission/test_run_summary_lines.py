@@ -75,3 +75,19 @@ def test_distinct_lines_are_all_shown() -> None:
     lines = [f"Reached zone_{c}." for c in "abcdef"]
     assert [out for line in lines for out in collapser.lines(line)] == lines
     assert collapser.flush() == []
+
+
+def test_a_process_s_repeated_line_counts_whatever_its_numbers() -> None:
+    from sar_framework.run.repeats import numbers_as_one
+
+    collapser = RepeatCollapser()
+    shown: list[str] = []
+    for goal in range(2, 40, 2):
+        for line in (f"sim | Goal {goal} aborted after 0.{goal % 10} s: preempted",
+                     "runner | Returning to base with 3 zone(s) unvisited."):
+            shown += collapser.lines(line, numbers_as_one(line))
+    assert shown == ["sim | Goal 2 aborted after 0.2 s: preempted",
+                     "runner | Returning to base with 3 zone(s) unvisited."]
+    assert collapser.flush() == [
+        "(repeated: 'sim | Goal 2 aborted after 0.2 s: preempted' 18 more times; "
+        "'runner | Returning to base with 3 zone(s) unvisited.' 18 more times)"]

@@ -3,7 +3,7 @@
     ros2 launch sar_framework search_and_rescue.launch.py [nav2:=bringup|embedded]
         [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...]
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
-        [record:=FILE.mcap]
+        [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE]
 
 ``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
 ``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
@@ -11,6 +11,13 @@ package's simulator (``sar-sim``) instead, like Nav2's loopback simulation. The 
 when the runner ends: exit 0 when the mission succeeded, non-zero otherwise. ``record``
 adds the recorder (``sar-mission-recorder``), which writes the mission to a rosbag2-compatible
 MCAP file and closes it when the launch shuts down.
+
+Like ``sar-tree run``, every launch writes its run's files (the report server's log of
+acknowledged survivors, the runner's status and events, the simulator's trace) into a
+folder of its own: ``report_dir``, or by default a new ``$ROS_HOME/sar_runs/<UTC time>/``.
+A new mission never inherits an earlier one's survivors; reusing a report log across runs
+is explicit (``report_file:=~/.ros/sar_reports.jsonl``). Process output carries colour
+codes only when the launch's own output is a terminal.
 
 File arguments default to this package's share folder (ament index). A path that exists
 (absolute, or relative to the working directory) is used as given; otherwise it is taken
@@ -26,6 +33,7 @@ launch does (nav2_bringup, RViz, ending with the runner).
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +42,7 @@ from launch.actions import (
     DeclareLaunchArgument,
     EmitEvent,
     IncludeLaunchDescription,
+    LogInfo,
     OpaqueFunction,
     RegisterEventHandler,
 )
@@ -48,9 +57,11 @@ from launch_ros.parameter_descriptions import ParameterValue
 from launch import LaunchContext, LaunchDescription
 from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
+    RUN_FILES,
     MissionSettings,
     Process,
     mission_processes,
+    new_run_folder,
 )
 from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import SPEED
@@ -71,8 +82,13 @@ ARGUMENTS = [
                           description="Mission parameters (zones, base station, tick rate)."),
     DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
                           description="Survivor table the detect server answers from."),
+    DeclareLaunchArgument("report_dir", default_value="",
+                          description="This run's folder (reports.jsonl, status.json, "
+                          "events.jsonl, trace.jsonl); empty: a new $ROS_HOME/sar_runs/<time>/."),
     DeclareLaunchArgument("report_file", default_value=REPORT_FILE.default,
-                          description=f"The report server's {REPORT_FILE.description}."),
+                          description="The report server's JSON Lines file of acknowledged "
+                          "reports; empty: reports.jsonl in report_dir. Name a file to reuse "
+                          "its survivors across runs."),
     DeclareLaunchArgument("tick_rate_hz", default_value="",
                           description="Override the tick rate of params_file (empty: keep)."),
     DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
@@ -136,6 +152,12 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
 
     embedded = arg("nav2") == "embedded"
     record = arg("record")
+    folder = (Path(arg("report_dir")).expanduser().absolute() if arg("report_dir")
+              else new_run_folder())
+    folder.mkdir(parents=True, exist_ok=True)
+    files = {name: str(folder / file) for name, file in RUN_FILES.items()}
+    if arg("report_file"):
+        files["report_file"] = str(Path(arg("report_file")).expanduser().absolute())
     return MissionSettings(
         tree=package_file(arg("tree"), "trees"),
         params_file=package_file(arg("params_file")),
@@ -143,10 +165,12 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         simulator=embedded,
         speed=float(arg("speed")),
         survivors_file=package_file(arg("survivors_file")),
-        report_file=str(Path(arg("report_file")).expanduser()) if arg("report_file") else "",
+        report_file=files["report_file"],
+        trace_file=files["trace_file"] if embedded else "",
+        status_file=files["status_file"],
         exit_on_completion=True,
         # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
-        nav2_timeout_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
+        nav2_timeout_wall_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
         tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
         record=str(Path(record).expanduser().absolute()) if record else "",
     )
@@ -169,13 +193,15 @@ def process_node(process: Process) -> Node:
     """One process of the mission: its executable, its params files, then its parameters."""
     return Node(package=PACKAGE, executable=process.executable,
                 parameters=[*process.params_files, launch_parameters(process.parameters)],
-                output="screen", emulate_tty=True)
+                output="screen", emulate_tty=sys.stdout.isatty())
 
 
 def launch_setup(context: LaunchContext) -> list:
     """Build the actions once the arguments are known: Nav2's side, then the processes."""
     settings = mission_settings(context)
-    actions: list = []
+    actions: list = [LogInfo(msg=f"sar_framework: this run's files are in "
+                                 f"{Path(settings.status_file).parent}/ (survivors reported: "
+                                 f"{settings.report_file})")]
     if not settings.simulator:
         bringup = Path(get_package_share_directory("nav2_bringup"))
         actions.append(IncludeLaunchDescription(

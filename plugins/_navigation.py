@@ -9,12 +9,14 @@ the result fields, though ``error_msg`` is quoted in a failure message when Nav2
 Where the guide is silent, nothing waits forever: the action server must be ready within
 ``server_timeout_s`` (the goal is sent on the first tick it is), and the goal must finish
 within ``navigation_timeout_s`` of being sent, otherwise it is cancelled and the leaf fails.
+Both bounds count on the node's clock (ROS time: simulated seconds with ``use_sim_time``),
+like the tree's ``timeout`` decorators, so the order in which bounds fire does not change
+with the simulation's speed.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -41,10 +43,11 @@ NAVIGATION_PARAMS: tuple[Param, ...] = (
     Param("behavior_tree", str, default="",
           description="Nav2 behaviour tree XML for the goal; empty for bt_navigator's default."),
     Param("server_timeout_s", float, default=10.0, exclusive_minimum=0.0,
-          description="Fail if the action server is not ready within this many seconds."),
+          description="Fail if the action server is not ready within this many seconds "
+                      "(ROS time)."),
     Param("navigation_timeout_s", float, default=300.0, exclusive_minimum=0.0,
           description="Cancel the goal and fail if it has not finished this many seconds "
-                      "after it was sent."),
+                      "after it was sent (ROS time)."),
 )
 
 
@@ -136,7 +139,7 @@ class NavigateToPoseLeaf(RosLeaf):
         self._reset_latch()
         self._send_future = self._goal_handle = self._result_future = None
         self._distance_remaining = None
-        self._started = time.monotonic()
+        self._started = self.now()
         try:
             self._target_now = self._target()
         except LookupError as exc:
@@ -159,7 +162,7 @@ class NavigateToPoseLeaf(RosLeaf):
             return self._verdict()
         target = self._target_now
         assert target is not None  # set by initialise() whenever not done
-        now = time.monotonic()
+        now = self.now()
         if self._send_future is None and self._goal_handle is None:  # not sent yet
             if self._action_client().server_is_ready():
                 self._send_goal()
@@ -226,7 +229,7 @@ class NavigateToPoseLeaf(RosLeaf):
         self._send_future = self._action_client().send_goal_async(
             goal, feedback_callback=self._on_feedback
         )
-        self._sent = time.monotonic()
+        self._sent = self.now()
         self.feedback_message = f"goal sent: {target.label}"
         self.node.get_logger().info(target.announce)
         self.events.emit(EventKind.NAVIGATION, source=self, zone_id=target.zone_id,

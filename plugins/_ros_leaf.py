@@ -67,6 +67,14 @@ class RosLeaf(py_trees.behaviour.Behaviour):
             raise RuntimeError(f"{type(self).__name__} '{self.name}' used before setup(node=...)")
         return self._node
 
+    def now(self) -> float:
+        """The node's clock in seconds: ROS time (``/clock`` time with ``use_sim_time``).
+
+        Every bound a leaf declares (``navigation_timeout_s``, ``server_timeout_s``,
+        ``response_timeout_s``...) counts on it, like the tree's ``timeout`` decorators.
+        """
+        return self.node.get_clock().now().nanoseconds / 1e9
+
     def _reset_latch(self) -> None:
         """Forget the previous verdict; call first in ``initialise()``."""
         self._done = False

@@ -3,9 +3,12 @@
 The guide's async-poll pattern (``service_is_ready``, ``call_async`` once, poll the
 future) with two bounds so nothing waits forever: the server must be ready within
 ``server_timeout_s`` of :meth:`PolledServiceCall.start` and must answer within
-``response_timeout_s`` of the request. Bounds are wall-clock (``time.monotonic``).
+``response_timeout_s`` of the request. Both bounds count on the node's clock (ROS time:
+simulated seconds with ``use_sim_time``), like every duration a tree declares. Only the
+resend interval, ``resend_after_wall_s``, is wall time: it protects against a request lost
+in transport, whatever the simulation's speed.
 
-A request still unanswered after ``resend_after_s`` is sent once more, and again at that
+A request still unanswered after ``resend_after_wall_s`` is sent once more, and again at that
 interval, keeping the earlier ones pending: the first answer to any of them wins. DDS can
 lose the reply to a request sent just after discovery, because ``service_is_ready()``
 proves only the request path, not that the server has matched the client's reply reader
@@ -48,27 +51,31 @@ class PolledServiceCall:
         service_name: The service to call.
         server_timeout_s: Seconds the server may take to become ready.
         response_timeout_s: Seconds the server may take to answer a request.
-        resend_after_s: Seconds without an answer after which the request is sent again.
+        resend_after_wall_s: Wall seconds without an answer after which the request is sent
+            again.
     """
 
     def __init__(self, node: Node, srv_type: Any, service_name: str, *,
                  server_timeout_s: float, response_timeout_s: float,
-                 resend_after_s: float = 2.0) -> None:
+                 resend_after_wall_s: float = 2.0) -> None:
         self.service_name = service_name
         self._node = node
         self._client = node.create_client(srv_type, service_name)
         self._server_timeout_s = server_timeout_s
         self._response_timeout_s = response_timeout_s
-        self._resend_after_s = resend_after_s
+        self._resend_after_wall_s = resend_after_wall_s
+        clock = node.get_clock()
+        self._now: Callable[[], float] = lambda: clock.now().nanoseconds / 1e9
         self._pending: list[Future] = []  # the request and its resends, oldest first
         self._request: Any = None
-        self._started = time.monotonic()
+        self._started = self._now()
         self._sent = 0.0
+        self._sent_wall = 0.0
 
     def start(self) -> None:
         """Begin a new request period: drop any unanswered request, restart the server bound."""
         self.abandon()
-        self._started = time.monotonic()
+        self._started = self._now()
 
     def poll(self, make_request: Callable[[], Any]) -> CallResult | None:
         """Advance the request by one tick.
@@ -79,7 +86,7 @@ class PolledServiceCall:
         Returns:
             None while waiting (for the server or its answer), else the :class:`CallResult`.
         """
-        now = time.monotonic()
+        now = self._now()
         if not self._pending:
             if not self._client.service_is_ready():
                 if now - self._started > self._server_timeout_s:
@@ -89,6 +96,7 @@ class PolledServiceCall:
             self._request = make_request()
             self._pending.append(self._client.call_async(self._request))
             self._sent = now
+            self._sent_wall = time.monotonic()
             return None
         answered = next((f for f in self._pending if f.done()), None)
         if answered is None:
@@ -96,7 +104,7 @@ class PolledServiceCall:
                 self.abandon()
                 return CallResult(error=f"no response from {self.service_name} "
                                         f"within {self._response_timeout_s:.1f} s")
-            if now - self._sent > self._resend_after_s * len(self._pending):
+            if time.monotonic() - self._sent_wall > self._resend_after_wall_s * len(self._pending):
                 self._pending.append(self._client.call_async(self._request))
             return None
         self._pending.remove(answered)

@@ -25,10 +25,10 @@ from ._service_call import PolledServiceCall
 #: The bounds every service leaf declares, after its own params.
 SERVICE_TIMEOUT_PARAMS: tuple[Param, ...] = (
     Param("server_timeout_s", float, default=10.0, exclusive_minimum=0.0,
-          description="Fail if the service is not ready within this many seconds."),
+          description="Fail if the service is not ready within this many seconds (ROS time)."),
     Param("response_timeout_s", float, default=10.0, exclusive_minimum=0.0,
           description="Fail if the service has not answered this many seconds after "
-                      "the request."),
+                      "the request (ROS time)."),
 )
 
 

@@ -105,8 +105,9 @@ def _run_validate(args: argparse.Namespace) -> int:
         if result.spec is not None:
             from sar_framework.mission.completion import resolve_completion
 
-            completion = resolve_completion("auto", result.spec)[0]
-            _say(f"{tree}: ok ({len(result.spec)} nodes; default completion: {completion})")
+            completion, why = resolve_completion("auto", result.spec)
+            source = "" if why.startswith("default") else ", declared in the tree file"
+            _say(f"{tree}: ok ({len(result.spec)} nodes; completion: {completion}{source})")
         elif result.library is not None:
             _say(f"{tree}: ok (subtrees only: {result.library})")
     if errors:

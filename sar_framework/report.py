@@ -140,6 +140,18 @@ def _final_position(trace: Sequence[dict[str, Any]], base: dict[str, float]
     return {"x": round(x, 3), "y": round(y, 3)}, at_base
 
 
+def _last_goal(trace: Sequence[dict[str, Any]], final: dict[str, float] | None
+               ) -> tuple[dict[str, float] | None, bool | None]:
+    """Where the last navigation goal sent the robot, and whether it is within reach of it."""
+    goals = [r for r in trace if r.get("event") == "accepted" and "x" in r and "y" in r]
+    if not goals:
+        return None, None
+    x, y = float(goals[-1]["x"]), float(goals[-1]["y"])
+    at_goal = (math.hypot(x - final["x"], y - final["y"]) <= AT_BASE_M
+               if final is not None else None)
+    return {"x": round(x, 3), "y": round(y, 3)}, at_goal
+
+
 def _survivors(report_dir: Path, events: Sequence[MissionEvent]) -> list[dict[str, Any]]:
     """Survivors broadcast, acknowledged (events, report file) or refused (events)."""
     found: dict[str, dict[str, Any]] = {}
@@ -233,6 +245,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     goals = [r for r in trace if r.get("event") == "accepted"]
     ticks = int(status.get("ticks") or 0)
     final_position, at_base = _final_position(trace, base)
+    last_goal, at_last_goal = _last_goal(trace, final_position)
     return {
         "tree": inputs.tree,
         "params": inputs.params_file,
@@ -246,6 +259,8 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "base_reached": base_reached,
         "final_position": final_position,
         "at_base": at_base,
+        "last_goal": last_goal,
+        "at_last_goal": at_last_goal,
         "blocked_areas": [{"x": x, "y": y, "radius": r} for x, y, r in inputs.blocked_areas],
         "survivors": _survivors(inputs.report_dir, events),
         "path_length_m": round(path_m, 3),

@@ -279,11 +279,18 @@ def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
 
 
 #: Top-level keys of a tree file, in the order the docs list them.
+#: The values of a tree file's top-level ``completion`` key (see mission/completion.py).
+TREE_COMPLETIONS = ("end", "once", "rest", "forever")
+
 TOP_LEVEL_ATTRS: tuple[Attr, ...] = (
     Attr("format", AttrType.INTEGER, required=True, enum=(FORMAT_VERSION,),
          description="The tree format version; always 1."),
     Attr("name", AttrType.STRING, description="The tree's name (default: the file name)."),
     Attr("description", AttrType.STRING, description="Free text."),
+    Attr("completion", AttrType.STRING, enum=TREE_COMPLETIONS,
+         description="How a run of this tree ends: end (at its declared end, the default), "
+         "once (the root's first SUCCESS or FAILURE), rest (when the tree is at rest) or "
+         "forever (until Ctrl-C); the runner's completion parameter overrides it."),
     Attr("plugins", AttrType.STRINGS,
          description="Extra plugin modules, .py files or directories, relative to this file."),
     Attr("include", AttrType.STRINGS,

@@ -103,6 +103,7 @@ class TreeSpec:
         entries: Every blackboard entry the tree uses, by absolute key (type, initial value).
         declarations: Each scope's ``blackboard:`` section as written (``""``: the main
             tree; else a subtree definition's name): name -> declaration, in file order.
+        completion: The file's top-level ``completion`` key ("" when not set).
     """
 
     name: str
@@ -113,6 +114,7 @@ class TreeSpec:
     plugin_paths: list[str] = field(default_factory=list)
     entries: dict[str, Entry] = field(default_factory=dict)
     declarations: dict[str, dict[str, Declared]] = field(default_factory=dict)
+    completion: str = ""
 
     def nodes(self) -> Iterator[NodeSpec]:
         """Yield every node of the tree, depth first."""

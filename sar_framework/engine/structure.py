@@ -26,6 +26,7 @@ from sar_framework.engine.node_kinds import (
     UNSUPPORTED_DECORATORS,
     Rule,
 )
+from sar_framework.engine.node_places import UNKNOWN_PLUGIN_HINT, node_label
 from sar_framework.engine.ports import BASIC_TYPES, Port, entry_ref
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.schema import tree_schema
@@ -238,7 +239,8 @@ class StructureCheck:
             yield doc.where(path), (f"'{attr}' must be {sign} {number(error.validator_value)}, "
                                     f"got {number(instance)}")
         elif kind == "minItems" and attr == "children" and error.validator_value == 1:
-            yield doc.where(path), f"{owner} has no children (a composite needs at least one)"
+            yield doc.where(path), (f"{node_label(owner, path[:-1], doc.value)} has no children "
+                                    "(a composite needs at least one)")
         elif kind == "pattern" and "propertyNames" in error.schema_path:
             yield doc.key_where((*path, instance)), (
                 f"'{instance}' is not a valid entry name (letters, digits and '_', "
@@ -304,7 +306,8 @@ class StructureCheck:
             if key in UNSUPPORTED_DECORATORS:
                 return f"decorator '{key}' is not supported: {UNSUPPORTED_DECORATORS[key]}"
             candidates = [*KINDS, SUBTREE, *self.registry.names()]
-            return f"unknown plugin '{key}'{did_you_mean(key, candidates)}"
+            return f"unknown plugin '{key}'" + (did_you_mean(key, candidates)
+                                                 or UNKNOWN_PLUGIN_HINT)
         owner = str(path[-1])
         names = self.attr_names(owner) or list(error_schema.get("properties", {}))
         if len(path) == 2 and path[0] == "subtrees":

@@ -160,6 +160,7 @@ def validate_file(
             plugin_paths=[plugin_path(e, d) for e, d, _ in plugin_entries],
             entries=checker.entries.entries(),
             declarations=checker.entries.scopes,
+            completion=str(main.value.get("completion") or "") if main is not None else "",
         )
     return ValidationResult(
         spec, diagnostics, in_order(checker.structural), reg,

@@ -106,6 +106,7 @@ def run_import(args: argparse.Namespace) -> int:
     import tempfile
 
     from sar_framework.engine.api import validate
+    from sar_framework.engine.diagnostics import did_you_mean
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.interop.btcpp_file import read_palette
     from sar_framework.interop.btcpp_import import import_btcpp
@@ -153,10 +154,12 @@ def run_import(args: argparse.Namespace) -> int:
                 _complain(f"{module}: scaffolded {len(drafts)} leaves: "
                           f"{', '.join(d.plugin for d in drafts)}")
             else:
+                known = list(registry.names())  # a leaf's tag: the leaves it may mean
                 for draft in (d for d in drafts if d.plugin == d.tag):
                     where = draft.where
                     _complain(f"{where.file}:{where.line}:{where.column}: warning: no plugin "
-                              f"provides <{draft.tag}>; --scaffold DIR writes one to fill in")
+                              f"provides <{draft.tag}>{did_you_mean(draft.tag, known)}; "
+                              "--scaffold DIR writes one to fill in")
         if plugins:
             result.document = {"format": 1, "plugins": [_relative(p, folder) for p in plugins],
                                **result.document}

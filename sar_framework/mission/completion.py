@@ -2,41 +2,60 @@
 
 | mode | the mission is complete... |
 | --- | --- |
-| ``once`` | the first tick the root returns SUCCESS or FAILURE; the tree is not ticked again |
+| ``end`` | (the default) when the tree reaches its declared end: the root FAILS, or the root |
+|         | SUCCEEDS through the ``one_shot`` on its final path as that one_shot latches (a |
+|         | tree with no ``one_shot`` on its final path: the root's first SUCCESS) |
+| ``once`` | the first tick the root returns SUCCESS or FAILURE |
 | ``rest`` | when the tree is at rest: the root keeps one terminal status over two ticks |
-|          | and nothing changes (a reactive tree idling at a ``one_shot`` at its end) |
+|          | and nothing changes (kept for trees that idle at their end; it is a guess) |
 | ``forever`` | never: the tree is ticked until Ctrl-C (the course's node) |
-| ``auto`` | (the default) ``rest`` when the tree ends with a ``one_shot``, else ``once`` |
+| ``auto`` | the runner's default: the tree file's top-level ``completion`` key, else ``end`` |
 
-"Ends with" follows the last child of every composite and the child of every decorator
-from the root. The reference tree's root is a reactive selector whose last child is the
-``one_shot`` around ``NavigateToBase``: its root succeeds after *every* zone and the
-mission is over only when it rests at that one_shot. A tree without a one_shot at its end
-(a time budget around a repeat, then "go home") runs once: ticking it again would send
-the robot off again.
+With ``end``, ``once`` and ``rest`` the tree is never ticked again once the mission is
+complete, so a finished mission cannot start over. "The final path" follows the last child
+of every composite and the child of every decorator from the root. The reference tree's
+root is a reactive selector whose last child is the ``one_shot`` around ``NavigateToBase``:
+its root succeeds after *every* zone (the patrol's branch), and the mission ends only when
+the one_shot has latched. A memory sequence [time budget around a repeat, then a one_shot
+home] ends when the one_shot home latches; it is never ticked again after that, so the
+robot is not sent off on a second patrol. ``end`` never needs another tick (with its side
+effects) to find out whether the mission is over.
 
-Set it in the mission parameter file (``completion: once``) or with
-``--runner-param completion:=once``.
+Declare it in the tree file (``completion: once``); the runner's parameter (mission
+parameter file ``completion: once`` or ``--runner-param completion:=once``) overrides it.
+``sar-tree validate`` prints what applies.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-COMPLETION_MODES = ("auto", "once", "rest", "forever")
+from sar_framework.engine.node_kinds import TREE_COMPLETIONS
+
+COMPLETION_MODES = ("auto", *TREE_COMPLETIONS)
 """Every value of the ``completion`` parameter."""
 DEFAULT_COMPLETION = "auto"
+#: What ``auto`` becomes when the tree file does not declare its completion.
+TREE_DEFAULT_COMPLETION = "end"
 COMPLETION_HELP = (
-    "completion (mission parameter `completion`, or --runner-param completion:=MODE): "
-    "once = the mission ends the first time the root returns SUCCESS or FAILURE (the tree "
-    "is not ticked again); rest = it ends when the tree is at rest (root status unchanged "
-    "over two ticks, nothing else changed); forever = tick until Ctrl-C; auto (default) = "
-    "rest when the tree ends with a one_shot, else once."
+    "completion (mission parameter `completion`, --runner-param completion:=MODE, or the tree "
+    "file's top-level `completion:`): end (default) = the mission ends when the tree reaches "
+    "its declared end (the root fails, or succeeds through the one_shot on its final path as "
+    "it latches; without such a one_shot, the root's first SUCCESS); once = the root's first "
+    "SUCCESS or FAILURE; rest = when the tree is at rest (root status unchanged over two "
+    "ticks); forever = tick until Ctrl-C; auto = the tree file's key, else end."
 )
+
+_MEANING = {
+    "end": "the mission ends when the tree reaches its declared end",
+    "once": "the first SUCCESS or FAILURE of the root ends the mission",
+    "rest": "the mission ends when the tree is at rest",
+    "forever": "ticked until Ctrl-C",
+}
 
 
 def ending_one_shot(spec: Any) -> Any | None:
-    """The ``one_shot`` the tree ends with, or None.
+    """The ``one_shot`` on the tree's final path, or None.
 
     Args:
         spec: A :class:`~sar_framework.engine.spec.TreeSpec`.
@@ -55,11 +74,11 @@ def resolve_completion(mode: str, spec: Any) -> tuple[str, str]:
     """The effective mode for a tree, and why, in words.
 
     Args:
-        mode: One of :data:`COMPLETION_MODES`.
+        mode: One of :data:`COMPLETION_MODES` (the runner's parameter).
         spec: The tree's ``TreeSpec``.
 
     Returns:
-        ``(mode, why)`` where ``mode`` is ``once``, ``rest`` or ``forever``.
+        ``(mode, why)`` where ``mode`` is ``end``, ``once``, ``rest`` or ``forever``.
 
     Raises:
         ValueError: An unknown mode.
@@ -67,23 +86,22 @@ def resolve_completion(mode: str, spec: Any) -> tuple[str, str]:
     if mode not in COMPLETION_MODES:
         raise ValueError(f"completion must be one of {', '.join(COMPLETION_MODES)}, "
                          f"got {mode!r}")
-    end = ending_one_shot(spec)
-    ends = f"the tree ends with one_shot {end.name} [{end.uid}]" if end else \
-        "the tree does not end with a one_shot"
-    if mode == "auto":
-        mode = "rest" if end else "once"
-        source = f"auto: {ends}"
-    else:
+    declared = getattr(spec, "completion", "") or ""
+    if mode != "auto":
         source = "set in the parameters"
-    meaning = {
-        "once": "the first SUCCESS or FAILURE of the root ends the mission",
-        "rest": "the mission ends when the tree is at rest",
-        "forever": "ticked until Ctrl-C",
-    }[mode]
-    return mode, f"{source}; {meaning}"
+    elif declared:
+        mode, source = declared, "declared in the tree file"
+    else:
+        mode, source = TREE_DEFAULT_COMPLETION, "default"
+    why = f"{source}; {_MEANING[mode]}"
+    if mode == "end":
+        end = ending_one_shot(spec)
+        why += (f": when one_shot {end.name} [{end.uid}] latches, or the root fails" if end
+                else ": the root's first SUCCESS or FAILURE (no one_shot on its final path)")
+    return mode, why
 
 
 def describe_completion(mode: str, spec: Any) -> str:
-    """One line for the console: ``completion: rest (auto: ...; ...)``."""
+    """One line for the console: ``completion: end (default; ...)``."""
     effective, why = resolve_completion(mode, spec)
     return f"completion: {effective} ({why})"

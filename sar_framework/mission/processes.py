@@ -9,11 +9,13 @@ supervisor (:func:`ros_arguments`), the launch file into ``launch_ros.actions.No
 
 What the two genuinely do differently is a setting, not a second list:
 
-- ``sar-tree run`` has a report folder, so it sets ``trace_file``, ``status_file`` and
-  ``report_file`` inside it; the launch has none and keeps the report server's own
-  default (``$ROS_HOME/sar_reports.jsonl``) unless its ``report_file`` argument names one.
+- Both write a run's files (``trace_file``, ``status_file``, ``report_file``) into a
+  folder of that run: ``sar-tree run`` into its ``--report-dir``, the launch into its
+  ``report_dir`` argument or, by default, a new folder under ``$ROS_HOME/sar_runs/``
+  (:func:`new_run_folder`), so a mission never inherits an earlier one's survivors.
+  Reusing a report log across runs is explicit: the launch's ``report_file`` argument.
 - The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
-  to Gazebo: it sets ``nav2_timeout_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
+  to Gazebo: it sets ``nav2_timeout_wall_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
   simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the
   runner's own bound (its default, or the mission parameter file's).
 - ``sar-tree run`` leaves the detect server's ``survivors_file`` unset unless
@@ -27,6 +29,8 @@ import math
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
 
 import yaml
 
@@ -35,6 +39,39 @@ ParamValue = bool | int | float | str | list[bool] | list[int] | list[float] | l
 
 BRINGUP_NAV2_TIMEOUT_S = 90.0
 """The runner's bound on the Nav2 start-up when nav2_bringup starts beside the mission."""
+
+
+RUN_FILES = {"trace_file": "trace.jsonl", "status_file": "status.json",
+             "report_file": "reports.jsonl"}
+"""A run's files in its folder, by the parameter that names each."""
+
+
+def runs_root() -> Path:
+    """``$ROS_HOME/sar_runs`` (``~/.ros/sar_runs`` when ROS_HOME is unset)."""
+    home = os.environ.get("ROS_HOME") or os.path.join(os.path.expanduser("~"), ".ros")
+    return Path(home) / "sar_runs"
+
+
+def new_run_folder(root: Path | None = None) -> Path:
+    """Create and return a folder of its own for one run: ``ROOT/YYYYmmdd-HHMMSS-ffffff``.
+
+    Args:
+        root: Where run folders go (default :func:`runs_root`).
+
+    Returns:
+        A new, empty folder (a suffix is added should the name be taken).
+    """
+    root = runs_root() if root is None else root
+    root.mkdir(parents=True, exist_ok=True)
+    stamp = datetime.now(timezone.utc).strftime("%Y%m%d-%H%M%S-%f")
+    for attempt in range(1000):
+        folder = root / (stamp if attempt == 0 else f"{stamp}-{attempt}")
+        try:
+            folder.mkdir()
+        except FileExistsError:
+            continue
+        return folder
+    raise FileExistsError(f"no free run folder under {root}")
 
 
 @dataclass(frozen=True)
@@ -56,7 +93,7 @@ class MissionSettings:
         report_file: The report server's JSON Lines file of acknowledged reports.
         exit_on_completion: The runner ends when the mission is complete.
         status_file: The runner's JSON status file.
-        nav2_timeout_s: The runner's bound on the Nav2 start-up.
+        nav2_timeout_wall_s: The runner's bound on the Nav2 start-up.
         tick_rate_hz: The runner's tick rate (over the parameter file's).
         plugin_paths: Extra plugin locations for the runner (the recorder keeps their files).
         record: Start the recorder writing this MCAP file.
@@ -75,7 +112,7 @@ class MissionSettings:
     report_file: str = ""
     exit_on_completion: bool = True
     status_file: str = ""
-    nav2_timeout_s: float | None = None
+    nav2_timeout_wall_s: float | None = None
     tick_rate_hz: float | None = None
     plugin_paths: tuple[str, ...] = ()
     record: str = ""
@@ -158,7 +195,7 @@ def runner(settings: MissionSettings) -> Process | None:
         "tree": settings.tree, "use_sim_time": settings.use_sim_time,
         "exit_on_completion": settings.exit_on_completion}
     _set(parameters, "status_file", settings.status_file)
-    _set(parameters, "nav2_timeout_s", settings.nav2_timeout_s)
+    _set(parameters, "nav2_timeout_wall_s", settings.nav2_timeout_wall_s)
     _set(parameters, "tick_rate_hz", settings.tick_rate_hz)
     _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
     return Process("runner", "sar-mission-runner", "sar_framework.runner.node",

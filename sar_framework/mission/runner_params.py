@@ -30,8 +30,8 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     *_pose("zones.*", "a zone", REQUIRED),
     *_pose("base_station", "base station", 0.0),
     TICK_RATE_HZ,
-    Param("completion", str, DEFAULT_COMPLETION, "how the mission ends: once, rest, forever, "
-          "or auto (rest for a tree that ends with a one_shot, else once)",
+    Param("completion", str, DEFAULT_COMPLETION, "how the mission ends: end, once, rest, "
+          "forever, or auto (the tree file's completion key, else end)",
           enum=COMPLETION_MODES),
     Param("tree", str, DEFAULT_TREE, "the tree file"),
     Param("plugin_path", str | list[str], "", "extra plugin files, directories or modules "
@@ -42,10 +42,10 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("status_file", str, "", "JSON status file, kept current ('' = none)"),
     Param("seed_amcl", bool, True, "seed AMCL with initial_pose and wait for Nav2 before "
           "ticking"),
-    Param("nav2_timeout_s", float, 30.0, "bound of the Nav2 start-up", exclusive_minimum=0.0,
-          unit="s"),
-    Param("setup_timeout_s", float, 15.0, "bound of the tree's setup()",
-          exclusive_minimum=0.0, unit="s"),
+    Param("nav2_timeout_wall_s", float, 30.0, "bound of the Nav2 start-up (wall clock: it "
+          "holds when no /clock comes)", exclusive_minimum=0.0, unit="s"),
+    Param("setup_timeout_wall_s", float, 15.0, "bound of the tree's setup() (wall clock: it "
+          "holds when a setup() blocks)", exclusive_minimum=0.0, unit="s"),
     *_pose("initial_pose", "AMCL seed (spawn pose)", 0.0),
     USE_SIM_TIME,
 )

@@ -33,12 +33,14 @@ from sar_framework.orchestrate.outcome import (
     child_exit_outcome,
     completion_outcome,
     exit_words,
+    exited_children,
     progress_line,
     read_status,
     runner_exit_outcome,
     summarise,
     timeout_outcome,
 )
+from sar_framework.orchestrate.repeats import RepeatCollapser, numbers_as_one
 from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
 from sar_framework.recording.recorder import wait_until_recording
 from sar_framework.stop_signals import stop_on_signals
@@ -69,7 +71,8 @@ class Orchestrator:
         self.started = time.monotonic()
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
-        self._last_progress: str | None = None  # a note repeating the event before is not shown
+        self.completion_wall_s: float | None = None  # when it came (--keep-alive's figures)
+        self._repeats = RepeatCollapser()  # a line repeating a recent one is counted
         self._follower = EventFileFollower(self.report_dir / EVENTS_FILE)
         self._trace = JsonLinesFollower(self.report_dir / "trace.jsonl")
         self.stop_s: float | None = None
@@ -92,7 +95,19 @@ class Orchestrator:
         shown = self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
         if shown and self.watcher is None:
             tag = "" if line.severity in ("INFO", "") else f"{line.severity}: "
-            self.say(f"[{line.wall_s:6.2f}s] {line.child:<6} | {tag}{line.message}")
+            self._show(line.wall_s, line.child, f"{tag}{line.message}", log_line=True)
+
+    def _show(self, wall_s: float, child: str, text: str, *, log_line: bool = False) -> None:
+        """Print a child's line unless it repeats a recent one (then it is counted).
+
+        A process's log line counts as a repeat whatever its numbers (goal counters,
+        timings); an event's line only when it is the same text.
+        """
+        line = f"{child:<6} | {text}"
+        with self._print_lock:
+            shown = self._repeats.lines(line, numbers_as_one(line) if log_line else None)
+        for line in shown:
+            self.say(f"[{wall_s:6.2f}s] {line}")
 
     def take_events(self) -> None:
         """Read the runner's new events: note its verdict, show the progress ones."""
@@ -100,11 +115,17 @@ class Orchestrator:
             self.events.append(event)
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
+                self.completion_wall_s = time.monotonic() - self.started
             line = progress_line(event)
-            if line is not None and line != self._last_progress and self.watcher is None:
-                wall_s = time.monotonic() - self.started
-                self.say(f"[{wall_s:6.2f}s] {'runner':<6} | {line}")
-            self._last_progress = line if line is not None else self._last_progress
+            if line is not None and self.watcher is None:
+                self._show(time.monotonic() - self.started, "runner", line)
+
+    def flush_repeats(self) -> None:
+        """Print the count of the lines held back, if any."""
+        with self._print_lock:
+            held = self._repeats.flush()
+        for line in held:
+            self.say(f"[{time.monotonic() - self.started:6.2f}s] {line}")
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""
@@ -203,6 +224,7 @@ class Orchestrator:
         self._trace.poll()  # what the trace said before the stop does not release it
         self.stop_s = stop_children(self.children, released=self._goal_ended)
         self.take_events()
+        self.flush_repeats()
         if self.watcher is not None:
             stop_watcher(self.watcher)
 
@@ -250,7 +272,9 @@ class Orchestrator:
         inputs = MissionInputs(
             report_dir=self.report_dir, tree=self.config.tree, params_file=self.config.params,
             spec=self.spec, outcome=outcome.status, reason=outcome.reason,
-            wall_duration_s=time.monotonic() - self.started,
+            wall_duration_s=(self.completion_wall_s
+                             if self.config.keep_alive and self.completion_wall_s is not None
+                             else time.monotonic() - self.started),
             blocked_areas=self.inputs.blocked_areas,
         )
         try:
@@ -288,12 +312,11 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         mission.stop()
         interrupt.restore()
     if mission.exited and outcome.status != "SUCCESS":
-        outcome.reason = "; ".join([outcome.reason, *(
-            f"the {label} process had {exit_words(code)}" for label, code in mission.exited.items()
-            if label != "sim")]).strip("; ")
+        outcome.reason = "; ".join([outcome.reason, *exited_children(mission.exited)]).strip("; ")
     mission.record_verdict(outcome)
     written = mission.write_report(outcome)
-    summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s)
+    summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s,
+              recording=Path(config.record) if config.record else None)
     return outcome.exit_code
 
 

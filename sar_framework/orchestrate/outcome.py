@@ -125,6 +125,12 @@ def exit_words(code: int | None) -> str:
     return f"exited with status {code}"
 
 
+def exited_children(exited: dict[str, int | None]) -> list[str]:
+    """``the detect process was killed by SIGKILL`` for each server that ended mid-mission."""
+    return [f"the {label} process {exit_words(code)}" for label, code in exited.items()
+            if label != "sim"]
+
+
 def child_exit_outcome(label: str, code: int | None, last_error: str) -> Outcome:
     """The outcome of a run whose simulator (its clock) ended, or a child refused its input.
 
@@ -166,8 +172,19 @@ def _where_it_ended(summary: dict[str, Any]) -> str:
     return f"final position ({final['x']:.2f}, {final['y']:.2f}), {where}"
 
 
+def away_from_goal_warning(summary: dict[str, Any]) -> str | None:
+    """The warning for a SUCCESS while the robot is away from its last navigation goal."""
+    goal, final = summary.get("last_goal"), summary.get("final_position")
+    if summary.get("at_last_goal") is not False or not goal or not final:
+        return None
+    return (f"warning: the tree succeeded while the robot is at ({final['x']:.2f}, "
+            f"{final['y']:.2f}), away from where its last navigation sent it "
+            f"({goal['x']:.2f}, {goal['y']:.2f})")
+
+
 def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
-              written: Sequence[Path], stop_s: float | None) -> None:
+              written: Sequence[Path], stop_s: float | None, *,
+              recording: Path | None = None) -> None:
     """Print the final lines: verdict, numbers, failures, where the report is.
 
     Args:
@@ -176,6 +193,7 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
         outcome: How the mission ended.
         written: The report files written (mission.json among them, when it was).
         stop_s: Wall seconds the stop took, when known.
+        recording: The ``--record`` file, when the mission was recorded.
     """
     summary: dict[str, Any] = {}
     mission_json = report_dir / "mission.json"
@@ -198,6 +216,9 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
         say(f"sar-tree run: {outcome.reason}")
     if outcome.status == "INTERRUPTED" and stop_s is not None:
         say(f"sar-tree run: every process stopped {stop_s:.2f} s after the signal")
+    warning = away_from_goal_warning(summary) if outcome.status == "SUCCESS" else None
+    if warning:
+        say(f"sar-tree run: {warning}")
     if outcome.status == "SUCCESS":
         # A retried leaf can fail the same way several times: one note each, with a count.
         # Retries, skips and cancels were printed as they happened; the causes are noted.
@@ -211,3 +232,6 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
     if written:
         say(f"sar-tree run: report in {report_dir}/ "
             f"({', '.join(p.name for p in written)}; child logs *.log)")
+    if recording is not None:
+        state = "" if recording.exists() else " (not written)"
+        say(f"sar-tree run: recording in {recording}{state}")

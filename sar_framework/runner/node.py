@@ -13,18 +13,18 @@ Start-up, in order; each step is bounded and fails with one clear message:
    parameters (:mod:`.settings`) and the mission's (zones, ``tick_rate_hz``) are read;
 3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
-5. the tree is set up with ``node=`` (bounded by ``setup_timeout_s``) and ticked at
+5. the tree is set up with ``node=`` (bounded by ``setup_timeout_wall_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
 
-When the mission is *complete* follows the ``completion`` parameter
-(:mod:`sar_framework.mission.completion`): ``once`` (the default for a tree that does not
-end with a ``one_shot``) at the root's first SUCCESS or FAILURE, after which the tree is not
-ticked again; ``rest`` (the default for a tree that ends with a ``one_shot``, such as the
-reference tree, whose root succeeds after every zone) when the tree is at rest; ``forever``
-never. On completion the runner emits its ``completion`` event (status SUCCESS or
-FAILURE) and logs ``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
-``exit_on_completion`` it then ends, otherwise it stays up (a ``rest`` tree keeps ticking,
-idling at its end) until SIGINT.
+When the mission is *complete* follows the ``completion`` parameter or the tree file's
+``completion`` key (:mod:`sar_framework.mission.completion`): ``end`` (the default) when
+the tree reaches its declared end (the root fails, or succeeds as the one_shot on its
+final path latches); ``once`` at the root's first SUCCESS or FAILURE; ``rest`` when the
+tree is at rest; ``forever`` never. A complete mission is not ticked again. On
+completion the runner emits its ``completion`` event (status SUCCESS or FAILURE) and logs
+``Mission complete.`` or ``Mission failed (...)`` for humans, once; with
+``exit_on_completion`` it then ends, otherwise it stays up (not ticking; its figures
+frozen at completion) until SIGINT.
 
 Other processes read the runner's events, never its log (:mod:`.mission_events`): on
 ``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
@@ -53,7 +53,7 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.events.event import EventKind
-from sar_framework.mission.completion import resolve_completion
+from sar_framework.mission.completion import ending_one_shot, resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
     ParamsError,
@@ -128,6 +128,7 @@ class MissionRunner:
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
             completion=self.completion, emitter=self.events,
+            end_uid=getattr(ending_one_shot(loaded.spec), "uid", None),
         )
         self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
@@ -142,7 +143,7 @@ class MissionRunner:
         """
         try:
             self.tree.setup(node=self.node, events=self.events,
-                            timeout=self.settings.setup_timeout_s)
+                            timeout=self.settings.setup_timeout_wall_s)
         except Exception as err:
             raise RuntimeError(f"tree setup failed: {type(err).__name__}: {err}") from err
 
@@ -205,8 +206,8 @@ class MissionRunner:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
         if not self.status_writer.complete:
             return
-        if self.completion == "once":
-            self._stop_ticking()  # a tree that runs once is not ticked again
+        if self.completion != "forever":
+            self._stop_ticking()  # a finished mission is never ticked again
         if not self._announced:
             self._announced = True
             status = tree.root.status
@@ -338,7 +339,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                         f"cannot build {settings.tree}: {type(err).__name__}: {err}")
         if settings.seed_amcl:
             seed_amcl_and_wait_for_nav2(
-                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_s,
+                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
                 use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
         runner = MissionRunner(node, settings, mission, loaded, stop=stop,
                                wall_start=wall_start)

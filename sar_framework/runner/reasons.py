@@ -45,6 +45,7 @@ class ReasonLog:
         self._behaviours = behaviours
         self._tick: list[dict[str, Any]] = []
         self._quoted: set[str] = set()
+        self._said: dict[str, str] = {}
 
     def _add(self, what: str, uid: str, message: str, stamp: dict[str, float]) -> None:
         behaviour = self._behaviours[uid]
@@ -55,11 +56,23 @@ class ReasonLog:
         for record in reversed(self._tick):
             if record["what"] in ("failure", "timeout") and record["uid"].startswith(uid + "."):
                 return record["message"]
+        for leaf, message in reversed(list(self._said.items())):
+            if leaf.startswith(uid + "."):
+                return f"{self._behaviours[leaf].name}: {message}"
         return "no reason given"
 
     def leaf_failed(self, uid: str, message: str, stamp: dict[str, float]) -> None:
         """A leaf that had been RUNNING returned FAILURE."""
         self._add("failure", uid, message or "no reason given", stamp)
+
+    def leaf_said_no(self, uid: str, message: str) -> None:
+        """A leaf that was not RUNNING (a condition) returned FAILURE with ``message``.
+
+        Not a record of its own (a condition saying "no" is a decision), but the reason a
+        ``timeout``, ``retry`` or ``failure_is_success`` above it quotes.
+        """
+        if message:
+            self._said[uid] = message
 
     def decorator_ticked(self, uid: str, running: set[str], stamp: dict[str, float]) -> None:
         """Explain what a ``timeout``, ``retry`` or ``failure_is_success`` just did.
@@ -107,4 +120,5 @@ class ReasonLog:
         """The records of the tick just finished (and forget them)."""
         records, self._tick = self._tick, []
         self._quoted = set()
+        self._said = {}
         return records

@@ -5,10 +5,10 @@ Every parameter, its type, default, unit and range is declared once, in
 :func:`read_runner_settings` declares the table on the node and turns it into
 :class:`RunnerSettings`.
 
-``completion`` (:mod:`sar_framework.mission.completion`): ``once`` ends the mission the
-first tick the root is SUCCESS or FAILURE; ``rest`` when the tree is at rest (the root keeps
-one terminal status over two ticks and nothing changes); ``forever`` never; ``auto`` is
-``rest`` for a tree that ends with a ``one_shot``, else ``once``.
+``completion`` (:mod:`sar_framework.mission.completion`): ``end`` ends the mission when the
+tree reaches its declared end; ``once`` the first tick the root is SUCCESS or FAILURE;
+``rest`` when the tree is at rest; ``forever`` never; ``auto`` is the tree file's
+``completion`` key, else ``end``.
 """
 
 from __future__ import annotations
@@ -38,12 +38,13 @@ class RunnerSettings:
         tree: The tree file, as given.
         plugin_paths: Extra plugin locations.
         exit_on_completion: End once the mission is complete.
-        completion: ``auto``, ``once``, ``rest`` or ``forever``: how the mission ends.
+        completion: ``auto``, ``end``, ``once``, ``rest`` or ``forever``: how the mission
+            ends.
         print_tree: Log the tree on every status change.
         status_file: The status file path, or "" for none.
         seed_amcl: Seed AMCL and wait for Nav2 first.
-        nav2_timeout_s: Bound of the Nav2 start-up, seconds.
-        setup_timeout_s: Bound of the tree's setup, seconds.
+        nav2_timeout_wall_s: Bound of the Nav2 start-up, seconds.
+        setup_timeout_wall_s: Bound of the tree's setup, seconds.
         initial_pose: The AMCL seed.
         use_sim_time: Whether the node follows ``/clock``.
     """
@@ -55,8 +56,8 @@ class RunnerSettings:
     print_tree: bool
     status_file: str
     seed_amcl: bool
-    nav2_timeout_s: float
-    setup_timeout_s: float
+    nav2_timeout_wall_s: float
+    setup_timeout_wall_s: float
     initial_pose: InitialPose
     use_sim_time: bool
 
@@ -102,8 +103,8 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
         print_tree=values["print_tree"],
         status_file=values["status_file"],
         seed_amcl=values["seed_amcl"],
-        nav2_timeout_s=float(values["nav2_timeout_s"]),
-        setup_timeout_s=float(values["setup_timeout_s"]),
+        nav2_timeout_wall_s=float(values["nav2_timeout_wall_s"]),
+        setup_timeout_wall_s=float(values["setup_timeout_wall_s"]),
         initial_pose=InitialPose(*(float(values[f"initial_pose.{k}"])
                                    for k in ("x", "y", "yaw"))),
         use_sim_time=bool(values["use_sim_time"]),

@@ -23,12 +23,16 @@ Definitions used here:
   itself failed; and every timeout, cancel, retry and skip, each with ``what``.
 - A runner that stops before its first tick writes ``error``: ``{"step", "message"}``.
 - ``complete`` (an addition to the contract's keys) says the mission is over
-  (:mod:`sar_framework.mission.completion`). With ``completion="once"`` that is the first
-  tick the root is SUCCESS or FAILURE. With ``completion="rest"`` it is once the tree is
-  *at rest*: the root had the same terminal status on two consecutive ticks and the second
-  tick changed nothing (every status the same, no new leaf verdict); the reference tree's
-  root succeeds after every zone and starts the next zone on the following tick. With
-  ``completion="forever"`` the mission is never complete.
+  (:mod:`sar_framework.mission.completion`). With ``completion="end"`` that is the first
+  tick the root FAILS, or SUCCEEDS while the one_shot on the tree's final path
+  (``end_uid``) has latched (no such one_shot: the root's first SUCCESS). With
+  ``completion="once"`` it is the first tick the root is SUCCESS or FAILURE. With
+  ``completion="rest"`` it is once the tree is *at rest*: the root had the same terminal
+  status on two consecutive ticks and the second tick changed nothing (every status the
+  same, no new leaf verdict). With
+  ``completion="forever"`` the mission is never complete. Once complete, always complete:
+  the mission's figures (``status``, ``ticks``, ``sim_end_s``, ``wall_duration_s``, node
+  statuses) are frozen at that tick, so a runner kept alive afterwards does not count on.
 
 The file is written atomically (temporary file + rename) whenever something changed.
 """
@@ -53,7 +57,7 @@ from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 #: How the end of a mission is recognised (see the module docstring).
-RECORDED_COMPLETIONS = ("once", "rest", "forever")
+RECORDED_COMPLETIONS = ("end", "once", "rest", "forever")
 
 
 def write_json_atomically(path: str | Path, document: dict[str, Any]) -> None:
@@ -108,7 +112,9 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         sim_now: Returns the ROS clock in seconds.
         path: The status file; None keeps the document in memory only.
         wall_start: ``time.monotonic()`` when the runner started.
-        completion: ``"once"``, ``"rest"`` or ``"forever"`` (see the module docstring).
+        completion: ``"end"``, ``"once"``, ``"rest"`` or ``"forever"`` (see the module
+            docstring).
+        end_uid: The uid of the one_shot on the tree's final path (``completion="end"``).
         emitter: Where each leaf's start (RUNNING) and verdict go as ``status`` events.
 
     Raises:
@@ -119,12 +125,14 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
                  wall_start: float | None = None, completion: str = "rest",
-                 emitter: EventEmitter = NO_EVENTS) -> None:
+                 emitter: EventEmitter = NO_EVENTS, end_uid: str | None = None) -> None:
         super().__init__(full=False)
         if completion not in RECORDED_COMPLETIONS:
             raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
                              f"got {completion!r}")
         self._completion = completion
+        self._end_uid = end_uid
+        self._frozen: dict[str, Any] | None = None
         self._emitter = emitter
         self._tree_file = tree_file
         self._path = Path(path) if path else None
@@ -193,6 +201,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             if was_running:
                 self._reasons.leaf_failed(uid, message, self._stamp())
             else:
+                self._reasons.leaf_said_no(uid, message)
                 self._tick_failures.append({"what": "failure", "uid": uid,
                                             "name": behaviour.name,
                                             "kind": self._spec_of[uid].kind,
@@ -214,6 +223,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         """
         if self.sim_start_s is None:
             self._start()
+        if self.complete:
+            return False  # the mission's figures stay those of its completion
         self.ticks += 1
         for uid, behaviour in self._behaviours.items():
             status = behaviour.status
@@ -232,7 +243,12 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         snapshot = tuple(b.status for b in self._behaviours.values())
         root_status = tree.root.status
         if self._completion == "once":
-            complete = self.complete or root_status in _TERMINAL
+            complete = root_status in _TERMINAL
+        elif self._completion == "end":
+            complete = root_status == Status.FAILURE or (
+                root_status == Status.SUCCESS and (
+                    self._end_uid is None
+                    or self._behaviours[self._end_uid].status in _TERMINAL))
         elif self._completion == "forever":
             complete = False
         else:
@@ -252,6 +268,9 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             self.new_reasons.extend(reasons)
             self._changed = True
         changed, self._changed = self._changed, False
+        if self.complete:
+            self._frozen = None
+            self._frozen = self.document()
         if changed:
             self.write()
         return changed
@@ -261,7 +280,9 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self.sim_start_s = round(self._sim_now(), 3)
 
     def document(self) -> dict[str, Any]:
-        """Return the status document as it stands."""
+        """Return the status document as it stands (as it stood at completion, once complete)."""
+        if self._frozen is not None:
+            return dict(self._frozen)
         return {
             "tree": self._tree_file,
             "status": self.status.name,

@@ -1,7 +1,7 @@
 """``/detect_survivor``: answers whether a zone hides a survivor, from a table.
 
 Parameters: :data:`~sar_framework.servers.params.DETECT_PARAMETERS` (``survivors_file``,
-``service_name``, ``answer_delay_s``); an empty ``survivors_file`` is the repository's
+``service_name``, ``answer_delay_wall_s``); an empty ``survivors_file`` is the repository's
 ``config/survivors.yaml``, or the spec's table when that is absent.
 
 Logs ``Detection request for zone_a: FOUND at (-2.50, 3.20)`` or
@@ -40,7 +40,7 @@ class DetectSurvivorServer(Node):
         super().__init__(NODE_NAME)
         values = declare_table(self, DETECT_PARAMETERS)
         file, service = values["survivors_file"], values["service_name"]
-        self._delay_s = float(values["answer_delay_s"])
+        self._delay_s = float(values["answer_delay_wall_s"])
         if file:
             self._table, source = load_survivors(file), file
         else:

@@ -10,7 +10,7 @@ from sar_framework.engine.param import Param
 from sar_framework.mission.params_check import USE_SIM_TIME
 
 SERVICE_NAME = "service_name"
-ANSWER_DELAY = Param("answer_delay_s", float, 0.0, "fault: the service answers this late "
+ANSWER_DELAY = Param("answer_delay_wall_s", float, 0.0, "fault: the service answers this late "
                      "(wall clock)", minimum=0.0, unit="s")
 
 DETECT_PARAMETERS: tuple[Param, ...] = (

@@ -9,7 +9,7 @@ a survivor id reported again is acknowledged again but not written twice (ids al
 the file count too, so this holds across restarts).
 
 Parameters: :data:`~sar_framework.servers.params.REPORT_PARAMETERS` (``report_file``,
-``service_name``, ``global_frame``, ``refuse_all``, ``answer_delay_s``).
+``service_name``, ``global_frame``, ``refuse_all``, ``answer_delay_wall_s``).
 
 Logs ``Report received: survivor_1 at (-2.50, 3.20). Acknowledged.`` per new report and
 ``ready: ...`` once serving.
@@ -82,7 +82,7 @@ class ReportSurvivorServer(Node):
         service = values["service_name"]
         self._frame = values["global_frame"]
         self._refuse_all = values["refuse_all"]
-        self._delay_s = float(values["answer_delay_s"])
+        self._delay_s = float(values["answer_delay_wall_s"])
         self._log = ReportLog(file)
         try:
             opened = self._log.open()

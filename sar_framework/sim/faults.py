@@ -8,7 +8,7 @@ Plain Python (no ROS). The simulator node reads these settings from its paramete
 - ``reject_goals``: every ``navigate_to_pose`` goal is rejected.
 - ``abort_goal_numbers``: the N-th accepted goals (1-based) abort ``abort_delay_s``
   simulated seconds after they start, as a failing controller would.
-- ``accept_delay_s``: the server answers a goal request only after this many *wall*
+- ``accept_delay_wall_s``: the server answers a goal request only after this many *wall*
   seconds (client time-outs are wall-clock bounds, so the delay is too).
 - ``blocked_zones``: circles added to the map as obstacles before planning. Each entry is
   ``"x:y:radius"`` (``,`` or spaces also separate), or the name of a world marker with an
@@ -110,14 +110,14 @@ class Faults:
         reject_goals: Reject every goal.
         abort_goal_numbers: 1-based numbers of the accepted goals that abort.
         abort_delay_s: Simulated seconds an injected abort waits after the goal starts.
-        accept_delay_s: Wall seconds before a goal request is answered.
+        accept_delay_wall_s: Wall seconds before a goal request is answered.
         blocked_zones: Extra circular obstacles.
     """
 
     reject_goals: bool = False
     abort_goal_numbers: frozenset[int] = field(default_factory=frozenset)
     abort_delay_s: float = 1.0
-    accept_delay_s: float = 0.0
+    accept_delay_wall_s: float = 0.0
     blocked_zones: tuple[BlockedZone, ...] = ()
 
     def aborts(self, goal_number: int) -> bool:
@@ -130,7 +130,7 @@ class Faults:
         return bool(
             self.reject_goals
             or self.abort_goal_numbers
-            or self.accept_delay_s > 0.0
+            or self.accept_delay_wall_s > 0.0
             or self.blocked_zones
         )
 
@@ -142,8 +142,8 @@ class Faults:
         if self.abort_goal_numbers:
             numbers = ", ".join(str(n) for n in sorted(self.abort_goal_numbers))
             parts.append(f"abort goals [{numbers}] after {self.abort_delay_s:g} s")
-        if self.accept_delay_s > 0.0:
-            parts.append(f"accept after {self.accept_delay_s:g} s wall")
+        if self.accept_delay_wall_s > 0.0:
+            parts.append(f"accept after {self.accept_delay_wall_s:g} s wall")
         if self.blocked_zones:
             zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.blocked_zones)
             parts.append(f"blocked zones {zones}")
@@ -155,7 +155,7 @@ def make_faults(
     reject_goals: bool = False,
     abort_goal_numbers: Iterable[int] = (),
     abort_delay_s: float = 1.0,
-    accept_delay_s: float = 0.0,
+    accept_delay_wall_s: float = 0.0,
     blocked_zones: Iterable[str] = (),
     markers: Mapping[str, tuple[float, float]] | None = None,
 ) -> Faults:
@@ -168,7 +168,7 @@ def make_faults(
         reject_goals: Reject every goal.
         abort_goal_numbers: 1-based accepted-goal numbers to abort.
         abort_delay_s: Simulated seconds before an injected abort.
-        accept_delay_s: Wall seconds before a goal request is answered.
+        accept_delay_wall_s: Wall seconds before a goal request is answered.
         blocked_zones: Entries for :func:`parse_blocked_zone`.
         markers: Marker names for named blocked zones.
 
@@ -183,7 +183,8 @@ def make_faults(
         raise FaultConfigError(
             f"abort_goal_numbers: goal numbers are 1-based, got {sorted(numbers)}"
         )
-    for name, value in (("abort_delay_s", abort_delay_s), ("accept_delay_s", accept_delay_s)):
+    for name, value in (("abort_delay_s", abort_delay_s),
+                        ("accept_delay_wall_s", accept_delay_wall_s)):
         if not (math.isfinite(value) and value >= 0.0):
             raise FaultConfigError(f"{name}: expected a number >= 0, got {value!r}")
     zones = tuple(
@@ -193,7 +194,7 @@ def make_faults(
         reject_goals=bool(reject_goals),
         abort_goal_numbers=numbers,
         abort_delay_s=float(abort_delay_s),
-        accept_delay_s=float(accept_delay_s),
+        accept_delay_wall_s=float(accept_delay_wall_s),
         blocked_zones=zones,
     )
 

@@ -38,7 +38,7 @@ class BtNavigator:
     Args:
         gate: Shared goal gate (navigator, clock, shutdown).
         localized: Returns whether the robot's map pose is known (AMCL seeded).
-        faults: Injected faults (``reject_goals``, ``accept_delay_s``).
+        faults: Injected faults (``reject_goals``, ``accept_delay_wall_s``).
         global_frame: Goals must be in this frame.
         event_sink: Told about rejected goal requests (for the trace).
     """
@@ -81,8 +81,8 @@ class BtNavigator:
 
     def _check(self, _request: Any, poses: list[Any]) -> GoalResponse:
         """Accept or reject a goal request (runs in an executor thread)."""
-        if self._faults.accept_delay_s > 0.0:
-            self._gate.closing.wait(self._faults.accept_delay_s)  # wall seconds, by design
+        if self._faults.accept_delay_wall_s > 0.0:
+            self._gate.closing.wait(self._faults.accept_delay_wall_s)  # wall seconds, by design
         if self._gate.closing.is_set():
             return self._reject("the simulator is shutting down", poses)
         if self._faults.reject_goals:

@@ -62,7 +62,7 @@ SIM_PARAMETERS: tuple[Param, ...] = (
           "fault: these accepted goals (1-based) abort after abort_delay_s"),
     Param("abort_delay_s", float, 1.0, "fault: how long an aborted goal runs first "
           "(simulated)", minimum=0.0, unit="s"),
-    Param("accept_delay_s", float, 0.0, "fault: the server answers a goal request this late "
+    Param("accept_delay_wall_s", float, 0.0, "fault: the server answers a goal request this late "
           "(wall clock)", minimum=0.0, unit="s"),
     Param("blocked_zones", list[str], None,
           "fault: circles added to the map as obstacles: 'x:y:radius' (m) or 'name[:radius]', "

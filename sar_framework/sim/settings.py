@@ -111,7 +111,7 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
             reject_goals=raw["reject_goals"],
             abort_goal_numbers=raw["abort_goal_numbers"] or (),
             abort_delay_s=num["abort_delay_s"],
-            accept_delay_s=num["accept_delay_s"],
+            accept_delay_wall_s=num["accept_delay_wall_s"],
             blocked_zones=raw["blocked_zones"] or (),
             markers=markers,
         )

@@ -211,3 +211,19 @@ def test_child_logs_are_in_the_report_dir(default_run: dict) -> None:
     for name in ("sim", "detect", "report", "runner"):
         assert (report / f"{name}.log").stat().st_size > 0
     assert "Mission complete." in (report / "runner.log").read_text()
+
+
+def test_keep_alive_freezes_the_mission_s_figures_at_completion(default_run: dict) -> None:
+    """Regression: a 104 s mission kept alive reported 822.8 s simulated and 1,629 ticks."""
+    from sar_framework.events.event import EventKind
+    from sar_framework.events.jsonl import EVENTS_FILE, read_events
+
+    report = default_run["report"]
+    done = next(e for e in read_events(report / EVENTS_FILE) if e.kind == EventKind.COMPLETION)
+    status = read_json(report / "status.json")
+    assert status["complete"] is True
+    assert status["sim_end_s"] <= done.sim_s + 0.01, (status, done)
+    mission = read_json(report / "mission.json")
+    assert mission["sim_duration_s"] == pytest.approx(status["sim_end_s"] - status["sim_start_s"],
+                                                      abs=0.01)
+    assert mission["ticks"] == status["ticks"] < 400

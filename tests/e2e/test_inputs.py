@@ -52,9 +52,9 @@ def test_misspelt_or_mistyped_child_parameters_are_errors(tmp_path: Path) -> Non
     assert problems == [
         "--sim-param: blocked_zone: unknown parameter (did you mean 'blocked_zones'?)",
         "--sim-param: speed_scale: must be a number, got 'fast'",
-        "--detect-param: answer_delay: unknown parameter (did you mean 'answer_delay_s'?)",
+        "--detect-param: answer_delay: unknown parameter (did you mean 'answer_delay_wall_s'?)",
         "--report-param: refuse_all: must be true or false, got 'maybe'",
-        "--runner-param: completion: must be one of auto, once, rest, forever, got 'onse' "
+        "--runner-param: completion: must be one of auto, end, once, rest, forever, got 'onse' "
         "(did you mean 'once'?)",
         "--runner-param: tick_rate_hz: must be > 0, got 0",
     ]
@@ -98,8 +98,8 @@ def test_run_help_explains_completion_and_points_at_the_faults() -> None:
                             capture_output=True, text=True, timeout=60, check=False)
     text = " ".join(result.stdout.split())
     assert main(["faults"]) == 0
-    for words in ("once = the mission ends the first time the root returns SUCCESS or FAILURE",
-                  "auto (default) = rest when the tree ends with a one_shot, else once",
+    for words in ("end (default) = the mission ends when the tree reaches its declared end",
+                  "auto = the tree file's key, else end",
                   "see `sar-tree faults`"):
         assert words in text
 

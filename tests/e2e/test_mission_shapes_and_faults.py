@@ -109,7 +109,8 @@ def test_a_tree_without_a_one_shot_at_its_end_runs_once_and_ends_at_base(tmp_pat
     tree = REPO / "trees" / "examples" / "budget_then_home.yaml"
     code, out = run_to_end([str(tree), "--speed", FAST, "--timeout", "90"], report)
     assert code == 0, out
-    assert "completion: once (auto: the tree does not end with a one_shot" in out
+    assert "completion: end (default; the mission ends when the tree reaches its declared " \
+        "end: the root's first SUCCESS or FAILURE (no one_shot on its final path))" in out
     assert out.count("Mission complete.") == 1 and "Mission SUCCESS" in out
     assert "final position (0.0" in out and ", at base" in out
     goals = [(g["x"], g["y"]) for g in read_jsonl(report / "trace.jsonl")

@@ -77,7 +77,7 @@ def test_bad_inputs_are_reported_without_ros(tmp_path: Path) -> None:
     tree = tmp_path / "bad.yaml"
     tree.write_text("format: 1\nroot:\n  sequence:\n    children:\n      - NavigateToZonee: {}\n")
     result = _run(tmp_path, str(tree), "--params", str(params), "--speed", "0",
-                  "--sim-param", "speed_scale:=fast", "--detect-param", "answer_delay_s:=-1")
+                  "--sim-param", "speed_scale:=fast", "--detect-param", "answer_delay_wall_s:=-1")
     assert result.returncode == 2, result.stdout + result.stderr
     assert result.stdout == ""
     for line in (f"{tree}:5:9: error:",
@@ -85,7 +85,7 @@ def test_bad_inputs_are_reported_without_ros(tmp_path: Path) -> None:
                  f"{params}:6:5: tick_rate_hz: must be > 0, got -2.0",
                  "--speed must be > 0 and <= 1000, got 0.0",
                  "--sim-param: speed_scale: must be a number, got 'fast'",
-                 "--detect-param: answer_delay_s: must be >= 0, got -1"):
+                 "--detect-param: answer_delay_wall_s: must be >= 0, got -1"):
         assert line in result.stderr, result.stderr
     assert "Traceback" not in result.stderr and "ModuleNotFoundError" not in result.stderr
     assert not (tmp_path / "r").exists()

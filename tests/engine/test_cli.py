@@ -29,7 +29,7 @@ def test_validate_clean_exits_0(tmp_path: Path) -> None:
     write(tmp_path, "good.yaml", GOOD)
     run = sar_tree("validate", "good.yaml", "--plugin-path", str(GENERIC_PLUGINS), cwd=tmp_path)
     assert run.returncode == 0, run.stderr
-    assert run.stdout == "good.yaml: ok (2 nodes; default completion: once)\n"
+    assert run.stdout == "good.yaml: ok (2 nodes; completion: end)\n"
     assert run.stderr == ""
     no_traceback(run)
 

@@ -126,7 +126,20 @@ CASES = {
     ),
     "empty_composite": (
         tree("sequence: {name: Empty, memory: true, children: []}"),
-        ["tree.yaml:3:51: error: sequence has no children (a composite needs at least one)"],
+        ["tree.yaml:3:51: error: sequence 'Empty' has no children (a composite needs at least "
+         "one)"],
+    ),
+    "empty_composite_unnamed": (  # regression: 'sequence has no children' named no node
+        tree("sequence: {memory: true, children: [{selector: {memory: true, children: []}}]}"),
+        ["tree.yaml:3:75: error: selector (child 1 of the root sequence) has no children (a "
+         "composite needs at least one)"],
+    ),
+    "unknown_plugin_with_nothing_close": (  # regression: no hint at plugins: / --plugin-path
+        tree("CheckBattery: {}"),
+        ["tree.yaml:3:3: error: unknown plugin 'CheckBattery' (if it is a leaf of your own: "
+         "install its package (an entry point in group 'sar_framework.plugins'), or name its "
+         "module, .py file or folder in the tree's 'plugins:' key or with --plugin-path; see "
+         "docs/tutorials/02_writing_a_plugin.md)"],
     ),
     "composite_without_children": (
         tree("sequence: {memory: true}"),
@@ -266,5 +279,6 @@ def test_all_errors_in_one_pass(check: Checker) -> None:
         "tree.yaml:7:9: error: duplicate id 'a' (first used at tree.yaml:6:9)",
         "tree.yaml:8:35: error: 'source' names no leaf: there is no id 'zz'",
         "tree.yaml:9:9: error: one_shot needs a 'child' (a decorator has exactly one)",
-        "tree.yaml:10:45: error: selector has no children (a composite needs at least one)",
+        "tree.yaml:10:45: error: selector (child 6 of the root sequence) has no children (a "
+        "composite needs at least one)",
     ]

@@ -208,6 +208,18 @@ def test_explicit_v3_style_elements_and_custom_nodes_are_read() -> None:
         ]}}}
 
 
+def test_an_unknown_xml_node_close_to_a_plugin_gets_a_did_you_mean(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Regression: <NavigateToZon> was drafted with no did-you-mean."""
+    xml = tmp_path / "typo.xml"
+    xml.write_text('<root BTCPP_format="4" main_tree_to_execute="M">\n'
+                   '  <BehaviorTree ID="M">\n    <Sequence>\n      <NavigateToZon/>\n'
+                   '    </Sequence>\n  </BehaviorTree>\n</root>\n')
+    assert main(["import", str(xml), "-o", str(tmp_path / "typo.yaml")]) == 0
+    assert (f"{xml}:4:7: warning: no plugin provides <NavigateToZon> (did you mean "
+            "'NavigateToZone'?); --scaffold DIR writes one to fill in") in capsys.readouterr().err
+
+
 def test_export_usage_and_input_errors(tmp_path: Path,
                                        capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["export", str(tmp_path / "missing.yaml")]) == 2

@@ -38,6 +38,12 @@ NAV2_NODES = {"map_server", "amcl", "controller_server", "smoother_server", "pla
               "collision_monitor", "docking_server"}
 
 
+@pytest.fixture(autouse=True)
+def _ros_home(tmp_path, monkeypatch):
+    """A launch without report_dir makes a run folder under $ROS_HOME: keep it in tmp."""
+    monkeypatch.setenv("ROS_HOME", str(tmp_path / "ros_home"))
+
+
 def declared_arguments() -> dict[str, str]:
     found = {}
     for node in ast.walk(ast.parse(LAUNCH.read_text())):
@@ -63,10 +69,12 @@ def test_launch_file_compiles(tmp_path):
 def test_declared_arguments_and_their_defaults():
     declared = declared_arguments()
     assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
-                             "tick_rate_hz", "map", "nav2_params_file", "use_sim_time",
+                             "report_dir", "tick_rate_hz", "map", "nav2_params_file",
+                             "use_sim_time",
                              "speed", "rviz", "record"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
     assert declared["record"] == ""  # no recorder unless asked
+    assert declared["report_dir"] == ""  # a new folder per run
     assert (REPO / "trees" / declared["tree"]).is_file()
     for key in ("params_file", "map", "nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
@@ -221,13 +229,53 @@ def test_a_tree_path_that_exists_is_used_as_given(tmp_path, monkeypatch):
     assert runner["use_sim_time"] is False
 
 
+def run_files(**arguments: str) -> dict[str, str]:
+    """The files one launch's processes write: the report log, status, trace."""
+    nodes, _includes, context = evaluate(nav2="embedded", **arguments)
+    by_exe = {n.node_executable: parameters(command_line(n, context)) for n in nodes}
+    return {"report_file": by_exe["sar-report-survivor-server"]["report_file"],
+            "status_file": by_exe["sar-mission-runner"]["status_file"],
+            "trace_file": by_exe["sar-sim"]["trace_file"]}
+
+
+@needs_launch
+def test_two_launches_in_a_row_write_into_folders_of_their_own(tmp_path):
+    """Regression: every launch shared ~/.ros/sar_reports.jsonl; the second mission counted
+    the first one's survivors ('2 survivors already on record ... Repeated report')."""
+    first, second = run_files(), run_files()
+    root = tmp_path / "ros_home" / "sar_runs"
+    for files in (first, second):
+        folders = {Path(f).parent for f in files.values()}
+        assert len(folders) == 1 and folders.pop().parent == root, files
+        assert not Path(files["report_file"]).exists()  # nothing inherited
+    assert Path(first["report_file"]).parent != Path(second["report_file"]).parent
+    assert sorted(p.name for p in root.iterdir()) == sorted(
+        Path(f["status_file"]).parent.name for f in (first, second))
+
+
+@needs_launch
+def test_reusing_a_report_log_is_explicit(tmp_path):
+    shared = tmp_path / "shared.jsonl"
+    first = run_files(report_file=str(shared))
+    second = run_files(report_file=str(shared), report_dir=str(tmp_path / "mine"))
+    assert first["report_file"] == second["report_file"] == str(shared)
+    assert second["status_file"] == str(tmp_path / "mine" / "status.json")
+
+
+@needs_launch
+def test_process_output_has_no_colour_codes_when_not_a_terminal():
+    """Regression: redirected ros2 launch output carried ESC[0m ... ESC[0m\r (emulate_tty)."""
+    nodes, _includes, _context = evaluate(nav2="embedded")
+    ours = [n for n in nodes if n.node_package == "sar_framework"]
+    assert ours and not any(n.emulate_tty for n in ours)  # pytest's stdout is no terminal
+
+
 # --- one description: the launch file and sar-tree run start the same processes --------------
 
 def launched(report_dir: Path, **arguments: str) -> list[tuple[str, dict]]:
     """This package's processes as the launch starts them: executable, parameters."""
     nodes, _includes, context = evaluate(
-        tree=str(TREE), params_file=str(MISSION), report_file=str(report_dir / "reports.jsonl"),
-        **arguments)
+        tree=str(TREE), params_file=str(MISSION), report_dir=str(report_dir), **arguments)
     return [(node.node_executable, parameters(command_line(node, context)))
             for node in nodes if node.node_package == "sar_framework"]
 
@@ -259,10 +307,8 @@ def test_launch_and_sar_tree_run_start_the_same_processes_with_the_same_paramete
         "sar-mission-recorder", "sar-sim", "sar-detect-survivor-server",
         "sar-report-survivor-server", "sar-mission-runner"]
     assert run[-1][1]["tick_rate_hz"] == 4.0 and run[1][1]["speed"] == 7.5
-    # Only sar-tree run has a report folder: the simulator's trace, the runner's status.
-    assert_same_but(launch, run, run_only={
-        "sar-sim": {"trace_file": str(tmp_path / "trace.jsonl")},
-        "sar-mission-runner": {"status_file": str(tmp_path / "status.json")}})
+    # Both write the run's files into the run's folder.
+    assert_same_but(launch, run, run_only={})
 
 
 @needs_launch
@@ -270,12 +316,10 @@ def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_dif
     launch = launched(tmp_path, nav2="bringup", use_sim_time="false",
                       survivors_file=str(SURVIVORS))
     run = run_children(tmp_path, sim=False, survivors=str(SURVIVORS))  # Nav2 already up
-    assert launch[-1][1]["nav2_timeout_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
-    assert "nav2_timeout_s" not in run[-1][1]  # the runner's own bound (or the file's)
-    assert_same_but(
-        launch, run,
-        run_only={"sar-mission-runner": {"status_file": str(tmp_path / "status.json")}},
-        launch_only={"sar-mission-runner": {"nav2_timeout_s": processes.BRINGUP_NAV2_TIMEOUT_S}})
+    assert launch[-1][1]["nav2_timeout_wall_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
+    assert "nav2_timeout_wall_s" not in run[-1][1]  # the runner's own bound (or the file's)
+    assert_same_but(launch, run, run_only={}, launch_only={"sar-mission-runner": {
+        "nav2_timeout_wall_s": processes.BRINGUP_NAV2_TIMEOUT_S}})
 
 
 @needs_launch

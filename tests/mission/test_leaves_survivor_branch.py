@@ -147,7 +147,7 @@ def test_an_unanswered_request_is_sent_again_and_the_first_answer_wins(
 
     node, _make_tree, executor, report = branch_env
     call = PolledServiceCall(node, ReportSurvivor, "/report_survivor", server_timeout_s=5.0,
-                             response_timeout_s=5.0, resend_after_s=0.3)
+                             response_timeout_s=5.0, resend_after_wall_s=0.3)
     request = ReportSurvivor.Request(survivor_id="survivor_9")
     request.location.header.frame_id = "map"
     results = []

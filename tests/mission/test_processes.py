@@ -128,7 +128,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
         str(tmp_path / "trace.jsonl"), str(tmp_path / "status.json"),
         str(tmp_path / "reports.jsonl"))
     assert settings.exit_on_completion is False  # --keep-alive
-    assert settings.survivors_file == "" and settings.nav2_timeout_s is None
+    assert settings.survivors_file == "" and settings.nav2_timeout_wall_s is None
     assert settings.extra["sim"] == {"blocked_zones": ["3.5:3:0.8"]}  # the zone's position
     specs = child_specs(config, tmp_path, inputs.zones)
     assert [(s.label, s.executable) for s in specs] == [

@@ -86,3 +86,48 @@ def test_every_failure_retry_skip_timeout_and_cancel_has_a_line(tmp_path: Path) 
     assert writer.failures == writer.new_reasons
     assert {r["what"] for r in writer.failures} == {"failure", "retry", "skip", "timeout",
                                                       "cancel"}
+
+
+CONDITION = """\
+format: 1
+name: condition
+root:
+  sequence:
+    memory: true
+    name: Steps
+    children:
+      - failure_is_success:
+          name: BudgetOver
+          child:
+            sequence:
+              name: Budget200s
+              memory: true
+              children:
+                - Countdown: {name: CheckBattery, ticks: 0, succeed: false,
+                              message: "battery at 12 %, below 20 %"}
+                - Countdown: {name: Patrol, ticks: 1}
+      - Countdown: {name: CheckAgain, ticks: 1, succeed: false, message: "still at 12 %"}
+"""
+
+
+def test_a_condition_s_reason_reaches_what_fails_because_of_it(tmp_path: Path) -> None:
+    """Regression: 'BudgetOver skip: Budget200s failed (no reason given)'; the reason of a
+    leaf that failed without RUNNING first (a user's condition) was only in runner.log."""
+    path = tmp_path / "t.yaml"
+    path.write_text(CONDITION)
+    zones = ZoneManager([{"id": "zone_a", "x": 0.0, "y": 0.0, "yaw": 0.0}],
+                        {"x": 0.0, "y": 0.0, "yaw": 0.0})
+    loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
+    recorder = StatusFileWriter(str(path), loaded.spec, loaded.behaviours, lambda: 0.0,
+                              completion="once")
+    tree = py_trees.trees.BehaviourTree(loaded.root)
+    tree.visitors.append(recorder)
+    tree.add_post_tick_handler(recorder.after_tick)
+    tree.tick()
+    tree.tick()
+    lines = [reason_line(r) for r in recorder.failures]
+    assert lines == [
+        "BudgetOver [0.0] skip: Budget200s failed (CheckBattery: battery at 12 %, below 20 %); "
+        "skipped",
+        "CheckAgain [0.1]: still at 12 %",  # the root failed because of it
+    ]

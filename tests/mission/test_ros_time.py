@@ -75,3 +75,50 @@ def test_without_a_clock_timeout_is_py_trees_own(tmp_path: Path) -> None:
     path.write_text(TREE)
     loaded = load_tree(path)
     assert type(loaded.behaviours["0.1"]) is py_trees.decorators.Timeout
+
+
+class FakeClient:
+    """A client whose server never becomes ready."""
+
+    def service_is_ready(self) -> bool:
+        return False
+
+    def server_is_ready(self) -> bool:
+        return False
+
+
+def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall() -> None:
+    """Regression: server_timeout_s, navigation_timeout_s and response_timeout_s counted wall
+    seconds while timeout decorators counted ROS time, so which fired first changed with
+    --speed (at 10x a 10 s detect bound beat a 180 s visit timeout; at 20x it did not)."""
+    from sar_plugins._service_call import PolledServiceCall
+    from sar_plugins.navigate_to_zone import NavigateToZone
+
+    from sar_framework.mission.zone_manager import ZoneManager
+
+    clock = FakeClock()
+    node = clock.node()
+    node.create_client = lambda *_args: FakeClient()
+    node.get_logger = lambda: SimpleNamespace(info=print, warning=print)
+    call = PolledServiceCall(node, object, "/detect_survivor", server_timeout_s=10.0,
+                             response_timeout_s=10.0)
+    call.start()
+    clock.now_s += 9.9
+    assert call.poll(lambda: None) is None  # no wall second needed to pass
+    clock.now_s += 0.2
+    result = call.poll(lambda: None)
+    assert result is not None
+    assert result.error == "/detect_survivor service not available after 10.0 s"
+
+    zones = ZoneManager([{"id": "zone_a", "x": 1.0, "y": 2.0, "yaw": 0.0}],
+                        {"x": 0.0, "y": 0.0, "yaw": 0.0})
+    leaf = NavigateToZone("Go", zone_manager=zones, server_timeout_s=10.0)
+    leaf._node, leaf._client = node, FakeClient()  # what setup(node=...) gives it
+    leaf.tick_once()
+    clock.now_s += 9.9
+    leaf.tick_once()
+    assert leaf.status == Status.RUNNING
+    clock.now_s += 0.2
+    leaf.tick_once()
+    assert leaf.status == Status.FAILURE
+    assert leaf.feedback_message == "navigate_to_pose server not available after 10.0 s"

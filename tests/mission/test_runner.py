@@ -245,7 +245,9 @@ def test_a_tree_without_a_one_shot_at_its_end_runs_once_by_default(tmp_path):
     finally:
         runner.stop()
     assert code == 0, runner.output
-    assert "completion: once (auto: the tree does not end with a one_shot" in runner.output
+    assert "completion: end (default; the mission ends when the tree reaches its declared " \
+        "end: the root's first SUCCESS or FAILURE (no one_shot on its final path))" \
+        in runner.output
     doc = json.loads(status.read_text())
     assert doc["ticks"] == ticks
     assert doc["complete"] is True
@@ -317,7 +319,7 @@ def test_bad_runner_parameter(tmp_path):
 def test_setup_timeout_exits_3(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: slow\nroot:\n  SlowSetup: {seconds: 10.0}\n")
     start = time.monotonic()
-    code, output = run_to_end(runner_args(tree, None, "setup_timeout_s:=1.0"), tmp_path)
+    code, output = run_to_end(runner_args(tree, None, "setup_timeout_wall_s:=1.0"), tmp_path)
     assert code == 3, output
     assert time.monotonic() - start < 8.0
     assert "tree setup failed" in output and "SlowSetup" in output
@@ -329,7 +331,7 @@ def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
     tree = write_tree(tmp_path, OK_TREE)
     status = tmp_path / "status.json"
     args = [a if a != "seed_amcl:=false" else "seed_amcl:=true"
-            for a in runner_args(tree, status, "nav2_timeout_s:=2.0")]
+            for a in runner_args(tree, status, "nav2_timeout_wall_s:=2.0")]
     code, output = run_to_end(args, tmp_path)
     assert code == 3, output
     assert ("amcl never reported ACTIVE (/amcl/get_state never appeared) within 2 s: "
@@ -357,7 +359,9 @@ def test_status_writer_suppresses_idle_repeats_but_keeps_new_executions():
 
     leaf = Check("Check?")
     root = py_trees.composites.Selector("Root", memory=False, children=[leaf])
-    writer = StatusFileWriter("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0)
+    # ticked on and on (a complete mission is never ticked again, so: forever)
+    writer = StatusFileWriter("t.yaml", spec, {"0": root, "0.0": leaf}, lambda: 0.0,
+                              completion="forever")
     tree = py_trees.trees.BehaviourTree(root)
     tree.visitors.append(writer)
     tree.add_post_tick_handler(writer.after_tick)
@@ -367,7 +371,7 @@ def test_status_writer_suppresses_idle_repeats_but_keeps_new_executions():
     assert writer.ticks == 5
     # the root failed on the ticks its only child failed instantly: those are failures
     assert [f["uid"] for f in writer.failures] == ["0.0"]
-    assert writer.complete is False  # the last tick's verdict was new
+    assert writer.complete is False
 
 
 def test_status_writer_rest_detection():

@@ -8,8 +8,10 @@ without a traceback).
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -81,3 +83,54 @@ def test_node_names_are_unique_and_ctrl_c_ends_every_process_cleanly(tmp_path):
     """
     run = ctrl_c_mid_mission(tmp_path)
     assert run.failures() == [], run.output
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def installed_scripts_run_this_checkout() -> bool:
+    """Whether the installed ``sar-mission-runner`` (what launch starts) runs this code."""
+    import importlib.util
+
+    script = Path(sys.prefix) / "lib" / "sar_framework" / "sar-mission-runner"
+    found = re.search(r"^from (\S+) import main", script.read_text(), re.M) \
+        if script.exists() else None
+    try:
+        spec = importlib.util.find_spec(found.group(1)) if found else None
+    except ModuleNotFoundError:
+        return False
+    return spec is not None and spec.origin is not None and \
+        Path(spec.origin).resolve().is_relative_to(REPO)
+
+
+@pytest.mark.skipif(not installed_scripts_run_this_checkout(),
+                    reason="the installed sar_framework scripts run another checkout")
+def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
+    """Regression: the second launch said '2 survivors already on record ... Repeated report'
+    (every launch shared ~/.ros/sar_reports.jsonl), and redirected output carried
+    ESC[0m ... ESC[0m\\r on most lines. This checkout's launch file, by path, with no
+    report_file: the default."""
+    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
+               ROS_HOME=str(tmp_path / "ros_home"))
+    env.pop("RCUTILS_COLORIZED_OUTPUT", None)
+    outputs = []
+    for _ in range(2):
+        proc = subprocess.Popen(
+            [str(ROS2), "launch", str(REPO / "launch" / "search_and_rescue.launch.py"),
+             "nav2:=embedded"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            env=env, start_new_session=True)
+        STARTED.append(proc)
+        output, _ = proc.communicate(timeout=240)
+        assert proc.returncode == 0, output
+        outputs.append(output)
+    for output in outputs:
+        assert "(0 survivors already on record)" in output, output
+        assert "Repeated report" not in output
+        assert "\x1b[" not in output and "\r" not in output
+    runs = sorted((tmp_path / "ros_home" / "sar_runs").iterdir())
+    assert len(runs) == 2
+    for run in runs:
+        ids = [line.split('"survivor_id": "')[1].split('"')[0]
+               for line in (run / "reports.jsonl").read_text().splitlines()]
+        assert ids == ["survivor_1", "survivor_2"], run
+        assert (run / "status.json").exists() and (run / "events.jsonl").exists()

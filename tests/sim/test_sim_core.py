@@ -119,15 +119,15 @@ def test_blocked_zone_errors_name_the_entry(entry: str, message: str) -> None:
 def test_make_faults_reads_ros_placeholders_as_empty() -> None:
     faults = make_faults(abort_goal_numbers=[0], blocked_zones=[""])
     assert not faults.any
-    faults = make_faults(abort_goal_numbers=[2, 3], accept_delay_s=0.5)
+    faults = make_faults(abort_goal_numbers=[2, 3], accept_delay_wall_s=0.5)
     assert faults.aborts(2) and not faults.aborts(1)
     assert faults.any
     assert faults.describe() == "abort goals [2, 3] after 1 s; accept after 0.5 s wall"
     assert make_faults().describe() == "none"
     with pytest.raises(FaultConfigError, match="1-based"):
         make_faults(abort_goal_numbers=[-1])
-    with pytest.raises(FaultConfigError, match="accept_delay_s"):
-        make_faults(accept_delay_s=-1.0)
+    with pytest.raises(FaultConfigError, match="accept_delay_wall_s"):
+        make_faults(accept_delay_wall_s=-1.0)
 
 
 def test_blocked_zones_occupy_a_copy_of_the_grid() -> None:

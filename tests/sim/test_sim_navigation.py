@@ -223,7 +223,7 @@ class TestNavigateToPose:
 @pytest.fixture(scope="class")
 def reject_sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     proc = start_sim(tmp_path_factory.mktemp("reject"), f"speed:={SPEED}",
-                     "reject_goals:=true", "accept_delay_s:=1.0")
+                     "reject_goals:=true", "accept_delay_wall_s:=1.0")
     try:
         yield proc
     finally:

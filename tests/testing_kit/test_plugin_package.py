@@ -53,7 +53,8 @@ def run_pytest(package: Path, target: Path) -> subprocess.CompletedProcess[str]:
 def test_the_tutorial_package_tests_itself_in_under_40_lines() -> None:
     files = tutorial_files()
     assert set(files) == {"battery_leaves/pyproject.toml", "battery_leaves/battery_leaves.py",
-                          "battery_leaves/tests/test_battery_ok.py"}
+                          "battery_leaves/tests/test_battery_ok.py",
+                          "battery_leaves/tests/test_battery_ok_by_path.py"}
     assert len(files["battery_leaves/tests/test_battery_ok.py"].splitlines()) < 40
 
 
@@ -63,7 +64,7 @@ def test_the_installed_package_s_tests_pass(installed: tuple[Path, Path]) -> Non
     assert (target / "battery_leaves.py").exists()
     done = run_pytest(package, target)
     assert done.returncode == 0, done.stdout + done.stderr
-    assert "3 passed" in done.stdout, done.stdout
+    assert "4 passed" in done.stdout, done.stdout  # the by-path test too
 
 
 def test_a_wrong_expectation_fails_with_the_tick_history(installed: tuple[Path, Path]) -> None:
@@ -81,6 +82,6 @@ def test_a_wrong_expectation_fails_with_the_tick_history(installed: tuple[Path, 
     finally:
         wrong.unlink()
     assert done.returncode == 1, done.stdout + done.stderr
-    assert "1 failed, 3 passed" in done.stdout, done.stdout
+    assert "1 failed, 4 passed" in done.stdout, done.stdout
     assert "BatteryOk: ['FAILURE', 'FAILURE'], expected ['SUCCESS', 'SUCCESS']" in done.stdout
     assert "tick 2: BatteryOk=FAILURE" in done.stdout

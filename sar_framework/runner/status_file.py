@@ -49,6 +49,7 @@ from py_trees.common import Status
 from sar_framework.engine.spec import Category, TreeSpec
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter
 from sar_framework.events.event import EventKind
+from sar_framework.runner.entry_values import EntryTracker
 from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
@@ -110,6 +111,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         wall_start: ``time.monotonic()`` when the runner started.
         completion: ``"once"``, ``"rest"`` or ``"forever"`` (see the module docstring).
         emitter: Where each leaf's start (RUNNING) and verdict go as ``status`` events.
+        entries: The tree's blackboard entries; with any, the document lists their last
+            values under ``entries`` (as :meth:`.EntryTracker.final` gives them).
 
     Raises:
         ValueError: An unknown ``completion``.
@@ -119,8 +122,10 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
                  wall_start: float | None = None, completion: str = "rest",
-                 emitter: EventEmitter = NO_EVENTS) -> None:
+                 emitter: EventEmitter = NO_EVENTS,
+                 entries: EntryTracker | None = None) -> None:
         super().__init__(full=False)
+        self._entries = entries
         if completion not in RECORDED_COMPLETIONS:
             raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
                              f"got {completion!r}")
@@ -262,7 +267,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
 
     def document(self) -> dict[str, Any]:
         """Return the status document as it stands."""
-        return {
+        document = {
             "tree": self._tree_file,
             "status": self.status.name,
             "ticks": self.ticks,
@@ -274,6 +279,9 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             "running": list(self.running),
             "complete": self.complete,
         }
+        if self._entries is not None and len(self._entries):
+            document["entries"] = self._entries.final()
+        return document
 
     def write(self) -> None:
         """Write the document to the status file (no-op without one)."""

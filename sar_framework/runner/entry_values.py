@@ -7,7 +7,8 @@ entry (the first message, a late joiner). A tree without entries costs one lengt
 
 Values are rendered by :func:`value_text`: never ``repr`` of an unknown object (which may
 be huge or raise), bounded to :data:`TEXT_MAX` characters; ROS messages compactly as
-``Type(field=..., ...)`` without importing ROS (a message class is recognised by its
+``Type@frame(field=(x=1, ...), ...)`` (nested messages without their type, a header as
+its frame id) without importing ROS (a message class is recognised by its
 ``get_fields_and_field_types``). :func:`apply_entries` folds such rows into the current
 values, for the watcher and for replay.
 """
@@ -20,7 +21,7 @@ from typing import Any
 import py_trees
 
 #: Longest value text, in characters (longer ones end with ``…``).
-TEXT_MAX = 80
+TEXT_MAX = 100
 #: How deep nested messages and containers are shown before ``…``.
 DEPTH_MAX = 3
 #: Items of a sequence shown before ``…``.
@@ -50,15 +51,20 @@ def _text(value: Any, depth: int) -> str:
         return "…"
     fields = getattr(type(value), "get_fields_and_field_types", None)
     if fields is not None:
+        names = list(fields())
+        frame = ""
+        if "header" in names:  # its frame beside the type, the stamp left out
+            names.remove("header")
+            frame = f"@{getattr(value.header, 'frame_id', '')}"
         inner = ", ".join(f"{name}={_text(getattr(value, name, None), depth + 1)}"
-                          for name in fields())
-        return f"{type(value).__name__}({inner})"
+                          for name in names)
+        return f"{type(value).__name__ if depth == 0 else ''}{frame}({inner})"
     if isinstance(value, Mapping):
         items = list(value.items())
         inner = ", ".join(f"{_text(k, depth + 1)}: {_text(v, depth + 1)}"
                           for k, v in items[:ITEMS_MAX])
         return "{" + inner + (", …" if len(items) > ITEMS_MAX else "") + "}"
-    if isinstance(value, (list, tuple)) or type(value).__name__ == "ndarray":
+    if isinstance(value, (list, tuple)) or type(value).__name__ in ("ndarray", "array"):
         items = list(value[:ITEMS_MAX + 1])
         inner = ", ".join(_text(v, depth + 1) for v in items[:ITEMS_MAX])
         more = f", … ({len(value)} items)" if len(items) > ITEMS_MAX else ""

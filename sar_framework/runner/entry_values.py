@@ -68,7 +68,8 @@ def _text(value: Any, depth: int) -> str:
         items = list(value[:ITEMS_MAX + 1])
         inner = ", ".join(_text(v, depth + 1) for v in items[:ITEMS_MAX])
         more = f", … ({len(value)} items)" if len(items) > ITEMS_MAX else ""
-        return f"[{inner}{more}]"
+        opening, closing = ("(", ")") if isinstance(value, tuple) else ("[", "]")
+        return f"{opening}{inner}{more}{closing}"
     return f"<{type(value).__name__}>"
 
 

@@ -14,6 +14,7 @@ from sar_framework.runner.entry_values import (
     apply_entries,
     type_text,
     value_text,
+    writers_of,
 )
 
 
@@ -86,6 +87,8 @@ def test_the_tracker_returns_changes_only_and_everything_on_request() -> None:
     board = py_trees.blackboard.Client(name="Writer")
     board.register_key("count", access=py_trees.common.Access.WRITE)
     board.register_key("/sub/path", access=py_trees.common.Access.WRITE)
+    assert writers_of(["/count", "/sub/path", "/nobody"]) == {"/count": "Writer",
+                                                              "/sub/path": "Writer"}
     tracker = EntryTracker({"count": "/count", "sub/path": "/sub/path"},
                            {"/count": "Writer"})
     assert tracker.changes() == [["count", "/count", UNSET, "unset", "Writer"],

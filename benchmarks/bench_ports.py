@@ -8,7 +8,11 @@ Rows (median of the runs, minimum beside it):
   goal: ratio <= 1.10 on minimums;
 * ``load_tree`` of that ports tree (read + validate + resolve + build), for scale;
 * ``validate`` of trees/search_and_rescue.yaml (read + schema + semantics, in-process);
-  goal <= 5 ms.
+  goal <= 5 ms;
+* the live entries of the runner's status topic (:mod:`sar_framework.runner.entry_values`)
+  for a tree of 10 entries that all change every tick: the changed rows plus their JSON,
+  per tick (median), beside the tick itself (goal: <= 100 us a tick, about 1 % of the reference
+  mission's 10 ms tick period at speed 20); and for a tree without entries (goal <= 1 us).
 
 Run::
 
@@ -19,8 +23,11 @@ Run::
 from __future__ import annotations
 
 import argparse
+import json
+import statistics
 import sys
 import tempfile
+import time
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +40,7 @@ from sar_framework.engine.api import load_tree, validate
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 from sar_framework.engine.registry import Registry
+from sar_framework.runner.entry_values import EntryTracker, writers_of
 
 Status = py_trees.common.Status
 Behaviour = py_trees.behaviour.Behaviour
@@ -141,7 +149,38 @@ def run(runs: int, pairs: int) -> None:
     median, low = timed_ms(lambda: validate(REFERENCE), runs)
     rows.append(("validate: reference tree (load + schema + semantics)",
                  f"{median:.2f} ms (min {low:.2f})", verdict(median, 5.0)))
+    rows.extend(entry_rows(reg, runs))
     print_table(rows)
+
+
+def entry_rows(reg: Registry, runs: int, entries: int = 10) -> list[tuple[str, str, str]]:
+    """The per-tick cost of the status topic's entries, with ``entries`` and with none."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "entries.yaml"
+        path.write_text(tree_yaml(entries, ports=True), encoding="utf-8")
+        loaded = load_tree(path, registry=reg)
+    assert len(loaded.entries) == entries
+    tracker = EntryTracker(loaded.entries, writers_of(loaded.entries.values()))
+    root, rounds = loaded.root, max(runs, 200)
+
+    costs, tick_costs = [], []
+    for _ in range(rounds):  # time the tick and the entries of each tick apart
+        started = time.perf_counter()
+        root.tick_once()
+        ticked = time.perf_counter()
+        json.dumps(tracker.changes(), separators=(",", ":"))
+        tick_costs.append(ticked - started)
+        costs.append(time.perf_counter() - ticked)
+    cost_us, tick_us = statistics.median(costs) * 1e6, statistics.median(tick_costs) * 1e6
+    empty = EntryTracker({})
+    empty_ms, _ = timed_ms(lambda: [empty.changes() for _ in range(rounds)], 15)
+    return [
+        (f"live entries: {entries} changing each tick, rows + JSON per tick",
+         f"{cost_us:.1f} us (min {min(costs) * 1e6:.1f}; the tick of its {2 * entries} "
+         f"leaves {tick_us:.1f} us)", verdict(cost_us, 100.0)),
+        ("live entries: a tree without entries, per tick",
+         f"{empty_ms * 1000.0 / rounds:.2f} us", verdict(empty_ms * 1000.0 / rounds, 1.0)),
+    ]
 
 
 def main() -> None:

@@ -5,7 +5,7 @@ Plain Python (no ROS). It reads what the mission's processes left in the report 
 - ``events.jsonl``: the runner's events (:mod:`sar_framework.events`): zones reached and
   not, the base reached, survivors broadcast, reported and refused, failures;
 - ``status.json``: the runner's status file (docs/mission-contracts.md): node statuses,
-  ticks, clock readings;
+  ticks, clock readings, the final blackboard entry values (copied as ``entries``);
 - ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any;
 - ``reports.jsonl``: the report server's acknowledged survivors;
 
@@ -246,7 +246,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     ticks = int(status.get("ticks") or 0)
     final_position, at_base = _final_position(trace, base)
     last_goal, at_last_goal = _last_goal(trace, final_position)
-    return {
+    summary = {
         "tree": inputs.tree,
         "params": inputs.params_file,
         "outcome": inputs.outcome,
@@ -277,6 +277,9 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         or _startup_failure(status),
         "node_statuses": status.get("nodes", {}),
     }
+    if status.get("entries"):
+        summary["entries"] = status["entries"]  # the final blackboard entry values
+    return summary
 
 
 def write_report(inputs: MissionInputs) -> list[Path]:

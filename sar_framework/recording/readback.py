@@ -22,6 +22,7 @@ from sar_framework.events.event import EVENT_TOPIC, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.recording.bag_writer import ROS_TYPE_KEY
 from sar_framework.recording.recorder import ATTACHMENT_PARAMS, METADATA_NAME, message_class
+from sar_framework.runner.entry_values import apply_entries
 from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 
 GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
@@ -199,13 +200,17 @@ def status_document(recording: Recording) -> dict[str, Any]:
     """
     statuses = recording.statuses
     nodes: dict[str, str] = {}
+    entries: dict[str, dict[str, str]] = {}
     for document in statuses:
         for node in document["nodes"]:
             if node["status"] != "INVALID":
                 nodes[node["uid"]] = node["status"]
+        if "entries" in document:
+            entries = apply_entries(entries, document["entries"],
+                                    full=bool(document.get("entries_full")))
     end = statuses[-1] if statuses else {}
     running = [n["uid"] for n in end.get("nodes", []) if n["status"] == "RUNNING"]
-    return {
+    document = {
         "tree": recording.metadata.get("tree", ""), "status": end.get("status", "INVALID"),
         "ticks": end.get("tick", 0), "complete": bool(end.get("complete")),
         "wall_first_tick_s": statuses[0]["wall_s"] if statuses else None,
@@ -213,6 +218,9 @@ def status_document(recording: Recording) -> dict[str, Any]:
         "sim_end_s": end.get("sim_s"), "wall_duration_s": round(recording.wall_duration_s, 3),
         "nodes": nodes, "running": running,
     }
+    if entries:
+        document["entries"] = entries
+    return document
 
 
 def trace_records(recording: Recording) -> list[dict[str, Any]]:

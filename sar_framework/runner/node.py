@@ -65,6 +65,7 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
+from sar_framework.runner.entry_values import EntryTracker, writers_of
 from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
 from sar_framework.runner.settings import RunnerSettings, read_runner_settings
@@ -123,17 +124,19 @@ class MissionRunner:
         self.tree = create_behaviour_tree(loaded.root)
         self.events, self._events_file = mission_events(node, settings, loaded, mission,
                                                         wall_start)
+        entries = EntryTracker(loaded.entries, writers_of(loaded.entries.values()))
         self.status_writer = StatusFileWriter(
             settings.tree, loaded.spec, loaded.behaviours,
             lambda: node.get_clock().now().nanoseconds / 1e9,
             path=settings.status_file or None, wall_start=wall_start,
-            completion=self.completion, emitter=self.events,
+            completion=self.completion, emitter=self.events, entries=entries,
             end_uid=getattr(ending_one_shot(loaded.spec), "uid", None),
         )
         self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
         TreeStatusPublisher(node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
-                            complete=lambda: self.status_writer.complete).attach(self.tree)
+                            complete=lambda: self.status_writer.complete,
+                            entries=entries).attach(self.tree)
 
     def setup(self) -> None:
         """Set up every behaviour with the node (bounded).

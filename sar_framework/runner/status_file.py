@@ -53,6 +53,7 @@ from py_trees.common import Status
 from sar_framework.engine.spec import Category, TreeSpec
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter
 from sar_framework.events.event import EventKind
+from sar_framework.runner.entry_values import EntryTracker
 from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
@@ -116,6 +117,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             docstring).
         end_uid: The uid of the one_shot on the tree's final path (``completion="end"``).
         emitter: Where each leaf's start (RUNNING) and verdict go as ``status`` events.
+        entries: The tree's blackboard entries; with any, the document lists their last
+            values under ``entries`` (as :meth:`.EntryTracker.final` gives them).
 
     Raises:
         ValueError: An unknown ``completion``.
@@ -125,8 +128,10 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
                  behaviours: dict[str, py_trees.behaviour.Behaviour],
                  sim_now: Callable[[], float], *, path: str | Path | None = None,
                  wall_start: float | None = None, completion: str = "rest",
-                 emitter: EventEmitter = NO_EVENTS, end_uid: str | None = None) -> None:
+                 emitter: EventEmitter = NO_EVENTS, end_uid: str | None = None,
+                 entries: EntryTracker | None = None) -> None:
         super().__init__(full=False)
+        self._entries = entries
         if completion not in RECORDED_COMPLETIONS:
             raise ValueError(f"completion must be one of {RECORDED_COMPLETIONS}, "
                              f"got {completion!r}")
@@ -283,7 +288,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         """Return the status document as it stands (as it stood at completion, once complete)."""
         if self._frozen is not None:
             return dict(self._frozen)
-        return {
+        document = {
             "tree": self._tree_file,
             "status": self.status.name,
             "ticks": self.ticks,
@@ -295,6 +300,9 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             "running": list(self.running),
             "complete": self.complete,
         }
+        if self._entries is not None and len(self._entries):
+            document["entries"] = self._entries.final()
+        return document
 
     def write(self) -> None:
         """Write the document to the status file (no-op without one)."""

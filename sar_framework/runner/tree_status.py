@@ -6,7 +6,9 @@ One ``std_msgs/msg/String`` per tick whose ``data`` is a JSON document::
      "status": "RUNNING", "complete": false,
      "zone": {"id": "zone_b", "index": 1, "total": 4},
      "nodes": [["0", "MissionOrReturnToBase", "selector", "RUNNING", "", true], ...],
-     "blackboard": {"/goal": "..."}}
+     "blackboard": {"/goal": "..."},
+     "entries": [["goal", "/goal", "PoseStamped(header=...)", "geometry_msgs/msg/PoseStamped",
+                  "SetGoal"]], "entries_full": false}
 
 ``sim_s`` is the runner's ROS clock after the tick (``/clock`` time with ``use_sim_time``),
 ``sim_start_s`` the same on the first tick. ``nodes`` lists every node depth first as ``[uid,
@@ -14,6 +16,10 @@ name, kind, status, feedback message, visited this tick]`` (a uid's depth is its
 dots). ``zone`` is the zone the mission is at (None when every zone is done or no zone
 manager is known), ``blackboard`` the keys the leaves write, with their values as text.
 ``complete`` turns true once the mission is over (the runner's own verdict).
+``entries`` (only for a tree with blackboard entries, :mod:`.entry_values`) lists the
+entries whose value changed since the previous message as ``[name, key, value text, type,
+writer]``; ``entries_full`` is true when it lists every entry: on the first message and
+whenever a new subscriber has matched since the last one, so a late joiner sees them all.
 
 Plain JSON keeps the topic readable by any ROS 2 tool (``ros2 topic echo``, Foxglove's raw
 view) without an interface package of ours; :func:`decode_status` reads it back.
@@ -26,6 +32,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import py_trees
+
+from sar_framework.runner.entry_values import EntryTracker
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -82,12 +90,14 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         behaviours: ``uid -> behaviour`` from ``load_tree``.
         zone_manager: The mission's zone manager, for the current zone.
         complete: Returns whether the mission is over (the runner's verdict).
+        entries: The tree's entries; none by default.
     """
 
     def __init__(self, node: Node, spec: TreeSpec,
                  behaviours: dict[str, py_trees.behaviour.Behaviour], *,
                  zone_manager: ZoneManager | None = None,
-                 complete: Callable[[], bool] | None = None) -> None:
+                 complete: Callable[[], bool] | None = None,
+                 entries: EntryTracker | None = None) -> None:
         from std_msgs.msg import String
 
         super().__init__(full=False)
@@ -100,6 +110,8 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         self._visited: set[int] = set()
         self._message_type = String
         self._publisher = node.create_publisher(String, STATUS_TOPIC, 10)
+        self._entries = entries if entries is not None and len(entries) else None
+        self._subscribers = -1
         self.tick = 0
         self.sim_start_s: float | None = None
 
@@ -129,13 +141,20 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
                 continue
             nodes.append([uid, name, kind, behaviour.status.name, behaviour.feedback_message,
                           id(behaviour) in self._visited])
-        return {
+        document = {
             "format": FORMAT, "tree": self._name, "tick": self.tick,
             "sim_s": sim_s, "sim_start_s": self.sim_start_s,
             "status": tree.root.status.name, "complete": bool(self._complete()),
             "zone": zone_of(self._zone_manager), "nodes": nodes,
             "blackboard": written_blackboard(self._behaviours),
         }
+        if self._entries is not None:
+            subscribers = self._publisher.get_subscription_count()
+            full = subscribers > self._subscribers  # the first message, or a late joiner
+            self._subscribers = subscribers
+            document["entries"] = self._entries.changes(full=full)
+            document["entries_full"] = full
+        return document
 
     def publish(self, tree: py_trees.trees.BehaviourTree) -> None:
         """Publish the tick's status (a post-tick handler)."""

@@ -18,6 +18,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
+from sar_framework.runner.entry_values import apply_entries
 from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 from sar_framework.watch.snapshot_source import SnapshotFeed
 
@@ -55,6 +56,8 @@ class WatchState:
         rejected: Messages that were not status documents.
         fresh: A document came since the last frame was drawn.
         first_s: ``time.monotonic()`` of the first document.
+        entries: The tree's blackboard entries as known so far (the status documents carry
+            only the ones that changed), ``name -> {"key", "value", "type", "writer"}``.
     """
 
     document: dict[str, Any] | None = None
@@ -64,6 +67,7 @@ class WatchState:
     rejected: int = 0
     fresh: bool = False
     first_s: float = 0.0
+    entries: dict[str, dict[str, str]] = field(default_factory=dict)
 
     def take(self, text: str, now: float) -> None:
         """Decode one message and keep it (a bad one is counted and dropped)."""
@@ -74,6 +78,12 @@ class WatchState:
             return
         if self.document is None:
             self.first_s = now
+        if "entries" in document:
+            changed = {row[0] for row in document["entries"]}
+            self.entries = apply_entries(self.entries, document["entries"],
+                                         full=bool(document.get("entries_full")))
+            document["entries"] = self.entries
+            document["entries_changed"] = changed
         self.document, self.fresh = document, True
         self.received += 1
         self.arrivals.append((now, int(document.get("tick", 0))))

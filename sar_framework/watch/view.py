@@ -3,8 +3,10 @@
 The frame shows a header line (tree, tick, ticks per second, simulated time, current
 zone, root status), the tree with each node's status symbol and name in the status's
 colour (the py_trees symbols, so it reads like ``py-trees-tree-watcher``), the running
-branch in bold, feedback messages dimmed beside their node, and the blackboard keys the
-leaves write. A mission that is over gets a closing line with its verdict.
+branch in bold, feedback messages dimmed beside their node, the blackboard keys the
+leaves write and, for a tree with blackboard entries, an entries panel (value, type and
+writer of each; those that changed this tick in bold). A mission that is over gets a
+closing line with its verdict.
 """
 
 from __future__ import annotations
@@ -74,6 +76,25 @@ def blackboard_view(blackboard: dict[str, str]) -> RenderableType:
     return table
 
 
+def entries_view(entries: dict[str, dict[str, str]], changed: set[str] | None = None
+                 ) -> RenderableType:
+    """The tree's blackboard entries (name, value, type, writer); ``changed`` ones in bold.
+
+    Args:
+        entries: ``name -> {"key", "value", "type", "writer"}`` as the watcher keeps them.
+        changed: The names whose value changed in the latest status.
+    """
+    changed = changed or set()
+    table = Table("entry", "value", "type", "writer", title="entries", title_justify="left",
+                  box=None, header_style="bold", pad_edge=False)
+    for name, entry in entries.items():
+        style = "bold" if name in changed else ""
+        table.add_row(name, Text(entry.get("value", ""), style=style or "default"),
+                      Text(entry.get("type", ""), style="cyan"),
+                      Text(entry.get("writer", ""), style="dim"), style=style)
+    return table
+
+
 def frame(document: dict[str, Any], ticks_per_s: float | None = None,
           source: str = "") -> RenderableType:
     """One whole frame for a status document (see :mod:`sar_framework.runner.tree_status`).
@@ -92,6 +113,8 @@ def frame(document: dict[str, Any], ticks_per_s: float | None = None,
         Text("running branch: " + (" → ".join(running) if running else "none"), style="bold"),
         blackboard_view(document.get("blackboard") or {}),
     ]
+    if document.get("entries"):
+        parts.append(entries_view(document["entries"], document.get("entries_changed")))
     if source:
         parts.append(Text(source, style="dim"))
     if document.get("complete"):

@@ -18,17 +18,18 @@ IGNORES_SIGINT = ("import signal, time\n"
 
 
 def test_a_stop_signal_sets_the_flag_and_the_handlers_come_back() -> None:
-    before = signal.getsignal(signal.SIGTERM)
+    before = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
     stop = stop_on_signals()
     try:
         assert not stop and stop.name == ""
         os.kill(os.getpid(), signal.SIGTERM)
-        os.kill(os.getpid(), signal.SIGINT)  # a second one changes nothing but the record
+        os.kill(os.getpid(), signal.SIGINT)  # once stopping, SIGINT is ignored
+        os.kill(os.getpid(), signal.SIGTERM)  # a SIGTERM is still seen (the escalation)
         assert stop and stop.name == "SIGTERM" and stop.event.is_set()
-        assert stop.received == [signal.SIGTERM, signal.SIGINT]
+        assert stop.received == [signal.SIGTERM, signal.SIGTERM]
     finally:
         stop.restore()
-    assert signal.getsignal(signal.SIGTERM) is before
+    assert {sig: signal.getsignal(sig) for sig in before} == before
 
 
 def test_piped_output_reaches_the_log_and_the_callback(tmp_path: Path) -> None:

@@ -138,27 +138,31 @@ class EntryTracker:
         """
         if not self._entries:
             return []
-        storage = py_trees.blackboard.Blackboard.storage
         rows = []
         for name, key in self._entries:
-            if key in storage:
-                value = storage[key]
-                shown = (value_text(value), type_text(value))
-            else:
-                shown = (UNSET, "unset")
+            shown = _shown(key)
             if full or self._last.get(key) != shown:
                 self._last[key] = shown
                 rows.append([name, key, shown[0], shown[1], self._writers.get(key, "")])
         return rows
 
     def final(self) -> dict[str, dict[str, str]]:
-        """``name -> {"key", "value", "type", "writer"}`` as last looked at (``status.json``)."""
+        """``name -> {"key", "value", "type", "writer"}`` as they stand now (``status.json``)."""
         final = {}
         for name, key in self._entries:
-            value, type_ = self._last.get(key, (UNSET, "unset"))
+            value, type_ = _shown(key)
             final[name] = {"key": key, "value": value, "type": type_,
                            "writer": self._writers.get(key, "")}
         return final
+
+
+def _shown(key: str) -> tuple[str, str]:
+    """The text and type of the value at ``key`` on the blackboard, or the unset mark."""
+    storage = py_trees.blackboard.Blackboard.storage
+    if key not in storage:
+        return UNSET, "unset"
+    value = storage[key]
+    return value_text(value), type_text(value)
 
 
 ENTRY_FIELDS = ("name", "key", "value", "type", "writer")

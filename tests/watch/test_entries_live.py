@@ -63,7 +63,8 @@ def test_entries_stream_from_the_runner_to_the_watch_view(tmp_path) -> None:
 
     documents = [decode_status(text) for text in early]
     first = documents[0]
-    assert first["entries_full"] is True and first["tick"] == 1
+    # the first message a subscriber gets is full, whichever tick discovery let it see first
+    assert first["entries_full"] is True
     assert {row[0] for row in first["entries"]} == {"count", "label", "where"}
     # later ticks carry only what changed: count and where, never the constant label
     later = [d for d in documents[1:] if not d["entries_full"]]

@@ -44,6 +44,7 @@ process of the group and ``ros2 launch`` forwards it once more.
 
 from __future__ import annotations
 
+import functools
 import sys
 import time
 from collections.abc import Sequence
@@ -75,11 +76,13 @@ from sar_framework.runner.status_file import (
     write_json_atomically,
 )
 from sar_framework.runner.tree_status import TreeStatusPublisher
+from sar_framework.runner.tree_ticker import publish_snapshots
 from sar_framework.stop_signals import StopSignals
 
 if TYPE_CHECKING:
     from rclpy.executors import Executor
     from rclpy.node import Node
+    from rclpy.timer import Timer
 
     from sar_framework.engine.api import LoadedTree
 
@@ -93,6 +96,8 @@ EXIT_STOPPED = 0
 CANCEL_GRACE_S = 0.5
 #: Warn when ``use_sim_time`` is set and no tick came within this many wall seconds.
 NO_CLOCK_WARNING_S = 5.0
+#: How often a finished mission kept alive re-publishes its final tree snapshot.
+SNAPSHOT_PERIOD_S = 1.0
 
 
 class MissionRunner:
@@ -119,6 +124,7 @@ class MissionRunner:
         self.logger = node.get_logger()
         self.finished = False
         self._announced = False
+        self._snapshot_timer: Timer | None = None
         self.completion, self.completion_why = resolve_completion(settings.completion,
                                                                   loaded.spec)
         self.tree = create_behaviour_tree(loaded.root)
@@ -225,6 +231,11 @@ class MissionRunner:
             (self.logger.info if status == Status.SUCCESS else self.logger.error)(verdict)
         if self.settings.exit_on_completion:
             self.finished = True
+        elif self.completion != "forever" and self._snapshot_timer is None:
+            # Not ticked again, but still watched: py-trees-tree-watcher and its streams
+            # keep receiving the final tree once a second.
+            self._snapshot_timer = self.node.create_timer(
+                SNAPSHOT_PERIOD_S, functools.partial(publish_snapshots, self.tree))
 
     def _stop_ticking(self) -> None:
         timer = getattr(self.tree, "timer", None)

@@ -143,6 +143,23 @@ def create_behaviour_tree(root: py_trees.behaviour.Behaviour, *,
     return FallbackBehaviourTree(root)
 
 
+def publish_snapshots(tree: py_trees.trees.BehaviourTree) -> None:
+    """Publish the tree's snapshot streams as they stand, without ticking.
+
+    A finished mission kept alive is not ticked again; py_trees_ros publishes snapshots
+    only after a tick, so without this a watcher that connects later sees nothing. Each
+    stream keeps its own period. Nothing to do for the fallback, which has no streams.
+    """
+    streams = getattr(tree, "snapshot_streams", None)
+    if not streams:
+        return
+    for stream in list(streams.values()):
+        stream.publish(root=tree.root, changed=False, statistics=tree.statistics,
+                       visited_behaviour_ids=tree.snapshot_visitor.visited.keys(),
+                       visited_blackboard_client_ids=(
+                           tree.snapshot_visitor.visited_blackboard_client_ids))
+
+
 def implementation_name(tree: py_trees.trees.BehaviourTree) -> str:
     """Name the wrapper in use, for the log: ``py_trees_ros`` or ``fallback``."""
     return "fallback" if isinstance(tree, FallbackBehaviourTree) else "py_trees_ros"

@@ -74,7 +74,7 @@ RECORDED_TOPICS = (
                   "nav2_msgs/action/NavigateToPose_FeedbackMessage"),
     RecordedTopic("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
     RecordedTopic("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
-    RecordedTopic(STATUS_TOPIC, STATUS_TYPE),
+    RecordedTopic(STATUS_TOPIC, STATUS_TYPE, latched=True),
     RecordedTopic(EVENT_TOPIC, EVENT_TYPE, latched=True),
 )
 """What a mission recording holds (a topic nobody publishes simply stays empty). Odometry is

@@ -78,6 +78,10 @@ def written_blackboard(behaviours: dict[str, py_trees.behaviour.Behaviour]) -> d
             for key in sorted(keys)}
 
 
+#: How many of the latest status messages a late subscriber receives.
+STATUS_HISTORY = 50
+
+
 class TreeStatusPublisher(py_trees.visitors.VisitorBase):
     """Publishes the tree's status on :data:`STATUS_TOPIC` after every tick.
 
@@ -100,6 +104,8 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
                  entries: EntryTracker | None = None) -> None:
         from std_msgs.msg import String
 
+        from sar_framework.ros.qos import latched_qos
+
         super().__init__(full=False)
         self._node = node
         self._name = spec.name
@@ -109,7 +115,9 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         self._complete = complete or (lambda: False)
         self._visited: set[int] = set()
         self._message_type = String
-        self._publisher = node.create_publisher(String, STATUS_TOPIC, 10)
+        # Latched: a recorder or watcher that matches late still gets the last ticks (a
+        # finished mission is not ticked again, so nothing newer would come).
+        self._publisher = node.create_publisher(String, STATUS_TOPIC, latched_qos(STATUS_HISTORY))
         self._entries = entries if entries is not None and len(entries) else None
         self._subscribers = -1
         self.tick = 0

@@ -17,11 +17,11 @@ import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_spec, load_tree
+from sar_framework.engine.data_flow import data_edges
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.ports import Direction, Naming
 from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.render import data_edges
 from sar_framework.engine.schema import tree_schema
 from sar_framework.engine.skipping import was_skipped
 

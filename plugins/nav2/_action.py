@@ -28,7 +28,7 @@ from typing import Any
 from py_trees.common import Status
 
 from .._ros_leaf import RosLeaf
-from ._common import navigator_setting, optional_input, server_timeout_s
+from ._common import optional_input, server_missing, server_timeout_s
 
 
 class Nav2ActionLeaf(RosLeaf):
@@ -136,10 +136,10 @@ class Nav2ActionLeaf(RosLeaf):
             if self._client.server_is_ready():
                 self._send()
                 return Status.RUNNING
-            bound = navigator_setting(self._node, "wait_for_service_timeout") / 1000.0
-            if now - self._started > bound:
-                return self._latch(False, f"\"{self.server_name}\" action server not "
-                                          f"available after waiting for {bound:g} s")
+            missing = server_missing(self._node, self._started, now,
+                                     f"\"{self.server_name}\" action server")
+            if missing is not None:
+                return self._latch(False, missing)
             return Status.RUNNING
         if self._send_future is not None:
             if not self._send_future.done():

@@ -82,6 +82,29 @@ def server_timeout_s(node: Node | None, ports: Any) -> float:
     return float(ms) / 1000.0
 
 
+def wait_for_service_s(node: Node | None) -> float:
+    """The navigator's ``wait_for_service_timeout`` in seconds."""
+    return float(navigator_setting(node, "wait_for_service_timeout")) / 1000.0
+
+
+def server_missing(node: Node | None, started: float, now: float, server: str) -> str | None:
+    """The failure of a leaf still without its server once ``wait_for_service_timeout`` passed.
+
+    Args:
+        node: The ROS node whose parameters hold the navigator's settings.
+        started: When the leaf started waiting (``time.monotonic()``).
+        now: The time now (``time.monotonic()``).
+        server: The server as the message names it (``"spin" action server``).
+
+    Returns:
+        The message to fail with, or None while the leaf may still wait.
+    """
+    bound = wait_for_service_s(node)
+    if now - started > bound:
+        return f"{server} not available after waiting for {bound:g} s"
+    return None
+
+
 def node_now(node: Node | None) -> float:
     """The node's clock in seconds (ROS time: simulated with ``use_sim_time``), else wall."""
     if node is None:

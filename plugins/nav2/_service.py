@@ -18,7 +18,7 @@ from typing import Any
 from py_trees.common import Status
 
 from .._ros_leaf import RosLeaf
-from ._common import navigator_setting, optional_input, server_timeout_s
+from ._common import optional_input, server_missing, server_timeout_s
 
 
 class Nav2ServiceLeaf(RosLeaf):
@@ -95,10 +95,10 @@ class Nav2ServiceLeaf(RosLeaf):
             if self._client.service_is_ready():
                 self._call()
                 return Status.RUNNING
-            bound = navigator_setting(self._node, "wait_for_service_timeout") / 1000.0
-            if now - self._started > bound:
-                return self._latch(False, f"\"{self.service_name}\" service server not "
-                                          f"available after waiting for {bound:g} s")
+            missing = server_missing(self._node, self._started, now,
+                                     f"\"{self.service_name}\" service server")
+            if missing is not None:
+                return self._latch(False, missing)
             return Status.RUNNING
         if not self._future.done():
             if now - self._sent < server_timeout_s(self._node, self.ports):

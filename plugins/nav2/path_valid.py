@@ -17,7 +17,7 @@ from py_trees.common import Status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 
-from ._common import navigator_setting, optional_input, server_timeout_s, timeout_port
+from ._common import optional_input, server_timeout_s, timeout_port, wait_for_service_s
 from .conditions import Nav2Condition
 
 _serial = itertools.count()
@@ -55,8 +55,7 @@ class IsPathValid(Nav2Condition):
         self._executor = SingleThreadedExecutor(context=context)
         self._executor.add_node(self._private)
         self._client = self._private.create_client(Service, self.SERVICE)
-        bound = navigator_setting(self.node, "wait_for_service_timeout") / 1000.0
-        self._client.wait_for_service(timeout_sec=bound)
+        self._client.wait_for_service(timeout_sec=wait_for_service_s(self.node))
 
     def update(self) -> Status:
         """Ask and wait up to ``server_timeout``; FAILURE when invalid or unanswered."""

@@ -13,6 +13,7 @@ from typing import Any
 
 from sar_framework.engine.control_kinds import COPIES
 from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
+from sar_framework.engine.document import DocPath, Document
 from sar_framework.engine.entries import DataScope, Declared, Entries, Report
 from sar_framework.engine.node_kinds import SUBTREE
 from sar_framework.engine.ports import (
@@ -31,7 +32,6 @@ from sar_framework.engine.ports import (
 )
 from sar_framework.engine.schema import fits_port
 from sar_framework.engine.spec import Category, NodeSpec
-from sar_framework.engine.structure import DocPath, Document
 
 #: What a key prefix may not hold ('.' reads as an attribute in py_trees, '/' as a level).
 _UNSAFE = re.compile(r"[^A-Za-z0-9_-]")

@@ -17,10 +17,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.engine.diagnostics import SourceLocation
+from sar_framework.engine.document import DocPath, Document
 from sar_framework.engine.entries import DataScope, Entries, Report
 from sar_framework.engine.ports import ENTRY_NAME, EntryRef
 from sar_framework.engine.spec import NodeSpec
-from sar_framework.engine.structure import DocPath, Document
 
 if TYPE_CHECKING:
     from sar_framework.engine.scripting import CompiledScript, ScriptError

@@ -62,7 +62,16 @@ def holds(script: CompiledScript, variables: Variables) -> bool:
     return as_condition(script, script.run(variables))
 
 
-class Script(Behaviour):
+class _ScriptLeaf(Behaviour):
+    """A leaf that runs one script on its variables."""
+
+    def __init__(self, name: str, script: CompiledScript, variables: Variables) -> None:
+        super().__init__(name=name)
+        self.script = script
+        self.variables = variables
+
+
+class Script(_ScriptLeaf):
     """Run a script and succeed (BT.CPP's ``Script``; its value is not used).
 
     Args:
@@ -70,11 +79,6 @@ class Script(Behaviour):
         script: The code.
         variables: What it reads and writes.
     """
-
-    def __init__(self, name: str, script: CompiledScript, variables: Variables) -> None:
-        super().__init__(name=name)
-        self.script = script
-        self.variables = variables
 
     def update(self) -> Status:
         """Run the code; SUCCESS."""
@@ -84,7 +88,7 @@ class Script(Behaviour):
         return Status.SUCCESS
 
 
-class ScriptCondition(Behaviour):
+class ScriptCondition(_ScriptLeaf):
     """SUCCESS when the script's value is true, else FAILURE (BT.CPP's ``ScriptCondition``).
 
     Args:
@@ -92,11 +96,6 @@ class ScriptCondition(Behaviour):
         script: The code; its last expression is the condition.
         variables: What it reads and writes.
     """
-
-    def __init__(self, name: str, script: CompiledScript, variables: Variables) -> None:
-        super().__init__(name=name)
-        self.script = script
-        self.variables = variables
 
     def update(self) -> Status:
         """Run the code and judge its value."""

@@ -21,6 +21,7 @@ from sar_framework.engine.diagnostics import (
     SourceLocation,
     did_you_mean,
 )
+from sar_framework.engine.document import DocPath, Document
 from sar_framework.engine.entries import DataScope, Entries
 from sar_framework.engine.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType
 from sar_framework.engine.ports import NO_DEFAULT
@@ -28,7 +29,6 @@ from sar_framework.engine.references import resolve_references
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.script_bindings import ScriptBindings
 from sar_framework.engine.spec import Category, NodeSpec
-from sar_framework.engine.structure import DocPath, Document
 from sar_framework.engine.subtree_defs import Subtree, copy_spec, cycle_text, report_cycles
 from sar_framework.engine.tree_files import TreeFiles
 

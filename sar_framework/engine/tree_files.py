@@ -15,7 +15,7 @@ from yaml.nodes import MappingNode, ScalarNode
 
 from sar_framework.engine import yaml_source
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
-from sar_framework.engine.structure import Document, describe, to_document
+from sar_framework.engine.document import Document, describe, to_document
 
 
 def normalise(path: Path) -> Path:

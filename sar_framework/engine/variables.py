@@ -34,6 +34,22 @@ class Variables(Protocol):
         """Whether ``name`` has a value."""
 
 
+def value_or_none(variables: Variables, name: str) -> Any:
+    """Return the value of ``name``, or None when it is unset (BT.CPP's failed ``getInput``).
+
+    Args:
+        variables: Where ``name`` lives.
+        name: The variable's name.
+
+    Returns:
+        Its value, or None.
+    """
+    try:
+        return variables.get(name)
+    except KeyError:
+        return None
+
+
 #: Writes per absolute key made through any BlackboardVariables (BT.CPP's sequence id).
 _WRITES: dict[str, int] = {}
 

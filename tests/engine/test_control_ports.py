@@ -9,7 +9,6 @@ control nodes, built.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import py_trees
@@ -17,36 +16,21 @@ import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_spec, load_tree
+from sar_framework.engine.data_flow import data_edges
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.ports import Direction, Naming
-from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.render import data_edges
+from sar_framework.engine.registry import Registry
 from sar_framework.engine.schema import tree_schema
 from sar_framework.engine.skipping import was_skipped
 
-from .conftest import GENERIC_PLUGINS, HERE
+from .port_setup import (
+    clean_blackboard,  # noqa: F401 (pytest fixture)
+    port_registry,  # noqa: F401 (pytest fixture)
+    write_tree,
+)
 
 Blackboard = py_trees.blackboard.Blackboard
-PORT_PLUGINS = HERE / "plugins_for_tests" / "ports"
-
-
-@pytest.fixture(scope="module")
-def registry() -> Registry:
-    return discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
-
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
-
-
-def _write(tmp_path: Path, text: str) -> Path:
-    path = tmp_path / "tree.yaml"
-    path.write_text("format: 1\n" + text)
-    return path
 
 
 def _ticked(root: py_trees.behaviour.Behaviour) -> dict[str, Status]:
@@ -56,7 +40,7 @@ def _ticked(root: py_trees.behaviour.Behaviour) -> dict[str, Status]:
 
 def _problems(tmp_path: Path, registry: Registry, text: str) -> str:
     with pytest.raises(TreeLoadError) as error:
-        load_tree(_write(tmp_path, text), {}, registry=registry)
+        load_tree(write_tree(tmp_path, text), {}, registry=registry)
     return str(error.value)
 
 
@@ -121,7 +105,7 @@ subtrees:
 
 def test_control_ports_resolve_in_their_subtree_scope(tmp_path: Path,
                                                       registry: Registry) -> None:
-    tree = load_tree(_write(tmp_path, LAYERED), {}, registry=registry)
+    tree = load_tree(write_tree(tmp_path, LAYERED), {}, registry=registry)
     ticked = _ticked(tree.root)
     assert tree.root.status == Status.SUCCESS
     assert ticked["Updated"] == ticked["Two"] == Status.SUCCESS
@@ -136,7 +120,7 @@ def test_control_ports_resolve_in_their_subtree_scope(tmp_path: Path,
 
 
 def test_data_edges_include_the_blackboard_nodes(tmp_path: Path, registry: Registry) -> None:
-    spec = load_spec(_write(tmp_path, LAYERED), registry=registry)
+    spec = load_spec(write_tree(tmp_path, LAYERED), registry=registry)
     names = {n.uid: n.name for n in spec.nodes()}
     edges = {(names[w], names[r], key) for w, r, key in data_edges(spec)}
     assert ("SetBlackboard", "SkipUnlessUpdated", "Own@0_2/mine") in edges
@@ -191,7 +175,7 @@ root:
       - Emit: {value: "{x}"}
       - SkipUnlessUpdated: {entry: x, child: {Fixed: {name: Seen}}}
 """
-    tree = load_tree(_write(tmp_path, text), {}, registry=registry)
+    tree = load_tree(write_tree(tmp_path, text), {}, registry=registry)
     assert _ticked(tree.root).get("Seen") == Status.SUCCESS
 
 
@@ -221,7 +205,7 @@ root:
 
 def test_pre_and_post_conditions_work_on_bt_cpp_controls(tmp_path: Path,
                                                          registry: Registry) -> None:
-    tree = load_tree(_write(tmp_path, CONDITIONS), {}, registry=registry)
+    tree = load_tree(write_tree(tmp_path, CONDITIONS), {}, registry=registry)
     skipped = []
     ticked = set()
     for behaviour in tree.root.tick():  # every behaviour ticked, as it finishes its tick
@@ -254,7 +238,7 @@ root:
           children: [Fixed: {name: One}, Fixed: {name: Two}, Fixed: {name: Three},
                      Fixed: {name: Other}]
 """
-    tree = load_tree(_write(tmp_path, text), {}, registry=registry)
+    tree = load_tree(write_tree(tmp_path, text), {}, registry=registry)
     switch = next(n for n in tree.spec.nodes() if n.kind == "Switch3")
     assert switch.bindings["case_3"].key == "/wanted"
     assert _ticked(tree.root).get("Three") == Status.SUCCESS
@@ -272,7 +256,7 @@ blackboard:
 root:
   SetBlackboard: {value: "7", output_key: n}
 """
-    tree = load_tree(_write(tmp_path, text), {}, registry=registry)
+    tree = load_tree(write_tree(tmp_path, text), {}, registry=registry)
     tree.root.tick_once()
     assert Blackboard.storage["/n"] == 7  # BT.CPP parses it into the typed entry too
     bad = text.replace('value: "7"', "value: seven")

@@ -8,7 +8,6 @@ of that name, as Nav2's ``getInputOrBlackboard``.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -23,20 +22,12 @@ from sar_framework.engine.ports import Direction
 from sar_framework.engine.registry import Registry
 from sar_framework.interop.btcpp_export import export_btcpp
 
+from .port_setup import (
+    clean_blackboard,  # noqa: F401 (pytest fixtures)
+    write_tree,
+)
+
 POSE, PATH = "geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Path"
-
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
-
-
-def _write(tmp_path: Path, text: str) -> Path:
-    path = tmp_path / "tree.yaml"
-    path.write_text("format: 1\n" + text)
-    return path
 
 
 def test_the_entry_attributes_are_ports_typed_as_nav2s_palette() -> None:
@@ -73,7 +64,7 @@ subtrees:
 
 def test_a_bound_goal_resolves_in_the_subtree_scope_goals_reads_the_root(
         tmp_path: Path, registry: Registry) -> None:
-    loaded = load_tree(_write(tmp_path, SCOPED), {}, registry=registry)
+    loaded = load_tree(write_tree(tmp_path, SCOPED), {}, registry=registry)
     node = next(n for n in loaded.spec.nodes() if n.kind == "GoalUpdatedController")
     assert node.bindings["goal"].key == "/target"  # remapped through the insertion
     Blackboard.storage["/target"] = "A"
@@ -101,15 +92,16 @@ def test_a_bound_goal_resolves_in_the_subtree_scope_goals_reads_the_root(
 def test_the_ports_feed_the_entry_checks(tmp_path: Path, registry: Registry, text: str,
                                          message: str) -> None:
     with pytest.raises(TreeLoadError) as error:
-        load_tree(_write(tmp_path, text), {}, registry=registry)
+        load_tree(write_tree(tmp_path, text), {}, registry=registry)
     assert message in str(error.value)
 
 
 def test_the_export_declares_their_ports_in_the_nav2_models(tmp_path: Path,
                                                             registry: Registry) -> None:
-    tree = _write(tmp_path, f"blackboard:\n  goal: {{type: {POSE}}}\n  updated: {{type: {POSE}}}\n"
-                  "root:\n  GoalUpdater:\n    input_goal: '{goal}'\n"
-                  "    output_goal: '{updated}'\n    child: {Fixed: {}}\n")
+    tree = write_tree(tmp_path, f"blackboard:\n  goal: {{type: {POSE}}}\n"
+                      f"  updated: {{type: {POSE}}}\n"
+                      "root:\n  GoalUpdater:\n    input_goal: '{goal}'\n"
+                      "    output_goal: '{updated}'\n    child: {Fixed: {}}\n")
     xml = export_btcpp(load_spec(tree, registry=registry), registry)
     assert '<GoalUpdater name="GoalUpdater" input_goal="{goal}" output_goal="{updated}">' in xml
     model = xml.split('<Decorator ID="GoalUpdater">')[1].split("</Decorator>")[0]

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import py_trees
@@ -11,25 +10,13 @@ import pytest
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.port_values import PortValues
 from sar_framework.engine.ports import InputPort, OutputPort, PortBinding
-from sar_framework.engine.registry import Registry, discover
+from sar_framework.engine.registry import Registry
 
-from .conftest import GENERIC_PLUGINS, HERE, write
+from .conftest import write
+from .port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
 
 Blackboard = py_trees.blackboard.Blackboard
 Status = py_trees.common.Status
-
-
-@pytest.fixture(scope="module")
-def registry() -> Registry:
-    return discover([GENERIC_PLUGINS, HERE / "plugins_for_tests" / "ports"], builtins=False,
-                    entry_points=False)
-
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
 
 
 PLAN_AND_FOLLOW = """

@@ -4,24 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import pytest
-
 from sar_framework.engine.ports import NO_DEFAULT
-from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.spec import NodeSpec
 from sar_framework.engine.validate import ValidationResult
 
-from .conftest import GENERIC_PLUGINS, HERE, Checker
-
-PORT_PLUGINS = HERE / "plugins_for_tests" / "ports"
-
-
-@pytest.fixture(scope="module")
-def registry() -> Registry:
-    """The generic test plugins plus the ones that declare ports."""
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
-    assert reg.diagnostics == []
-    return reg
+from .conftest import Checker
+from .port_setup import port_registry  # noqa: F401 (pytest fixture)
 
 
 def node(result: ValidationResult, name: str, nth: int = 0) -> NodeSpec:

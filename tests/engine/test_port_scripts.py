@@ -3,33 +3,20 @@ their variables resolved like ports and checked with them, errors at file column
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 
 import py_trees
-import pytest
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.registry import Registry, discover
+from sar_framework.engine.registry import Registry
 from sar_framework.engine.validate import ValidationResult
 
-from .conftest import GENERIC_PLUGINS, HERE, Checker, write
+from .conftest import Checker, write
+from .port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
 
 Blackboard = py_trees.blackboard.Blackboard
 Status = py_trees.common.Status
-
-
-@pytest.fixture(scope="module")
-def registry() -> Registry:
-    return discover([GENERIC_PLUGINS, HERE / "plugins_for_tests" / "ports"], builtins=False,
-                    entry_points=False)
-
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
 
 
 COUNTING = """

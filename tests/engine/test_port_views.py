@@ -6,14 +6,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+from sar_framework.engine.data_flow import data_edges
 from sar_framework.engine.registry import discover
-from sar_framework.engine.render import data_edges, node_id, render_dot
+from sar_framework.engine.render import node_id, render_dot
 from sar_framework.engine.validate import validate_file
 from sar_framework.plugin_catalogue import plugin_info, port_text
 
-from .conftest import GENERIC_PLUGINS, HERE, REPO, write
+from .conftest import GENERIC_PLUGINS, REPO, write
+from .port_setup import PORT_PLUGINS
 
-PORT_PLUGINS = HERE / "plugins_for_tests" / "ports"
 TREE = """
 format: 1
 root:

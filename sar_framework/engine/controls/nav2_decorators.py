@@ -25,7 +25,7 @@ from sar_framework.engine.controls.base import (
     Steps,
     bt_status,
 )
-from sar_framework.engine.variables import Variables
+from sar_framework.engine.variables import Variables, value_or_none
 
 
 class RateController(BtDecorator):
@@ -92,14 +92,6 @@ class SingleTrigger(BtDecorator):
         return result
 
 
-def _value(variables: Variables, name: str) -> Any:
-    """The entry's value, or None when it is unset (BT.CPP's failed ``getInput``)."""
-    try:
-        return variables.get(name)
-    except KeyError:
-        return None
-
-
 class GoalUpdatedController(BtDecorator):
     """Nav2 ``GoalUpdatedController``: tick the child when the goal changed, or while it runs.
 
@@ -124,7 +116,7 @@ class GoalUpdatedController(BtDecorator):
 
     def decorate(self) -> Steps:
         """The child's outcome when it is ticked, else RUNNING."""
-        current = tuple(_value(self.variables, n) for n in self.names)
+        current = tuple(value_or_none(self.variables, n) for n in self.names)
         if self.was_idle or current != self.seen:  # starting counts as a change
             self.seen, self.updated = current, True
         if bt_status(self.decorated) == Status.RUNNING or self.updated:
@@ -169,7 +161,7 @@ class PathLongerOnApproach(BtDecorator):
 
     def decorate(self) -> Steps:
         """The child's outcome when it is ticked, else SUCCESS."""
-        new = _value(self.variables, self.path_name)
+        new = value_or_none(self.variables, self.path_name)
         old_poses = list(getattr(self.old, "poses", []))
         new_poses = list(getattr(new, "poses", []))
         if not self.first_time and (not old_poses or not new_poses

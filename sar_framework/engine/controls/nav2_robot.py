@@ -22,14 +22,7 @@ from sar_framework.engine.controls.base import (
     bt_status,
 )
 from sar_framework.engine.robot_context import PoseSource
-from sar_framework.engine.variables import Variables
-
-
-def _value(variables: Variables, name: str) -> Any:
-    try:
-        return variables.get(name)
-    except KeyError:
-        return None
+from sar_framework.engine.variables import Variables, value_or_none
 
 
 class DistanceController(BtDecorator):
@@ -132,7 +125,7 @@ class SpeedController(BtDecorator):
     def decorate(self) -> Steps:
         """The child's outcome when it is ticked, else RUNNING."""
         now = self.clock()
-        goals = tuple(_value(self.variables, n) for n in self.names)
+        goals = tuple(value_or_none(self.variables, n) for n in self.names)
         if self.was_idle:
             self.period, self.start, self.first = 1.0 / self.rates[1], now, True
             self.seen = goals
@@ -177,7 +170,7 @@ class GoalUpdater(BtDecorator):
 
     def decorate(self) -> Steps:
         """Write ``output_goal``, then tick the child."""
-        goal = _value(self.variables, self.names[0])
+        goal = value_or_none(self.variables, self.names[0])
         received = self.update_source()
         if received is not None:
             if _stamp(received) == 0.0:

@@ -1,12 +1,13 @@
 // btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
 //
-// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S]
 //
 // Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
 // Action/Condition model becomes a scripted leaf, a Sar... Decorator the py_trees
 // decorator it stands for, a Nav2 control node (RecoveryNode, PipelineSequence,
-// RoundRobin, RateController, SingleTrigger) its stand-in (nav2_standins.h), any other
+// RoundRobin, RateController, SingleTrigger, DistanceController, SpeedController,
+// GoalUpdatedController, GoalUpdater, PathLongerOnApproach) its stand-in (nav2_standins.h), any other
 // Control one that loads but cannot tick. With
 // MAX_TICKS 0 the file is only loaded (createTreeFromText: every check BT.CPP makes). SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
@@ -407,6 +408,11 @@ int main(int argc, char** argv)
       all_ticks = true;
     else if(option == "halts")
       ScriptedLeaf::print_halts = true;
+    else if(option.rfind("speed=", 0) == 0)
+    {
+      nav2_standins::Robot::known = true;
+      nav2_standins::Robot::speed = std::stod(option.substr(6));
+    }
     else if(option.rfind("sleep=", 0) == 0)
       sleep_msec = std::stoi(option.substr(6));
     else
@@ -414,7 +420,7 @@ int main(int argc, char** argv)
   }
   if(usage)
   {
-    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]\n";
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S]\n";
     return 2;
   }
   try
@@ -430,6 +436,7 @@ int main(int argc, char** argv)
     const int max_ticks = std::stoi(argv[3]);
     for(int tick = 1; tick <= max_ticks; ++tick)
     {
+      nav2_standins::Robot::seconds = (tick - 1) * sleep_msec / 1000.0;
       const NodeStatus status = tree.tickExactlyOnce();
       std::cout << "tick " << tick << " " << BT::toStr(status) << "\n";
       if(status != NodeStatus::RUNNING && !all_ticks)

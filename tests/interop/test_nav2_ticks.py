@@ -16,12 +16,14 @@ sides are fed alike: the robot moves along x at ``SPEED`` m/s on the tick clock 
 ``(SPEED * (tick - 1) * TICK, 0)``, given to our side through the build context's
 ``robot_pose``/``robot_speed`` sources, to the checker by ``speed=``), so
 DistanceController (1 m) re-ticks its planner every fifth tick and SpeedController
-(speed above max_speed: 1 Hz) every third; no goal update is ever received and nothing
-writes ``{goal}``/``{goals}`` (GoalUpdater passes its input through, GoalUpdatedController
-ticks its planner on starting only); the checker has no ``nav_msgs/Path``, and no
-scripted leaf writes ``{path}``, so PathLongerOnApproach never ticks its child on either
-side. Goal updates at given ticks and paths becoming longer are checked only on our side
-(``tests/engine/test_nav2_goal_decorators.py``, ``test_nav2_robot_decorators.py``).
+(speed above max_speed: 1 Hz) every third; new goals are set at given ticks (the root
+entry ``goal`` becomes the string ``"goal N"`` before tick N, on both sides), so
+GoalUpdatedController and SpeedController re-plan then, and GoalUpdater, which never
+receives a goal on its topic here, passes each through; the checker has no
+``nav_msgs/Path``, and no scripted leaf writes ``{path}``, so PathLongerOnApproach never
+ticks its child on either side. Goals received by GoalUpdater and paths becoming longer
+are checked only on our side (``tests/engine/test_nav2_goal_decorators.py``,
+``test_nav2_robot_decorators.py``).
 Our own nodes are checked
 against transcripts traced by hand from Nav2's sources in ``test_constructs.py``
 (``test_nav2_construct_ticks_as_nav2_source_says``), so the stand-ins are not the only
@@ -71,14 +73,25 @@ SCRIPTS: dict[str, Script] = {
         "WouldAPlannerRecoveryHelp": ["SUCCESS"]},
 }
 #: Scripts run only on REDUCED_TREES: a long drive shows the decorators' gating.
-GATING: dict[str, Script] = {
-    "the controller runs long": {"FollowPath": ["RUNNING"] * 11 + ["SUCCESS"]},
+LONG_DRIVE: Script = {"FollowPath": ["RUNNING"] * 11 + ["SUCCESS"]}
+#: name -> ticks before which a new goal is set ("goal N" in the root entry ``goal``).
+GATING: dict[str, tuple[int, ...]] = {
+    "the controller runs long": (),
+    "the controller runs long, new goals before ticks 3 and 7": (3, 7),
 }
-#: stem -> ticks on which the gated planner is visited in "the controller runs long".
+#: (stem, name) -> ticks on which the gated planner is visited.
 PLANNER_TICKS = {
-    "navigate_w_replanning_distance": [1, 6, 11],  # 1 m at 0.22 m a tick
-    "navigate_w_replanning_speed": [1, 4, 7, 10],  # 1 Hz at 0.4 s a tick
-    "navigate_w_replanning_only_if_goal_is_updated": [1],  # the goal never changes
+    # 1 m at 0.22 m a tick; goals do not matter
+    ("navigate_w_replanning_distance", "the controller runs long"): [1, 6, 11],
+    ("navigate_w_replanning_distance",
+     "the controller runs long, new goals before ticks 3 and 7"): [1, 6, 11],
+    # 1 Hz at 0.4 s a tick; a new goal re-plans at once (the period runs on)
+    ("navigate_w_replanning_speed", "the controller runs long"): [1, 4, 7, 10],
+    ("navigate_w_replanning_speed",
+     "the controller runs long, new goals before ticks 3 and 7"): [1, 3, 4, 7, 10],
+    ("navigate_w_replanning_only_if_goal_is_updated", "the controller runs long"): [1],
+    ("navigate_w_replanning_only_if_goal_is_updated",
+     "the controller runs long, new goals before ticks 3 and 7"): [1, 3, 7],
 }
 #: Leaf names only a recovery branch visits (the trees name their clearing actions).
 RECOVERY_LEAVES = ("ClearLocalCostmap-Subtree", "ClearGlobalCostmap-Context",
@@ -117,7 +130,7 @@ def test_navigator_ticks_as_btcpp_does(stem: str, name: str, btcpp_checker: Path
 
 def test_reduced_trees_are_the_five() -> None:
     assert len(REDUCED_TREES) == 5, REDUCED_TREES
-    assert set(PLANNER_TICKS) <= set(REDUCED_TREES)
+    assert {stem for stem, _ in PLANNER_TICKS} <= set(REDUCED_TREES)
 
 
 def planner_ticks(lines: list[str]) -> list[int]:
@@ -137,8 +150,9 @@ def planner_ticks(lines: list[str]) -> list[int]:
 def test_nav2_decorator_gating_ticks_as_btcpp_does(stem: str, name: str, btcpp_checker: Path,
                                                    imported: dict[str, Path]) -> None:
     ours = compare(imported[stem], discover(entry_points=False), btcpp_checker,
-                   GATING[name], max_ticks=12, tick_seconds=TICK, halts=True, speed=SPEED)
+                   LONG_DRIVE, max_ticks=12, tick_seconds=TICK, halts=True, speed=SPEED,
+                   goal_ticks=GATING[name])
     assert ours[-1].startswith("tick 12 "), ours  # follow_point keeps following
-    if stem in PLANNER_TICKS:
+    if (stem, name) in PLANNER_TICKS:
         assert ours[-1] == "tick 12 SUCCESS", ours
-        assert planner_ticks(ours) == PLANNER_TICKS[stem], ours
+        assert planner_ticks(ours) == PLANNER_TICKS[stem, name], ours

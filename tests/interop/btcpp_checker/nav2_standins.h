@@ -21,7 +21,8 @@
 //    where the child last succeeded; else RUNNING.
 //  - SpeedController: tick the child on the first tick, when goal/goals changed, while it
 //    runs, and once the period passed (then the period becomes 1/rate for the robot's
-//    speed, linear from min_rate at min_speed to max_rate at max_speed; 1/max_rate first).
+//    speed, linear from min_rate at min_speed to max_rate at max_speed); starting and a
+//    new goal restart the period at 1/max_rate.
 //  - GoalUpdatedController: tick the child on starting, when goal/goals changed, and while
 //    it runs; else RUNNING.
 //  - GoalUpdater: no goal is ever received here: output_goal is input_goal, then the child.
@@ -327,17 +328,12 @@ public:
     const auto now = Clock::now();
     const uint64_t goals = entryVersion(*this, "goal") * 1000003u + entryVersion(*this, "goals");
     const double max_rate = getInput<double>("max_rate").value_or(1.0);
-    if(!BT::isStatusActive(status()))
+    if(!BT::isStatusActive(status()) || goals != seen_)  // starting, or a new goal
     {
       period_ = 1.0 / max_rate;
       start_ = now;
       first_ = true;
       seen_ = goals;
-    }
-    else if(goals != seen_)
-    {
-      seen_ = goals;
-      first_ = true;
     }
     setStatus(NodeStatus::RUNNING);
     const double elapsed = std::chrono::duration<double>(now - start_).count();

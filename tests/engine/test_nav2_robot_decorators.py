@@ -111,6 +111,30 @@ def test_speed_controller_rate_follows_the_speed() -> None:
     assert len(plans(log)) == 4 and node.period == pytest.approx(1.0)
 
 
+
+def test_speed_controller_new_goal_restarts_the_period_at_max_rate() -> None:
+    # Nav2 Jazzy: a new goal sets period_ = 1 / max_rate and start_ = now (not only
+    # first_tick_), so the child is ticked again one max-rate period after the new goal.
+    log, clock = Log(), Clock()
+    variables = DictVariables(goal="A")
+    node = SpeedController("S", Scripted("Plan", ["SUCCESS"] * 20, log), lambda: 0.0,
+                           variables, clock=clock, min_rate=0.1, max_rate=1.0)
+    root = pipeline(node, log)
+    tick(root)
+    clock.now = 1.0  # period passed at speed 0: the period becomes 10 s
+    tick(root)
+    assert len(plans(log)) == 2 and node.period == pytest.approx(10.0)
+    clock.now = 5.0
+    variables["goal"] = "B"
+    tick(root)
+    assert len(plans(log)) == 3 and node.period == pytest.approx(1.0)
+    clock.now = 5.5
+    tick(root)
+    assert len(plans(log)) == 3
+    clock.now = 6.0  # one max-rate period after the new goal
+    tick(root)
+    assert len(plans(log)) == 4
+
 def pose(stamp: float) -> SimpleNamespace:
     ns = SimpleNamespace
     return ns(header=ns(stamp=ns(sec=int(stamp), nanosec=int((stamp % 1) * 1e9))), name=stamp)

@@ -12,7 +12,7 @@ repeats; a leaf without an entry returns SUCCESS), exactly as the C++ checker
 from __future__ import annotations
 
 import subprocess
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from pathlib import Path
 
 import py_trees
@@ -22,6 +22,7 @@ from sar_framework.engine.api import load_spec, load_tree
 from sar_framework.engine.clock_timeout import CLOCK_KEY
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry
+from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 from sar_framework.engine.skipping import was_skipped
 from sar_framework.interop.btcpp_export import export_btcpp
 
@@ -93,23 +94,33 @@ class StepClock:
 
 def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
                  *, all_ticks: bool = False, tick_seconds: float = 0.0,
-                 halts: bool = False) -> list[str]:
+                 halts: bool = False, speed: float | None = None,
+                 goal_ticks: Collection[int] = ()) -> list[str]:
     """Load ``tree`` with ``registry`` (our loader) and tick it; return the transcript.
 
     Ticking stops when the root finishes, or, with ``all_ticks``, after ``max_ticks``.
     With ``tick_seconds``, the tree's clock advances that much after each tick; with
     ``halts``, halting a running leaf adds ``halt NAME``. The
-    blackboard is cleared first; a root that returns SKIPPED is reported SKIPPED.
+    blackboard is cleared first; a root that returns SKIPPED is reported SKIPPED. With
+    ``speed`` (m/s), the robot context has a robot moving along x at that speed on the
+    tree's clock (pose ``(speed * now, 0)``), as the checker's ``speed=`` option does.
+    Before each tick in ``goal_ticks``, the root entry ``goal`` is set to ``"goal N"``
+    (the checker's ``goals=`` option).
     """
     context: dict[str, object] = {key: None for plugin in registry for key in plugin.context}
     clock = StepClock(tick_seconds)
     if tick_seconds:
         context[CLOCK_KEY] = clock
+    if speed is not None:
+        context[ROBOT_POSE_KEY] = lambda _frame, _base: (speed * clock.now, 0.0)
+        context[ROBOT_SPEED_KEY] = lambda: speed
     py_trees.blackboard.Blackboard.clear()
     loaded = load_tree(tree, context, registry=registry)
     state = ScriptedLeaf.state = ScriptState(script, halts=halts)
     try:
         for tick in range(1, max_ticks + 1):
+            if tick in goal_ticks:
+                py_trees.blackboard.Blackboard.set("/goal", f"goal {tick}")
             loaded.root.tick_once()
             shown = "SKIPPED" if was_skipped(loaded.root) else loaded.root.status.name
             state.lines.append(f"tick {tick} {shown}")
@@ -123,13 +134,16 @@ def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
 
 def run_checker(checker: Path, xml: Path, script: Script, max_ticks: int,
                 *, all_ticks: bool = False, tick_seconds: float = 0.0,
-                halts: bool = False) -> list[str]:
+                halts: bool = False, speed: float | None = None,
+                 goal_ticks: Collection[int] = ()) -> list[str]:
     """Run the BT.CPP checker on ``xml``; return its transcript (after the models line)."""
     script_file = xml.with_suffix(".script")
     script_file.write_text("".join(f"{name} {' '.join(s)}\n" for name, s in script.items()))
     done = subprocess.run([str(checker), str(xml), str(script_file), str(max_ticks),
                            *(["all"] if all_ticks else []), *(["halts"] if halts else []),
-                           *([f"sleep={round(tick_seconds * 1000)}"] if tick_seconds else [])],
+                           *([f"sleep={round(tick_seconds * 1000)}"] if tick_seconds else []),
+                           *([f"speed={speed!r}"] if speed is not None else []),
+                           *([f"goals={','.join(map(str, goal_ticks))}"] if goal_ticks else [])],
                           capture_output=True, text=True, timeout=60, check=False)
     assert done.returncode == 0, f"BT.CPP refused {xml}:\n{done.stderr}\n{xml.read_text()}"
     lines = done.stdout.splitlines()
@@ -145,20 +159,25 @@ def visits_and_result(lines: list[str]) -> list[str]:
 def compare(tree: Path, registry: Registry, checker: Path, script: Script,
             *, max_ticks: int = 40, exact_ticks: bool = True, all_ticks: bool = False,
             export_from: Path | None = None, tick_seconds: float = 0.0,
-            halts: bool = False) -> list[str]:
+            halts: bool = False, speed: float | None = None,
+                 goal_ticks: Collection[int] = ()) -> list[str]:
     """Export ``tree``, tick it on both sides, assert the transcripts match; return ours.
 
     ``export_from`` is the file to export when ``tree`` is a copy without local plugins;
-    ``tick_seconds`` is the time between ticks (slept by the checker, simulated here).
+    ``tick_seconds`` is the time between ticks (slept by the checker, simulated here);
+    ``speed`` gives both sides a robot moving at that speed, ``goal_ticks`` the ticks
+    before which a new goal is set (see :func:`run_py_trees`).
     """
     spec = load_spec(export_from or tree, registry=registry)
     xml = tree.with_suffix(".xml")
     xml.write_text(export_btcpp(spec, registry))
     scripted = scripted_registry(registry)
     ours = run_py_trees(tree, scripted, script, max_ticks, all_ticks=all_ticks,
-                        tick_seconds=tick_seconds, halts=halts)
+                        tick_seconds=tick_seconds, halts=halts, speed=speed,
+                        goal_ticks=goal_ticks)
     theirs = run_checker(checker, xml, script, max_ticks, all_ticks=all_ticks,
-                         tick_seconds=tick_seconds, halts=halts)
+                         tick_seconds=tick_seconds, halts=halts, speed=speed,
+                         goal_ticks=goal_ticks)
     if exact_ticks:
         assert theirs == ours
     else:

@@ -79,6 +79,7 @@ class SpeedController(BtDecorator):
     The rate goes linearly from ``min_rate`` at ``min_speed`` to ``max_rate`` at
     ``max_speed`` (clamped); the child is ticked on the first tick, when the goal changed,
     while it runs, and once a period passed (the period is then updated from the speed).
+    Starting and a new goal both restart the period at ``1 / max_rate``.
 
     Args:
         name: The behaviour's name.
@@ -126,11 +127,9 @@ class SpeedController(BtDecorator):
         """The child's outcome when it is ticked, else RUNNING."""
         now = self.clock()
         goals = tuple(value_or_none(self.variables, n) for n in self.names)
-        if self.was_idle:
+        if self.was_idle or goals != self.seen:  # a new goal restarts at max_rate too
             self.period, self.start, self.first = 1.0 / self.rates[1], now, True
             self.seen = goals
-        elif goals != self.seen:
-            self.seen, self.first = goals, True
         elapsed = now - self.start
         if self.first or bt_status(self.decorated) == Status.RUNNING or elapsed >= self.period:
             self.first = False

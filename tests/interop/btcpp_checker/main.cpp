@@ -1,12 +1,13 @@
 // btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
 //
-// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S] [goals=T1,T2..]
 //
 // Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
 // Action/Condition model becomes a scripted leaf, a Sar... Decorator the py_trees
 // decorator it stands for, a Nav2 control node (RecoveryNode, PipelineSequence,
-// RoundRobin, RateController, SingleTrigger) its stand-in (nav2_standins.h), any other
+// RoundRobin, RateController, SingleTrigger, DistanceController, SpeedController,
+// GoalUpdatedController, GoalUpdater, PathLongerOnApproach) its stand-in (nav2_standins.h), any other
 // Control one that loads but cannot tick. With
 // MAX_TICKS 0 the file is only loaded (createTreeFromText: every check BT.CPP makes). SCRIPT has one line per leaf name: "NAME STATUS STATUS ...";
 // each visit of that leaf returns the next status, the last one repeats; a leaf without a
@@ -30,6 +31,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -399,6 +401,7 @@ int main(int argc, char** argv)
 {
   bool all_ticks = false;
   int sleep_msec = 0;
+  std::set<int> goal_ticks;
   bool usage = argc < 4;
   for(int i = 4; i < argc; ++i)
   {
@@ -407,6 +410,17 @@ int main(int argc, char** argv)
       all_ticks = true;
     else if(option == "halts")
       ScriptedLeaf::print_halts = true;
+    else if(option.rfind("goals=", 0) == 0)
+    {
+      std::stringstream ticks(option.substr(6));
+      for(std::string item; std::getline(ticks, item, ',');)
+        goal_ticks.insert(std::stoi(item));
+    }
+    else if(option.rfind("speed=", 0) == 0)
+    {
+      nav2_standins::Robot::known = true;
+      nav2_standins::Robot::speed = std::stod(option.substr(6));
+    }
     else if(option.rfind("sleep=", 0) == 0)
       sleep_msec = std::stoi(option.substr(6));
     else
@@ -414,7 +428,7 @@ int main(int argc, char** argv)
   }
   if(usage)
   {
-    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC]\n";
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S] [goals=T1,T2..]\n";
     return 2;
   }
   try
@@ -430,6 +444,11 @@ int main(int argc, char** argv)
     const int max_ticks = std::stoi(argv[3]);
     for(int tick = 1; tick <= max_ticks; ++tick)
     {
+      nav2_standins::Robot::seconds = (tick - 1) * sleep_msec / 1000.0;
+      if(goal_ticks.count(tick) > 0)  // a new goal before this tick: "goal N"
+      {
+        tree.rootBlackboard()->set("goal", "goal " + std::to_string(tick));
+      }
       const NodeStatus status = tree.tickExactlyOnce();
       std::cout << "tick " << tick << " " << BT::toStr(status) << "\n";
       if(status != NodeStatus::RUNNING && !all_ticks)

@@ -14,12 +14,29 @@
 //    1/hz seconds have passed since its last success (else RUNNING).
 //  - SingleTrigger: tick the child until it completes once; afterwards FAILURE until
 //    the node is reset (halted, or its parent finished).
+// The five that read the robot or ROS messages run on a reduced, test-driven input
+// (Robot below, set from the checker's command line; the Python side feeds the same):
+//  - DistanceController: on starting, remember the robot's pose (none: FAILURE); tick the
+//    child on the first tick, while it runs, and once the robot is `distance` metres from
+//    where the child last succeeded; else RUNNING.
+//  - SpeedController: tick the child on the first tick, when goal/goals changed, while it
+//    runs, and once the period passed (then the period becomes 1/rate for the robot's
+//    speed, linear from min_rate at min_speed to max_rate at max_speed); starting and a
+//    new goal restart the period at 1/max_rate.
+//  - GoalUpdatedController: tick the child on starting, when goal/goals changed, and while
+//    it runs; else RUNNING.
+//  - GoalUpdater: no goal is ever received here: output_goal is input_goal, then the child.
+//  - PathLongerOnApproach: the checker has no nav_msgs/Path; the path is never replaced
+//    by a longer one, so the child is never ticked and the node succeeds.
+// "Changed" is read from the blackboard entry's sequence_id (a write to goal or goals).
 #pragma once
 
 #include <behaviortree_cpp/control_node.h>
 #include <behaviortree_cpp/decorator_node.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -234,6 +251,192 @@ private:
   bool fired_ = false;
 };
 
+// The robot of the reduced form: it moves along x at `speed` m/s; `seconds` is the
+// simulated time of the current tick ((tick - 1) * the time between ticks). Without
+// `known`, there is no pose and the speed is 0.
+struct Robot
+{
+  static inline bool known = false;
+  static inline double speed = 0.0;
+  static inline double seconds = 0.0;
+  static double x() { return speed * seconds; }
+};
+
+// How often the entry a port is remapped to was written (0: no entry).
+inline uint64_t entryVersion(const BT::TreeNode& node, const std::string& port)
+{
+  const auto found = node.config().input_ports.find(port);
+  const std::string remap = found == node.config().input_ports.end() ? "{=}" : found->second;
+  const auto key = BT::TreeNode::getRemappedKey(port, remap);
+  if(!key)
+  {
+    return 0;
+  }
+  const auto entry = node.config().blackboard->getEntry(std::string(key.value()));
+  return entry ? entry->sequence_id + 1 : 0;
+}
+
+class DistanceController : public BT::DecoratorNode
+{
+public:
+  DistanceController(const std::string& name, const BT::NodeConfig& config)
+    : BT::DecoratorNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    if(!Robot::known)
+    {
+      return NodeStatus::FAILURE;
+    }
+    if(!BT::isStatusActive(status()))
+    {
+      start_ = Robot::x();
+      first_ = true;
+    }
+    setStatus(NodeStatus::RUNNING);
+    const double here = Robot::x();
+    const double distance = getInput<double>("distance").value_or(1.0);
+    if(first_ || child()->status() == NodeStatus::RUNNING || std::abs(here - start_) >= distance)
+    {
+      first_ = false;
+      const NodeStatus result = child()->executeTick();
+      if(result == NodeStatus::SUCCESS)
+      {
+        start_ = here;
+      }
+      return result;
+    }
+    return NodeStatus::RUNNING;
+  }
+
+private:
+  double start_ = 0.0;
+  bool first_ = true;
+};
+
+class SpeedController : public BT::DecoratorNode
+{
+public:
+  SpeedController(const std::string& name, const BT::NodeConfig& config)
+    : BT::DecoratorNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    using Clock = std::chrono::steady_clock;
+    const auto now = Clock::now();
+    const uint64_t goals = entryVersion(*this, "goal") * 1000003u + entryVersion(*this, "goals");
+    const double max_rate = getInput<double>("max_rate").value_or(1.0);
+    if(!BT::isStatusActive(status()) || goals != seen_)  // starting, or a new goal
+    {
+      period_ = 1.0 / max_rate;
+      start_ = now;
+      first_ = true;
+      seen_ = goals;
+    }
+    setStatus(NodeStatus::RUNNING);
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    if(first_ || child()->status() == NodeStatus::RUNNING || elapsed >= period_)
+    {
+      first_ = false;
+      if(elapsed >= period_)
+      {
+        period_ = 1.0 / rate(Robot::known ? Robot::speed : 0.0, max_rate);
+        start_ = now;
+      }
+      return child()->executeTick();
+    }
+    return NodeStatus::RUNNING;
+  }
+
+private:
+  double rate(double speed, double max_rate)
+  {
+    const double min_rate = getInput<double>("min_rate").value_or(0.1);
+    const double low = getInput<double>("min_speed").value_or(0.0);
+    const double high = getInput<double>("max_speed").value_or(0.5);
+    if(speed <= low || high == low)
+      return min_rate;
+    if(speed >= high)
+      return max_rate;
+    return min_rate + (max_rate - min_rate) * (speed - low) / (high - low);
+  }
+
+  double period_ = 1.0;
+  std::chrono::steady_clock::time_point start_;
+  bool first_ = true;
+  uint64_t seen_ = 0;
+};
+
+class GoalUpdatedController : public BT::DecoratorNode
+{
+public:
+  GoalUpdatedController(const std::string& name, const BT::NodeConfig& config)
+    : BT::DecoratorNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    const uint64_t goals = entryVersion(*this, "goal") * 1000003u + entryVersion(*this, "goals");
+    if(!BT::isStatusActive(status()) || goals != seen_)
+    {
+      seen_ = goals;
+      updated_ = true;
+    }
+    setStatus(NodeStatus::RUNNING);
+    if(child()->status() == NodeStatus::RUNNING || updated_)
+    {
+      updated_ = false;
+      return child()->executeTick();
+    }
+    return NodeStatus::RUNNING;
+  }
+
+private:
+  uint64_t seen_ = 0;
+  bool updated_ = true;
+};
+
+class GoalUpdater : public BT::DecoratorNode
+{
+public:
+  GoalUpdater(const std::string& name, const BT::NodeConfig& config)
+    : BT::DecoratorNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    setStatus(NodeStatus::RUNNING);
+    BT::Any goal;
+    if(auto locked = getLockedPortContent("input_goal"); locked && !locked->empty())
+    {
+      goal = *locked.get();
+    }
+    if(!goal.empty())
+    {
+      if(auto out = getLockedPortContent("output_goal"))
+      {
+        out.assign(goal);
+      }
+    }
+    return child()->executeTick();
+  }
+};
+
+class PathLongerOnApproach : public BT::DecoratorNode
+{
+public:
+  PathLongerOnApproach(const std::string& name, const BT::NodeConfig& config)
+    : BT::DecoratorNode(name, config)
+  {}
+
+  NodeStatus tick() override
+  {
+    return NodeStatus::SUCCESS;
+  }
+};
+
 // The stand-in registered for a Nav2 model ID, or nullptr.
 inline BT::NodeBuilder builderFor(const std::string& id)
 {
@@ -247,6 +450,16 @@ inline BT::NodeBuilder builderFor(const std::string& id)
     return BT::CreateBuilder<RateController>();
   if(id == "SingleTrigger")
     return BT::CreateBuilder<SingleTrigger>();
+  if(id == "DistanceController")
+    return BT::CreateBuilder<DistanceController>();
+  if(id == "SpeedController")
+    return BT::CreateBuilder<SpeedController>();
+  if(id == "GoalUpdatedController")
+    return BT::CreateBuilder<GoalUpdatedController>();
+  if(id == "GoalUpdater")
+    return BT::CreateBuilder<GoalUpdater>();
+  if(id == "PathLongerOnApproach")
+    return BT::CreateBuilder<PathLongerOnApproach>();
   return nullptr;
 }
 

@@ -12,14 +12,17 @@ Switch reads its variable and cases, literals or entries, through a
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
 import py_trees
+from py_trees.common import Status
 
 from sar_framework.engine.clock_timeout import CLOCK_KEY
-from sar_framework.engine.control_kinds import CONTROL_KINDS, SWITCH_CASES
+from sar_framework.engine.control_kinds import CONTROL_KINDS, READ_PORTS, SWITCH_CASES
 from sar_framework.engine.controls import (
     conditionals,
     converters,
@@ -198,6 +201,63 @@ def _unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mappin
     return leaves.UnsetBlackboard(node.name, "key", bound_variables(node, "key"))
 
 
+#: How a read port's value sets the behaviour's state (kind -> setter).
+_APPLY: dict[str, Callable[[Any, int], None]] = {
+    "Repeat": lambda b, v: setattr(b, "limit", v),
+    "RetryUntilSuccessful": lambda b, v: setattr(b, "limit", v),
+    "RecoveryNode": lambda b, v: setattr(b, "number_of_retries", v),
+    "Timeout": lambda b, v: setattr(b, "duration", v / 1000.0),
+    "Delay": lambda b, v: setattr(b, "delay", v / 1000.0),
+    "Sleep": lambda b, v: setattr(b, "duration", v / 1000.0),
+}
+
+
+@functools.cache
+def _reading(cls: type) -> type:
+    """``cls``, reading its bound port (:data:`.control_kinds.READ_PORTS`) as BT.CPP does."""
+
+    def tick(self: Any) -> Iterator[Behaviour]:
+        port, each_tick = READ_PORTS[self.port_kind]
+        if each_tick or getattr(self, "bt_status", Status.INVALID) != Status.RUNNING:
+            try:
+                value = self.port_variables.get(port)
+            except KeyError:
+                raise RuntimeError(f"{self.name}: port '{port}' reads an entry that has no "
+                                   "value (BT.CPP: missing parameter)") from None
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise RuntimeError(f"{self.name}: port '{port}' must be an integer, got "
+                                   f"{value!r}")
+            _APPLY[self.port_kind](self, value)
+        return (yield from super(reading, self).tick())
+
+    reading = type(cls.__name__, (cls,), {"tick": tick, "__doc__": cls.__doc__})
+    return reading
+
+
+def _with_read_port(base: ControlBuilder) -> ControlBuilder:
+    """``base``, reading a port of :data:`.control_kinds.READ_PORTS` bound to an entry.
+
+    Such a port is read from its entry when BT.CPP reads it, not passed as a literal.
+    """
+
+    def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+              ) -> Behaviour:
+        port, _ = READ_PORTS[node.kind]
+        if not _bound(node, port):
+            literal = node.bindings[port].value if port in node.bindings else None
+            if literal is not None and port not in node.attrs:
+                node = dataclasses.replace(node, attrs={**node.attrs, port: literal})
+            return base(node, children, context)
+        placeholder = dataclasses.replace(node, attrs={**node.attrs, port: 0})
+        behaviour = base(placeholder, children, context)
+        behaviour.__class__ = _reading(type(behaviour))
+        behaviour.port_kind = node.kind  # type: ignore[attr-defined]
+        behaviour.port_variables = bound_variables(node, port)  # type: ignore[attr-defined]
+        return behaviour
+
+    return build
+
+
 CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "Sequence": _plain(sequences.Sequence),
     "SequenceWithMemory": _plain(sequences.SequenceWithMemory),
@@ -211,18 +271,18 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "IfThenElse": _plain(conditionals.IfThenElse),
     "WhileDoElse": _plain(conditionals.WhileDoElse),
     **{key: _switch for key in SWITCH_CASES},
-    "RecoveryNode": _plain(nav2_controls.RecoveryNode),
+    "RecoveryNode": _with_read_port(_plain(nav2_controls.RecoveryNode)),
     "PipelineSequence": _plain(nav2_controls.PipelineSequence),
     "RoundRobin": _plain(nav2_controls.RoundRobin),
     "Inverter": _plain(converters.Inverter),
     "ForceSuccess": _plain(converters.ForceSuccess),
     "ForceFailure": _plain(converters.ForceFailure),
     "KeepRunningUntilFailure": _plain(converters.KeepRunningUntilFailure),
-    "Repeat": _plain(loops.Repeat),
-    "RetryUntilSuccessful": _plain(loops.RetryUntilSuccessful),
+    "Repeat": _with_read_port(_plain(loops.Repeat)),
+    "RetryUntilSuccessful": _with_read_port(_plain(loops.RetryUntilSuccessful)),
     "RunOnce": _plain(loops.RunOnce),
-    "Delay": _clocked(timing.Delay),
-    "Timeout": _clocked(timing.Timeout),
+    "Delay": _with_read_port(_clocked(timing.Delay)),
+    "Timeout": _with_read_port(_clocked(timing.Timeout)),
     **{key: _loop for key in queues.ITEM_TYPES},
     "WasEntryUpdated": _was_updated,
     "SkipUnlessUpdated": _updated(updated.SkipUnlessUpdated),
@@ -236,7 +296,7 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "GoalUpdater": _goal_updater,
     "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
     "AlwaysFailure": _plain(leaves.AlwaysFailure),
-    "Sleep": _clocked(leaves.Sleep),
+    "Sleep": _with_read_port(_clocked(leaves.Sleep)),
     "SetBlackboard": _set_blackboard,
     "UnsetBlackboard": _unset_blackboard,
 }

@@ -7,10 +7,12 @@ of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' 
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
 py_trees' semantics and the BT.CPP key BT.CPP's.
 
-Most of BT.CPP's ports are literals here (params). The attributes that read or write the
-blackboard are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the
-node's scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked
-with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
+Most of BT.CPP's ports are literals here (params). The integers BT.CPP reads with
+``getInput`` (Timeout's ``msec``, Repeat's ``num_cycles``... :data:`READ_PORTS`) are
+ports: a literal (range-checked) or ``{name}``, read when BT.CPP reads it. The attributes
+that read or write the blackboard are ports (:class:`~.ports.Port`, with a direction and
+a type), resolved in the node's scope as a leaf's ports are (subtree scopes, ``{@name}``,
+remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
 ``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
 ``value`` (``{name}``, written), and the ports BT.CPP reads as an entry's *name*
 (:class:`~.ports.Naming`):
@@ -59,6 +61,14 @@ def _int(name: str, text: str, *, default: int | None = None, minimum: int | Non
          ) -> Attr:
     return Attr(name, AttrType.INTEGER, required=default is None, default=default,
                 minimum=minimum, description=text)
+
+
+def _int_port(name: str, text: str, *, default: int | None = None,
+              minimum: int | None = None) -> Attr:
+    """An integer BT.CPP reads with ``getInput``: a literal (range-checked) or ``{name}``."""
+    port = Port(name, "int", NO_DEFAULT if default is None else default, text)
+    return Attr(name, AttrType.PORT, required=default is None, default=default,
+                minimum=minimum, description=text, port=port)
 
 
 def _number(name: str, default: float, text: str) -> Attr:
@@ -168,8 +178,8 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     *(_switch(key, cases) for key, cases in SWITCH_CASES.items()),
     _control("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
              "then the first again.",
-             _int("number_of_retries", "Recoveries allowed before failing.", default=1,
-                  minimum=0),
+             _int_port("number_of_retries", "Recoveries allowed before failing.", default=1,
+                       minimum=0),
              children=_children(2, 2, "The action, then its recovery.")),
     _control("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
              "later one runs."),
@@ -179,18 +189,19 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _decorator("ForceFailure", "A completed child gives FAILURE."),
     _decorator("KeepRunningUntilFailure", "RUNNING until the child fails."),
     _decorator("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
-               _int("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
+               _int_port("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
     _decorator("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
-               _int("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
+               _int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
     _decorator("RunOnce", "Tick the child until it completes once; then skip, or repeat "
                "that result.",
                Attr("then_skip", AttrType.BOOLEAN, default=True,
                     description="After the first completion: SKIPPED (true) or the same "
                     "result (false).")),
     _decorator("Delay", "RUNNING for delay_msec, then tick the child.",
-               _int("delay_msec", "Milliseconds before the child's first tick.", minimum=0)),
+               _int_port("delay_msec", "Milliseconds before the child's first tick.",
+                         minimum=0)),
     _decorator("Timeout", "Halt the child and fail if it still runs after msec.",
-               _int("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
+               _int_port("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
     _decorator("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
                "tick of the child.", _entry()),
     _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
@@ -243,7 +254,7 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _leaf("AlwaysSuccess", "SUCCESS."),
     _leaf("AlwaysFailure", "FAILURE."),
     _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",
-          _int("msec", "Milliseconds to wait.", minimum=0)),
+          _int_port("msec", "Milliseconds to wait.", minimum=0)),
     _leaf("SetBlackboard", "Write value (a literal, or '{entry}' to copy one) to output_key.",
           _port("value", "any", "The value written: a literal, or '{name}' to copy that "
                 "entry's value."),
@@ -259,5 +270,10 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
 #: Kinds that write one port's value to another port's entry: kind -> (source, destination).
 #: BT.CPP's SetBlackboard parses a literal into a typed destination, and copies an entry.
 COPIES = {"SetBlackboard": ("value", "output_key")}
+#: The integer ports BT.CPP reads with ``getInput`` (a literal or an entry): kind -> port,
+#: and whether it is read on every tick (else only when the node starts).
+READ_PORTS = {"Repeat": ("num_cycles", True), "RetryUntilSuccessful": ("num_attempts", True),
+              "RecoveryNode": ("number_of_retries", True), "Timeout": ("msec", False),
+              "Delay": ("delay_msec", False), "Sleep": ("msec", False)}
 #: The attributes that are blackboard ports, in any kind (``"{name}"`` is an entry there).
 ENTRY_PORTS = frozenset(a.name for k in CONTROL_KINDS for a in k.attrs if a.port is not None)

@@ -173,7 +173,10 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
         out["description"] = attr.description
     kind = attr.type
     if kind is AttrType.PORT and attr.port is not None:
-        return port_schema(attr.port)
+        out = port_schema(attr.port)
+        if attr.minimum is not None:  # bounds a literal; '{name}' is a string
+            out["minimum"] = attr.minimum
+        return out
     if kind is AttrType.SCRIPT:
         out.update({"type": "string", "minLength": 1})
         return out

@@ -12,8 +12,8 @@ Most of BT.CPP's ports are literals here (params). The integers BT.CPP reads wit
 ports: a literal (range-checked) or ``{name}``, read when BT.CPP reads it. The attributes
 that read or write the blackboard are ports (:class:`~.ports.Port`, with a direction and
 a type), resolved in the node's scope as a leaf's ports are (subtree scopes, ``{@name}``,
-remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
-``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
+remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard's
+``value`` (a literal or ``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
 ``value`` (``{name}``, written), and the ports BT.CPP reads as an entry's *name*
 (:class:`~.ports.Naming`):
 SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of

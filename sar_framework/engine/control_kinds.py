@@ -10,16 +10,17 @@ py_trees' semantics and the BT.CPP key BT.CPP's.
 Most of BT.CPP's ports are literals here (params). The integers BT.CPP reads with
 ``getInput`` (Timeout's ``msec``, Repeat's ``num_cycles``... :data:`READ_PORTS`) are
 ports: a literal (range-checked) or ``{name}``, read when BT.CPP reads it. The attributes
-that read or write the blackboard are ports (:class:`~.ports.Port`, with a direction and
-a type), resolved in the node's scope as a leaf's ports are (subtree scopes, ``{@name}``,
+that read or write the blackboard are ports (:class:`~.ports.Port`, with a direction and a
+type), resolved in the node's scope as a leaf's ports are (subtree scopes, ``{@name}``,
 remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard's
 ``value`` (a literal or ``{name}``, read), the Loops' ``queue`` (a literal or ``{name}``
 of a shared list) and ``value`` (``{name}``, written), and the ports BT.CPP reads as an
-entry's *name* (:class:`~.ports.Naming`): SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
-SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated (``name`` or ``{name}``).
-Nav2's decorators' ``goal`` and ``goals`` (optional: unbound, the root's entry of that
-name is read, as Nav2's ``getInputOrBlackboard``), ``path``, ``input_goal`` and
-``output_goal`` (written) are ports too, typed as Nav2's palette types them.
+entry's *name* (:class:`~.ports.Naming`): SetBlackboard's ``output_key`` and
+UnsetBlackboard's ``key`` (``name``), the ``entry`` of SkipUnlessUpdated, WaitValueUpdate
+and WasEntryUpdated (``name`` or ``{name}``). Nav2's decorators' ``goal`` and ``goals``
+(optional: unbound, the root's entry of that name is read, as Nav2's
+``getInputOrBlackboard``), ``path``, ``input_goal`` and ``output_goal`` (written) are
+ports too, typed as Nav2's palette types them.
 """
 
 from __future__ import annotations

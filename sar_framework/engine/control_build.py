@@ -224,6 +224,8 @@ def _reading(cls: type) -> type:
             except KeyError:
                 raise RuntimeError(f"{self.name}: port '{port}' reads an entry that has no "
                                    "value (BT.CPP: missing parameter)") from None
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)  # BT.CPP's scripts' numbers convert alike
             if isinstance(value, bool) or not isinstance(value, int):
                 raise RuntimeError(f"{self.name}: port '{port}' must be an integer, got "
                                    f"{value!r}")
@@ -244,9 +246,9 @@ def _with_read_port(base: ControlBuilder) -> ControlBuilder:
               ) -> Behaviour:
         port, _ = READ_PORTS[node.kind]
         if not _bound(node, port):
-            literal = node.bindings[port].value if port in node.bindings else None
-            if literal is not None and port not in node.attrs:
-                node = dataclasses.replace(node, attrs={**node.attrs, port: literal})
+            binding = node.bindings.get(port)  # the literal converted ('450' -> 450)
+            if binding is not None and binding.value is not NO_DEFAULT:
+                node = dataclasses.replace(node, attrs={**node.attrs, port: binding.value})
             return base(node, children, context)
         placeholder = dataclasses.replace(node, attrs={**node.attrs, port: 0})
         behaviour = base(placeholder, children, context)

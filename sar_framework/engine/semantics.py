@@ -36,6 +36,12 @@ from sar_framework.engine.tree_files import TreeFiles
 TOO_DEEP = f"the tree is nested deeper than {MAX_DEPTH} levels"
 
 
+def _below(attr: Attr, value: Any) -> bool:
+    """Whether a port's literal (given as text) is under the attribute's minimum."""
+    return (attr.minimum is not None and isinstance(value, (int, float))
+            and not isinstance(value, bool) and value < attr.minimum)
+
+
 class Scope:
     """Ids visible at one level: the tree, or one copy of a subtree (and its entries)."""
 
@@ -176,6 +182,10 @@ class Semantics(TreeFiles):
             if attr.port is not None:
                 self.value_locs[(where, PORT_LOC + attr.name)] = value_at = doc.where(at)
                 kept = self.bindings.port_value(attr.port, given, value_at)
+                if isinstance(given, str) and _below(attr, kept):  # the schema bounds a number
+                    self.bindings.report(value_at, f"port '{attr.name}': {kept} is less than "
+                                         f"the minimum of {attr.minimum}")
+                    kept = NO_DEFAULT
                 if kept is not NO_DEFAULT:
                     ports[attr.name] = kept
                 if key in KINDS:  # BT.CPP's node: the text as written, for labels and export

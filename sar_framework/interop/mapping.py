@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sar_framework.engine.control_kinds import CONTROL_KINDS
+from sar_framework.engine.kind_model import Attr
 from sar_framework.engine.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
@@ -81,6 +82,17 @@ def attr_value(attr_type: AttrType, name: str, text: str) -> Any:
     return _port_value(attr_type, name, text)
 
 
+def _is_int_port(attr: Attr, text: str) -> bool:
+    """Whether ``text`` is a literal of an integer port (Timeout's ``msec``...)."""
+    return (attr.port is not None and attr.port.type == "int"
+            and not text.strip().startswith("{"))
+
+
+def _int_port_value(attr: Attr, text: str) -> int:
+    """An integer port's literal as an int (our files write ``msec: 450``, not ``'450'``)."""
+    return _port_value(AttrType.INTEGER, attr.name, text)  # type: ignore[no-any-return]
+
+
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
     names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
@@ -100,7 +112,8 @@ def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
         missing = [a.name for a in names if a.required and a.name not in ports]
         if missing:
             raise ValueError(f"needs the port '{missing[0]}'")
-        return {a.name: _port_value(a.type, a.name, ports[a.name]) for a in names
+        return {a.name: _int_port_value(a, ports[a.name]) if _is_int_port(a, ports[a.name])
+                else _port_value(a.type, a.name, ports[a.name]) for a in names
                 if a.name in ports}
 
     return Builtin(btcpp_id or kind.key, kind.key, to_ports=to_ports, from_ports=from_ports)

@@ -87,3 +87,21 @@ def test_a_literal_keeps_its_range_check(tmp_path: Path, registry: Registry) -> 
     with pytest.raises(TreeLoadError, match=r"tree.yaml:\d+:\d+: error: .*-5"):
         _load(tmp_path, registry, "root:\n  Timeout: {msec: -5, child: {Fixed: "
               "{status: success}}}\n")
+
+
+def test_a_literal_given_as_text_keeps_its_range_check(tmp_path: Path,
+                                                       registry: Registry) -> None:
+    with pytest.raises(TreeLoadError, match=r"tree.yaml:4:17: error: port 'num_cycles': -2 "
+                       r"is less than the minimum of -1"):
+        _load(tmp_path, registry, "root:\n  Repeat:\n    num_cycles: '-2'\n"
+              "    child: {Fixed: {status: success}}\n")
+
+
+def test_a_literal_given_as_text_is_converted(tmp_path: Path, registry: Registry) -> None:
+    root = _load(tmp_path, registry, "root:\n  Repeat:\n    num_cycles: '2'\n"
+                 "    child: {Fixed: {status: success}}\n")
+    assert root.limit == 2
+    root.tick_once()  # a child that succeeds at once: Repeat yields between attempts
+    assert root.status == Status.RUNNING
+    root.tick_once()
+    assert root.status == Status.SUCCESS

@@ -367,6 +367,30 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                 child: {Tick: {name: Unbounded}}
         """, {"Slow": ["RUNNING", "RUNNING", "RUNNING", "RUNNING", "SUCCESS"],
               "Unbounded": ["RUNNING", "RUNNING", "RUNNING", "SUCCESS"]}, 10, STEP),
+    "Timeout msec and Repeat num_cycles read from entries": ("""
+        blackboard:
+          cycles: {type: int, initial: 2}
+          t: {type: int}
+        root:
+          Sequence:
+            children:
+              - Script: {code: "t := 450"}
+              - Timeout:
+                  msec: "{t}"
+                  child: {Tick: {name: Slow}}
+              - Repeat:
+                  num_cycles: "{cycles}"
+                  child: {Tick: {name: Again}}
+              - Script: {code: "t := 0; cycles := 1"}
+              - Timeout:
+                  msec: "{t}"
+                  child: {Tick: {name: Unbounded}}
+              - Repeat:
+                  num_cycles: "{cycles}"
+                  child: {Tick: {name: Once}}
+        """, {"Slow": ["RUNNING", "RUNNING", "SUCCESS"],
+              "Again": ["RUNNING", "SUCCESS", "SUCCESS"],
+              "Unbounded": ["RUNNING", "RUNNING", "RUNNING", "SUCCESS"]}, 12, STEP),
     "Sleep": ("""
         Sequence:
           children:

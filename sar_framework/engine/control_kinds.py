@@ -57,18 +57,18 @@ def _children(minimum: int = 1, maximum: int | None = None, text: str = "") -> A
 _CHILD = Attr("child", AttrType.NODE, required=True, description="The decorated node.")
 
 
-def _int(name: str, text: str, *, default: int | None = None, minimum: int | None = None
-         ) -> Attr:
-    return Attr(name, AttrType.INTEGER, required=default is None, default=default,
-                minimum=minimum, description=text)
-
-
 def _int_port(name: str, text: str, *, default: int | None = None,
               minimum: int | None = None) -> Attr:
     """An integer BT.CPP reads with ``getInput``: a literal (range-checked) or ``{name}``."""
     port = Port(name, "int", NO_DEFAULT if default is None else default, text)
     return Attr(name, AttrType.PORT, required=default is None, default=default,
                 minimum=minimum, description=text, port=port)
+
+
+def _bool_port(name: str, text: str, *, default: bool) -> Attr:
+    """A boolean BT.CPP reads with ``getInput``: a literal or ``{name}``."""
+    return Attr(name, AttrType.PORT, default=default, description=text,
+                port=Port(name, "bool", default, text))
 
 
 def _number(name: str, default: float, text: str) -> Attr:
@@ -166,11 +166,11 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
              "child halts the others."),
     _control("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
              "threshold is reached.",
-             _int("success_count", "Successes needed" + _THRESHOLD, default=-1),
-             _int("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
+             _int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
+             _int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
     _control("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
              "when max_failures failed.",
-             _int("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
+             _int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
     _control("IfThenElse", "The condition once, then the branch it chose until that "
              "completes.", children=_BRANCHES),
     _control("WhileDoElse", "The condition every tick, then its branch; switching halts the "
@@ -194,9 +194,8 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                _int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
     _decorator("RunOnce", "Tick the child until it completes once; then skip, or repeat "
                "that result.",
-               Attr("then_skip", AttrType.BOOLEAN, default=True,
-                    description="After the first completion: SKIPPED (true) or the same "
-                    "result (false).")),
+               _bool_port("then_skip", "After the first completion: SKIPPED (true) or the "
+                          "same result (false).", default=True)),
     _decorator("Delay", "RUNNING for delay_msec, then tick the child.",
                _int_port("delay_msec", "Milliseconds before the child's first tick.",
                          minimum=0)),
@@ -270,10 +269,13 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
 #: Kinds that write one port's value to another port's entry: kind -> (source, destination).
 #: BT.CPP's SetBlackboard parses a literal into a typed destination, and copies an entry.
 COPIES = {"SetBlackboard": ("value", "output_key")}
-#: The integer ports BT.CPP reads with ``getInput`` (a literal or an entry): kind -> port,
-#: and whether it is read on every tick (else only when the node starts).
-READ_PORTS = {"Repeat": ("num_cycles", True), "RetryUntilSuccessful": ("num_attempts", True),
-              "RecoveryNode": ("number_of_retries", True), "Timeout": ("msec", False),
-              "Delay": ("delay_msec", False), "Sleep": ("msec", False)}
+#: The integer (and boolean) ports BT.CPP reads with ``getInput`` (a literal or an entry):
+#: kind -> its ports, and whether they are read on every tick (else when the node starts).
+READ_PORTS: dict[str, tuple[tuple[str, ...], bool]] = {
+    "Repeat": (("num_cycles",), True), "RetryUntilSuccessful": (("num_attempts",), True),
+    "RecoveryNode": (("number_of_retries",), True), "Timeout": (("msec",), False),
+    "Delay": (("delay_msec",), False), "Sleep": (("msec",), False),
+    "Parallel": (("success_count", "failure_count"), True),
+    "ParallelAll": (("max_failures",), True), "RunOnce": (("then_skip",), True)}
 #: The attributes that are blackboard ports, in any kind (``"{name}"`` is an entry there).
 ENTRY_PORTS = frozenset(a.name for k in CONTROL_KINDS for a in k.attrs if a.port is not None)

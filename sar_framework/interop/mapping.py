@@ -82,15 +82,12 @@ def attr_value(attr_type: AttrType, name: str, text: str) -> Any:
     return _port_value(attr_type, name, text)
 
 
-def _is_int_port(attr: Attr, text: str) -> bool:
-    """Whether ``text`` is a literal of an integer port (Timeout's ``msec``...)."""
-    return (attr.port is not None and attr.port.type == "int"
-            and not text.strip().startswith("{"))
-
-
-def _int_port_value(attr: Attr, text: str) -> int:
-    """An integer port's literal as an int (our files write ``msec: 450``, not ``'450'``)."""
-    return _port_value(AttrType.INTEGER, attr.name, text)  # type: ignore[no-any-return]
+def _typed_port_value(attr: Attr, text: str) -> Any:
+    """An imported attribute; an int or bool port's literal converted (``msec: 450``)."""
+    typed = {"int": AttrType.INTEGER, "bool": AttrType.BOOLEAN}
+    if attr.port is not None and attr.port.type in typed and not text.strip().startswith("{"):
+        return _port_value(typed[attr.port.type], attr.name, text)
+    return _port_value(attr.type, attr.name, text)
 
 
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
@@ -112,9 +109,7 @@ def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
         missing = [a.name for a in names if a.required and a.name not in ports]
         if missing:
             raise ValueError(f"needs the port '{missing[0]}'")
-        return {a.name: _int_port_value(a, ports[a.name]) if _is_int_port(a, ports[a.name])
-                else _port_value(a.type, a.name, ports[a.name]) for a in names
-                if a.name in ports}
+        return {a.name: _typed_port_value(a, ports[a.name]) for a in names if a.name in ports}
 
     return Builtin(btcpp_id or kind.key, kind.key, to_ports=to_ports, from_ports=from_ports)
 

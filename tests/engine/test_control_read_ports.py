@@ -105,3 +105,26 @@ def test_a_literal_given_as_text_is_converted(tmp_path: Path, registry: Registry
     assert root.status == Status.RUNNING
     root.tick_once()
     assert root.status == Status.SUCCESS
+
+
+def test_parallel_thresholds_and_run_once_then_skip_read_from_entries(
+        tmp_path: Path, registry: Registry) -> None:
+    root = _load(tmp_path, registry,
+                 "blackboard:\n  need: {type: int, initial: 1}\n  skip: {type: bool, "
+                 "initial: false}\nroot:\n  Parallel:\n    success_count: '{need}'\n"
+                 "    children:\n"
+                 "      - RunOnce: {then_skip: '{skip}', child: {Fixed: {status: success}}}\n"
+                 "      - Fixed: {status: success}\n")
+    root.tick_once()
+    assert root.status == Status.SUCCESS and root.success_count == 1
+    assert root.children[0].then_skip is False
+    Blackboard.set("/need", 3)  # more than the two children: BT.CPP throws
+    with pytest.raises(RuntimeError, match="'success_count' 3 is more than the 2 children"):
+        root.tick_once()
+
+
+def test_an_entry_without_a_value_stops_the_tick(tmp_path: Path, registry: Registry) -> None:
+    root = _load(tmp_path, registry, "blackboard:\n  c: {type: int}\nroot:\n  Repeat:\n"
+                 "    num_cycles: '{c}'\n    child: {Fixed: {status: success}}\n")
+    with pytest.raises(RuntimeError, match="port 'num_cycles' reads an entry that has no"):
+        root.tick_once()

@@ -201,6 +201,15 @@ def _unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mappin
     return leaves.UnsetBlackboard(node.name, "key", bound_variables(node, "key"))
 
 
+def _set_threshold(behaviour: Any, port: str, value: int) -> None:
+    """Set a parallel's threshold read from an entry; one never reached is an error."""
+    count = len(behaviour.children)
+    if parallels.threshold(value, count) > count:
+        raise RuntimeError(f"{behaviour.name}: '{port}' {value} is more than the {count} "
+                           "children (BT.CPP: the threshold can never be reached)")
+    setattr(behaviour, port, value)
+
+
 #: How a read port's value sets the behaviour's state: kind -> setter(behaviour, port, value).
 _APPLY: dict[str, Callable[[Any, str, Any], None]] = {
     "Repeat": lambda b, p, v: setattr(b, "limit", v),
@@ -209,22 +218,13 @@ _APPLY: dict[str, Callable[[Any, str, Any], None]] = {
     "Timeout": lambda b, p, v: setattr(b, "duration", v / 1000.0),
     "Delay": lambda b, p, v: setattr(b, "delay", v / 1000.0),
     "Sleep": lambda b, p, v: setattr(b, "duration", v / 1000.0),
-    "Parallel": lambda b, p, v: _set_threshold(b, p, v),
-    "ParallelAll": lambda b, p, v: _set_threshold(b, p, v),
+    "Parallel": _set_threshold,
+    "ParallelAll": _set_threshold,
     "RunOnce": lambda b, p, v: setattr(b, "then_skip", v),
 }
 #: Kinds whose port, when its entry has no value, keeps its default (BT.CPP ignores the
 #: failed ``getInput``); the others stop the tick, as BT.CPP throws "Missing parameter".
 _DEFAULT_WHEN_UNSET = frozenset({"RunOnce"})
-
-
-def _set_threshold(behaviour: Any, port: str, value: int) -> None:
-    """Set a parallel's threshold read from an entry; one never reached is an error."""
-    count = len(behaviour.children)
-    if parallels.threshold(value, count) > count:
-        raise RuntimeError(f"{behaviour.name}: '{port}' {value} is more than the {count} "
-                           "children (BT.CPP: the threshold can never be reached)")
-    setattr(behaviour, port, value)
 
 
 def _read_value(behaviour: Any, port: str) -> Any:

@@ -391,6 +391,33 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
         """, {"Slow": ["RUNNING", "RUNNING", "SUCCESS"],
               "Again": ["RUNNING", "SUCCESS", "SUCCESS"],
               "Unbounded": ["RUNNING", "RUNNING", "RUNNING", "SUCCESS"]}, 12, STEP),
+    "Parallel thresholds and RunOnce then_skip read from entries": ("""
+        blackboard:
+          need: {type: int, initial: 2}
+          fails: {type: int, initial: -1}
+          skip: {type: bool, initial: false}
+        root:
+          Sequence:
+            children:
+              - Parallel:
+                  success_count: "{need}"
+                  failure_count: "{fails}"
+                  children:
+                    - Tick: {name: P1}
+                    - Tick: {name: P2}
+                    - Tick: {name: P3}
+              - ParallelAll:
+                  max_failures: "{need}"
+                  children:
+                    - Tick: {name: Q1}
+                    - Tick: {name: Q2}
+              - RunOnce:
+                  then_skip: "{skip}"
+                  child: {Tick: {name: Once}}
+              - Script: {code: "need := 1; skip := true"}
+        """, {"P1": ["FAILURE", "SUCCESS"], "P2": ["RUNNING", "SUCCESS"],
+              "P3": ["FAILURE", "FAILURE", "RUNNING"], "Q1": ["FAILURE", "FAILURE"],
+              "Q2": ["FAILURE", "SUCCESS"], "Once": ["FAILURE", "SUCCESS"]}, 8, 0),
     "Sleep": ("""
         Sequence:
           children:

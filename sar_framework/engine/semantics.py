@@ -164,6 +164,10 @@ class Semantics(TreeFiles):
             placeholder = self.bindings.subtree_use(doc, attrs, path, where, self.value_locs)
             if placeholder is None:
                 return None
+            for name in [k for k in placeholder.attrs if k.startswith("_")]:
+                script = self.scripts.compile(doc, (*path, name), placeholder.attrs[name])
+                if script is not None:  # BT.CPP's SubTree node's conditions
+                    placeholder.scripts[name] = script
             return placeholder if scope is None else self.expand(placeholder, uid, scope, (),
                                                                  depth)
         decl = self.declaration(key)
@@ -289,7 +293,14 @@ class Semantics(TreeFiles):
             copy.subtree, copy.insertion = name, dict(node.attrs)
             data = self.bindings.insertion(node, (found.ports, found.local), uid, scope.data,
                                            self.value_locs)
-            return self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
+            top = self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
+            if node.scripts and top is not None:  # BT.CPP's SubTree node's conditions
+                self.scripts.bind(node, scope.data)  # in the parent's scope
+                last = top
+                while last.use is not None:  # a subtree whose root is an insertion too
+                    last = last.use
+                last.use = node
+            return top
         node.uid = uid
         decl = self.declaration(node.kind)
         if node.category is not Category.LEAF:

@@ -418,6 +418,23 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
         """, {"P1": ["FAILURE", "SUCCESS"], "P2": ["RUNNING", "SUCCESS"],
               "P3": ["FAILURE", "FAILURE", "RUNNING"], "Q1": ["FAILURE", "FAILURE"],
               "Q2": ["FAILURE", "SUCCESS"], "Once": ["FAILURE", "SUCCESS"]}, 8, 0),
+    "Pre/post-conditions on a SubTree, in the parent's scope": ("""
+        blackboard:
+          busy: {type: bool, initial: true}
+          count: {type: int, initial: 0}
+        subtrees:
+          Work:
+            blackboard:
+              busy: {type: bool, initial: false, description: Not the parent's.}
+            root:
+              Tick: {name: W}
+        root:
+          Sequence:
+            children:
+              - subtree: {tree: Work, _skipIf: busy, _post: "count += 1"}
+              - Script: {code: "busy = !busy"}
+              - subtree: {tree: Work, _failureIf: "count >= 2", _onSuccess: "busy = true"}
+        """, {"W": ["SUCCESS", "RUNNING", "SUCCESS", "FAILURE", "SUCCESS"]}, 6, 0),
     "Sleep": ("""
         Sequence:
           children:

@@ -71,3 +71,27 @@ def test_a_condition_naming_an_entry_the_parent_lacks_is_a_located_error(
     text = TREE.replace("_skipIf: busy", "_skipIf: bsy")
     with pytest.raises(TreeLoadError, match=r"tree.yaml:14:\d+: error: .*bsy"):
         _load(tmp_path, registry, text)
+
+
+def test_a_subtree_whose_root_is_an_insertion_keeps_both_conditions(
+        tmp_path: Path, registry: Registry) -> None:
+    root = _load(tmp_path, registry, """format: 1
+blackboard:
+  stop: {type: bool, initial: false}
+subtrees:
+  Inner:
+    root:
+      Fixed: {status: success}
+  Outer:
+    blackboard:
+      quiet: {type: bool, initial: true}
+    root:
+      subtree: {tree: Inner, _skipIf: quiet}
+root:
+  subtree: {tree: Outer, _failureIf: stop}
+""")
+    root.tick_once()  # Outer's quiet (its own scope) skips Inner
+    assert root.status == Status.SUCCESS and was_skipped(root)
+    Blackboard.set("/stop", True)  # the main tree's stop fails it before anything runs
+    root.tick_once()
+    assert root.status == Status.FAILURE

@@ -164,7 +164,8 @@ class Bindings:
             return None
         placeholder = NodeSpec(SUBTREE, Category.LEAF, name, "", where)
         if isinstance(attrs, dict):
-            placeholder.attrs = {"ports": attrs.get("ports"), "autoremap": attrs.get("autoremap")}
+            placeholder.attrs = {"ports": attrs.get("ports"), "autoremap": attrs.get("autoremap"),
+                                 **{k: v for k, v in attrs.items() if k.startswith("_")}}
             for inner in attrs["ports"] if isinstance(attrs.get("ports"), dict) else ():
                 locs[(where, USE_LOC + inner)] = doc.where((*path, "ports", inner))
         return placeholder

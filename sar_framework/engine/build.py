@@ -201,11 +201,19 @@ class _Builder:
         """Build ``node`` and its children; wrap it in its pre/post-conditions, if any."""
         behaviour = self.make_node(node)
         if behaviour is None or not node.scripts or node.kind in SCRIPTED:
-            return behaviour
+            return self.inserted(node, behaviour)
         wrapped = with_conditions(node, behaviour)
         if wrapped is not behaviour:
             self.wrapped[node.uid] = wrapped
-        return wrapped
+        return self.inserted(node, wrapped)
+
+    def inserted(self, node: NodeSpec, behaviour: Behaviour | None) -> Behaviour | None:
+        """Wrap a subtree's top node in its insertion's pre/post-conditions, if any."""
+        use = node.use if behaviour is not None else None
+        while use is not None:  # innermost insertion first
+            behaviour = with_conditions(use, behaviour)  # type: ignore[arg-type]
+            use = use.use
+        return behaviour
 
     def scripted(self, node: NodeSpec) -> Behaviour | None:
         """Build a Script, ScriptCondition or Precondition node (with its conditions)."""
@@ -217,7 +225,7 @@ class _Builder:
         wrapped = with_conditions(node, behaviour)
         if wrapped is not behaviour:
             self.wrapped[node.uid] = wrapped
-        return wrapped
+        return self.inserted(node, wrapped)
 
     def make_node(self, node: NodeSpec) -> Behaviour | None:
         """Build ``node`` and its children, without its pre/post-conditions."""

@@ -7,18 +7,20 @@ of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' 
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
 py_trees' semantics and the BT.CPP key BT.CPP's.
 
-Most of BT.CPP's ports are literals here (params). The attributes that read or write the
-blackboard are ports (:class:`~.ports.Port`, with a direction and a type), resolved in the
-node's scope as a leaf's ports are (subtree scopes, ``{@name}``, remapping) and checked
-with them: Switch's ``variable`` and cases, SetBlackboard's ``value`` (a literal or
-``{name}``, read), the Loops' ``queue`` (a literal or ``{name}`` of a shared list) and
-``value`` (``{name}``, written), and the ports BT.CPP reads as an entry's *name*
-(:class:`~.ports.Naming`):
-SetBlackboard's ``output_key`` and UnsetBlackboard's ``key`` (``name``), the ``entry`` of
-SkipUnlessUpdated, WaitValueUpdate and WasEntryUpdated (``name`` or ``{name}``).
-Nav2's decorators' ``goal`` and ``goals`` (optional: unbound, the root's entry of that
-name is read, as Nav2's ``getInputOrBlackboard``), ``path``, ``input_goal`` and
-``output_goal`` (written) are ports too, typed as Nav2's palette types them.
+Most of BT.CPP's ports are literals here (params). The integers BT.CPP reads with
+``getInput`` (Timeout's ``msec``, Repeat's ``num_cycles``... :data:`READ_PORTS`) are
+ports: a literal (range-checked) or ``{name}``, read when BT.CPP reads it. The attributes
+that read or write the blackboard are ports (:class:`~.ports.Port`, with a direction and a
+type), resolved in the node's scope as a leaf's ports are (subtree scopes, ``{@name}``,
+remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard's
+``value`` (a literal or ``{name}``, read), the Loops' ``queue`` (a literal or ``{name}``
+of a shared list) and ``value`` (``{name}``, written), and the ports BT.CPP reads as an
+entry's *name* (:class:`~.ports.Naming`): SetBlackboard's ``output_key`` and
+UnsetBlackboard's ``key`` (``name``), the ``entry`` of SkipUnlessUpdated, WaitValueUpdate
+and WasEntryUpdated (``name`` or ``{name}``). Nav2's decorators' ``goal`` and ``goals``
+(optional: unbound, the root's entry of that name is read, as Nav2's
+``getInputOrBlackboard``), ``path``, ``input_goal`` and ``output_goal`` (written) are
+ports too, typed as Nav2's palette types them.
 """
 
 from __future__ import annotations
@@ -55,10 +57,18 @@ def _children(minimum: int = 1, maximum: int | None = None, text: str = "") -> A
 _CHILD = Attr("child", AttrType.NODE, required=True, description="The decorated node.")
 
 
-def _int(name: str, text: str, *, default: int | None = None, minimum: int | None = None
-         ) -> Attr:
-    return Attr(name, AttrType.INTEGER, required=default is None, default=default,
-                minimum=minimum, description=text)
+def _int_port(name: str, text: str, *, default: int | None = None,
+              minimum: int | None = None) -> Attr:
+    """An integer BT.CPP reads with ``getInput``: a literal (range-checked) or ``{name}``."""
+    port = Port(name, "int", NO_DEFAULT if default is None else default, text)
+    return Attr(name, AttrType.PORT, required=default is None, default=default,
+                minimum=minimum, description=text, port=port)
+
+
+def _bool_port(name: str, text: str, *, default: bool) -> Attr:
+    """A boolean BT.CPP reads with ``getInput``: a literal or ``{name}``."""
+    return Attr(name, AttrType.PORT, default=default, description=text,
+                port=Port(name, "bool", default, text))
 
 
 def _number(name: str, default: float, text: str) -> Attr:
@@ -156,11 +166,11 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
              "child halts the others."),
     _control("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
              "threshold is reached.",
-             _int("success_count", "Successes needed" + _THRESHOLD, default=-1),
-             _int("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
+             _int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
+             _int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
     _control("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
              "when max_failures failed.",
-             _int("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
+             _int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
     _control("IfThenElse", "The condition once, then the branch it chose until that "
              "completes.", children=_BRANCHES),
     _control("WhileDoElse", "The condition every tick, then its branch; switching halts the "
@@ -168,8 +178,8 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     *(_switch(key, cases) for key, cases in SWITCH_CASES.items()),
     _control("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
              "then the first again.",
-             _int("number_of_retries", "Recoveries allowed before failing.", default=1,
-                  minimum=0),
+             _int_port("number_of_retries", "Recoveries allowed before failing.", default=1,
+                       minimum=0),
              children=_children(2, 2, "The action, then its recovery.")),
     _control("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
              "later one runs."),
@@ -179,18 +189,18 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _decorator("ForceFailure", "A completed child gives FAILURE."),
     _decorator("KeepRunningUntilFailure", "RUNNING until the child fails."),
     _decorator("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
-               _int("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
+               _int_port("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
     _decorator("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
-               _int("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
+               _int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
     _decorator("RunOnce", "Tick the child until it completes once; then skip, or repeat "
                "that result.",
-               Attr("then_skip", AttrType.BOOLEAN, default=True,
-                    description="After the first completion: SKIPPED (true) or the same "
-                    "result (false).")),
+               _bool_port("then_skip", "After the first completion: SKIPPED (true) or the "
+                          "same result (false).", default=True)),
     _decorator("Delay", "RUNNING for delay_msec, then tick the child.",
-               _int("delay_msec", "Milliseconds before the child's first tick.", minimum=0)),
+               _int_port("delay_msec", "Milliseconds before the child's first tick.",
+                         minimum=0)),
     _decorator("Timeout", "Halt the child and fail if it still runs after msec.",
-               _int("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
+               _int_port("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
     _decorator("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
                "tick of the child.", _entry()),
     _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
@@ -243,7 +253,7 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
     _leaf("AlwaysSuccess", "SUCCESS."),
     _leaf("AlwaysFailure", "FAILURE."),
     _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",
-          _int("msec", "Milliseconds to wait.", minimum=0)),
+          _int_port("msec", "Milliseconds to wait.", minimum=0)),
     _leaf("SetBlackboard", "Write value (a literal, or '{entry}' to copy one) to output_key.",
           _port("value", "any", "The value written: a literal, or '{name}' to copy that "
                 "entry's value."),
@@ -259,5 +269,13 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
 #: Kinds that write one port's value to another port's entry: kind -> (source, destination).
 #: BT.CPP's SetBlackboard parses a literal into a typed destination, and copies an entry.
 COPIES = {"SetBlackboard": ("value", "output_key")}
+#: The integer (and boolean) ports BT.CPP reads with ``getInput`` (a literal or an entry):
+#: kind -> its ports, and whether they are read on every tick (else when the node starts).
+READ_PORTS: dict[str, tuple[tuple[str, ...], bool]] = {
+    "Repeat": (("num_cycles",), True), "RetryUntilSuccessful": (("num_attempts",), True),
+    "RecoveryNode": (("number_of_retries",), True), "Timeout": (("msec",), False),
+    "Delay": (("delay_msec",), False), "Sleep": (("msec",), False),
+    "Parallel": (("success_count", "failure_count"), True),
+    "ParallelAll": (("max_failures",), True), "RunOnce": (("then_skip",), True)}
 #: The attributes that are blackboard ports, in any kind (``"{name}"`` is an entry there).
 ENTRY_PORTS = frozenset(a.name for k in CONTROL_KINDS for a in k.attrs if a.port is not None)

@@ -17,6 +17,7 @@ import json
 from collections.abc import Iterable
 from typing import Any
 
+from sar_framework.engine.kind_model import CONDITION_ATTRS
 from sar_framework.engine.node_kinds import (
     FORMAT_VERSION,
     KINDS,
@@ -140,7 +141,8 @@ SUBTREE_DEFINITION = {
 #: ``subtree:`` as a node: a name, or the long form with remapped ports.
 SUBTREE_USE = {
     "description": "Insert a fresh copy of the named subtree: 'subtree: NAME' or "
-    "'subtree: {tree: NAME, ports: {inner: \"{outer}\" | literal}, autoremap: true}'.",
+    "'subtree: {tree: NAME, ports: {inner: \"{outer}\" | literal}, autoremap: true}', "
+    "with pre/post-conditions ('_skipIf'...) as a BT.CPP SubTree takes them.",
     "if": {"type": "string"},
     "then": {"minLength": 1},
     "else": {
@@ -152,6 +154,8 @@ SUBTREE_USE = {
             "autoremap": {"type": "boolean", "default": False,
                           "description": "Entries not remapped use the parent's entry of "
                           "the same name (not those starting with '_')."},
+            **{a.name: {"type": "string", "minLength": 1, "description": a.description
+                        + " (evaluated in the parent's scope)"} for a in CONDITION_ATTRS},
         },
         "required": ["tree"],
         "additionalProperties": False,
@@ -173,7 +177,10 @@ def attr_schema(attr: Attr) -> dict[str, Any]:
         out["description"] = attr.description
     kind = attr.type
     if kind is AttrType.PORT and attr.port is not None:
-        return port_schema(attr.port)
+        out = port_schema(attr.port)
+        if attr.minimum is not None:  # bounds a literal; '{name}' is a string
+            out["minimum"] = attr.minimum
+        return out
     if kind is AttrType.SCRIPT:
         out.update({"type": "string", "minLength": 1})
         return out

@@ -36,6 +36,12 @@ from sar_framework.engine.tree_files import TreeFiles
 TOO_DEEP = f"the tree is nested deeper than {MAX_DEPTH} levels"
 
 
+def _below(attr: Attr, value: Any) -> bool:
+    """Whether a port's literal (given as text) is under the attribute's minimum."""
+    return (attr.minimum is not None and isinstance(value, (int, float))
+            and not isinstance(value, bool) and value < attr.minimum)
+
+
 class Scope:
     """Ids visible at one level: the tree, or one copy of a subtree (and its entries)."""
 
@@ -158,6 +164,10 @@ class Semantics(TreeFiles):
             placeholder = self.bindings.subtree_use(doc, attrs, path, where, self.value_locs)
             if placeholder is None:
                 return None
+            for name in [k for k in placeholder.attrs if k.startswith("_")]:
+                script = self.scripts.compile(doc, (*path, name), placeholder.attrs[name])
+                if script is not None:  # BT.CPP's SubTree node's conditions
+                    placeholder.scripts[name] = script
             return placeholder if scope is None else self.expand(placeholder, uid, scope, (),
                                                                  depth)
         decl = self.declaration(key)
@@ -176,6 +186,10 @@ class Semantics(TreeFiles):
             if attr.port is not None:
                 self.value_locs[(where, PORT_LOC + attr.name)] = value_at = doc.where(at)
                 kept = self.bindings.port_value(attr.port, given, value_at)
+                if isinstance(given, str) and _below(attr, kept):  # the schema bounds a number
+                    self.bindings.report(value_at, f"port '{attr.name}': {kept} is less than "
+                                         f"the minimum of {attr.minimum}")
+                    kept = NO_DEFAULT
                 if kept is not NO_DEFAULT:
                     ports[attr.name] = kept
                 if key in KINDS:  # BT.CPP's node: the text as written, for labels and export
@@ -279,7 +293,14 @@ class Semantics(TreeFiles):
             copy.subtree, copy.insertion = name, dict(node.attrs)
             data = self.bindings.insertion(node, (found.ports, found.local), uid, scope.data,
                                            self.value_locs)
-            return self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
+            top = self.expand(copy, uid, Scope(scope, data), (*chain, name), depth)
+            if node.scripts and top is not None:  # BT.CPP's SubTree node's conditions
+                self.scripts.bind(node, scope.data)  # in the parent's scope
+                last = top
+                while last.use is not None:  # a subtree whose root is an insertion too
+                    last = last.use
+                last.use = node
+            return top
         node.uid = uid
         decl = self.declaration(node.kind)
         if node.category is not Category.LEAF:

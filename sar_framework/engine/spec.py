@@ -61,6 +61,10 @@ class NodeSpec:
         scripts: The node's compiled scripts (``code``, ``if``, ``_skipIf``...), by attribute.
         script_keys: Every variable its scripts use (``@name`` for the root's) -> the
             absolute key it resolves to in the node's scope.
+        use: On the subtree's top node: the insertion (``subtree: {tree: X, _skipIf:
+            ...}``) when it has pre/post-conditions; its ``scripts`` and ``script_keys``,
+            resolved in the parent's scope, wrap the inserted subtree (BT.CPP's SubTree
+            node).
     """
 
     kind: str
@@ -79,6 +83,7 @@ class NodeSpec:
     scripts: dict[str, Any] = field(default_factory=dict)
     script_keys: dict[str, str] = field(default_factory=dict)
     insertion: dict[str, Any] = field(default_factory=dict)
+    use: NodeSpec | None = None
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""

@@ -49,7 +49,9 @@ class _Exporter:
                 self.subtrees[node.subtree] = with_initial(
                     self.element(node, inside=node.subtree),
                     self.declarations.get(node.subtree, {}))
-            return ET.Element("SubTree", {"ID": node.subtree, **insertion_ports(node)})
+            conditions = condition_scripts(node.use.scripts) if node.use is not None else {}
+            return ET.Element("SubTree", {"ID": node.subtree, **insertion_ports(node),
+                                          **conditions})
         element = self.node(node)
         for name, text in condition_scripts(node.scripts).items():
             element.set(name, text)

@@ -109,13 +109,15 @@ class _Importer(LeafImporter):
         ports, conditions, dropped = split_conditions(tag, ports)
         self.warnings += [Problem(self.file, element.line, element.column, message, "warning")
                           for message in dropped]
-        if tag == "SubTree":
-            if conditions:
-                self.problem(element, f"{', '.join(conditions)} on <SubTree ID="
-                             f"\"{ports.get('ID')}\">: a subtree use takes no pre/post "
-                             "conditions in our tree format; put them on a node around it or "
-                             "on the subtree's root")
-            return self.subtree(element, ports)
+        if tag == "SubTree":  # its conditions: scripts of the parent's scope
+            if not self.scripts(element, tag, conditions):
+                return None
+            found = self.subtree(element, ports)
+            if found is not None and conditions:
+                body = found["subtree"]
+                found["subtree"] = {**(body if isinstance(body, dict) else {"tree": body}),
+                                    **conditions}
+            return found
         if not self.scripts(element, tag, conditions):
             return None
         found = self.node_body(element, tag, ports)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sar_framework.engine.control_kinds import CONTROL_KINDS
+from sar_framework.engine.kind_model import Attr
 from sar_framework.engine.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
@@ -81,6 +82,14 @@ def attr_value(attr_type: AttrType, name: str, text: str) -> Any:
     return _port_value(attr_type, name, text)
 
 
+def _typed_port_value(attr: Attr, text: str) -> Any:
+    """An imported attribute; an int or bool port's literal converted (``msec: 450``)."""
+    typed = {"int": AttrType.INTEGER, "bool": AttrType.BOOLEAN}
+    if attr.port is not None and attr.port.type in typed and not text.strip().startswith("{"):
+        return _port_value(typed[attr.port.type], attr.name, text)
+    return _port_value(attr.type, attr.name, text)
+
+
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
     names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
@@ -100,8 +109,7 @@ def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
         missing = [a.name for a in names if a.required and a.name not in ports]
         if missing:
             raise ValueError(f"needs the port '{missing[0]}'")
-        return {a.name: _port_value(a.type, a.name, ports[a.name]) for a in names
-                if a.name in ports}
+        return {a.name: _typed_port_value(a, ports[a.name]) for a in names if a.name in ports}
 
     return Builtin(btcpp_id or kind.key, kind.key, to_ports=to_ports, from_ports=from_ports)
 

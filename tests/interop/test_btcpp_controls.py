@@ -367,6 +367,74 @@ CASES: dict[str, tuple[str, Script, int, float]] = {
                 child: {Tick: {name: Unbounded}}
         """, {"Slow": ["RUNNING", "RUNNING", "RUNNING", "RUNNING", "SUCCESS"],
               "Unbounded": ["RUNNING", "RUNNING", "RUNNING", "SUCCESS"]}, 10, STEP),
+    "Timeout msec and Repeat num_cycles read from entries": ("""
+        blackboard:
+          cycles: {type: int, initial: 2}
+          t: {type: int}
+        root:
+          Sequence:
+            children:
+              - Script: {code: "t := 450"}
+              - Timeout:
+                  msec: "{t}"
+                  child: {Tick: {name: Slow}}
+              - Repeat:
+                  num_cycles: "{cycles}"
+                  child: {Tick: {name: Again}}
+              - Script: {code: "t := 0; cycles := 1"}
+              - Timeout:
+                  msec: "{t}"
+                  child: {Tick: {name: Unbounded}}
+              - Repeat:
+                  num_cycles: "{cycles}"
+                  child: {Tick: {name: Once}}
+        """, {"Slow": ["RUNNING", "RUNNING", "SUCCESS"],
+              "Again": ["RUNNING", "SUCCESS", "SUCCESS"],
+              "Unbounded": ["RUNNING", "RUNNING", "RUNNING", "SUCCESS"]}, 12, STEP),
+    "Parallel thresholds and RunOnce then_skip read from entries": ("""
+        blackboard:
+          need: {type: int, initial: 2}
+          fails: {type: int, initial: -1}
+          skip: {type: bool, initial: false}
+        root:
+          Sequence:
+            children:
+              - Parallel:
+                  success_count: "{need}"
+                  failure_count: "{fails}"
+                  children:
+                    - Tick: {name: P1}
+                    - Tick: {name: P2}
+                    - Tick: {name: P3}
+              - ParallelAll:
+                  max_failures: "{need}"
+                  children:
+                    - Tick: {name: Q1}
+                    - Tick: {name: Q2}
+              - RunOnce:
+                  then_skip: "{skip}"
+                  child: {Tick: {name: Once}}
+              - Script: {code: "need := 1; skip := true"}
+        """, {"P1": ["FAILURE", "SUCCESS"], "P2": ["RUNNING", "SUCCESS"],
+              "P3": ["FAILURE", "FAILURE", "RUNNING"], "Q1": ["FAILURE", "FAILURE"],
+              "Q2": ["FAILURE", "SUCCESS"], "Once": ["FAILURE", "SUCCESS"]}, 8, 0),
+    "Pre/post-conditions on a SubTree, in the parent's scope": ("""
+        blackboard:
+          busy: {type: bool, initial: true}
+          count: {type: int, initial: 0}
+        subtrees:
+          Work:
+            blackboard:
+              busy: {type: bool, initial: false, description: Not the parent's.}
+            root:
+              Tick: {name: W}
+        root:
+          Sequence:
+            children:
+              - subtree: {tree: Work, _skipIf: busy, _post: "count += 1"}
+              - Script: {code: "busy = !busy"}
+              - subtree: {tree: Work, _failureIf: "count >= 2", _onSuccess: "busy = true"}
+        """, {"W": ["SUCCESS", "RUNNING", "SUCCESS", "FAILURE", "SUCCESS"]}, 6, 0),
     "Sleep": ("""
         Sequence:
           children:

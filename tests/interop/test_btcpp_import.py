@@ -144,25 +144,41 @@ def test_bad_params_point_at_their_lines_and_an_unknown_leaf_is_no_problem() -> 
      '</BehaviorTree></root>', "t.xml:1:45: error: <Sleep>: no port 'ms' (its ports: msec)"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><AlwaysSuccess><Countdown/></AlwaysSuccess>'
      '</BehaviorTree></root>', "t.xml:1:45: error: <AlwaysSuccess> is a leaf"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat num_cycles="{n}"><Countdown/>'
-     '</Repeat></BehaviorTree></root>', "t.xml:1:45: error: port 'num_cycles' of <Repeat> reads"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Repeat num_cycles="twice"><Countdown/>'
+     '</Repeat></BehaviorTree></root>', "t.xml:1:45: error: <Repeat>: 'num_cycles' must be a "
+     "integer, got 'twice'"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Inverter><Countdown/><Countdown/>'
      '</Inverter></BehaviorTree></root>', "t.xml:1:45: error: <Inverter> is a decorator"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><SubTree ID="x" goal="{goal}"/>'
      '</BehaviorTree></root>', "t.xml:1:45: error: <SubTree ID=\"x\">: no <BehaviorTree"),
-    ('<root BTCPP_format="4"><BehaviorTree ID="t"><Timeout msec="{t}"><Countdown/></Timeout>'
-     '</BehaviorTree></root>', "t.xml:1:45: error: port 'msec' of <Timeout> reads the "
-     "blackboard entry '{t}'; ours takes a fixed value here"),
+    ('<root BTCPP_format="4"><BehaviorTree ID="t"><RateController hz="{hz}"><Countdown/>'
+     '</RateController></BehaviorTree></root>', "t.xml:1:45: error: port 'hz' of "
+     "<RateController> reads the blackboard entry '{hz}'; ours takes a fixed value here"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown ticks="{n}"/></BehaviorTree>'
      '</root>', "t.xml:1:45: error: 'ticks' of <Countdown> is a param, not a port"),
     ('<root BTCPP_format="4"><BehaviorTree ID="t"><Countdown _skipIf="a ="/>'
      '</BehaviorTree></root>', "t.xml:1:45: error: script '_skipIf' of <Countdown>: "),
-    ('<root main_tree_to_execute="t"><BehaviorTree ID="t"><SubTree ID="s" _skipIf="a"/>'
+    ('<root main_tree_to_execute="t"><BehaviorTree ID="t"><SubTree ID="s" _skipIf="a ="/>'
      '</BehaviorTree><BehaviorTree ID="s"><Countdown/></BehaviorTree></root>',
-     "t.xml:1:53: error: _skipIf on <SubTree ID=\"s\">: a subtree use takes no pre/post"),
+     "t.xml:1:53: error: script '_skipIf' of <SubTree>: "),
 ])
 def test_what_cannot_be_imported_is_named(xml: str, message: str) -> None:
     assert problems(xml)[0].startswith(message)
+
+
+def test_entries_on_control_ports_and_subtree_conditions_import() -> None:
+    registry = extend(default_registry().copy(), [str(TUTORIAL_PLUGINS)])
+    text = ('<root main_tree_to_execute="t"><BehaviorTree ID="t"><Sequence>'
+            '<Script code="t := 450; n := 2"/>'
+            '<Timeout msec="{t}"><Repeat num_cycles="{n}"><Countdown/></Repeat></Timeout>'
+            '<SubTree ID="s" _skipIf="n == 2" _post="t := 0"/>'
+            '</Sequence></BehaviorTree><BehaviorTree ID="s"><Countdown/></BehaviorTree></root>')
+    result = import_btcpp(parse_xml(text, "t.xml"), "t.xml", registry)
+    assert result.problems == []
+    children = result.document["root"]["Sequence"]["children"]
+    assert children[1]["Timeout"]["msec"] == "{t}"
+    assert children[1]["Timeout"]["child"]["Repeat"]["num_cycles"] == "{n}"
+    assert children[2] == {"subtree": {"tree": "s", "_skipIf": "n == 2", "_post": "t := 0"}}
 
 
 def test_malformed_xml_is_a_located_error(tmp_path: Path,

@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING
 import py_trees
 from py_trees.common import Status
 
-from sar_framework.events.event import EventKind
+from sar_framework.events.event import EVENT_TOPIC, EventKind
 from sar_framework.mission.completion import ending_one_shot, resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
@@ -66,6 +66,7 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
+from sar_framework.ros.delivery import deliver
 from sar_framework.runner.entry_values import EntryTracker, writers_of
 from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
@@ -75,7 +76,7 @@ from sar_framework.runner.status_file import (
     startup_failure_document,
     write_json_atomically,
 )
-from sar_framework.runner.tree_status import TreeStatusPublisher
+from sar_framework.runner.tree_status import STATUS_TOPIC, TreeStatusPublisher
 from sar_framework.runner.tree_ticker import publish_snapshots
 from sar_framework.stop_signals import StopSignals
 
@@ -96,6 +97,8 @@ EXIT_STOPPED = 0
 CANCEL_GRACE_S = 0.5
 #: Warn when ``use_sim_time`` is set and no tick came within this many wall seconds.
 NO_CLOCK_WARNING_S = 5.0
+#: How long a finished runner waits for its listeners to receive its last messages.
+DELIVERY_WALL_S = 3.0
 #: How often a finished mission kept alive re-publishes its final tree snapshot.
 SNAPSHOT_PERIOD_S = 1.0
 
@@ -185,6 +188,9 @@ class MissionRunner:
                                     "true; is /clock being published?")
         if self.stop:
             self.logger.info(f"{self.stop.name}: stopping the tree")
+        elif not deliver(self.node, executor, (STATUS_TOPIC, EVENT_TOPIC), DELIVERY_WALL_S):
+            self.logger.warning("a subscriber of the status or event topic did not receive "
+                                f"everything within {DELIVERY_WALL_S:g} s")
         self._halt(executor)
         return self.exit_code()
 

@@ -48,6 +48,12 @@ def suggest(word: str, names: list[str]) -> str:
     return did_you_mean(word, names) or f" (expected one of: {', '.join(listed)})"
 
 
+#: Schemas and validators by the registry's plugins (their specs live as long as their classes).
+_SCHEMAS: dict[tuple[tuple[str, int], ...], tuple[dict[str, Any], Any, tuple[Any, ...]]] = {}
+#: How many registries' schemas are kept (tests make many small registries).
+_SCHEMAS_KEPT = 8
+
+
 class StructureCheck:
     """The schema check of one registry's tree format.
 
@@ -57,9 +63,17 @@ class StructureCheck:
 
     def __init__(self, registry: Registry) -> None:
         self.registry = registry
-        self.schema = tree_schema(registry)
+        # The schema of the same plugins is the same: built once (it was half of a validate).
+        plugins = tuple(registry)
+        key = tuple((plugin.name, id(plugin)) for plugin in plugins)
+        if key not in _SCHEMAS:
+            if len(_SCHEMAS) >= _SCHEMAS_KEPT:
+                _SCHEMAS.pop(next(iter(_SCHEMAS)))
+            schema = tree_schema(registry)
+            # The plugins are kept with it, so no id in the key is reused while it is kept.
+            _SCHEMAS[key] = (schema, jsonschema.Draft202012Validator(schema), plugins)
+        self.schema, self.validator, _ = _SCHEMAS[key]
         self.node_schema = self.schema["$defs"]["node"]
-        self.validator = jsonschema.Draft202012Validator(self.schema)
 
     def check(self, doc: Document) -> list[Diagnostic]:
         """Return every structural problem of ``doc``, worded, with its location.

@@ -72,7 +72,8 @@ def validate(
     return validate_file(path, registry=registry, plugin_paths=plugin_paths)
 
 
-def _no_tree(path: str | Path, result: ValidationResult) -> TreeLoadError:
+def load_error(path: str | Path, result: ValidationResult) -> TreeLoadError:
+    """The error for a file that gave no tree: its diagnostics, or a missing root."""
     if result.library is not None and result.ok:
         where = SourceLocation(str(path), 1, 1)
         return TreeLoadError([Diagnostic(where, "missing 'root': this file only defines "
@@ -101,7 +102,7 @@ def load_spec(
     """
     result = validate(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
-        raise _no_tree(path, result)
+        raise load_error(path, result)
     return result.spec
 
 
@@ -129,7 +130,7 @@ def load_tree(
     """
     result = validate(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
-        raise _no_tree(path, result)
+        raise load_error(path, result)
     from sar_framework.engine.build import build  # py_trees' composites: only to build
 
     root, behaviours = build(result.spec, result.registry, context)

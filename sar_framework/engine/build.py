@@ -12,8 +12,8 @@ initial value are written to py_trees' blackboard before the tree is returned.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections.abc import Callable, Collection, Mapping
+from typing import Any, Protocol
 
 import py_trees
 
@@ -107,8 +107,20 @@ def _missing_context(node: NodeSpec, plan: _LeafPlan, key: str) -> Diagnostic:
     )
 
 
+class Adopter(Protocol):
+    """Hands the builder behaviours that already exist (a hot swap's kept nodes)."""
+
+    def top(self, node: NodeSpec, make: Callable[[NodeSpec], Behaviour | None]
+            ) -> Behaviour | None:
+        """The behaviour to insert for ``node`` (wrappers included), or None to build it."""
+
+    def leaf(self, node: NodeSpec) -> Behaviour | None:
+        """The existing leaf behaviour a reference to ``node`` receives, or None."""
+
+
 def build(
-    spec: TreeSpec, registry: Registry, context: Mapping[str, Any] | None = None
+    spec: TreeSpec, registry: Registry, context: Mapping[str, Any] | None = None, *,
+    adopter: Adopter | None = None, keep_entries: Collection[str] = (),
 ) -> tuple[Behaviour, dict[str, Behaviour]]:
     """Build the behaviours of a validated tree.
 
@@ -116,6 +128,10 @@ def build(
         spec: The validated tree.
         registry: The registry it was validated against (for the plugin classes).
         context: Shared objects plugins declared they need, by name.
+        adopter: Existing behaviours to insert instead of building (see
+            :mod:`.hot_swap`); the map returned holds only what was built.
+        keep_entries: Blackboard keys whose initial values are not written (they hold
+            a running mission's values).
 
     Returns:
         The root behaviour and the ``NodeSpec.uid -> behaviour`` map (a node with
@@ -125,20 +141,23 @@ def build(
         TreeLoadError: Context objects are missing (one diagnostic per leaf and key),
             or plugin constructors raised.
     """
-    builder = _Builder(registry, context if context is not None else {})
+    builder = _Builder(registry, context if context is not None else {}, adopter)
     root = builder.make(spec.root)
     if builder.problems or root is None:
         raise TreeLoadError(builder.problems)
-    write_initial({k: e.initial for k, e in spec.entries.items() if e.initial is not NO_DEFAULT})
+    write_initial({k: e.initial for k, e in spec.entries.items()
+                   if e.initial is not NO_DEFAULT and k not in keep_entries})
     return root, {**builder.built, **builder.wrapped}
 
 
 class _Builder:
     """One build: behaviours made so far, per-plugin plans, problems."""
 
-    def __init__(self, registry: Registry, context: Mapping[str, Any]) -> None:
+    def __init__(self, registry: Registry, context: Mapping[str, Any],
+                 adopter: Adopter | None = None) -> None:
         self.registry = registry
         self.context = context
+        self.adopter = adopter
         self.plans: dict[str, _LeafPlan] = {}
         self.built: dict[str, Behaviour] = {}
         self.failed: set[str] = set()  # leaves already reported: a reference must not retry
@@ -151,6 +170,11 @@ class _Builder:
             return done
         if node.uid in self.failed:
             return None
+        if self.adopter is not None:
+            done = self.adopter.leaf(node)
+            if done is not None:
+                self.built[node.uid] = done
+                return done
         behaviour = self._construct(node)
         if behaviour is None:
             self.failed.add(node.uid)
@@ -199,6 +223,10 @@ class _Builder:
 
     def make(self, node: NodeSpec) -> Behaviour | None:
         """Build ``node`` and its children; wrap it in its pre/post-conditions, if any."""
+        if self.adopter is not None:
+            adopted = self.adopter.top(node, self.make)
+            if adopted is not None:
+                return adopted
         behaviour = self.make_node(node)
         if behaviour is None or not node.scripts or node.kind in SCRIPTED:
             return self.inserted(node, behaviour)

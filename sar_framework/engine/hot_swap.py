@@ -2,12 +2,13 @@
 
 ::
 
-    swap = hot_swap(loaded, "trees/search_and_rescue.yaml", context=context)
+    prepared = prepare_swap(loaded, "trees/search_and_rescue.yaml", context=context)
     # raises TreeLoadError (file:line:col diagnostics) and changes nothing when the new
     # file is invalid or cannot be built
-    tree.root = swap.tree.root          # the same root object when the root was kept
-    for behaviour in swap.fresh:        # what was built: set it up before the next tick
+    for behaviour in prepared.fresh:    # what was built: set it up (it may still fail)
         behaviour.setup(node=node)
+    swap = prepared.commit()            # between two ticks
+    tree.root = swap.tree.root          # the same root object when the root was kept
     print(swap.summary.line())          # "1 added (Wait); 1 changed (Dwell); 40 kept"
 
 The plan is :mod:`.tree_diff`'s. Nodes whose spec is unchanged keep their behaviour
@@ -43,7 +44,7 @@ Behaviour = py_trees.behaviour.Behaviour
 _REWIRABLE = (py_trees.composites.Sequence, py_trees.composites.Selector,
               py_trees.composites.Parallel, py_trees.decorators.Decorator)
 
-__all__ = ["HotSwap", "hot_swap"]
+__all__ = ["HotSwap", "PreparedSwap", "hot_swap", "prepare_swap"]
 
 
 @dataclass
@@ -61,15 +62,56 @@ class HotSwap:
     fresh: list[Behaviour]
 
 
-def hot_swap(
+class PreparedSwap:
+    """A new tree validated and built, not yet swapped in: set up :attr:`fresh`, then commit.
+
+    Until :meth:`commit`, the running tree is untouched; dropping a prepared swap leaves it
+    as it was.
+
+    Attributes:
+        fresh: The behaviours built for the new tree (each needs its ``setup``).
+    """
+
+    def __init__(self, old: LoadedTree, diff: TreeDiff, adopter: _Adopter,
+                 new: LoadedTree) -> None:
+        self._old, self._diff, self._adopter, self._new = old, diff, adopter, new
+        self._built = dict(new.behaviours)
+        self._known = {id(b) for b in old.root.iterate()}
+        roots = [new.root, *(c for _, children, _ in adopter.rewires for c in children)]
+        seen: set[int] = set()
+        self.fresh: list[Behaviour] = []
+        for top in roots:
+            for behaviour in top.iterate():
+                if id(behaviour) not in self._known and id(behaviour) not in seen:
+                    seen.add(id(behaviour))
+                    self.fresh.append(behaviour)
+
+    def commit(self) -> HotSwap:
+        """Swap: halt what leaves the tree while RUNNING, re-wire what stays (between ticks).
+
+        Returns:
+            The swap done.
+        """
+        halted = _halt_discarded(self._diff, self._adopter.tops)
+        for core, children, counterpart in self._adopter.rewires:
+            _rewire(core, children, counterpart)
+        behaviours = dict(self._built)
+        for uid, decision in self._diff.decisions.items():
+            if decision is not Decision.BUILD:
+                behaviours[uid] = self._old.behaviours[self._diff.match[uid].uid]
+        self._new.behaviours = behaviours
+        return HotSwap(self._new, summarise(self._diff, tuple(halted)), self.fresh)
+
+
+def prepare_swap(
     old: LoadedTree,
     path: str | Path,
     context: Mapping[str, Any] | None = None,
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
-) -> HotSwap:
-    """Swap ``old`` (ticking) for the tree in ``path``; call it between two ticks.
+) -> PreparedSwap:
+    """Validate and build the tree in ``path`` for a swap with ``old``; change nothing yet.
 
     Args:
         old: The running tree, from ``load_tree`` or an earlier swap.
@@ -79,7 +121,7 @@ def hot_swap(
         plugin_paths: Extra plugin files, dirs or modules.
 
     Returns:
-        The swap done.
+        The swap, ready to :meth:`~PreparedSwap.commit`.
 
     Raises:
         TreeLoadError: The new file is invalid or cannot be built (every diagnostic);
@@ -88,25 +130,33 @@ def hot_swap(
     result = validate(path, registry=registry, plugin_paths=plugin_paths)
     if result.spec is None:
         raise load_error(path, result)
-    tops = _tops(old)
     rewirable = frozenset(uid for uid, behaviour in old.behaviours.items()
                           if isinstance(_core(behaviour), _REWIRABLE))
     diff = diff_trees(old.spec, result.spec, rewirable)
-    adopter = _Adopter(old, diff, tops)
+    adopter = _Adopter(old, diff, _tops(old))
     root, built = build(result.spec, result.registry, context, adopter=adopter,
                         keep_entries=frozenset(old.spec.entries))
-    # Built: from here on the old tree changes (nothing above could fail half-way).
-    known = {id(b) for b in old.root.iterate()}
-    halted = _halt_discarded(diff, tops)
-    for core, children, counterpart in adopter.rewires:
-        _rewire(core, children, counterpart)
-    behaviours = dict(built)
-    for uid, decision in diff.decisions.items():
-        if decision is not Decision.BUILD:
-            behaviours[uid] = old.behaviours[diff.match[uid].uid]
-    fresh = [b for b in root.iterate() if id(b) not in known]
-    tree = LoadedTree(root, result.spec, behaviours, result.registry)
-    return HotSwap(tree, summarise(diff, tuple(halted)), fresh)
+    return PreparedSwap(old, diff, adopter, LoadedTree(root, result.spec, built, result.registry))
+
+
+def hot_swap(
+    old: LoadedTree,
+    path: str | Path,
+    context: Mapping[str, Any] | None = None,
+    *,
+    registry: Registry | None = None,
+    plugin_paths: Sequence[str | Path] = (),
+) -> HotSwap:
+    """Swap ``old`` (ticking) for the tree in ``path`` at once; call it between two ticks.
+
+    :func:`prepare_swap` then :meth:`~PreparedSwap.commit` (set the fresh behaviours up
+    after it).
+
+    Raises:
+        TreeLoadError: As :func:`prepare_swap`; ``old`` is untouched.
+    """
+    return prepare_swap(old, path, context, registry=registry,
+                        plugin_paths=plugin_paths).commit()
 
 
 def _core(behaviour: Behaviour) -> Behaviour:

@@ -13,7 +13,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import LoadedTree, load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
-from sar_framework.engine.hot_swap import HotSwap, hot_swap
+from sar_framework.engine.hot_swap import HotSwap, hot_swap, prepare_swap
 from sar_framework.engine.registry import Registry, discover
 
 from .conftest import HERE
@@ -324,3 +324,20 @@ def test_an_unchanged_file_keeps_everything(tmp_path: Path, registry: Registry,
     assert done.summary.line() == "5 kept"
     assert set(done.tree.behaviours) == set(run.loaded.spec.root.uid for _ in [0]) | {
         n.uid for n in run.loaded.spec.nodes()}
+
+
+def test_a_prepared_swap_changes_nothing_until_committed(
+        tmp_path: Path, registry: Registry, halted: list[str]) -> None:
+    run = Mission(tmp_path, registry, THREE)
+    run.tick(2)
+    before = [(id(b), b.status) for b in run.root.iterate()]
+    run.write(THREE.replace("name: A, ticks: 3", "name: A, ticks: 9")
+              .replace("      - Work: {name: C", "      - Work: {name: D}\n      - Work: {name: C"))
+    prepared = prepare_swap(run.loaded, run.path, registry=registry)
+    assert sorted(b.name for b in prepared.fresh) == ["A", "D"]
+    assert [(id(b), b.status) for b in run.root.iterate()] == before and halted == []
+    run.tick()  # the old tree ticks on, as if nothing was prepared
+    done = prepared.commit()
+    assert halted == ["A"] and done.summary.added == ("D",) and done.summary.changed == ("A",)
+    a = done.tree.behaviours[done.tree.spec.root.children[0].uid]
+    assert a.ticks == 9 and any(a is b for b in done.fresh) and run.node("A") is a

@@ -276,6 +276,9 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "failures": [_reason_record(e) for e in events if e.kind in REASON_KINDS]
         or _startup_failure(status),
         "node_statuses": status.get("nodes", {}),
+        "reloads": [{"what": e.kind.value, "message": e.message, "sim_s": e.sim_s,
+                     "wall_s": e.wall_s} for e in events
+                    if e.kind in (EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED)],
     }
     if status.get("entries"):
         summary["entries"] = status["entries"]  # the final blackboard entry values

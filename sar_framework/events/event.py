@@ -44,6 +44,8 @@ class EventKind(str, enum.Enum):
     NOTE = "note"
     COMPLETION = "completion"
     VERDICT = "verdict"
+    TREE_SWAPPED = "tree_swapped"
+    RELOAD_REFUSED = "reload_refused"
 
 
 #: The reasons the runner records for a failing or halted part of the tree.

@@ -92,6 +92,7 @@ class MissionSettings:
         report_server: Start the report server.
         report_file: The report server's JSON Lines file of acknowledged reports.
         exit_on_completion: The runner ends when the mission is complete.
+        watch_tree: The runner reloads the tree when its file changes.
         status_file: The runner's JSON status file.
         nav2_timeout_wall_s: The runner's bound on the Nav2 start-up.
         tick_rate_hz: The runner's tick rate (over the parameter file's).
@@ -111,6 +112,7 @@ class MissionSettings:
     report_server: bool = True
     report_file: str = ""
     exit_on_completion: bool = True
+    watch_tree: bool = False
     status_file: str = ""
     nav2_timeout_wall_s: float | None = None
     tick_rate_hz: float | None = None
@@ -194,6 +196,8 @@ def runner(settings: MissionSettings) -> Process | None:
     parameters: dict[str, ParamValue] = {
         "tree": settings.tree, "use_sim_time": settings.use_sim_time,
         "exit_on_completion": settings.exit_on_completion}
+    if settings.watch_tree:
+        parameters["watch_tree"] = True
     _set(parameters, "status_file", settings.status_file)
     _set(parameters, "nav2_timeout_wall_s", settings.nav2_timeout_wall_s)
     _set(parameters, "tick_rate_hz", settings.tick_rate_hz)

@@ -39,6 +39,8 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("exit_on_completion", bool, False,
           "end the runner once the mission is complete: exit 0 on SUCCESS, 1 on FAILURE"),
     Param("print_tree", bool, False, "log the tree whenever a status changes"),
+    Param("watch_tree", bool, False, "reload the tree between ticks when its file or an "
+          "include changes (sar-tree run --reload; the ~/reload service always can)"),
     Param("status_file", str, "", "JSON status file, kept current ('' = none)"),
     Param("seed_amcl", bool, True, "seed AMCL with initial_pose and wait for Nav2 before "
           "ticking"),

@@ -45,6 +45,7 @@ class RunConfig:
         plugin_paths: Extra plugin locations for the runner.
         record: The MCAP file to record the mission into, or None.
         watch: Show the tree live (``sar-tree watch``) instead of progress lines.
+        reload: Reload the tree when its file changes (the runner's ``watch_tree``).
     """
 
     tree: str
@@ -65,6 +66,7 @@ class RunConfig:
     plugin_paths: list[str] = field(default_factory=list)
     record: str | None = None
     watch: bool = False
+    reload: bool = False
 
 
 # -- command line -------------------------------------------------------------------------
@@ -115,6 +117,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="record the mission into a rosbag2-compatible MCAP file")
     parser.add_argument("--watch", action="store_true",
                         help="show the tree live (sar-tree watch) instead of progress lines")
+    parser.add_argument("--reload", action="store_true",
+                        help="swap the tree in between ticks whenever its file or an include "
+                        "changes; an invalid edit is refused (docs/hot-reload.md)")
 
 
 def config_from_args(args: argparse.Namespace) -> RunConfig:
@@ -134,5 +139,5 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
         sim_params=list(args.sim_params), detect_params=list(args.detect_params),
         report_params=list(args.report_params), runner_params=list(args.runner_params),
         plugin_paths=list(args.plugin_path), record=args.record,
-        watch=args.watch,
+        watch=args.watch, reload=args.reload,
     )

@@ -29,7 +29,7 @@ PROGRESS_KINDS = frozenset({
     EventKind.NAVIGATION, EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
     EventKind.BASE_REACHED, EventKind.DETECTION, EventKind.SURVIVOR_BROADCAST,
     EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.NOTE,
-    EventKind.COMPLETION,
+    EventKind.COMPLETION, EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED,
 })
 """The events shown on the console as the mission goes (:func:`progress_line`)."""
 
@@ -229,6 +229,10 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
             times = f" ({count} times)" if count > 1 else ""
             event = "failed" if what == "failure" else "timed out"
             say(f"sar-tree run: note: {name} [{uid}] {event} on the way{times}: {message}")
+    reloads = Counter(r["what"] for r in summary.get("reloads", []))
+    if reloads:
+        say(f"sar-tree run: tree reloads: {reloads['tree_swapped']} swapped, "
+            f"{reloads['reload_refused']} refused (mission.json: reloads)")
     if written:
         say(f"sar-tree run: report in {report_dir}/ "
             f"({', '.join(p.name for p in written)}; child logs *.log)")

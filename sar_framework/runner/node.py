@@ -12,6 +12,7 @@ Start-up, in order; each step is bounded and fails with one clear message:
 2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
    parameters (:mod:`.settings`) and the mission's (zones, ``tick_rate_hz``) are read;
 3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
+   (``~/reload`` and ``watch_tree`` swap a new one in between ticks: :mod:`.reload`)
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_wall_s``) and ticked at
    ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
@@ -47,8 +48,8 @@ from __future__ import annotations
 import functools
 import sys
 import time
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import py_trees
 from py_trees.common import Status
@@ -70,12 +71,14 @@ from sar_framework.ros.delivery import deliver
 from sar_framework.runner.entry_values import EntryTracker, writers_of
 from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
+from sar_framework.runner.reload import TreeReloader, follow_swap
 from sar_framework.runner.settings import RunnerSettings, read_runner_settings
 from sar_framework.runner.status_file import (
     StatusFileWriter,
     startup_failure_document,
     write_json_atomically,
 )
+from sar_framework.runner.tree_context import tree_context
 from sar_framework.runner.tree_status import STATUS_TOPIC, TreeStatusPublisher
 from sar_framework.runner.tree_ticker import publish_snapshots
 from sar_framework.stop_signals import StopSignals
@@ -86,6 +89,7 @@ if TYPE_CHECKING:
     from rclpy.timer import Timer
 
     from sar_framework.engine.api import LoadedTree
+    from sar_framework.engine.hot_swap import HotSwap
 
 NODE_NAME = "sar_mission_runner"
 EXIT_SUCCESS = 0
@@ -113,10 +117,12 @@ class MissionRunner:
         loaded: The loaded tree.
         stop: The stop flag set by signals.
         wall_start: ``time.monotonic()`` when the process started.
+        context: The shared objects the tree was built with (a reload builds with them).
     """
 
     def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
-                 loaded: LoadedTree, *, stop: StopSignals, wall_start: float) -> None:
+                 loaded: LoadedTree, *, stop: StopSignals, wall_start: float,
+                 context: Mapping[str, Any] | None = None) -> None:
         from sar_framework.runner.tree_ticker import create_behaviour_tree
 
         self.node = node
@@ -143,9 +149,19 @@ class MissionRunner:
         )
         self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
-        TreeStatusPublisher(node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
-                            complete=lambda: self.status_writer.complete,
-                            entries=entries).attach(self.tree)
+        self.status_publisher = TreeStatusPublisher(
+            node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
+            complete=lambda: self.status_writer.complete, entries=entries).attach(self.tree)
+        self.reloader = TreeReloader(  # the ~/reload service; watch_tree: the file watched
+            node, settings.tree, settings.plugin_paths, context or {}, self.events,
+            current=lambda: self.loaded, complete=lambda: self.status_writer.complete,
+            adopt=self._adopt, watch=settings.watch_tree)
+
+    def _adopt(self, swap: HotSwap) -> None:
+        """Tick a swapped tree from the next tick on (see :mod:`.reload`)."""
+        self.loaded = swap.tree
+        follow_swap(self.tree, swap, status_writer=self.status_writer,
+                    status_publisher=self.status_publisher, events=self.events)
 
     def setup(self) -> None:
         """Set up every behaviour with the node (bounded).
@@ -272,21 +288,6 @@ def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLo
     return files, locations
 
 
-def _load(settings: RunnerSettings, mission: MissionParams, node: Node) -> LoadedTree:
-    """Load the tree (its timeouts on the node's clock); raise ``TreeLoadError``."""
-    clock = node.get_clock()
-
-    def now() -> float:
-        return clock.now().nanoseconds / 1e9
-
-    from sar_framework import load_tree
-    from sar_framework.engine.clock_timeout import CLOCK_KEY
-    from sar_framework.ros.robot_state import robot_context
-
-    context = {"zone_manager": mission.zone_manager, CLOCK_KEY: now, **robot_context(node)}
-    return load_tree(settings.tree, context=context, plugin_paths=settings.plugin_paths)
-
-
 def run(argv: Sequence[str] | None = None) -> int:
     """Run the mission runner.
 
@@ -301,6 +302,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
+    from sar_framework import load_tree
     from sar_framework.engine.diagnostics import TreeLoadError
     from sar_framework.runner.nav2_startup import (
         Nav2StartupError,
@@ -349,8 +351,9 @@ def run(argv: Sequence[str] | None = None) -> int:
         for zone_id in mission.unused_zones:
             logger.warning(f"{source}: zones.{zone_id} is defined but not in zone_order "
                            "(it will not be visited)")
+        context = tree_context(mission, node)
         try:
-            loaded = _load(settings, mission, node)
+            loaded = load_tree(settings.tree, context=context, plugin_paths=settings.plugin_paths)
         except TreeLoadError as err:
             lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
             return fail(EXIT_CONFIG, "tree", f"cannot load {settings.tree}:\n{lines}")
@@ -362,7 +365,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                 pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
                 use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
         runner = MissionRunner(node, settings, mission, loaded, stop=stop,
-                               wall_start=wall_start)
+                               wall_start=wall_start, context=context)
         try:
             runner.setup()
         except RuntimeError as err:

@@ -41,6 +41,7 @@ class RunnerSettings:
         completion: ``auto``, ``end``, ``once``, ``rest`` or ``forever``: how the mission
             ends.
         print_tree: Log the tree on every status change.
+        watch_tree: Reload the tree when its file or an include changes.
         status_file: The status file path, or "" for none.
         seed_amcl: Seed AMCL and wait for Nav2 first.
         nav2_timeout_wall_s: Bound of the Nav2 start-up, seconds.
@@ -54,6 +55,7 @@ class RunnerSettings:
     exit_on_completion: bool
     completion: str
     print_tree: bool
+    watch_tree: bool
     status_file: str
     seed_amcl: bool
     nav2_timeout_wall_s: float
@@ -101,6 +103,7 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
         exit_on_completion=values["exit_on_completion"],
         completion=values["completion"],
         print_tree=values["print_tree"],
+        watch_tree=values["watch_tree"],
         status_file=values["status_file"],
         seed_amcl=values["seed_amcl"],
         nav2_timeout_wall_s=float(values["nav2_timeout_wall_s"]),

@@ -167,6 +167,35 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self._snapshot: tuple[Status, ...] = ()
         self.complete = False
 
+    def retarget(self, spec: TreeSpec, behaviours: dict[str, py_trees.behaviour.Behaviour],
+                 end_uid: str | None, entries: EntryTracker | None = None) -> None:
+        """Follow a swapped tree (between ticks); a kept behaviour keeps what was noted of it.
+
+        Args:
+            spec: The new tree.
+            behaviours: Its ``uid -> behaviour``.
+            end_uid: The uid of the one_shot on its final path, if any.
+            entries: The new tree's blackboard entries.
+        """
+        if entries is not None:
+            self._entries = entries
+        renamed = {self._uid_of[id(b)]: uid for uid, b in behaviours.items()
+                   if id(b) in self._uid_of}
+        self._behaviours = behaviours
+        self._uid_of = {id(b): uid for uid, b in behaviours.items()}
+        self._spec_of = {node.uid: node for node in spec.nodes()}
+        self._leaves = {node.uid for node in spec.nodes() if node.category == Category.LEAF}
+        self._explaining = {node.uid for node in spec.nodes()
+                            if node.kind in EXPLAINING_DECORATORS}
+        self._reasons = ReasonLog({n.uid: n.kind for n in spec.nodes()}, behaviours)
+        self.root_uid, self._end_uid = spec.root.uid, end_uid
+        self.nodes = {renamed[u]: s for u, s in self.nodes.items() if u in renamed}
+        self._last_event = {renamed[u]: e for u, e in self._last_event.items() if u in renamed}
+        self._running = {renamed[u] for u in self._running if u in renamed}
+        self.running = sorted(renamed[u] for u in self.running if u in renamed)
+        self._snapshot = ()
+        self._changed = True
+
     # -- visitor: every behaviour ticked this tick --------------------------------------------
     def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
         """Record a leaf's verdict (py_trees calls this for each ticked behaviour)."""

@@ -123,6 +123,15 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         self.tick = 0
         self.sim_start_s: float | None = None
 
+    def retarget(self, spec: TreeSpec, behaviours: dict[str, py_trees.behaviour.Behaviour],
+                 entries: EntryTracker | None = None) -> None:
+        """Follow a swapped tree (between ticks): its nodes and entries from the next tick."""
+        self._name = spec.name
+        self._order = [(n.uid, n.name, n.kind) for n in spec.nodes()]
+        self._behaviours = behaviours
+        self._entries = entries if entries is not None and len(entries) else None
+        self._subscribers = -1  # the next message lists every entry
+
     def attach(self, tree: py_trees.trees.BehaviourTree) -> TreeStatusPublisher:
         """Add this publisher to ``tree``'s visitors and post-tick handlers; return it."""
         tree.visitors.append(self)

@@ -149,7 +149,8 @@ class TreeReloader:
         self.refusals += 1
         message = f"Reload of {self._tree_file} refused, the tree goes on: {why}"
         self._events.emit(EventKind.RELOAD_REFUSED, message=message)
-        self._node.get_logger().error(message)
+        # Info, like the swap: the mission is unharmed (sar-tree run prints the event once).
+        self._node.get_logger().info(message)
         return False, message
 
     def _on_request(self, _request: Any, response: Any) -> Any:

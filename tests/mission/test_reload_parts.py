@@ -65,7 +65,8 @@ def test_the_status_writer_follows_a_swapped_tree(tmp_path: Path) -> None:
     registry = discover([PLUGINS], builtins=False, entry_points=False)
     tree = tmp_path / "tree.yaml"
     text = ("format: 1\nroot:\n  sequence:\n    name: Steps\n    memory: true\n    children:\n"
-            "      - Countdown: {name: Work, ticks: 3}\n      - Countdown: {name: Last, ticks: 0}\n")
+            "      - Countdown: {name: Work, ticks: 3}\n"
+            "      - Countdown: {name: Last, ticks: 0}\n")
     tree.write_text(text)
     context = {"zone_manager": Zones()}
     loaded = load_tree(tree, context, registry=registry)

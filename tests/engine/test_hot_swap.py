@@ -341,3 +341,52 @@ def test_a_prepared_swap_changes_nothing_until_committed(
     assert halted == ["A"] and done.summary.added == ("D",) and done.summary.changed == ("A",)
     a = done.tree.behaviours[done.tree.spec.root.children[0].uid]
     assert a.ticks == 9 and any(a is b for b in done.fresh) and run.node("A") is a
+
+
+def test_a_node_with_scripts_keeps_its_wrapper_and_a_changed_one_gets_a_new_one(
+        tmp_path: Path, registry: Registry, halted: list[str]) -> None:
+    text = """
+    blackboard:
+      n: {type: int, initial: 0}
+    root:
+      sequence:
+        name: Main
+        memory: true
+        children:
+          - Work: {name: A, ticks: 2, _onSuccess: "n += 1"}
+          - Work: {name: B, ticks: 1, note: x, _onSuccess: "n += 10"}
+    """
+    run = Mission(tmp_path, registry, text)
+    run.tick()
+    wrapper_a, wrapper_b = run.root.children
+    a = wrapper_a.decorated
+    assert a.name == "A" and a.status == Status.RUNNING
+    done = run.swap(text.replace("note: x", "note: y"))
+    assert run.root.children[0] is wrapper_a and wrapper_a.decorated is a
+    assert run.root.children[1] is not wrapper_b and run.root.children[1].decorated.note == "y"
+    assert done.summary.changed == ("B",) and run.root.current_child is wrapper_a
+    assert run.until_done() == 3 and run.root.status == Status.SUCCESS
+    assert py_trees.blackboard.Blackboard.storage["/n"] == 11
+
+
+def test_a_parallel_keeps_its_running_children_and_takes_a_new_one(
+        tmp_path: Path, registry: Registry, halted: list[str]) -> None:
+    text = """
+    root:
+      parallel:
+        name: Both
+        policy: success_on_selected
+        selected: [A]
+        children:
+          - Work: {name: A, ticks: 3}
+          - Work: {name: B, ticks: 9, note: x}
+    """
+    run = Mission(tmp_path, registry, text)
+    run.tick()
+    both, a = run.root, run.node("A")
+    done = run.swap(text.replace("note: x", "note: y"))
+    assert run.root is both and run.node("A") is a and halted == ["B"]
+    assert done.summary.changed == ("B",)
+    assert [c.name for c in both.policy.children] == ["A"]
+    assert both.policy.children[0] is a
+    assert run.until_done() == 3 and both.status == Status.SUCCESS

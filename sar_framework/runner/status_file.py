@@ -143,15 +143,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self._path = Path(path) if path else None
         self._sim_now = sim_now
         self._wall_start = time.monotonic() if wall_start is None else wall_start
-        self._behaviours = behaviours
-        self._uid_of = {id(b): uid for uid, b in behaviours.items()}
-        self._spec_of = {node.uid: node for node in spec.nodes()}
-        self._leaves = {node.uid for node in spec.nodes() if node.category == Category.LEAF}
-        self._explaining = {node.uid for node in spec.nodes()
-                            if node.kind in EXPLAINING_DECORATORS}
-        self._reasons = ReasonLog({n.uid: n.kind for n in spec.nodes()}, behaviours)
+        self._know(spec, behaviours)
         self.new_reasons: list[dict[str, Any]] = []
-        self.root_uid = spec.root.uid
         self.nodes: dict[str, str] = {}
         self.events: list[dict[str, Any]] = []
         self.failures: list[dict[str, Any]] = []
@@ -181,6 +174,17 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             self._entries = entries
         renamed = {self._uid_of[id(b)]: uid for uid, b in behaviours.items()
                    if id(b) in self._uid_of}
+        self._know(spec, behaviours)
+        self._end_uid = end_uid
+        self.nodes = {renamed[u]: s for u, s in self.nodes.items() if u in renamed}
+        self._last_event = {renamed[u]: e for u, e in self._last_event.items() if u in renamed}
+        self._running = {renamed[u] for u in self._running if u in renamed}
+        self.running = sorted(renamed[u] for u in self.running if u in renamed)
+        self._snapshot = ()
+        self._changed = True
+
+    def _know(self, spec: TreeSpec, behaviours: dict[str, py_trees.behaviour.Behaviour]) -> None:
+        """Learn the tree's nodes and behaviours (what each uid is)."""
         self._behaviours = behaviours
         self._uid_of = {id(b): uid for uid, b in behaviours.items()}
         self._spec_of = {node.uid: node for node in spec.nodes()}
@@ -188,13 +192,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self._explaining = {node.uid for node in spec.nodes()
                             if node.kind in EXPLAINING_DECORATORS}
         self._reasons = ReasonLog({n.uid: n.kind for n in spec.nodes()}, behaviours)
-        self.root_uid, self._end_uid = spec.root.uid, end_uid
-        self.nodes = {renamed[u]: s for u, s in self.nodes.items() if u in renamed}
-        self._last_event = {renamed[u]: e for u, e in self._last_event.items() if u in renamed}
-        self._running = {renamed[u] for u in self._running if u in renamed}
-        self.running = sorted(renamed[u] for u in self.running if u in renamed)
-        self._snapshot = ()
-        self._changed = True
+        self.root_uid = spec.root.uid
 
     # -- visitor: every behaviour ticked this tick --------------------------------------------
     def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:

@@ -117,3 +117,40 @@ def test_reloads_on_the_console_and_in_the_summary(tmp_path: Path) -> None:
               [tmp_path / "mission.json"], None)
     assert "sar-tree run: tree reloads: 1 swapped, 1 refused (mission.json: reloads)" in \
         out.getvalue()
+
+
+def test_a_rebuilt_root_becomes_the_ticking_trees_root(tmp_path: Path) -> None:
+    from sar_framework.events.emitter import EventEmitter
+    from sar_framework.runner.reload import follow_swap
+
+    class Zones:
+        def total_zones(self) -> int:
+            return 4
+
+    class Publisher:  # stands in for TreeStatusPublisher (a ROS publisher)
+        def retarget(self, spec: object, behaviours: object, entries: object) -> None:
+            self.followed = (spec, behaviours)
+
+    registry = discover([PLUGINS], builtins=False, entry_points=False)
+    tree = tmp_path / "tree.yaml"
+    text = ("format: 1\nroot:\n  sequence:\n    name: Steps\n    memory: true\n    children:\n"
+            "      - Countdown: {name: Work, ticks: 3}\n")
+    tree.write_text(text)
+    context = {"zone_manager": Zones()}
+    loaded = load_tree(tree, context, registry=registry)
+    writer = StatusFileWriter(str(tree), loaded.spec, loaded.behaviours, lambda: 0.0,
+                              completion="once")
+    ticking = py_trees.trees.BehaviourTree(loaded.root)
+    ticking.tick()
+    tree.write_text(text.replace("memory: true", "memory: false"))
+    swap = hot_swap(loaded, tree, context, registry=registry)
+    publisher, events = Publisher(), EventEmitter()
+    follow_swap(ticking, swap, status_writer=writer, status_publisher=publisher,  # type: ignore[arg-type]
+                events=events)
+    assert ticking.root is swap.tree.root is not loaded.root
+    assert publisher.followed == (swap.tree.spec, swap.tree.behaviours)
+    work = swap.tree.behaviours["0.0"]
+    emitted = events.emit(EventKind.STATUS, source=work)
+    assert (emitted.node_uid, emitted.node_kind, emitted.node_name) == ("0.0", "Countdown", "Work")
+    ticking.tick()
+    assert work.status == Status.RUNNING and swap.summary.changed == ("Steps",)

@@ -53,6 +53,7 @@ def test_run_reload_refuses_a_bad_edit_and_swaps_a_good_one_mid_mission(tmp_path
         ("survivor_1", True), ("survivor_2", True)]
     reports = read_jsonl(report / "reports.jsonl")
     assert sorted(r["survivor_id"] for r in reports) == ["survivor_1", "survivor_2"]
+    assert summary["navigation_goals"] == 5  # one per zone and the base: none sent again
     reloads = summary["reloads"]
     assert [r["what"] for r in reloads] == ["reload_refused", "tree_swapped"]
     assert "AdvanceZon" in reloads[0]["message"]

@@ -3,14 +3,15 @@
     ros2 launch sar_framework search_and_rescue.launch.py [nav2:=bringup|embedded]
         [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...]
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
-        [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE]
+        [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE] [reload:=true]
 
 ``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
 ``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
 package's simulator (``sar-sim``) instead, like Nav2's loopback simulation. The launch ends
 when the runner ends: exit 0 when the mission succeeded, non-zero otherwise. ``record``
 adds the recorder (``sar-mission-recorder``), which writes the mission to a rosbag2-compatible
-MCAP file and closes it when the launch shuts down.
+MCAP file and closes it when the launch shuts down. ``reload:=true`` makes the runner swap the
+tree in between ticks whenever its file changes (``sar-tree run --reload``; docs/hot-reload.md).
 
 Like ``sar-tree run``, every launch writes its run's files (the report server's log of
 acknowledged survivors, the runner's status and events, the simulator's trace) into a
@@ -103,6 +104,9 @@ ARGUMENTS = [
                           "(embedded)."),
     DeclareLaunchArgument("rviz", default_value="false",
                           description="Start RViz with Nav2's default view (bringup)."),
+    DeclareLaunchArgument("reload", default_value="false",
+                          description="Swap the tree in between ticks whenever its file or an "
+                          "include changes (the runner's watch_tree; docs/hot-reload.md)."),
     DeclareLaunchArgument("record", default_value="",
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
@@ -169,6 +173,7 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         trace_file=files["trace_file"] if embedded else "",
         status_file=files["status_file"],
         exit_on_completion=True,
+        watch_tree=arg("reload").lower() in ("true", "1", "yes"),
         # Nav2 bring-up next to Gazebo can take a while; the simulator is up in seconds.
         nav2_timeout_wall_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
         tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,

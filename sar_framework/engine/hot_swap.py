@@ -246,8 +246,11 @@ def _rewire(core: Behaviour, children: list[Behaviour], counterpart: dict[int, B
     if current is None or any(current is c for c in children):
         return
     core.current_child = counterpart.get(id(current)) or _next_after(before, current, children)
-    if core.current_child is None and core.status == Status.RUNNING:
-        core.stop(Status.INVALID)  # nothing left where it was: it starts over when ticked
+    if (core.current_child is None and core.status == Status.RUNNING
+            and getattr(core, "memory", False)):
+        # A memory sequence/selector resumes at its current child: with nothing left after
+        # the children it had passed, it starts over when next ticked.
+        core.stop(Status.INVALID)
 
 
 def _next_after(before: list[Behaviour], current: Behaviour, children: list[Behaviour]

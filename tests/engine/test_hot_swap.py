@@ -393,3 +393,34 @@ def test_a_parallel_keeps_its_running_children_and_takes_a_new_one(
     assert [c.name for c in both.policy.children] == ["A"]
     assert both.policy.children[0] is a
     assert run.until_done() == 3 and both.status == Status.SUCCESS
+
+
+def test_a_parallel_whose_last_running_child_leaves_goes_on_with_the_others(
+        tmp_path: Path, registry: Registry, halted: list[str]) -> None:
+    text = """
+    root:
+      parallel:
+        name: Both
+        policy: success_on_all
+        children:
+          - Work: {name: A, ticks: 3}
+          - Work: {name: B, ticks: 9}
+    """
+    run = Mission(tmp_path, registry, text)
+    run.tick()
+    a = run.node("A")
+    run.swap(text.replace("          - Work: {name: B, ticks: 9}\n", ""))
+    assert halted == ["B"] and a.status == Status.RUNNING and run.root.children == [a]
+    assert run.until_done() == 3 and run.root.status == Status.SUCCESS and a.total == 4
+
+
+def test_a_memory_sequence_with_nothing_left_after_its_removed_child_starts_over(
+        tmp_path: Path, registry: Registry, halted: list[str]) -> None:
+    run = Mission(tmp_path, registry, THREE)
+    run.tick(4)  # A done, B RUNNING
+    a = run.node("A")
+    assert a.status == Status.SUCCESS and run.root.current_child is run.node("B")
+    done = run.swap(THREE.split("      - Work: {name: B", maxsplit=1)[0])
+    assert halted == ["B"] and done.summary.removed == ("B", "C")
+    assert run.root.status == Status.INVALID and run.node("A") is a
+    assert run.tick() == Status.RUNNING and a.status == Status.RUNNING  # from the start

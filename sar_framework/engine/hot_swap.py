@@ -36,6 +36,8 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import LoadedTree, load_error, validate
 from sar_framework.engine.build import build
+from sar_framework.engine.port_values import write_initial
+from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import NodeSpec
 from sar_framework.engine.tree_diff import Decision, SwapSummary, TreeDiff, diff_trees, summarise
@@ -77,6 +79,7 @@ class PreparedSwap:
         self._old, self._diff, self._adopter, self._new = old, diff, adopter, new
         self._built = dict(new.behaviours)
         self._known = {id(b) for b in old.root.iterate()}
+        self._committed = False
         roots = [new.root, *(c for _, children, _ in adopter.rewires for c in children)]
         seen: set[int] = set()
         self.fresh: list[Behaviour] = []
@@ -91,7 +94,16 @@ class PreparedSwap:
 
         Returns:
             The swap done.
+
+        Raises:
+            RuntimeError: It was committed already.
         """
+        if self._committed:
+            raise RuntimeError("this swap was committed already")
+        self._committed = True
+        old_keys, entries = self._old.spec.entries, self._new.spec.entries
+        write_initial({key: entry.initial for key, entry in entries.items()
+                       if entry.initial is not NO_DEFAULT and key not in old_keys})
         halted = _halt_discarded(self._diff, self._adopter.tops)
         for core, children, counterpart in self._adopter.rewires:
             _rewire(core, children, counterpart)
@@ -134,8 +146,9 @@ def prepare_swap(
                           if isinstance(_core(behaviour), _REWIRABLE))
     diff = diff_trees(old.spec, result.spec, rewirable)
     adopter = _Adopter(old, diff, _tops(old))
+    # No initial value is written yet: the new entries' are, on commit.
     root, built = build(result.spec, result.registry, context, adopter=adopter,
-                        keep_entries=frozenset(old.spec.entries))
+                        keep_entries=frozenset(result.spec.entries))
     return PreparedSwap(old, diff, adopter, LoadedTree(root, result.spec, built, result.registry))
 
 
@@ -151,6 +164,16 @@ def hot_swap(
 
     :func:`prepare_swap` then :meth:`~PreparedSwap.commit` (set the fresh behaviours up
     after it).
+
+    Args:
+        old: The running tree.
+        path: The new tree file.
+        context: The shared objects the new leaves receive (the running tree's).
+        registry: The plugins to check against; default: built-ins and entry points.
+        plugin_paths: Extra plugin files, dirs or modules.
+
+    Returns:
+        The swap done.
 
     Raises:
         TreeLoadError: As :func:`prepare_swap`; ``old`` is untouched.

@@ -336,14 +336,20 @@ def test_a_prepared_swap_changes_nothing_until_committed(
     before = run.state()
     run.write(THREE.replace("name: A, ticks: 3", "name: A, ticks: 9")
               .replace("      - Work: {name: C", "      - Work: {name: D}\n      - Work: {name: C"))
+    run.path.write_text(run.path.read_text().replace(
+        "format: 1\n", "format: 1\nblackboard:\n  fresh: {type: int, initial: 3}\n"))
     prepared = prepare_swap(run.loaded, run.path, registry=registry)
     assert sorted(b.name for b in prepared.fresh) == ["A", "D"]
+    assert "/fresh" not in py_trees.blackboard.Blackboard.storage  # written on commit
     assert run.state() == before and halted == []
     run.tick()  # the old tree ticks on, as if nothing was prepared
     done = prepared.commit()
     assert halted == ["A"] and done.summary.added == ("D",) and done.summary.changed == ("A",)
     a = done.tree.behaviours[done.tree.spec.root.children[0].uid]
     assert a.ticks == 9 and any(a is b for b in done.fresh) and run.node("A") is a
+    assert py_trees.blackboard.Blackboard.storage["/fresh"] == 3
+    with pytest.raises(RuntimeError, match="committed already"):
+        prepared.commit()
 
 
 def test_a_node_with_scripts_keeps_its_wrapper_and_a_changed_one_gets_a_new_one(

@@ -13,7 +13,7 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.hot_swap import hot_swap
+from sar_framework.engine.hot_swap import HotSwap, hot_swap
 from sar_framework.engine.registry import discover
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
@@ -57,30 +57,46 @@ def test_the_watched_files_are_the_tree_and_its_includes(tmp_path: Path) -> None
     assert signature([tmp_path / "gone.yaml"]) == ((str(tmp_path / "gone.yaml"), -1, -1),)
 
 
-def test_the_status_writer_follows_a_swapped_tree(tmp_path: Path) -> None:
-    class Zones:
-        def total_zones(self) -> int:
-            return 4
+class Zones:
+    """The one thing Countdown asks of the zone manager."""
 
-    registry = discover([PLUGINS], builtins=False, entry_points=False)
-    tree = tmp_path / "tree.yaml"
-    text = ("format: 1\nroot:\n  sequence:\n    name: Steps\n    memory: true\n    children:\n"
-            "      - Countdown: {name: Work, ticks: 3}\n"
-            "      - Countdown: {name: Last, ticks: 0}\n")
-    tree.write_text(text)
-    context = {"zone_manager": Zones()}
-    loaded = load_tree(tree, context, registry=registry)
-    writer = StatusFileWriter(str(tree), loaded.spec, loaded.behaviours, lambda: 0.0,
-                              completion="once")
-    ticking = py_trees.trees.BehaviourTree(loaded.root)
+    def total_zones(self) -> int:
+        return 4
+
+
+STEPS = ("format: 1\nroot:\n  sequence:\n    name: Steps\n    memory: true\n    children:\n"
+         "      - Countdown: {name: Work, ticks: 3}\n")
+
+
+class Ticked:
+    """A tree file loaded with the runner's test leaves, a status writer and a ticking tree."""
+
+    def __init__(self, tmp_path: Path, text: str) -> None:
+        self.registry = discover([PLUGINS], builtins=False, entry_points=False)
+        self.path = tmp_path / "tree.yaml"
+        self.path.write_text(text)
+        self.context = {"zone_manager": Zones()}
+        self.loaded = load_tree(self.path, self.context, registry=self.registry)
+        self.writer = StatusFileWriter(str(self.path), self.loaded.spec, self.loaded.behaviours,
+                                       lambda: 0.0, completion="once")
+        self.tree = py_trees.trees.BehaviourTree(self.loaded.root)
+
+    def swap(self, text: str) -> HotSwap:
+        self.path.write_text(text)
+        return hot_swap(self.loaded, self.path, self.context, registry=self.registry)
+
+
+def test_the_status_writer_follows_a_swapped_tree(tmp_path: Path) -> None:
+    text = STEPS + "      - Countdown: {name: Last, ticks: 0}\n"
+    run = Ticked(tmp_path, text)
+    writer, ticking = run.writer, run.tree
     ticking.visitors.append(writer)
     ticking.add_post_tick_handler(writer.after_tick)
     ticking.tick()
     assert writer.running == ["0", "0.0"] and writer.nodes["0.0"] == "RUNNING"
-    tree.write_text(text.replace("      - Countdown: {name: Work",
+    swap = run.swap(text.replace("      - Countdown: {name: Work",
                                  "      - Countdown: {name: First, ticks: 0}\n"
                                  "      - Countdown: {name: Work"))
-    swap = hot_swap(loaded, tree, context, registry=registry)
     writer.retarget(swap.tree.spec, swap.tree.behaviours, None)
     # Work is 0.1 now: what was noted of it follows it.
     assert writer.running == ["0", "0.1"]
@@ -123,27 +139,14 @@ def test_a_rebuilt_root_becomes_the_ticking_trees_root(tmp_path: Path) -> None:
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.runner.reload import follow_swap
 
-    class Zones:
-        def total_zones(self) -> int:
-            return 4
-
     class Publisher:  # stands in for TreeStatusPublisher (a ROS publisher)
         def retarget(self, spec: object, behaviours: object, entries: object) -> None:
             self.followed = (spec, behaviours)
 
-    registry = discover([PLUGINS], builtins=False, entry_points=False)
-    tree = tmp_path / "tree.yaml"
-    text = ("format: 1\nroot:\n  sequence:\n    name: Steps\n    memory: true\n    children:\n"
-            "      - Countdown: {name: Work, ticks: 3}\n")
-    tree.write_text(text)
-    context = {"zone_manager": Zones()}
-    loaded = load_tree(tree, context, registry=registry)
-    writer = StatusFileWriter(str(tree), loaded.spec, loaded.behaviours, lambda: 0.0,
-                              completion="once")
-    ticking = py_trees.trees.BehaviourTree(loaded.root)
+    run = Ticked(tmp_path, STEPS)
+    ticking, writer, loaded = run.tree, run.writer, run.loaded
     ticking.tick()
-    tree.write_text(text.replace("memory: true", "memory: false"))
-    swap = hot_swap(loaded, tree, context, registry=registry)
+    swap = run.swap(STEPS.replace("memory: true", "memory: false"))
     publisher, events = Publisher(), EventEmitter()
     follow_swap(ticking, swap, status_writer=writer, status_publisher=publisher,  # type: ignore[arg-type]
                 events=events)

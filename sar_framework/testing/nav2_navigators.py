@@ -50,6 +50,7 @@ NAVIGATOR_PARAMETERS: dict[str, Any] = {
     "wait_for_service_timeout": 1000,
     "action_server_result_timeout": 900.0,
     "goal_reached_tol": 0.25,
+    "use_sim_time": True,
 }
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 
@@ -105,8 +106,13 @@ def declare_navigator_parameters(node: Any, overrides: Mapping[str, Any] | None 
         node: The rclpy node the tree is set up with.
         overrides: Values replacing the defaults.
     """
+    from rclpy.parameter import Parameter
+
     for name, value in {**NAVIGATOR_PARAMETERS, **(overrides or {})}.items():
-        node.declare_parameter(name, value)
+        if node.has_parameter(name):  # use_sim_time: every rclpy node has it
+            node.set_parameters([Parameter(name, value=value)])
+        else:
+            node.declare_parameter(name, value)
 
 
 @dataclass
@@ -244,6 +250,16 @@ class NavigatorBench:
         """The robot's (x, y) in ``map`` from TF, or None."""
         return self.pose("", "")
 
+    def _tf_stamp_ns(self) -> int:
+        """The stamp of TF's latest ``map -> base_link`` (0 without one)."""
+        from rclpy.time import Time
+
+        try:
+            found = self.pose.buffer.lookup_transform("map", "base_link", Time())
+        except Exception:  # tf2's lookup and extrapolation errors
+            return 0
+        return Time.from_msg(found.header.stamp).nanoseconds
+
     def wait_until_at(self, x: float, y: float, tolerance: float = 0.05,
                       timeout: float = 10.0) -> None:
         """Spin until TF puts the robot within ``tolerance`` of (x, y).
@@ -297,7 +313,8 @@ class NavigatorBench:
             if status == Status.RUNNING:
                 tree.root.stop(Status.INVALID)  # a halt: running goals are cancelled
             tree.shutdown()
-        spin_until(self.executor, lambda: False, 0.05)  # TF catches up with the last motion
+        ended_ns = clock.now().nanoseconds
+        spin_until(self.executor, lambda: self._tf_stamp_ns() >= ended_ns, 3.0)
         return NavigatorRun(status=status, events=list(writer.events),
                             reasons=list(writer.failures),
                             blackboard={k: v for k, v in Blackboard.storage.items()},

@@ -24,6 +24,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from sar_framework.sim.geometry import prune_to_nearest
 from sar_framework.sim.world import Pose2D
 
 Point = tuple[float, float]
@@ -181,7 +182,7 @@ class DiffDrive:
         points = [(float(x), float(y)) for x, y in path]
         if not all(math.isfinite(v) for p in points for v in p) or not math.isfinite(goal_yaw):
             raise ValueError("follow(): path and goal_yaw must be finite")
-        points = self._prune(points)
+        points = prune_to_nearest(points, (self._x, self._y), PRUNE_SEARCH_M)
         if math.dist(points[0], (self._x, self._y)) > 1e-3:
             points.insert(0, (self._x, self._y))
         if len(points) == 1:
@@ -193,29 +194,6 @@ class DiffDrive:
         self._segment = 0
         self._goal_yaw = normalize_angle(goal_yaw)
         self._phase = Phase.DRIVING
-
-    def _prune(self, points: list[Point]) -> list[Point]:
-        """Drop the part of ``points`` before the point nearest the robot."""
-        here = (self._x, self._y)
-        best = (math.dist(points[0], here), 0, points[0])
-        arc = 0.0
-        for i, (a, b) in enumerate(itertools.pairwise(points)):
-            if arc > PRUNE_SEARCH_M:
-                break
-            dx, dy = b[0] - a[0], b[1] - a[1]
-            length_sq = dx * dx + dy * dy
-            t = 0.0 if length_sq == 0.0 else min(max(
-                ((here[0] - a[0]) * dx + (here[1] - a[1]) * dy) / length_sq, 0.0), 1.0)
-            nearest = (a[0] + t * dx, a[1] + t * dy)
-            distance = math.dist(nearest, here)
-            if distance < best[0] - 1e-9:
-                best = (distance, i, nearest)
-            arc += math.sqrt(length_sq)
-        _, index, nearest = best
-        if index == 0 and nearest == points[0]:
-            return points
-        rest = points[index + 1:]
-        return rest if rest and rest[0] == nearest else [nearest, *rest]
 
     def spin(self, angle: float) -> None:
         """Turn in place by ``angle`` radians (signed, any size) at the angular limit."""

@@ -159,7 +159,8 @@ class NavigatorRun:
         return "\n".join(lines)
 
 
-def _pose_msg(x: float, y: float, yaw: float = 0.0) -> Any:
+def goal_pose(x: float, y: float, yaw: float = 0.0) -> Any:
+    """A ``geometry_msgs/PoseStamped`` in ``map`` at (x, y), heading ``yaw`` (rad)."""
     from geometry_msgs.msg import PoseStamped
 
     msg = PoseStamped()
@@ -167,11 +168,6 @@ def _pose_msg(x: float, y: float, yaw: float = 0.0) -> Any:
     msg.pose.position.x, msg.pose.position.y = x, y
     msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
     return msg
-
-
-def goal_pose(x: float, y: float, yaw: float = 0.0) -> Any:
-    """A ``geometry_msgs/PoseStamped`` in ``map`` at (x, y), heading ``yaw`` (rad)."""
-    return _pose_msg(x, y, yaw)
 
 
 class NavigatorBench:
@@ -204,7 +200,7 @@ class NavigatorBench:
         loaded = tree_from_yaml("format: 1\nroot:\n  GoalReached: {goal: '{goal}'}\n"
                                 "blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
                                 ).loaded
-        Blackboard.storage["/goal"] = _pose_msg(0.0, 0.0)
+        Blackboard.storage["/goal"] = goal_pose(0.0, 0.0)
         tree = py_trees.trees.BehaviourTree(loaded.root)
         tree.setup(timeout=5.0, node=self.node)
         try:

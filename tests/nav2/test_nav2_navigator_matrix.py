@@ -43,6 +43,7 @@ from sar_framework.testing.nav2_navigators import (
     import_navigator,
     navigator_trees,
 )
+from sar_framework.testing.processes import simulator
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(600)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
@@ -139,14 +140,8 @@ MATRIX = [(stem, outcome) for stem in TREES for outcome in cases(stem)]
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     blocked = "[" + ",".join(f"'{c}'" for c in BLOCKED_RING) + "]"
-    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
-            "-p", f"blocked_zones:={blocked}"]
-    proc = NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")).start()
-    try:
-        proc.wait_for_output("ready", timeout=30)
+    with simulator(tmp_path_factory.mktemp("sim"), SPEED, blocked_zones=blocked) as proc:
         yield proc
-    finally:
-        proc.stop()
 
 
 @pytest.fixture(scope="module")

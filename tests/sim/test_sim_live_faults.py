@@ -136,3 +136,31 @@ def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
     action.destroy()
     # Goal numbers restart: the next goal runs normally.
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
+
+
+def test_reset_ends_follow_waypoints_aborted_not_at_the_next_waypoint(
+        clean: tuple[Any, Any]) -> None:
+    from action_msgs.msg import GoalStatus
+    from geometry_msgs.msg import PoseStamped
+    from nav2_msgs.action import FollowWaypoints
+    from rclpy.action import ActionClient
+
+    node, executor = clean
+    action = ActionClient(node, FollowWaypoints, "follow_waypoints")
+    assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
+    goal = FollowWaypoints.Goal()
+    for x, y in ((-3.0, 3.0), (1.0, -0.5)):
+        waypoint = PoseStamped()
+        waypoint.header.frame_id = "map"
+        waypoint.pose.position.x, waypoint.pose.position.y = x, y
+        waypoint.pose.orientation.w = 1.0
+        goal.poses.append(waypoint)
+    sent = action.send_goal_async(goal)
+    assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
+    assert spin_until(executor, lambda: math.hypot(*odometry_xy(*clean)) > 0.3, 30.0)
+    done = sent.result().get_result_async()
+    assert reset_sim(*clean).success
+    assert spin_until(executor, done.done, 10.0)
+    assert done.result().status == GoalStatus.STATUS_ABORTED
+    assert math.hypot(*odometry_xy(*clean)) < 0.01  # not driving to the next waypoint
+    action.destroy()

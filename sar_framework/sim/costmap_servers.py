@@ -12,8 +12,9 @@ clearing services, by Nav2's names:
 What a costmap holds is described in :mod:`~sar_framework.sim.costmaps`: the static map and
 ``blocked_zones`` never clear. ``is_path_valid`` (IsPathValid) checks a path's poses, from the
 one nearest the robot on, against the global costmap (map, blocked zones, its phantoms):
-a pose in a lethal cell or within the robot's radius of one is invalid, as Nav2 Jazzy's
-planner server (lethal or inscribed cost).
+a pose in a lethal cell (or off the map) is invalid. Nav2 Jazzy also rejects inscribed cells
+(within the robot's radius of an obstacle); the simulator does not, since its spawn lies
+that close to a wall and every path from it would be invalid.
 """
 
 from __future__ import annotations
@@ -81,7 +82,8 @@ def serve_is_path_valid(node: Nav2LifecycleNode, navigator: Navigator) -> None:
         here = navigator.state().pose
         nearest = min(range(len(points)),
                       key=lambda i: math.hypot(points[i][0] - here.x, points[i][1] - here.y))
-        invalid = [i for i in range(nearest, len(points)) if not navigator.is_free(*points[i])]
+        planner = navigator.planner
+        invalid = [i for i in range(nearest, len(points)) if planner.is_lethal(*points[i])]
         response.is_valid = not invalid
         if hasattr(response, "invalid_pose_indices"):
             response.invalid_pose_indices = invalid

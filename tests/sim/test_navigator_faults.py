@@ -21,7 +21,7 @@ def grid():
     return load_map(MAP_YAML)
 
 
-def navigator(grid, faults: Faults = Faults(), phantoms=()) -> Navigator:
+def navigator(grid, faults: Faults | None = None, phantoms=()) -> Navigator:
     costmaps = Costmaps(grid, 0.22, phantoms)
     return Navigator(DiffDrive(Pose2D(0.0, 0.0, 0.0)), costmaps.planner(), faults,
                      costmaps=costmaps)

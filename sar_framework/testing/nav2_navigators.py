@@ -35,10 +35,10 @@ from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
 from sar_framework.events.emitter import SETUP_KEY, EventEmitter
-from sar_framework.testing.spin import call_service, spin_until
+from sar_framework.testing.sim_control import reset_sim, set_sim_params
+from sar_framework.testing.spin import spin_until
 
 OVERLAY = Path("/work/shared/ros-overlay/src")
-SIM_NODE = "/sar_sim"
 #: bt_navigator's parameters the leaves read, as config/nav2_params.yaml sets them
 #: (``default_server_timeout`` raised from 20 ms: a loaded machine acknowledges slower).
 NAVIGATOR_PARAMETERS: dict[str, Any] = {
@@ -215,16 +215,9 @@ class NavigatorBench:
         Args:
             **params: name -> value (a list of str for ``phantom_obstacles``...).
         """
-        from rcl_interfaces.srv import SetParameters
-        from rclpy.parameter import Parameter
-
-        request = SetParameters.Request(
-            parameters=[Parameter(name, value=value).to_parameter_msg()
-                        for name, value in params.items()])
-        answer = call_service(self.node, self.executor, SetParameters,
-                              f"{SIM_NODE}/set_parameters", request)
+        results = set_sim_params(self.node, self.executor, **params)
         refused = [f"{name}: {result.reason}" for name, result in
-                   zip(params, answer.results, strict=True) if not result.successful]
+                   zip(params, results, strict=True) if not result.successful]
         assert not refused, f"/sar_sim refused {refused}"
 
     def reset(self, **faults: Any) -> None:
@@ -233,12 +226,9 @@ class NavigatorBench:
         Args:
             **faults: Simulator parameters to set before the reset.
         """
-        from std_srvs.srv import Trigger
-
         if faults:
             self.set_sim(**faults)
-        answer = call_service(self.node, self.executor, Trigger, f"{SIM_NODE}/reset",
-                              Trigger.Request(), resend_after=None)
+        answer = reset_sim(self.node, self.executor)
         assert answer.success, f"/sar_sim/reset: {answer.message}"
         self.wait_until_at(0.0, 0.0)
 

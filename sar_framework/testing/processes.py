@@ -19,8 +19,7 @@ import re
 import sys
 import tempfile
 import time
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from pathlib import Path
 from types import TracebackType
 
@@ -96,23 +95,3 @@ class NodeProcess(ChildProcess):
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         self.stop()
-
-
-@contextmanager
-def simulator(log_dir: Path, speed: float, **params: str) -> Iterator[NodeProcess]:
-    """The embedded simulator (``python -m sar_framework.sim``) running, for a ``with`` block.
-
-    Args:
-        log_dir: Where its output file goes.
-        speed: Simulated seconds per wall second.
-        **params: Further ``sar_sim`` parameters, as ``--ros-args -p NAME:=VALUE`` text.
-
-    Yields:
-        The process, once it has printed ``ready``; it is stopped when the block ends.
-    """
-    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={speed}"]
-    for name, value in params.items():
-        args += ["-p", f"{name}:={value}"]
-    with NodeProcess(args, "sim", log_dir=log_dir) as proc:
-        proc.wait_for_output("ready", timeout=30)
-        yield proc

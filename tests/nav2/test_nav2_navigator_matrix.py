@@ -43,7 +43,7 @@ from sar_framework.testing.nav2_navigators import (
     import_navigator,
     navigator_trees,
 )
-from sar_framework.testing.processes import simulator
+from sar_framework.testing.sim_control import sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(600)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
@@ -140,7 +140,8 @@ MATRIX = [(stem, outcome) for stem in TREES for outcome in cases(stem)]
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     blocked = "[" + ",".join(f"'{c}'" for c in BLOCKED_RING) + "]"
-    with simulator(tmp_path_factory.mktemp("sim"), SPEED, blocked_zones=blocked) as proc:
+    with sim_process(tmp_path_factory.mktemp("sim"), f"blocked_zones:={blocked}",
+                     speed=SPEED) as proc:
         yield proc
 
 

@@ -21,7 +21,7 @@ from sar_testing.spin import ros_node, spin_until
 
 from sar_framework.engine.api import load_tree
 from sar_framework.testing.nav2_navigators import goal_pose as pose
-from sar_framework.testing.processes import simulator
+from sar_framework.testing.sim_control import sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
@@ -31,7 +31,7 @@ DISCOVERY_S = 15.0
 
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    with simulator(tmp_path_factory.mktemp("sim"), SPEED) as proc:
+    with sim_process(tmp_path_factory.mktemp("sim"), speed=SPEED) as proc:
         yield proc
 
 

@@ -180,7 +180,7 @@ def blackboard_for(stem: str, goal: tuple[float, float]) -> dict[str, Any]:
 
 
 def stopped(bench: NavigatorBench) -> Any:
-    """A predicate: the robot has come to rest (the same place on 20 checks in a row)."""
+    """A predicate: the robot has come to rest away from the spawn (20 checks in a row)."""
     seen: list[tuple[float, float] | None] = []
 
     def done() -> bool:

@@ -11,7 +11,6 @@ as SVG with graphviz, exported back to BT.CPP XML, and the real BehaviorTree.CPP
 
 from __future__ import annotations
 
-import os
 import subprocess
 from pathlib import Path
 
@@ -22,22 +21,11 @@ from py_trees.common import Status
 from sar_framework.cli import main
 from sar_framework.engine.api import load_tree
 from sar_framework.interop.xml_source import Element
+from sar_framework.testing.nav2_navigators import nav2_share, navigator_trees
 
-OVERLAY = Path("/work/shared/ros-overlay/src")
 pytestmark = pytest.mark.timeout(1200)
-
-
-def share(package: str, relative: str) -> Path:
-    """``share/<package>/<relative>`` of the ROS install, else the overlay's source."""
-    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-        found = Path(prefix) / "share" / package / relative
-        if prefix and found.exists():
-            return found
-    return OVERLAY / package / relative
-
-
-NAVIGATORS = sorted(share("nav2_bt_navigator", "behavior_trees").glob("*.xml"))
-PALETTE = share("nav2_behavior_tree", "nav2_tree_nodes.xml")
+NAVIGATORS = list(navigator_trees().values())
+PALETTE = nav2_share("nav2_behavior_tree", "nav2_tree_nodes.xml")
 
 
 def tags(element: Element) -> set[str]:

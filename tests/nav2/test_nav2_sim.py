@@ -20,6 +20,8 @@ from sar_testing.processes import NodeProcess
 from sar_testing.spin import ros_node, spin_until
 
 from sar_framework.engine.api import load_tree
+from sar_framework.testing.nav2_navigators import goal_pose as pose
+from sar_framework.testing.sim_control import sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
@@ -29,13 +31,8 @@ DISCOVERY_S = 15.0
 
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}"]
-    proc = NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")).start()
-    try:
-        proc.wait_for_output("ready", timeout=30)
+    with sim_process(tmp_path_factory.mktemp("sim"), speed=SPEED) as proc:
         yield proc
-    finally:
-        proc.stop()
 
 
 @pytest.fixture(scope="module")
@@ -58,16 +55,6 @@ def trees(ros: tuple[Any, Any]) -> Iterator[TreeMaker]:
     maker = TreeMaker(ros[0])
     yield maker
     maker.shutdown()
-
-
-def pose(x: float, y: float, yaw: float = 0.0) -> Any:
-    from geometry_msgs.msg import PoseStamped
-
-    msg = PoseStamped()
-    msg.header.frame_id = "map"
-    msg.pose.position.x, msg.pose.position.y = x, y
-    msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-    return msg
 
 
 def build(tmp_path: Path, text: str) -> Any:
@@ -195,7 +182,7 @@ root:
             - DistanceController:
                 distance: 0.3
                 child: {ComputePathToPose: {goal: "{goal}", path: "{replan}"}}
-            - FollowPath: {path: "{path}"}
+            - FollowPath: {path: "{replan}"}
 """
 
 
@@ -203,8 +190,8 @@ def test_distance_controller_replans_on_the_runners_robot_state(
         ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
     """Nav2's replanning-by-distance shape, on the runner's context sources (TF, odometry).
 
-    The replanned path is not followed: the simulator's follower does not finish a path
-    swapped in mid-drive that starts behind the robot (issue 21, point 3).
+    FollowPath follows each replanned path: before the fix, the simulator's follower never
+    finished a path swapped in mid-drive that starts behind the robot (issue 21, point 3).
     """
     from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
     from sar_framework.ros.robot_state import robot_context

@@ -1,0 +1,144 @@
+"""The two costmaps' phantom layer: obstacles that costmap clearing removes, walls that stay.
+
+Plain Python (no ROS), thread-safe. Nav2's costmaps hold what the sensors marked; clearing
+them drops those marks, never the static map. The simulator has no sensors, so the only marks
+are the ``phantom_obstacles`` fault's circles, written into BOTH costmaps:
+
+- the global costmap's phantoms are obstacles to the planner (:meth:`Costmaps.planner`:
+  static map + ``blocked_zones`` + these), and to ``is_path_valid``;
+- the local costmap's phantoms stop the controller (:meth:`Costmaps.local_blocks`: a path
+  through one gives FollowPath's NO_VALID_CONTROL) and make drive_on_heading / backup see a
+  collision ahead.
+
+``blocked_zones`` are part of the base grid (a real wall): no clearing removes them.
+Clearing follows Nav2's three services: entirely, around the robot (the phantoms whose centre
+lies in the square of side ``reset_distance`` centred on the robot, as Nav2's
+``clearLayerRegion``) and except that region (those outside it). A phantom is removed whole
+or not at all, by its centre.
+"""
+
+from __future__ import annotations
+
+import enum
+import itertools
+import threading
+from collections.abc import Callable, Iterable, Sequence
+
+from sar_framework.sim.faults import BlockedZone, with_blocked_zones
+from sar_framework.sim.geometry import segment_distance
+from sar_framework.sim.goals import FOLLOW_PATH_NO_VALID_CONTROL
+from sar_framework.sim.occupancy import OccupancyGrid
+from sar_framework.sim.planner import GridPlanner
+
+Point = tuple[float, float]
+
+
+class Layer(enum.Enum):
+    """Which costmap (Nav2's node names)."""
+
+    GLOBAL = "global_costmap"
+    LOCAL = "local_costmap"
+
+
+def _in_square(zone: BlockedZone, centre: Point, side: float) -> bool:
+    """Whether ``zone``'s centre lies in the axis-aligned square of ``side`` at ``centre``."""
+    return abs(zone.x - centre[0]) <= side / 2.0 and abs(zone.y - centre[1]) <= side / 2.0
+
+
+class Costmaps:
+    """The phantom obstacles of the global and local costmap over one base grid.
+
+    Args:
+        base: The map with ``blocked_zones`` already added (never changes).
+        robot_radius: Inflation radius of the planner, metres.
+        phantoms: The phantoms written into both costmaps at start.
+        planner: The planner over ``base`` if already built.
+    """
+
+    def __init__(self, base: OccupancyGrid, robot_radius: float,
+                 phantoms: Iterable[BlockedZone] = (), planner: GridPlanner | None = None
+                 ) -> None:
+        self._base = base
+        self._radius = robot_radius
+        self._lock = threading.Lock()
+        self._base_planner = planner or GridPlanner(base, robot_radius=robot_radius)
+        self._planner = self._base_planner
+        self._phantoms: dict[Layer, tuple[BlockedZone, ...]] = {layer: () for layer in Layer}
+        self._planned: tuple[BlockedZone, ...] = ()
+        self.write(phantoms)
+
+    @classmethod
+    def over(cls, planner: GridPlanner) -> Costmaps:
+        """Costmaps without phantoms over ``planner``'s grid and inflation."""
+        return cls(planner.grid, planner.robot_radius, planner=planner)
+
+    def phantoms(self, layer: Layer) -> tuple[BlockedZone, ...]:
+        """The phantoms ``layer`` holds now."""
+        with self._lock:
+            return self._phantoms[layer]
+
+    def write(self, phantoms: Iterable[BlockedZone]) -> None:
+        """Write ``phantoms`` into both costmaps, replacing what they held."""
+        zones = tuple(phantoms)
+        with self._lock:
+            for layer in Layer:
+                self._phantoms[layer] = zones
+
+    def clear(self, layer: Layer, keep: Callable[[BlockedZone], bool] | None = None) -> int:
+        """Remove the phantoms of ``layer`` that ``keep`` does not keep (all without it).
+
+        Returns:
+            How many were removed.
+        """
+        with self._lock:
+            before = self._phantoms[layer]
+            after = tuple(z for z in before if keep is not None and keep(z))
+            self._phantoms[layer] = after
+            return len(before) - len(after)
+
+    def clear_around(self, layer: Layer, robot: Point, reset_distance: float) -> int:
+        """ClearCostmapAroundRobot: remove the phantoms centred near the robot.
+
+        Near: in the square of side ``reset_distance`` centred on ``robot`` (Nav2's
+        ``clearLayerRegion``).
+        """
+        return self.clear(layer, lambda z: not _in_square(z, robot, reset_distance))
+
+    def clear_except(self, layer: Layer, robot: Point, reset_distance: float) -> int:
+        """ClearCostmapExceptRegion: remove the phantoms centred outside that square."""
+        return self.clear(layer, lambda z: _in_square(z, robot, reset_distance))
+
+    def planner(self) -> GridPlanner:
+        """The planner over the base grid plus the global costmap's phantoms.
+
+        Rebuilt (tens of milliseconds) only when those phantoms have changed.
+        """
+        with self._lock:
+            zones = self._phantoms[Layer.GLOBAL]
+            if zones == self._planned:
+                return self._planner
+            planner = self._base_planner if not zones else GridPlanner(
+                with_blocked_zones(self._base, zones), robot_radius=self._radius)
+            self._planner, self._planned = planner, zones
+            return planner
+
+    def local_failure(self, path: Sequence[Point]) -> tuple[int, str] | None:
+        """FollowPath's NO_VALID_CONTROL if ``path`` runs through a local phantom, else None."""
+        zone = self.local_blocks(path)
+        if zone is None:
+            return None
+        return (FOLLOW_PATH_NO_VALID_CONTROL, "No valid trajectories: an obstacle of the "
+                f"local costmap at ({zone.x:.2f}, {zone.y:.2f}) lies on the path")
+
+    def local_blocks(self, path: Sequence[Point]) -> BlockedZone | None:
+        """The first local phantom the robot's footprint would touch along ``path``, if any."""
+        with self._lock:
+            zones = self._phantoms[Layer.LOCAL]
+        if not zones or not path:
+            return None
+        segments = list(itertools.pairwise(path)) or [(path[0], path[0])]
+        for zone in zones:
+            reach = zone.radius + self._radius
+            if any(segment_distance((zone.x, zone.y), a, b) < reach for a, b in segments):
+                return zone
+        return None

@@ -42,7 +42,6 @@ from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import with_blocked_zones
 from sar_framework.sim.goal_actions import GoalGate
 from sar_framework.sim.goals import Goal, RobotState
 from sar_framework.sim.lifecycle import take_not_offered
@@ -83,8 +82,8 @@ class Simulator:
         self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed)
         self._clock_lock = threading.Lock()
         self._now_ns = 0
-        self.costmaps = Costmaps(with_blocked_zones(self.grid, s.faults.blocked_zones),
-                                 s.robot_radius, s.faults.phantom_obstacles)
+        self.costmaps = Costmaps(self.grid, s.robot_radius, s.faults.phantom_obstacles,
+                                 walls=s.faults.blocked_zones)
         try:
             self.trace = TraceWriter(s.trace_file, s.trace_period_s) if s.trace_file else None
         except OSError as exc:

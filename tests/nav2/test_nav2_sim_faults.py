@@ -189,3 +189,18 @@ def test_an_unknown_plugin_id_fails_with_nav2s_code(
     assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS
     assert run(ros, trees, tmp_path, BOARD + text) == Status.FAILURE
     assert Blackboard.storage[key] == code
+
+
+def test_the_navigator_reports_a_stuck_controllers_105_until_a_drive_frees_it(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    set_params(ros, stuck_recoveries=1, movement_time_allowance=3.0)
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    navigate = ("blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
+                "  code: {type: int, initial: -1}\n"
+                "root:\n  NavigateToPose: {goal: '{goal}', error_code_id: '{code}'}\n")
+    assert run(ros, trees, tmp_path, navigate) == Status.FAILURE
+    assert Blackboard.storage["/code"] == 105
+    drive = "root:\n  DriveOnHeading: {dist_to_travel: 0.2, speed: 0.2}\n"
+    assert run(ros, trees, tmp_path, drive) == Status.SUCCESS, MESSAGES
+    assert run(ros, trees, tmp_path, navigate) == Status.SUCCESS, MESSAGES
+    assert Blackboard.storage["/code"] == 0

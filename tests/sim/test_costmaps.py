@@ -91,3 +91,17 @@ def test_a_phantom_around_the_robot_or_across_the_way_gives_nav2s_codes(base):
     with pytest.raises(NoPath) as cut:  # the goal is free, but fenced in
         Costmaps(base, 0.22, ring).planner().plan((0.0, 0.0), (1.0, -0.5))
     assert cut.value.error_code == 208  # NO_VALID_PATH
+
+
+def test_walls_can_be_replaced_and_never_clear(base):
+    costmaps = Costmaps(base, 0.22, [FAR])
+    costmaps.set_walls([BlockedZone(1.0, -0.5, 0.3)])
+    costmaps.clear(Layer.GLOBAL)
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (1.0, -0.5))
+    assert costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))[-1] == pytest.approx((1.0, -1.5))
+    costmaps.write([FAR])
+    costmaps.set_walls([])
+    assert costmaps.planner().plan((0.0, 0.0), (1.0, -0.5))[-1] == pytest.approx((1.0, -0.5))
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))  # the phantom is back

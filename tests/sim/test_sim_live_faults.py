@@ -37,7 +37,7 @@ def clean(client: tuple[Any, Any]) -> Iterator[tuple[Any, Any]]:
     """Faults unset and the world reset after the test."""
     yield client
     set_sim_params(*client, phantom_obstacles=[""], stuck_recoveries=0,
-               movement_time_allowance=10.0)
+                   movement_time_allowance=10.0, blocked_zones=[""])
     assert reset_sim(*client).success
 
 
@@ -45,10 +45,7 @@ def compute_path(client: tuple[Any, Any], x: float, y: float) -> Any:
     """ComputePathToPose from the robot to ``(x, y)``; the result."""
     from nav2_msgs.action import ComputePathToPose
 
-    goal = ComputePathToPose.Goal()
-    goal.goal.header.frame_id = "map"
-    goal.goal.pose.position.x, goal.goal.pose.position.y = x, y
-    goal.goal.pose.orientation.w = 1.0
+    goal = ComputePathToPose.Goal(goal=map_pose(x, y))
     return run_action(client, ComputePathToPose, "compute_path_to_pose", goal)
 
 
@@ -101,31 +98,58 @@ def test_a_phantom_at_the_goal_fails_planning_until_it_is_unset(
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
 
 
+def test_blocked_zones_set_at_run_time_are_walls_until_unset(clean: tuple[Any, Any]) -> None:
+    from nav2_msgs.srv import ClearEntireCostmap
+    from sar_testing.spin import call_service
+
+    assert set_sim_params(*clean, blocked_zones=["1.0:-0.5:0.3"])[0].successful
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 206
+    call_service(*clean, ClearEntireCostmap, "/global_costmap/clear_entirely_global_costmap",
+                 ClearEntireCostmap.Request())
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 206  # a wall stays
+    assert set_sim_params(*clean, blocked_zones=[""])[0].successful
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 0
+
+
+def map_pose(x: float, y: float) -> Any:
+    from sar_framework.sim.messages import pose_stamped
+    from sar_framework.sim.world import Pose2D
+
+    return pose_stamped(Pose2D(x, y, 0.0), "map", 0)
+
+
+def reset_mid_goal(clean: tuple[Any, Any], kind: Any, name: str, goal: Any) -> tuple[Any, Any]:
+    """Send ``goal``, reset once the robot has moved 0.3 m; (reset answer, goal status)."""
+    from rclpy.action import ActionClient
+
+    node, executor = clean
+    action = ActionClient(node, kind, name)
+    try:
+        assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
+        sent = action.send_goal_async(goal)
+        assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
+        assert spin_until(executor, lambda: math.hypot(*odometry_xy(*clean)) > 0.3, 30.0)
+        done = sent.result().get_result_async()
+        answer = reset_sim(*clean)
+        assert spin_until(executor, done.done, 10.0)
+        return answer, done.result().status
+    finally:
+        action.destroy()
+
+
 def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
         clean: tuple[Any, Any]) -> None:
     from action_msgs.msg import GoalStatus
     from geometry_msgs.msg import PoseWithCovarianceStamped
     from nav2_msgs.action import NavigateToPose
-    from rclpy.action import ActionClient
     from rclpy.qos import DurabilityPolicy, QoSProfile
 
     node, executor = clean
-    action = ActionClient(node, NavigateToPose, "navigate_to_pose")
-    assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
-    goal = NavigateToPose.Goal()
-    goal.pose.header.frame_id = "map"
-    goal.pose.pose.position.x, goal.pose.pose.position.y = -3.0, 3.0  # zone_a: far
-    goal.pose.pose.orientation.w = 1.0
-    sent = action.send_goal_async(goal)
-    assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
-    assert spin_until(executor, lambda: math.hypot(*odometry_xy(*clean)) > 0.3, 30.0)
-    done = sent.result().get_result_async()
-
-    answer = reset_sim(*clean)
+    goal = NavigateToPose.Goal(pose=map_pose(-3.0, 3.0))  # zone_a: far
+    answer, status = reset_mid_goal(clean, NavigateToPose, "navigate_to_pose", goal)
     assert answer.success, answer.message
     assert "goal" in answer.message and "aborted" in answer.message
-    assert spin_until(executor, done.done, 10.0)
-    assert done.result().status == GoalStatus.STATUS_ABORTED
+    assert status == GoalStatus.STATUS_ABORTED
     assert math.hypot(*odometry_xy(*clean)) < 0.01
     seen: list[PoseWithCovarianceStamped] = []
     qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -133,7 +157,6 @@ def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
     assert spin_until(executor, lambda: bool(seen), 10.0)
     p = seen[-1].pose.pose.position
     assert math.hypot(p.x, p.y) < 0.01
-    action.destroy()
     # Goal numbers restart: the next goal runs normally.
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
 
@@ -141,26 +164,9 @@ def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
 def test_reset_ends_follow_waypoints_aborted_not_at_the_next_waypoint(
         clean: tuple[Any, Any]) -> None:
     from action_msgs.msg import GoalStatus
-    from geometry_msgs.msg import PoseStamped
     from nav2_msgs.action import FollowWaypoints
-    from rclpy.action import ActionClient
 
-    node, executor = clean
-    action = ActionClient(node, FollowWaypoints, "follow_waypoints")
-    assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
-    goal = FollowWaypoints.Goal()
-    for x, y in ((-3.0, 3.0), (1.0, -0.5)):
-        waypoint = PoseStamped()
-        waypoint.header.frame_id = "map"
-        waypoint.pose.position.x, waypoint.pose.position.y = x, y
-        waypoint.pose.orientation.w = 1.0
-        goal.poses.append(waypoint)
-    sent = action.send_goal_async(goal)
-    assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
-    assert spin_until(executor, lambda: math.hypot(*odometry_xy(*clean)) > 0.3, 30.0)
-    done = sent.result().get_result_async()
-    assert reset_sim(*clean).success
-    assert spin_until(executor, done.done, 10.0)
-    assert done.result().status == GoalStatus.STATUS_ABORTED
+    goal = FollowWaypoints.Goal(poses=[map_pose(-3.0, 3.0), map_pose(1.0, -0.5)])
+    answer, status = reset_mid_goal(clean, FollowWaypoints, "follow_waypoints", goal)
+    assert answer.success and status == GoalStatus.STATUS_ABORTED
     assert math.hypot(*odometry_xy(*clean)) < 0.01  # not driving to the next waypoint
-    action.destroy()

@@ -91,6 +91,8 @@ class Goal:
         timeout_code: ``error_code`` of a timeout.
         legs: The planned legs still to drive after the current one, each with the yaw
             to finish it at (through poses: one leg per pose).
+        progress_since_s: Simulated time the progress checker's clock started (None:
+            ``started_s``); a path that preempts a running one keeps its clock.
         done: Set once the goal has ended.
     """
 
@@ -108,7 +110,13 @@ class Goal:
     deadline_s: float | None = None
     timeout_code: int = ERROR_NONE
     legs: list[tuple[list[tuple[float, float]], float]] = field(default_factory=list)
+    progress_since_s: float | None = None
     done: threading.Event = field(default_factory=threading.Event, repr=False)
+
+    @property
+    def progress_clock_s(self) -> float:
+        """Simulated time the progress checker counts from."""
+        return self.started_s if self.progress_since_s is None else self.progress_since_s
 
     @property
     def active(self) -> bool:

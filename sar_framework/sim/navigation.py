@@ -372,6 +372,8 @@ class Navigator:
                 return goal
             previous = self._current
             if previous is not None and previous.active:
+                if previous.kind is goal.kind is Kind.FOLLOW:  # Nav2: new path, same clock
+                    goal.progress_since_s = previous.progress_clock_s
                 self._finish(previous, Outcome.ABORTED, ERROR_NONE, "")
             self._current = goal
             self._notify(goal)

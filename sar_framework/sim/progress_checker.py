@@ -4,8 +4,10 @@ While :attr:`ProgressChecker.stuck_left` > 0 the controller makes no progress on
 (``navigate_*`` and ``follow_path`` goals): the robot stands still, and after
 ``allowance_s`` simulated seconds the goal fails with FollowPath's FAILED_TO_MAKE_PROGRESS,
 as Nav2's ``SimpleProgressChecker`` (``movement_time_allowance``) makes the controller
-server fail. Each completed spin or straight motion (spin, backup, drive_on_heading: the
-robot wriggles free) counts one down. The navigator's lock guards it.
+server fail. Its clock starts with a goal; a new path that preempts a running
+``follow_path`` keeps it (Nav2's ``updateGlobalPath`` does not reset the checker). Each
+completed spin or straight motion (spin, backup, drive_on_heading: the robot wriggles free)
+counts one down. The navigator's lock guards it.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ class ProgressChecker:
 
     def failure(self, goal: Goal, now_s: float) -> tuple[int, str] | None:
         """The failure of a held ``goal`` once the allowance has passed, else None."""
-        if now_s - goal.started_s < self.allowance_s:
+        if now_s - goal.progress_clock_s < self.allowance_s:
             return None
         return (FOLLOW_PATH_NO_PROGRESS, "Failed to make progress: no movement in "
                 f"{self.allowance_s:g} s (stuck_recoveries: {self.stuck_left} left)")

@@ -246,6 +246,31 @@ class NavigatorBench:
             return 0
         return Time.from_msg(found.header.stamp).nanoseconds
 
+    def settled_pose(self, after_ns: int, still_s: float = 2.0,
+                     timeout: float = 3.0) -> tuple[float, float] | None:
+        """The robot's pose once TF shows it at rest for ``still_s`` simulated seconds.
+
+        TF and ``/clock`` may both lag the simulator on a loaded machine, so a TF stamp at
+        the run's end is not enough: the pose is read once two transforms ``still_s``
+        apart (both after ``after_ns``) agree within a centimetre.
+        """
+        first: tuple[int, tuple[float, float] | None] | None = None
+
+        def at_rest() -> bool:
+            nonlocal first
+            stamp = self._tf_stamp_ns()
+            if stamp < after_ns:
+                return False
+            now = (stamp, self.where())
+            if first is None or first[1] is None or now[1] is None \
+                    or math.dist(first[1], now[1]) > 0.01:
+                first = now
+                return False
+            return stamp - first[0] >= still_s * 1e9
+
+        spin_until(self.executor, at_rest, timeout)
+        return self.where()
+
     def wait_until_at(self, x: float, y: float, tolerance: float = 0.05,
                       timeout: float = 10.0) -> None:
         """Spin until TF puts the robot within ``tolerance`` of (x, y).
@@ -299,10 +324,8 @@ class NavigatorBench:
             if status == Status.RUNNING:
                 tree.root.stop(Status.INVALID)  # a halt: running goals are cancelled
             tree.shutdown()
-        ended_ns = clock.now().nanoseconds
-        spin_until(self.executor, lambda: self._tf_stamp_ns() >= ended_ns, 3.0)
         return NavigatorRun(status=status, events=list(writer.events),
                             reasons=list(writer.failures),
                             blackboard={k: v for k, v in Blackboard.storage.items()},
                             ticks=writer.ticks, wall_s=time.monotonic() - started,
-                            pose=self.where())
+                            pose=self.settled_pose(clock.now().nanoseconds))

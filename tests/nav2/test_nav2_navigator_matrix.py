@@ -97,12 +97,9 @@ class Case:
     recoveries: int | None = None  # RoundRobin recoveries done (the tree's retries)
 
 
-#: A controller stuck until one recovery motion frees it. The allowance is shorter than
-#: Nav2's 10 s (config/nav2_params.yaml) because the simulator restarts the progress clock
-#: on every path update (a new follow_path goal), where Nav2's controller server keeps it
-#: across a preemption: with 10 s, nav_to_pose_with_consistent_replanning's PathExpiringTimer
-#: (10 s) would race it and the outcome would depend on the speed.
-STUCK_ONCE = {"stuck_recoveries": 1, "movement_time_allowance": 5.0}
+#: A controller stuck until one recovery motion frees it, with Nav2's allowance
+#: (config/nav2_params.yaml; a replanned path keeps the progress clock, as in Nav2).
+STUCK_ONCE = {"stuck_recoveries": 1, "movement_time_allowance": 10.0}
 NO_FAULTS = {"phantom_obstacles": [], "stuck_recoveries": 0, "movement_time_allowance": 10.0}
 NONE, PHANTOM, STUCK, UNRECOVERABLE = "none", "phantom", "stuck", "unrecoverable"
 #: odometry_calibration's square: its corner (the robot is brought there first, heading

@@ -83,3 +83,20 @@ def test_reset_aborts_puts_the_robot_back_and_restarts_goal_numbers(grid) -> Non
     second = nav.start(Pose2D(0.0, 0.0, 0.0))
     run(nav, second, 30.0)
     assert second.outcome is Outcome.ABORTED and second.number == 2
+
+
+def test_a_new_path_for_a_running_follow_path_keeps_the_progress_clock(grid) -> None:
+    # Nav2's controller server resets its progress checker when a goal starts, not when a
+    # new path preempts the running one (updateGlobalPath): replanning does not restart it.
+    nav = navigator(grid, Faults(stuck_recoveries=1, movement_time_allowance=3.0))
+    path = [(0.0, 0.0), (1.0, -0.5)]
+    first = nav.start_path(path, GOAL)
+    now = run(nav, first, limit_s=2.0)
+    second = nav.start_path(path, GOAL)  # a replanned path, 2 s into the allowance
+    assert first.outcome is Outcome.ABORTED
+    now = run(nav, second, now)
+    assert second.outcome is Outcome.ABORTED and second.error_code == 105
+    assert second.finished_s == pytest.approx(3.0, abs=0.05)
+    third = nav.start_path(path, GOAL)  # a new goal once the last has ended: a fresh clock
+    run(nav, third, now)
+    assert third.error_code == 105 and third.finished_s == pytest.approx(6.0, abs=0.05)

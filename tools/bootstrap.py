@@ -72,7 +72,9 @@ PACKAGE_SHARE = ("launch", "config", "maps", "trees")  # share/sar_framework, as
 EXECUTABLES = ("sar-tree", "sar-mission-runner", "sar-detect-survivor-server",
                "sar-report-survivor-server", "sar-sim", "sar-mission-recorder")
 # Command -> Debian package that provides it.
-SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz"}
+# chromium and its driver: the studio's browser tests (tests/studio) drive them headless.
+SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz",
+                "chromium": "chromium", "chromedriver": "chromium-driver"}
 
 
 # ---------------------------------------------------------------- 1. system tools

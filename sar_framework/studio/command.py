@@ -1,0 +1,151 @@
+"""``sar-tree studio live|replay|edit``: start the studio and print its address.
+
+``live`` attaches to the mission running on this ROS domain (``sar-tree run``, ``ros2
+launch``); ``replay FILE.mcap`` opens a recording of ``sar-tree run --record``; ``edit``
+is listed for the tree editor (issue 22, point 3), which this version does not have yet.
+
+The server binds ``127.0.0.1`` unless ``--host`` says otherwise, on ``--port`` (a free
+one by default), and prints the page's address with the session's token, as Jupyter
+does. It serves until Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import socket
+import sys
+import tempfile
+import webbrowser
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from sar_framework.studio.safety import (
+    DEFAULT_HOST,
+    MESSAGE_MAX_BYTES,
+    new_token,
+)
+
+if TYPE_CHECKING:
+    from sar_framework.studio.session import Session
+
+EXIT_OK = 0
+EXIT_USAGE = 2
+REPO = Path(__file__).resolve().parents[2]
+DEFAULT_PARAMS = "config/mission_params.yaml"
+
+
+def configure(parser: argparse.ArgumentParser) -> None:
+    """Add ``sar-tree studio``'s modes and arguments to ``parser``."""
+    modes = parser.add_subparsers(dest="mode", metavar="MODE")
+    modes.required = True
+    live = modes.add_parser("live", help="show the mission running on this ROS domain",
+                            description="Attach to the mission running on this ROS domain.")
+    live.add_argument("--tree", metavar="FILE",
+                      help="the mission's tree file, for its params and ports (default: the "
+                           "diagram is drawn from what the runner publishes)")
+    live.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
+                      help="a folder of leaf plugins the tree uses (repeatable)")
+    live.add_argument("--params", default=DEFAULT_PARAMS, metavar="FILE",
+                      help=f"mission parameter file: zones, base (default: {DEFAULT_PARAMS})")
+    replay = modes.add_parser("replay", help="scrub through a recording (.mcap)",
+                              description="Open a recording of sar-tree run --record.")
+    replay.add_argument("recording", metavar="FILE.mcap")
+    edit = modes.add_parser("edit", help="edit a tree file in the browser (not built yet)",
+                            description="The tree editor (not in this version).")
+    edit.add_argument("tree", metavar="TREE", nargs="?")
+    for mode in (live, replay, edit):
+        mode.add_argument("--host", default=DEFAULT_HOST,
+                          help=f"address to listen on (default: {DEFAULT_HOST}, this machine "
+                               "only)")
+        mode.add_argument("--port", type=int, default=0, help="port (default: a free one)")
+        mode.add_argument("--root", action="append", default=[], metavar="DIR",
+                          help="a directory the studio may open files in, besides the "
+                               "project (repeatable)")
+        mode.add_argument("--open", action="store_true", help="open the page in a browser")
+
+
+def _fail(text: str) -> int:
+    sys.stderr.write(f"sar-tree studio: error: {text}\n")
+    return EXIT_USAGE
+
+
+def studio_command(args: argparse.Namespace) -> int:
+    """``sar-tree studio``: serve until interrupted; return the exit code."""
+    from sar_framework.studio.session import LIVE, Session, replay_session
+    from sar_framework.studio.world_view import world_view
+
+    if args.mode == "edit":
+        return _fail("the tree editor is not in this version; use `sar-tree validate` "
+                     "and `sar-tree render` meanwhile")
+    feed = None
+    if args.mode == "replay":
+        from sar_framework.recording.readback import RecordingError
+
+        path = Path(args.recording).resolve()  # named here: its directory is given
+        if not path.is_file():
+            return _fail(f"recording not found: '{args.recording}'")
+        try:
+            session = replay_session(path, Path(tempfile.mkdtemp(prefix="sar_studio_")))
+        except RecordingError as err:
+            return _fail(str(err))
+    else:
+        tree = _live_tree(args)
+        if isinstance(tree, int):
+            return tree
+        params = Path(args.params) if Path(args.params).is_file() else None
+        session = Session(LIVE, tree, world_view(params), "live")
+        from sar_framework.studio.ros_feed import LiveFeed
+
+        feed = LiveFeed(session).start()
+    try:
+        return _serve(session, args)
+    finally:
+        if feed is not None:
+            feed.stop()
+
+
+def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
+    """The tree view of ``--tree``, None without one, or the exit code of a bad one."""
+    if not args.tree:
+        return None
+    from sar_framework.engine.api import validate
+    from sar_framework.studio.tree_view import tree_view
+
+    if not Path(args.tree).is_file():
+        return _fail(f"tree file not found: '{args.tree}'")
+    result = validate(args.tree, plugin_paths=args.plugin_path)
+    if result.spec is None:
+        for diagnostic in result.diagnostics:
+            sys.stderr.write(f"{diagnostic}\n")
+        return 1
+    return tree_view(result.spec)
+
+
+def _serve(session: Session, args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from sar_framework.studio.server import make_app
+
+    token = new_token()
+    listener = socket.socket(socket.AF_INET6 if ":" in args.host else socket.AF_INET)
+    listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        listener.bind((args.host, args.port))
+    except OSError as err:
+        return _fail(f"cannot listen on {args.host}:{args.port}: {err.strerror or err}")
+    port = listener.getsockname()[1]
+    shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
+    url = f"http://{shown}:{port}/?token={token}"
+    sys.stdout.write(f"sar-tree studio {args.mode}: serving on http://{args.host}:{port}/\n"
+                     f"    open: {url}\n"
+                     "    (the token is needed for anything that writes; Ctrl-C stops)\n")
+    sys.stdout.flush()
+    if args.open:
+        webbrowser.open(url)
+    config = uvicorn.Config(make_app(session, token), log_level="warning",
+                            ws_max_size=MESSAGE_MAX_BYTES, lifespan="off")
+    server = uvicorn.Server(config)
+    with contextlib.suppress(KeyboardInterrupt):
+        server.run(sockets=[listener])
+    return EXIT_OK

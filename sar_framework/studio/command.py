@@ -72,13 +72,35 @@ def _fail(text: str) -> int:
 
 def studio_command(args: argparse.Namespace) -> int:
     """``sar-tree studio``: serve until interrupted; return the exit code."""
-    from sar_framework.studio.session import LIVE, Session, replay_session
-    from sar_framework.studio.world_view import world_view
+    from sar_framework.studio.session import LIVE
 
     if args.mode == "edit":
         return _fail("the tree editor is not in this version; use `sar-tree validate` "
                      "and `sar-tree render` meanwhile")
-    feed = None
+    listener = _listen(args)  # first: a port in use is said before anything starts
+    if isinstance(listener, int):
+        return listener
+    with listener:
+        session = _session(args)
+        if isinstance(session, int):
+            return session
+        feed = None
+        if session.mode == LIVE:
+            from sar_framework.studio.ros_feed import LiveFeed
+
+            feed = LiveFeed(session).start()
+        try:
+            return _serve(session, args, listener)
+        finally:
+            if feed is not None:
+                feed.stop()
+
+
+def _session(args: argparse.Namespace) -> Session | int:
+    """The session ``args`` ask for, or the exit code of what is wrong with them."""
+    from sar_framework.studio.session import LIVE, Session, replay_session
+    from sar_framework.studio.world_view import world_view
+
     if args.mode == "replay":
         from sar_framework.recording.readback import RecordingError
 
@@ -95,14 +117,7 @@ def studio_command(args: argparse.Namespace) -> int:
             return tree
         params = Path(args.params) if Path(args.params).is_file() else None
         session = Session(LIVE, tree, world_view(params), "live")
-        from sar_framework.studio.ros_feed import LiveFeed
-
-        feed = LiveFeed(session).start()
-    try:
-        return _serve(session, args)
-    finally:
-        if feed is not None:
-            feed.stop()
+    return session
 
 
 def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
@@ -122,18 +137,28 @@ def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
     return tree_view(result.spec)
 
 
-def _serve(session: Session, args: argparse.Namespace) -> int:
+def _listen(args: argparse.Namespace) -> socket.socket | int:
+    """A socket bound to ``--host``/``--port``, or the exit code when it cannot be."""
+    try:
+        family = socket.getaddrinfo(args.host, args.port, type=socket.SOCK_STREAM)[0][0]
+    except OSError as err:
+        return _fail(f"cannot listen on {args.host}:{args.port}: {err.strerror or err}")
+    listener = socket.socket(family, socket.SOCK_STREAM)
+    listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        listener.bind((args.host, args.port))
+    except OSError as err:
+        listener.close()
+        return _fail(f"cannot listen on {args.host}:{args.port}: {err.strerror or err}")
+    return listener
+
+
+def _serve(session: Session, args: argparse.Namespace, listener: socket.socket) -> int:
     import uvicorn
 
     from sar_framework.studio.server import make_app
 
     token = new_token()
-    listener = socket.socket(socket.AF_INET6 if ":" in args.host else socket.AF_INET)
-    listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-    try:
-        listener.bind((args.host, args.port))
-    except OSError as err:
-        return _fail(f"cannot listen on {args.host}:{args.port}: {err.strerror or err}")
     port = listener.getsockname()[1]
     shown = "127.0.0.1" if args.host in ("0.0.0.0", "::") else args.host
     url = f"http://{shown}:{port}/?token={token}"

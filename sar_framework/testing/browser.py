@@ -92,14 +92,15 @@ def colour_share(png: bytes, box: tuple[float, float, float, float],
         rgb: The colour.
         tolerance: Largest difference per channel still counted.
     """
+    import numpy as np
     from PIL import Image
 
     image = Image.open(io.BytesIO(png)).convert("RGB")
     left, top, width, height = (round(v) for v in box)
-    crop = image.crop((left, top, left + max(width, 1), top + max(height, 1)))
-    pixels = list(crop.getdata())
-    same = sum(1 for p in pixels if all(abs(p[i] - rgb[i]) <= tolerance for i in range(3)))
-    return same / len(pixels)
+    crop = np.asarray(image.crop((left, top, left + max(width, 1), top + max(height, 1))),
+                      dtype=np.int16)
+    same = np.all(np.abs(crop - np.array(rgb, dtype=np.int16)) <= tolerance, axis=2)
+    return float(same.mean())
 
 
 def hex_rgb(colour: str) -> tuple[int, int, int]:

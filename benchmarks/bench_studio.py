@@ -1,7 +1,7 @@
 """Benchmark: the studio's live update latency (tick to browser) and replay scrub time.
 
     .venv/bin/python benchmarks/bench_studio.py [--speeds 1 20] [--scrubs 60]
-                                                [--recording FILE.mcap]
+                                                [--recording FILE.mcap] [--parts live replay]
 
 Needs chromium and chromedriver (``apt-get install chromium chromium-driver``).
 
@@ -173,6 +173,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--speeds", type=float, nargs="+", default=[1.0, 20.0])
     parser.add_argument("--scrubs", type=int, default=60)
+    parser.add_argument("--parts", nargs="+", choices=("live", "replay"),
+                        default=["live", "replay"])
     parser.add_argument("--recording", type=Path, help="a long recording to scrub "
                         "(default: one is made)")
     args = parser.parse_args(argv)
@@ -184,10 +186,11 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench_studio_") as tmp:
         folder = Path(tmp)
-        for speed in args.speeds:
-            rows.append(live_row(speed, folder))
-        rows.extend(replay_rows(args.recording or long_recording(folder), args.scrubs,
-                                folder))
+        if "live" in args.parts:
+            rows.extend(live_row(speed, folder) for speed in args.speeds)
+        if "replay" in args.parts:
+            rows.extend(replay_rows(args.recording or long_recording(folder), args.scrubs,
+                                    folder))
     width = max(len(r[0]) for r in rows)
     print(f"{'what':<{width}} {'n':>5} {'shown':>6} {'median ms':>10} {'p95 ms':>8} "
           f"{'max ms':>8}")

@@ -1,8 +1,9 @@
 """``sar-tree studio live|replay|edit``: start the studio and print its address.
 
 ``live`` attaches to the mission running on this ROS domain (``sar-tree run``, ``ros2
-launch``); ``replay FILE.mcap`` opens a recording of ``sar-tree run --record``; ``edit``
-is listed for the tree editor (issue 22, point 3), which this version does not have yet.
+launch``); ``replay FILE.mcap`` opens a recording of ``sar-tree run --record``; ``edit TREE`` edits
+a tree file (:mod:`.editor`), which must lie in the project, the working directory or a
+``--root`` directory.
 
 The server binds ``127.0.0.1`` unless ``--host`` says otherwise, on ``--port`` (a free
 one by default), and prints the page's address with the session's token, as Jupyter
@@ -27,6 +28,7 @@ from sar_framework.studio.safety import (
 )
 
 if TYPE_CHECKING:
+    from sar_framework.studio.editor import TreeEditor
     from sar_framework.studio.session import Session
 
 EXIT_OK = 0
@@ -51,9 +53,13 @@ def configure(parser: argparse.ArgumentParser) -> None:
     replay = modes.add_parser("replay", help="scrub through a recording (.mcap)",
                               description="Open a recording of sar-tree run --record.")
     replay.add_argument("recording", metavar="FILE.mcap")
-    edit = modes.add_parser("edit", help="edit a tree file in the browser (not built yet)",
-                            description="The tree editor (not in this version).")
-    edit.add_argument("tree", metavar="TREE", nargs="?")
+    edit = modes.add_parser("edit", help="edit a tree file with live checks and its diagram",
+                            description="Edit a tree file in the browser: the diagnostics of "
+                                        "sar-tree validate while typing, the diagram redrawn "
+                                        "on each valid change, save with the session token.")
+    edit.add_argument("tree", metavar="TREE", help="the tree file (created on save)")
+    edit.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
+                      help="a folder of leaf plugins the tree uses (repeatable)")
     for mode in (live, replay, edit):
         mode.add_argument("--host", default=DEFAULT_HOST,
                           help=f"address to listen on (default: {DEFAULT_HOST}, this machine "
@@ -74,14 +80,14 @@ def studio_command(args: argparse.Namespace) -> int:
     """``sar-tree studio``: serve until interrupted; return the exit code."""
     from sar_framework.studio.session import LIVE
 
-    if args.mode == "edit":
-        return _fail("the tree editor is not in this version; use `sar-tree validate` "
-                     "and `sar-tree render` meanwhile")
     listener = _listen(args)  # first: a port in use is said before anything starts
     if isinstance(listener, int):
         return listener
     with listener:
-        session = _session(args)
+        editor = _editor(args) if args.mode == "edit" else None
+        if isinstance(editor, int):
+            return editor
+        session = _session(args, editor)
         if isinstance(session, int):
             return session
         feed = None
@@ -90,17 +96,36 @@ def studio_command(args: argparse.Namespace) -> int:
 
             feed = LiveFeed(session).start()
         try:
-            return _serve(session, args, listener)
+            return _serve(session, args, listener, editor)
         finally:
             if feed is not None:
                 feed.stop()
 
 
-def _session(args: argparse.Namespace) -> Session | int:
+def _editor(args: argparse.Namespace) -> TreeEditor | int:
+    """The editor of ``edit TREE``, or the exit code when the file may not be edited."""
+    from sar_framework.studio.editor import TreeEditor
+    from sar_framework.studio.safety import RefusedError
+
+    roots = [Path.cwd(), REPO, *(Path(r) for r in args.root)]
+    try:
+        return TreeEditor(Path(args.tree), roots, args.plugin_path)
+    except RefusedError as err:
+        return _fail(f"{err}; add its directory with --root")
+
+
+def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | int:
     """The session ``args`` ask for, or the exit code of what is wrong with them."""
-    from sar_framework.studio.session import LIVE, Session, replay_session
+    from sar_framework.studio.session import EDIT, LIVE, Session, replay_session
     from sar_framework.studio.world_view import world_view
 
+    if editor is not None:
+        session = Session(EDIT, None, world_view(None), editor.shown)
+        session.edit = {"path": editor.shown, "text": editor.text(),
+                        "completions": editor.completions()}
+        checked = editor.check(session.edit["text"]) if session.edit["text"] else None
+        session.tree = checked["tree"] if checked else None
+        return session
     if args.mode == "replay":
         from sar_framework.recording.readback import RecordingError
 
@@ -153,7 +178,8 @@ def _listen(args: argparse.Namespace) -> socket.socket | int:
     return listener
 
 
-def _serve(session: Session, args: argparse.Namespace, listener: socket.socket) -> int:
+def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
+           editor: TreeEditor | None) -> int:
     import uvicorn
 
     from sar_framework.studio.server import make_app
@@ -168,7 +194,7 @@ def _serve(session: Session, args: argparse.Namespace, listener: socket.socket) 
     sys.stdout.flush()
     if args.open:
         webbrowser.open(url)
-    config = uvicorn.Config(make_app(session, token), log_level="warning",
+    config = uvicorn.Config(make_app(session, token, editor), log_level="warning",
                             ws_max_size=MESSAGE_MAX_BYTES, lifespan="off")
     server = uvicorn.Server(config)
     with contextlib.suppress(KeyboardInterrupt):

@@ -30,7 +30,11 @@ MESSAGES: dict[str, dict[str, type | tuple[type, ...]]] = {
     "seek": {"t": (int, float)},
     "node": {"uid": str},
     "hello": {},
+    "ack": {},
+    "check": {"text": str},
 }
+#: Longest string per field (a uid, or a tree's whole text).
+_STRING_MAX = {"text": MESSAGE_MAX_BYTES}
 _UID_MAX = 200
 
 
@@ -109,6 +113,6 @@ def parse_message(text: str | bytes) -> dict[str, Any]:
             raise RefusedError(f"{op}: {name} missing or of the wrong type")
         if isinstance(value, float) and not math.isfinite(value):
             raise RefusedError(f"{op}: {name} must be finite")
-        if isinstance(value, str) and len(value) > _UID_MAX:
+        if isinstance(value, str) and len(value) > _STRING_MAX.get(name, _UID_MAX):
             raise RefusedError(f"{op}: {name} too long")
     return message

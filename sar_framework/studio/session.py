@@ -24,13 +24,14 @@ from sar_framework.studio.world_view import world_view
 
 LIVE = "live"
 REPLAY = "replay"
+EDIT = "edit"
 
 
 class Session:
     """What the studio shows, and who to tell when it changes.
 
     Args:
-        mode: :data:`LIVE` or :data:`REPLAY`.
+        mode: :data:`LIVE`, :data:`REPLAY` or :data:`EDIT`.
         tree: The tree view from a tree file, if any (else drawn from the first status).
         world: The map view.
         title: A line for the page's header (the recording or the domain).
@@ -45,6 +46,8 @@ class Session:
         self.timeline = Timeline()
         self.lock = threading.Lock()
         self.version = 0
+        #: The editor's file, text and completions (``edit`` mode only).
+        self.edit: dict[str, Any] | None = None
         self._listeners: dict[int, Callable[[], None]] = {}
 
     # -- filled by the feed (any thread) -------------------------------------------------------
@@ -87,6 +90,7 @@ class Session:
                     "tree": self.tree, "world": self.world, "version": self.version,
                     "timeline": {"start": self.timeline.start_s, "end": self.timeline.end_s,
                                  "marks": self.timeline.marks()},
+                    "edit": self.edit,
                     "reload": None}  # hot reload (issue 22, point 4) plugs in here
 
     def frame(self, t: float | None = None) -> dict[str, Any]:

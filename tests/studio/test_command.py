@@ -18,9 +18,11 @@ def test_help_lists_live_replay_and_edit(capsys) -> None:
     assert "127.0.0.1" in capsys.readouterr().out
 
 
-def test_edit_says_it_is_not_in_this_version(capsys) -> None:
-    assert main(["studio", "edit", "trees/search_and_rescue.yaml"]) == 2
-    assert "the tree editor is not in this version" in capsys.readouterr().err
+def test_edit_refuses_a_file_outside_the_roots(capsys, tmp_path: Path) -> None:
+    assert main(["studio", "edit", str(tmp_path / "tree.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert "outside the directories open to the studio" in err
+    assert "add its directory with --root" in err
 
 
 def test_a_missing_recording_is_named(capsys) -> None:

@@ -113,5 +113,5 @@ def test_a_page_from_another_site_cannot_open_the_websocket(client) -> None:
 
 
 def test_the_static_folder_holds_only_our_own_files() -> None:
-    assert sorted(p.name for p in STATIC.iterdir()) == ["index.html", "studio.css",
-                                                         "studio.js"]
+    assert sorted(p.name for p in STATIC.iterdir()) == ["editor.js", "index.html",
+                                                         "studio.css", "studio.js"]

@@ -12,7 +12,7 @@ const studio = {
   nodes: new Map(),             // uid -> SVG <g>
   colours: {}, selected: null,
   t: 0, playing: false, speed: 1, seekPending: false, seekWanted: null, lastStep: 0,
-  framesSeen: 0,
+  framesSeen: 0, drawnParts: {},
 };
 window.studio = studio;          // the browser tests read it
 
@@ -26,6 +26,7 @@ function connect() {
     if (msg.type === "hello") onHello(msg);
     else if (msg.type === "frame") onFrame(msg);
     else if (msg.type === "node") showNode(msg);
+    else if (msg.type === "checked") window.onChecked(msg);
     else if (msg.type === "error") notice(`refused: ${msg.message}`);
   };
   ws.onclose = () => { notice("disconnected from the studio server"); };
@@ -46,6 +47,7 @@ function onHello(msg) {
   if (msg.tree) drawTree(msg.tree);
   drawWorld(msg.world);
   if (msg.mode === "replay") setupTimeline(msg.timeline);
+  if (msg.mode === "edit") window.startEditor(msg.edit);
 }
 
 function uidOf(title) {  // Graphviz name "n0_1_3" -> uid "0.1.3"
@@ -85,6 +87,7 @@ function shapesOf(g) {
 
 // ---------------------------------------------------------------- the map
 function drawWorld(world) {
+  studio.drawnParts = {};
   const svg = $("map");
   svg.innerHTML = "";
   const grid = world.grid;
@@ -155,6 +158,7 @@ function onFrame(frame) {
   if (studio.mode === "replay") showTime(frame.t);
   if (studio.selected) send({ op: "node", uid: studio.selected });
   if (studio.mode === "replay") seekDone();
+  else send({ op: "ack" });  // drawn: the server may send the next one
 }
 
 function paintTree(frame) {
@@ -181,6 +185,7 @@ function paintWorld(frame) {
     robot.dataset.x = x.toFixed(3);
     robot.dataset.y = y.toFixed(3);
   }
+  if (!changedSince("world", [frame.survivors, frame.zones_reached])) return;
   const survivors = $("survivors");
   survivors.innerHTML = "";
   const res = studio.grid.resolution;
@@ -199,7 +204,15 @@ function paintWorld(frame) {
   }
 }
 
+function changedSince(key, value) {  // whether a part of the frame differs from the last drawn
+  const text = JSON.stringify(value);
+  if (studio.drawnParts[key] === text) return false;
+  studio.drawnParts[key] = text;
+  return true;
+}
+
 function fillBlackboard(frame) {
+  if (!changedSince("blackboard", [frame.entries, frame.blackboard])) return;
   const rows = [];
   for (const [name, e] of Object.entries(frame.entries)) rows.push([name, e.value, `${e.type || ""} ← ${e.writer || ""}`]);
   for (const [key, value] of Object.entries(frame.blackboard)) rows.push([key, value, ""]);
@@ -215,6 +228,7 @@ function fillBlackboard(frame) {
 }
 
 function fillReasons(frame) {
+  if (!changedSince("reasons", frame.reasons)) return;
   const list = $("reasons");
   list.innerHTML = "";
   for (const r of frame.reasons) {

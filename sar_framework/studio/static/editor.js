@@ -14,6 +14,7 @@ window.startEditor = (edit) => {
   editor.top = edit.completions.top;
   $("editor-pane").hidden = false;
   document.querySelector("aside").hidden = true;
+  $("run-info").hidden = true;
   $("edit-path").textContent = edit.path;
   const source = $("source");
   if (source.dataset.loaded !== "yes") {

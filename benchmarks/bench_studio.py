@@ -41,6 +41,7 @@ TREE = REPO / "trees" / "search_and_rescue.yaml"
 from sar_framework.testing.browser import (  # noqa: E402 - after the path is set
     browser_missing,
     headless_chromium,
+    record_mission,
     start_studio,
 )
 
@@ -129,16 +130,6 @@ def live_row(speed: float, folder: Path) -> tuple[str, int, float, list[float]]:
     return f"live, speed {speed:g}: tick -> drawn", ticks, shown, latencies
 
 
-def long_recording(folder: Path) -> Path:
-    """The reference mission with a slow robot (minutes of simulated time), recorded."""
-    record = folder / "long.mcap"
-    subprocess.run([sys.executable, "-m", "sar_framework", "run", str(TREE), "--speed", "20",
-                    "--sim-param", "speed_scale:=0.25", "--record", str(record),
-                    "--report-dir", str(folder / "long")],
-                   capture_output=True, check=True, timeout=1800, cwd=REPO)
-    return record
-
-
 def replay_rows(record: Path, scrubs: int, folder: Path) -> list[tuple[str, int, float,
                                                                        list[float]]]:
     """Scrub the recording in the page, and time the server's frame(t) alone."""
@@ -189,8 +180,9 @@ def main(argv: list[str] | None = None) -> int:
         if "live" in args.parts:
             rows.extend(live_row(speed, folder) for speed in args.speeds)
         if "replay" in args.parts:
-            rows.extend(replay_rows(args.recording or long_recording(folder), args.scrubs,
-                                    folder))
+            recording = args.recording or record_mission(folder / "long.mcap",
+                                                         "speed_scale:=0.25")
+            rows.extend(replay_rows(recording, args.scrubs, folder))
     width = max(len(r[0]) for r in rows)
     print(f"{'what':<{width}} {'n':>5} {'shown':>6} {'median ms':>10} {'p95 ms':>8} "
           f"{'max ms':>8}")

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -20,12 +19,12 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
-TREE = REPO / "trees" / "search_and_rescue.yaml"
 OUT = REPO / "docs" / "img" / "studio.png"
 
 from sar_framework.testing.browser import (  # noqa: E402 - after the path is set
     browser_missing,
     headless_chromium,
+    record_mission,
     start_studio,
 )
 
@@ -33,16 +32,6 @@ SELECT = """
 const uid = Object.values(studio.hello.tree.nodes).find((f) => f.name === arguments[0]).uid;
 selectNode(uid);
 """
-
-
-def record(folder: Path) -> Path:
-    """The reference mission, its second goal aborted, recorded at speed 20."""
-    path = folder / "mission.mcap"
-    subprocess.run([sys.executable, "-m", "sar_framework", "run", str(TREE), "--speed", "20",
-                    "--sim-param", "abort_goal_numbers:=[2]", "--record", str(path),
-                    "--report-dir", str(folder / "report")],
-                   check=True, capture_output=True, timeout=600, cwd=REPO)
-    return path
 
 
 def picture(recording: Path, out: Path, folder: Path) -> Path:
@@ -81,7 +70,8 @@ def main(argv: list[str] | None = None) -> int:
     os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     with tempfile.TemporaryDirectory(prefix="studio_picture_") as tmp:
         folder = Path(tmp)
-        recording = args.recording or record(folder)
+        recording = args.recording or record_mission(folder / "mission.mcap",
+                                                     "abort_goal_numbers:=[2]")
         print(f"studio_picture: {picture(recording, args.out, folder)}")
     return 0
 

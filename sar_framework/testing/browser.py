@@ -3,7 +3,8 @@
 :func:`browser_missing` says why no browser can be driven here (or None);
 :func:`headless_chromium` opens one through selenium with the system's
 ``/usr/bin/chromedriver`` (selenium is given both paths and told to stay offline, so it
-never downloads a browser or a driver); :func:`start_studio` starts ``sar-tree studio``
+never downloads a browser or a driver); :func:`record_mission` records the reference
+mission with a fault; :func:`start_studio` starts ``sar-tree studio``
 in a child process and returns it with the page's address; :func:`colour_share` measures
 how much of a screenshot's rectangle is one colour (how the tests check node colours).
 """
@@ -14,6 +15,8 @@ import contextlib
 import io
 import os
 import shutil
+import subprocess
+import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -21,6 +24,8 @@ from typing import Any
 from sar_framework.testing.processes import NodeProcess
 
 CHROMEDRIVER = Path("/usr/bin/chromedriver")
+REPO = Path(__file__).resolve().parents[2]
+REFERENCE_TREE = REPO / "trees" / "search_and_rescue.yaml"
 #: Where Debian installs chromium (``apt-get install chromium chromium-driver``).
 CHROMIUM_NAMES = ("chromium", "chromium-browser")
 
@@ -63,6 +68,23 @@ def headless_chromium(width: int = 1400, height: int = 900) -> Iterator[Any]:
         yield driver
     finally:
         driver.quit()
+
+
+def record_mission(path: Path, sim_param: str, speed: float = 20.0,
+                   timeout: float = 1800.0) -> Path:
+    """Record the reference mission with one simulator fault or setting; return ``path``.
+
+    Args:
+        path: The ``.mcap`` to write (the report goes beside it).
+        sim_param: One ``--sim-param`` (``abort_goal_numbers:=[2]``, ``speed_scale:=0.25``).
+        speed: The simulator's speed factor.
+        timeout: Seconds the run may take.
+    """
+    subprocess.run([sys.executable, "-m", "sar_framework", "run", str(REFERENCE_TREE),
+                    "--speed", f"{speed:g}", "--sim-param", sim_param, "--record", str(path),
+                    "--report-dir", str(path.with_suffix(""))],
+                   check=True, capture_output=True, timeout=timeout, cwd=REPO)
+    return path
 
 
 def start_studio(args: Sequence[str], log_dir: Path, label: str = "studio"

@@ -9,8 +9,9 @@ Needs chromium and chromedriver (``apt-get install chromium chromium-driver``).
   the reference mission (trees/search_and_rescue.yaml) runs at each ``--speeds``. An
   rclpy subscriber in this process notes the wall time each ``/sar_tree/status`` tick
   arrives; the page notes when the frame of that tick was drawn (``Date.now()``, the same
-  clock). The latency is the difference, per tick the page drew; ``shown`` is the share
-  of ticks drawn (the server sends the newest frame at most every 30 ms, so at high
+  clock). The latency is the difference, per tick the page drew (its first frame: the
+  robot's moves redraw the same tick); ``shown`` is the share of ticks drawn (the server
+  sends the newest frame at most every 30 ms and once the page drew the last, so at high
   speeds ticks closer than that are drawn together).
 - **replay**: a long recording (by default the reference mission with a robot at a
   quarter of its speed, several minutes of simulated time, recorded at speed 20) is
@@ -124,9 +125,12 @@ def live_row(speed: float, folder: Path) -> tuple[str, int, float, list[float]]:
         stop.set()
         listener.join(timeout=5)
         studio.stop()
-    latencies = [at - arrivals[tick] for tick, at in drawn if tick in arrivals]
+    first_drawn: dict[int, float] = {}
+    for tick, at in drawn:  # later frames of the same tick (the robot moved) do not count
+        first_drawn.setdefault(tick, at)
+    latencies = [at - arrivals[tick] for tick, at in first_drawn.items() if tick in arrivals]
     ticks = len(arrivals)
-    shown = len({tick for tick, _ in drawn if tick in arrivals}) / ticks if ticks else 0.0
+    shown = len([tick for tick in first_drawn if tick in arrivals]) / ticks if ticks else 0.0
     return f"live, speed {speed:g}: tick -> drawn", ticks, shown, latencies
 
 

@@ -11,7 +11,7 @@ Needs chromium and chromedriver (``apt-get install chromium chromium-driver``).
   arrives; the page notes when the frame of that tick was drawn (``Date.now()``, the same
   clock). The latency is the difference, per tick the page drew (its first frame: the
   robot's moves redraw the same tick); ``shown`` is the share of ticks drawn (the server
-  sends the newest frame at most every 30 ms and once the page drew the last, so at high
+  sends the newest frame at most every 10 ms and once the page drew the last, so at high
   speeds ticks closer than that are drawn together).
 - **replay**: a long recording (by default the reference mission with a robot at a
   quarter of its speed, several minutes of simulated time, recorded at speed 20) is

@@ -43,7 +43,7 @@ from sar_framework.studio.session import LIVE, Session
 
 STATIC = Path(__file__).resolve().parent / "static"
 #: Shortest time between two frames pushed to one tab (live), seconds.
-PUSH_PERIOD_S = 0.03
+PUSH_PERIOD_S = 0.01
 #: Longest wait for the page's ``ack`` of a frame before the next is sent anyway, seconds.
 ACK_WAIT_S = 1.0
 TOKEN_HEADER = "x-studio-token"

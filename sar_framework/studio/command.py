@@ -1,9 +1,9 @@
 """``sar-tree studio live|replay|edit``: start the studio and print its address.
 
 ``live`` attaches to the mission running on this ROS domain (``sar-tree run``, ``ros2
-launch``); ``replay FILE.mcap`` opens a recording of ``sar-tree run --record``; ``edit TREE`` edits
-a tree file (:mod:`.editor`), which must lie in the project, the working directory or a
-``--root`` directory.
+launch``), or starts one with ``--run TREE``; ``replay FILE.mcap`` opens a recording of
+``sar-tree run --record``; ``edit TREE`` edits a tree file (:mod:`.editor`), which must
+lie in the project, the working directory or a ``--root`` directory.
 
 The server binds ``127.0.0.1`` unless ``--host`` says otherwise, on ``--port`` (a free
 one by default), and prints the page's address with the session's token, as Jupyter
@@ -28,6 +28,7 @@ from sar_framework.studio.safety import (
 )
 
 if TYPE_CHECKING:
+    from sar_framework.child_process import ChildProcess
     from sar_framework.studio.editor import TreeEditor
     from sar_framework.studio.session import Session
 
@@ -48,6 +49,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
                            "diagram is drawn from what the runner publishes)")
     live.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
                       help="a folder of leaf plugins the tree uses (repeatable)")
+    live.add_argument("--run", metavar="TREE",
+                      help="start the mission too: `sar-tree run TREE` with --params, "
+                           "--speed and --plugin-path (stopped with the studio)")
+    live.add_argument("--speed", type=float, metavar="X",
+                      help="with --run: the simulator's speed factor")
     live.add_argument("--params", default=DEFAULT_PARAMS, metavar="FILE",
                       help=f"mission parameter file: zones, base (default: {DEFAULT_PARAMS})")
     replay = modes.add_parser("replay", help="scrub through a recording (.mcap)",
@@ -90,16 +96,31 @@ def studio_command(args: argparse.Namespace) -> int:
         session = _session(args, editor)
         if isinstance(session, int):
             return session
-        feed = None
+        feed = mission = None
         if session.mode == LIVE:
             from sar_framework.studio.ros_feed import LiveFeed
 
             feed = LiveFeed(session).start()
+            mission = _start_mission(args) if args.run else None
         try:
             return _serve(session, args, listener, editor)
         finally:
+            if mission is not None:
+                mission.stop(timeout=10.0)  # SIGINT: the mission cancels its goal and ends
             if feed is not None:
                 feed.stop()
+
+
+def _start_mission(args: argparse.Namespace) -> ChildProcess:
+    """``sar-tree run`` of ``--run``, its output on this terminal."""
+    from sar_framework.child_process import ChildProcess
+
+    argv = [sys.executable, "-m", "sar_framework", "run", args.run, "--params", args.params]
+    if args.speed is not None:
+        argv += ["--speed", f"{args.speed:g}"]
+    for folder in args.plugin_path:
+        argv += ["--plugin-path", folder]
+    return ChildProcess(argv, "mission", die_with_parent=True).start()
 
 
 def _editor(args: argparse.Namespace) -> TreeEditor | int:
@@ -146,15 +167,16 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
 
 
 def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
-    """The tree view of ``--tree``, None without one, or the exit code of a bad one."""
-    if not args.tree:
+    """The tree view of ``--tree`` (else ``--run``); None, or the exit code of a bad one."""
+    path = args.tree or args.run
+    if not path:
         return None
     from sar_framework.engine.api import validate
     from sar_framework.studio.tree_view import tree_view
 
-    if not Path(args.tree).is_file():
-        return _fail(f"tree file not found: '{args.tree}'")
-    result = validate(args.tree, plugin_paths=args.plugin_path)
+    if not Path(path).is_file():
+        return _fail(f"tree file not found: '{path}'")
+    result = validate(path, plugin_paths=args.plugin_path)
     if result.spec is None:
         for diagnostic in result.diagnostics:
             sys.stderr.write(f"{diagnostic}\n")
@@ -172,6 +194,8 @@ def _listen(args: argparse.Namespace) -> socket.socket | int:
     listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     try:
         listener.bind((args.host, args.port))
+        listener.listen(128)  # a page opened as soon as the address is printed waits, never
+        #                       finds the port closed
     except OSError as err:
         listener.close()
         return _fail(f"cannot listen on {args.host}:{args.port}: {err.strerror or err}")

@@ -24,6 +24,7 @@ window.startEditor = (edit) => {
     source.addEventListener("scroll", syncScroll);
     source.addEventListener("keydown", onKey);
     $("save").addEventListener("click", save);
+    $("apply").addEventListener("click", apply);
   }
   paint();
   check();
@@ -172,19 +173,36 @@ function onKey(e) {
   if (e.key === "Tab") { e.preventDefault(); $("source").setRangeText("  ", $("source").selectionStart, $("source").selectionEnd, "end"); changed(); }
 }
 
-// ---------------------------------------------------------------- saving
+// ---------------------------------------------------------------- saving, applying
+async function post(url, body) {
+  const answer = await fetch(url, {
+    method: "POST", headers: { "content-type": "application/json", "x-studio-token": studio.token || "" },
+    body: JSON.stringify(body),
+  });
+  return [answer.ok, await answer.json()];
+}
+
+// Hot reload (issue 22, point 4): the server's /api/reload swaps the running mission's tree;
+// until it does, it answers 501 and this says so.
+async function apply() {
+  const state = $("save-state");
+  state.textContent = "applying…";
+  try {
+    const [ok, body] = await post("/api/reload", { text: $("source").value });
+    state.textContent = ok ? `applied: ${body.summary || "tree swapped"}` : `not applied: ${body.error}`;
+  } catch (err) {
+    state.textContent = `not applied: ${err}`;
+  }
+}
+
 async function save() {
   const state = $("save-state");
   state.textContent = "saving…";
   try {
-    const answer = await fetch("/api/save", {
-      method: "POST", headers: { "content-type": "application/json", "x-studio-token": studio.token || "" },
-      body: JSON.stringify({ text: $("source").value }),
-    });
-    const body = await answer.json();
-    state.textContent = answer.ok ? `saved ${body.saved}${body.ok ? "" : " (with errors)"}`
+    const [ok, body] = await post("/api/save", { text: $("source").value });
+    state.textContent = ok ? `saved ${body.saved}${body.ok ? "" : " (with errors)"}`
       : `not saved: ${body.error}`;
-    if (answer.ok) window.onChecked({ ...body, type: "checked" });
+    if (ok) window.onChecked({ ...body, type: "checked" });
   } catch (err) {
     state.textContent = `not saved: ${err}`;
   }

@@ -32,11 +32,13 @@ REASONS_SHOWN = 40
 PATH_STEP_M = 0.05
 #: The window (seconds of the clock the statuses arrive by) ticks per second are counted on.
 RATE_WINDOW_S = 2.0
-#: Events that mark the replay timeline, and the mark's kind.
-MARKS = {EventKind.FAILURE: "failure", EventKind.TIMEOUT: "failure",
-         EventKind.ZONE_REACHED: "zone", EventKind.ZONE_UNREACHED: "failure",
-         EventKind.SURVIVOR_BROADCAST: "survivor", EventKind.DETECTION: "survivor",
-         EventKind.COMPLETION: "end"}
+#: Events (by kind name) that mark the replay timeline, and the mark's kind. A tree swapped
+#: by hot reload (issue 22, point 4; its event kind ``tree_swapped`` comes with it) is marked
+#: as soon as the event stream carries it.
+MARKS = {EventKind.FAILURE.value: "failure", EventKind.TIMEOUT.value: "failure",
+         EventKind.ZONE_REACHED.value: "zone", EventKind.ZONE_UNREACHED.value: "failure",
+         EventKind.SURVIVOR_BROADCAST.value: "survivor", EventKind.DETECTION.value: "survivor",
+         EventKind.COMPLETION.value: "end", "tree_swapped": "swap"}
 _SURVIVOR_KINDS = frozenset({EventKind.SURVIVOR_BROADCAST, EventKind.DETECTION})
 
 
@@ -127,10 +129,10 @@ class Timeline:
         return max(lasts) if lasts else 0.0
 
     def marks(self) -> list[dict[str, Any]]:
-        """The timeline's marks: failures, survivors, zone arrivals and the end, in order."""
-        return [{"t": self._event_times[i], "kind": MARKS[e.kind], "seq": e.seq,
+        """The timeline's marks: failures, survivors, zone arrivals, swaps and the end."""
+        return [{"t": self._event_times[i], "kind": MARKS[e.kind.value], "seq": e.seq,
                  "label": _event_label(e)}
-                for i, e in enumerate(self.events) if e.kind in MARKS]
+                for i, e in enumerate(self.events) if e.kind.value in MARKS]
 
     def frame(self, t: float | None = None) -> dict[str, Any]:
         """The mission at ``t`` (the latest when None), as the page draws it.

@@ -98,7 +98,7 @@ def find_python() -> str:
 
 
 def ensure_system_tools(python: str) -> None:
-    """Check cmake, compilers, dot and Python headers; apt-get install them as root."""
+    """Check cmake, compilers, dot, chromium (+ driver), Python headers; apt-get them as root."""
     missing = [pkg for cmd, pkg in SYSTEM_TOOLS.items() if shutil.which(cmd) is None]
     include = run([python, "-c", "import sysconfig;print(sysconfig.get_paths()['include'])"],
                   what="asking Python for its include dir").strip()

@@ -66,14 +66,14 @@ def configure(parser: argparse.ArgumentParser) -> None:
     edit.add_argument("tree", metavar="TREE", help="the tree file (created on save)")
     edit.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
                       help="a folder of leaf plugins the tree uses (repeatable)")
+    edit.add_argument("--root", action="append", default=[], metavar="DIR",
+                      help="a directory the studio may write in, besides the project and "
+                           "the working directory (repeatable)")
     for mode in (live, replay, edit):
         mode.add_argument("--host", default=DEFAULT_HOST,
                           help=f"address to listen on (default: {DEFAULT_HOST}, this machine "
                                "only)")
         mode.add_argument("--port", type=int, default=0, help="port (default: a free one)")
-        mode.add_argument("--root", action="append", default=[], metavar="DIR",
-                          help="a directory the studio may open files in, besides the "
-                               "project (repeatable)")
         mode.add_argument("--open", action="store_true", help="open the page in a browser")
 
 

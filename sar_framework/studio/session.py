@@ -138,6 +138,10 @@ def replay_session(path: Path, sources_dir: Path) -> Session:
         result = validate(files.tree, plugin_paths=files.plugin_paths)
         if result.spec is not None:
             tree = tree_view(result.spec)
+            original = recording.metadata.get("tree")
+            for facts in tree["nodes"].values() if original else ():
+                # where the recorded tree was, not the copy it was validated from
+                facts["location"] = facts["location"].replace(str(files.tree), original, 1)
     params = None
     if ATTACHMENT_PARAMS in recording.attachments:
         params = sources_dir / ATTACHMENT_PARAMS

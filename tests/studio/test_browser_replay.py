@@ -72,6 +72,7 @@ def test_the_failure_mark_scrubs_to_the_failure(page: Any, tmp_path: Path) -> No
         time.sleep(0.1)
     assert "last reason failure: goal to zone_b aborted" in panel.text
     assert "param action_name" in panel.text
+    assert f"at {DEFAULT_TREE}:" in panel.text  # the recorded tree's own path
 
 
 def test_the_scrubber_and_play_move_through_the_mission(page: Any) -> None:

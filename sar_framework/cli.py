@@ -1,6 +1,7 @@
 """The ``sar-tree`` command line.
 
-Subcommands: validate | render | plugins | schema | run | export | import | palette.
+Subcommands: validate | render | plugins | schema | run | export | import | palette |
+replay | watch | studio.
 
 Each subcommand is a :class:`Command` (its arguments and a function returning the
 exit code) registered in :data:`_COMMANDS`; each imports what it needs inside its
@@ -273,6 +274,19 @@ def _run_watch(args: argparse.Namespace) -> int:
     return watch_command(args)
 
 
+# -- studio -----------------------------------------------------------------------------
+def _configure_studio(parser: argparse.ArgumentParser) -> None:
+    from sar_framework.studio.command import configure
+
+    configure(parser)
+
+
+def _run_studio(args: argparse.Namespace) -> int:
+    from sar_framework.studio.command import studio_command
+
+    return studio_command(args)
+
+
 _COMMANDS: dict[str, Command] = {
     c.name: c
     for c in (
@@ -298,6 +312,8 @@ _COMMANDS: dict[str, Command] = {
                 _configure_replay, _run_replay),
         Command("watch", "show the running mission's tree live in the terminal",
                 _configure_watch, _run_watch),
+        Command("studio", "the mission in the browser: live, replayed from a recording, "
+                "or a tree edited", _configure_studio, _run_studio),
     )
 }  # fmt: skip
 

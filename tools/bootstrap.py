@@ -72,7 +72,9 @@ PACKAGE_SHARE = ("launch", "config", "maps", "trees")  # share/sar_framework, as
 EXECUTABLES = ("sar-tree", "sar-mission-runner", "sar-detect-survivor-server",
                "sar-report-survivor-server", "sar-sim", "sar-mission-recorder")
 # Command -> Debian package that provides it.
-SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz"}
+# chromium and its driver: the studio's browser tests (tests/studio) drive them headless.
+SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz",
+                "chromium": "chromium", "chromedriver": "chromium-driver"}
 
 
 # ---------------------------------------------------------------- 1. system tools
@@ -96,7 +98,7 @@ def find_python() -> str:
 
 
 def ensure_system_tools(python: str) -> None:
-    """Check cmake, compilers, dot and Python headers; apt-get install them as root."""
+    """Check cmake, compilers, dot, chromium (+ driver), Python headers; apt-get them as root."""
     missing = [pkg for cmd, pkg in SYSTEM_TOOLS.items() if shutil.which(cmd) is None]
     include = run([python, "-c", "import sysconfig;print(sysconfig.get_paths()['include'])"],
                   what="asking Python for its include dir").strip()

@@ -78,13 +78,14 @@ def _yaw(rotation: Any) -> float:
                       1.0 - 2.0 * (rotation.y * rotation.y + rotation.z * rotation.z))
 
 
-class _PoseTracker:
+class PoseTracker:
     """Composes the latest 2D transforms of ``/tf`` and ``/tf_static`` up to ``map``."""
 
     def __init__(self) -> None:
         self.parent: dict[str, tuple[str, float, float, float]] = {}
 
     def update(self, message: Any) -> list[tuple[float, float, float, float]]:
+        """Take a ``tf2_msgs/TFMessage``; return the robot poses ``(stamp_s, x, y, yaw)``."""
         moved = []
         for transform in message.transforms:
             t = transform.transform
@@ -99,6 +100,7 @@ class _PoseTracker:
         return moved
 
     def in_global(self, frame: str) -> tuple[float, float, float] | None:
+        """``frame``'s pose ``(x, y, yaw)`` in ``map``, or None while a link is missing."""
         x = y = yaw = 0.0
         for _ in range(len(self.parent) + 1):
             if frame == GLOBAL_FRAME:
@@ -132,7 +134,7 @@ def read_recording(path: str | Path) -> Recording:
     from sar_framework.runner.event_topic import from_message
 
     recording = Recording(Path(path))
-    tracker = _PoseTracker()
+    tracker = PoseTracker()
     classes: dict[str, Any] = {}
     requests: dict[tuple[bytes, int], Any] = {}
     seen_goals: set[str] = set()

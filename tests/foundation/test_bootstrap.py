@@ -52,7 +52,8 @@ def test_missing_system_tools_are_named_and_no_venv_is_made(tmp_path: Path) -> N
     env = dict(os.environ, PATH=str(bare), SAR_NO_APT="1", SAR_VENV=str(venv))
     done = run_bootstrap("--no-compat", env=env)
     assert done.returncode == 1
-    assert "missing system tools: cmake, gcc, g++, make, graphviz" in done.stderr
+    assert ("missing system tools: cmake, gcc, g++, make, graphviz, chromium, chromium-driver"
+            in done.stderr)
     assert "apt-get install" in done.stderr
     assert "Traceback" not in done.stderr
     assert not venv.exists()

@@ -1,0 +1,154 @@
+"""The live studio's ROS side: a node that feeds a running mission into a session.
+
+:class:`LiveFeed` spins its own rclpy node (``sar_studio``) in a thread and subscribes to
+what the mission publishes on the same ROS domain:
+
+- ``/sar_tree/status`` (:mod:`sar_framework.runner.tree_status`): the tree's statuses,
+  blackboard and entries, every tick;
+- ``/sar_mission/events`` (:mod:`sar_framework.runner.event_topic`): the typed events
+  (reasons, zones, survivors, completion);
+- ``/tf`` and ``/tf_static``: the robot's pose in ``map``
+  (:class:`~sar_framework.recording.readback.PoseTracker`, as replay reads them);
+- ``/map``: the occupancy grid the map server latches (injected obstacles included).
+
+All are latched or kept by their publishers, so a studio started after the mission sees
+its recent past. A status with a lower tick than the last one is a new mission: the
+session starts over. When the mission ends nothing more arrives, and the last frame stays.
+
+This is the only studio module that imports ROS.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any
+
+from sar_framework.events.event import EVENT_TOPIC
+from sar_framework.runner.tree_status import STATUS_HISTORY, STATUS_TOPIC, decode_status
+from sar_framework.studio.session import Session
+from sar_framework.studio.timeline import Timeline
+from sar_framework.studio.world_view import grid_view
+
+#: Seconds between spins of the feed's executor (how soon it notices a stop).
+SPIN_S = 0.1
+#: A pose is kept when the robot moved this far (m) or turned this much (rad)...
+POSE_STEP = (0.01, 0.02)
+#: ...or this much (simulated) time passed since the last kept one (s).
+POSE_PERIOD_S = 0.5
+NODE_NAME = "sar_studio"
+
+
+class LiveFeed:
+    """Feeds the mission on this ROS domain into ``session`` until :meth:`stop`.
+
+    Args:
+        session: The live session to fill.
+    """
+
+    def __init__(self, session: Session) -> None:
+        self._session = session
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="sar-studio-ros", daemon=True)
+        self._tracker: Any = None
+        self._last_pose: tuple[float, float, float, float] | None = None
+        self.error: str | None = None
+
+    def start(self) -> LiveFeed:
+        """Start spinning in the feed's thread; return self."""
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        """Stop spinning and shut the node down (waits for the thread)."""
+        self._stop.set()
+        self._thread.join(timeout=5.0)
+
+    # -- the thread --------------------------------------------------------------------------
+    def _run(self) -> None:
+        import rclpy
+        from nav_msgs.msg import OccupancyGrid
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.node import Node
+        from rclpy.signals import SignalHandlerOptions
+        from sar_interfaces.msg import MissionEvent as EventMsg
+        from std_msgs.msg import String
+        from tf2_msgs.msg import TFMessage
+
+        from sar_framework.recording.readback import PoseTracker
+        from sar_framework.ros.qos import latched_qos, tf_static_qos
+        from sar_framework.runner.event_topic import event_qos
+
+        self._tracker = PoseTracker()
+        context = rclpy.Context()
+        rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
+        node = Node(NODE_NAME, context=context)
+        node.create_subscription(String, STATUS_TOPIC, self._on_status,
+                                 latched_qos(STATUS_HISTORY))
+        node.create_subscription(EventMsg, EVENT_TOPIC, self._on_event, event_qos())
+        node.create_subscription(TFMessage, "/tf", self._on_tf, 100)
+        node.create_subscription(TFMessage, "/tf_static", self._on_tf, tf_static_qos())
+        node.create_subscription(OccupancyGrid, "/map", self._on_map, latched_qos())
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        try:
+            while not self._stop.is_set() and context.ok():
+                executor.spin_once(timeout_sec=SPIN_S)
+        except Exception as err:  # the page says so; the server keeps serving
+            self.error = f"{type(err).__name__}: {err}"
+            node.get_logger().error(f"the studio's ROS feed stopped: {self.error}")
+        finally:
+            executor.shutdown(timeout_sec=0.0)
+            node.destroy_node()
+            rclpy.try_shutdown(context=context)
+
+    def _on_status(self, message: Any) -> None:
+        try:
+            document = decode_status(message.data)
+        except ValueError:
+            return
+        session = self._session
+        with session.lock:
+            statuses = session.timeline.statuses
+            if statuses and document.get("tick", 0) == statuses[-1].get("tick"):
+                return  # the same tick again (a latched copy)
+            if statuses and document.get("tick", 0) < statuses[-1].get("tick", 0):
+                session.timeline = Timeline()  # a new mission
+                self._last_pose = None
+            session.adopt_status_tree(document)
+            session.timeline.add_status(document, time.monotonic())
+        session.changed()
+
+    def _on_event(self, message: Any) -> None:
+        from sar_framework.runner.event_topic import from_message
+
+        try:
+            event = from_message(message)
+        except ValueError:
+            return  # a kind a later version added (e.g. tree_swapped before this knows it)
+        with self._session.lock:
+            self._session.timeline.add_event(event)
+        self._session.changed()
+
+    def _on_tf(self, message: Any) -> None:
+        kept = []
+        for pose in self._tracker.update(message):
+            last = self._last_pose
+            if last is None or abs(pose[1] - last[1]) + abs(pose[2] - last[2]) >= POSE_STEP[0] \
+                    or abs(pose[3] - last[3]) >= POSE_STEP[1] or pose[0] - last[0] >= POSE_PERIOD_S:
+                kept.append(pose)
+                self._last_pose = pose
+        if not kept:
+            return
+        with self._session.lock:
+            for pose in kept:
+                self._session.timeline.add_pose(*pose)
+        self._session.changed()
+
+    def _on_map(self, message: Any) -> None:
+        info = message.info
+        grid = grid_view(info.width, info.height, info.resolution,
+                         (info.origin.position.x, info.origin.position.y), message.data)
+        with self._session.lock:
+            self._session.world = {**self._session.world, "grid": grid}
+        self._session.changed()

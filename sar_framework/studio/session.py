@@ -1,0 +1,153 @@
+"""One studio session: what the page shows (live or replayed), shared by every browser tab.
+
+A :class:`Session` holds the :class:`~sar_framework.studio.timeline.Timeline`, the tree's
+diagram (:mod:`.tree_view`) and the map (:mod:`.world_view`). Live, the ROS feed
+(:mod:`.ros_feed`) fills it from its own thread and calls :meth:`Session.changed`; the
+server's tabs wait on :meth:`Session.wait_change` and send the newest frame. Replayed, it
+is filled once from the recording (:func:`replay_session`) and each tab asks for the frame
+at the instant its scrubber shows.
+
+No ROS here.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import threading
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from sar_framework.studio.timeline import Timeline, timeline_of
+from sar_framework.studio.tree_view import matches, status_tree_view, tree_view
+from sar_framework.studio.world_view import world_view
+
+LIVE = "live"
+REPLAY = "replay"
+EDIT = "edit"
+
+
+class Session:
+    """What the studio shows, and who to tell when it changes.
+
+    Args:
+        mode: :data:`LIVE`, :data:`REPLAY` or :data:`EDIT`.
+        tree: The tree view from a tree file, if any (else drawn from the first status).
+        world: The map view.
+        title: A line for the page's header (the recording or the domain).
+    """
+
+    def __init__(self, mode: str, tree: dict[str, Any] | None, world: dict[str, Any],
+                 title: str) -> None:
+        self.mode = mode
+        self.tree = tree
+        self.world = world
+        self.title = title
+        self.timeline = Timeline()
+        self.lock = threading.Lock()
+        self.version = 0
+        #: The editor's file, text and completions (``edit`` mode only).
+        self.edit: dict[str, Any] | None = None
+        self._listeners: dict[int, Callable[[], None]] = {}
+
+    # -- filled by the feed (any thread) -------------------------------------------------------
+    def changed(self) -> None:
+        """Say that the timeline, tree or map changed (call after adding, lock released)."""
+        self.version += 1
+        for listener in list(self._listeners.values()):
+            listener()
+
+    def adopt_status_tree(self, document: dict[str, Any]) -> bool:
+        """Draw the tree from a status document when the known diagram does not fit it.
+
+        Returns:
+            Whether the diagram changed (a first status, or a tree of other nodes).
+        """
+        if self.tree is not None and matches(self.tree, document["nodes"]):
+            return False
+        self.tree = status_tree_view(document.get("tree", "tree"), document["nodes"])
+        return True
+
+    # -- read by the server ------------------------------------------------------------------
+    def listen(self, loop: asyncio.AbstractEventLoop) -> asyncio.Event:
+        """An event set (in ``loop``) whenever the session changes."""
+        event = asyncio.Event()
+
+        def wake() -> None:
+            with contextlib.suppress(RuntimeError):  # the loop closed: the server stopped
+                loop.call_soon_threadsafe(event.set)
+
+        self._listeners[id(event)] = wake
+        return event
+
+    def forget(self, event: asyncio.Event) -> None:
+        """Stop telling ``event`` (a closed tab)."""
+        self._listeners.pop(id(event), None)
+
+    def hello(self) -> dict[str, Any]:
+        """Everything a tab draws once: mode, tree, map and the timeline's span and marks."""
+        with self.lock:
+            return {"type": "hello", "mode": self.mode, "title": self.title,
+                    "tree": self.tree, "world": self.world, "version": self.version,
+                    "timeline": {"start": self.timeline.start_s, "end": self.timeline.end_s,
+                                 "marks": self.timeline.marks()},
+                    "edit": self.edit,
+                    "reload": None}  # hot reload (issue 22, point 4) plugs in here
+
+    def frame(self, t: float | None = None) -> dict[str, Any]:
+        """The frame at ``t`` (the newest when None)."""
+        with self.lock:
+            frame = self.timeline.frame(t)
+            frame.update(type="frame", version=self.version, end=self.timeline.end_s)
+            return frame
+
+    def node_detail(self, uid: str, t: float | None = None) -> dict[str, Any]:
+        """A node's facts, status history and last reason at ``t``."""
+        with self.lock:
+            facts = (self.tree or {}).get("nodes", {}).get(uid)
+            detail = self.timeline.node_detail(uid, t)
+        return {"type": "node", "facts": facts, **detail}
+
+
+def replay_session(path: Path, sources_dir: Path) -> Session:
+    """A session showing a recording (``sar-tree run --record``).
+
+    Args:
+        path: The ``.mcap`` file.
+        sources_dir: Where the recorded tree files are written to be validated again.
+
+    Raises:
+        RecordingError: Not a recording of ours, or no tree status in it.
+    """
+    from sar_framework.engine.api import validate
+    from sar_framework.recording.readback import RecordingError, read_recording
+    from sar_framework.recording.recorder import ATTACHMENT_PARAMS
+    from sar_framework.recording.sources import SourcesError, extract
+
+    recording = read_recording(path)
+    if not recording.statuses:
+        raise RecordingError(f"{path}: no tree status in the recording "
+                             "(was it recorded with sar-tree run --record?)")
+    tree = None
+    try:
+        files = extract(recording.attachments, recording.metadata, sources_dir)
+    except SourcesError:
+        files = None
+    if files is not None and files.tree is not None:
+        result = validate(files.tree, plugin_paths=files.plugin_paths)
+        if result.spec is not None:
+            tree = tree_view(result.spec)
+            original = recording.metadata.get("tree")
+            for facts in tree["nodes"].values() if original else ():
+                # where the recorded tree was, not the copy it was validated from
+                facts["location"] = facts["location"].replace(str(files.tree), original, 1)
+    params = None
+    if ATTACHMENT_PARAMS in recording.attachments:
+        params = sources_dir / ATTACHMENT_PARAMS
+        params.parent.mkdir(parents=True, exist_ok=True)
+        params.write_bytes(recording.attachments[ATTACHMENT_PARAMS])
+    session = Session(REPLAY, tree, world_view(params), str(path))
+    session.timeline = timeline_of(recording)
+    session.adopt_status_tree(recording.statuses[0])
+    return session

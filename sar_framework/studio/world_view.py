@@ -1,0 +1,77 @@
+"""The course as the studio draws it: walls, zones in visiting order and the base station.
+
+The walls are the occupancy grid's occupied cells, sent as runs per row (``[row, first
+column, length]``) so the page draws a few thousand rectangles instead of a bitmap: no
+image library in the page, and a grid the size of ours (260 x 220 cells) is a few kB.
+Live, the grid is the one the map server latches on ``/map`` (injected obstacles
+included); replayed or before ``/map`` arrives, the course map file
+(:data:`~sar_framework.report_map.MAP_YAML`). Zones and base come from the mission
+parameter file (:func:`~sar_framework.report.read_mission_layout`).
+
+No ROS here: the ROS feed hands :func:`grid_view` plain numbers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from sar_framework.report import read_mission_layout
+from sar_framework.report_map import MAP_YAML
+
+#: A cell at or above this occupancy (0-100, as ``nav_msgs/OccupancyGrid``) is a wall.
+OCCUPIED_AT = 65
+
+
+def grid_view(width: int, height: int, resolution: float, origin: tuple[float, float],
+              cells: Sequence[int]) -> dict[str, Any]:
+    """The page's walls from a grid given row by row from the minimum y.
+
+    Args:
+        width: Cells along x.
+        height: Cells along y.
+        resolution: Metres per cell.
+        origin: ``(x, y)`` of the lower-left corner of cell (0, 0), metres.
+        cells: ``width * height`` occupancies (-1 unknown, 0 free .. 100 occupied).
+
+    Returns:
+        ``{"width", "height", "resolution", "origin": [x, y], "walls": [[row, col, n]...]}``.
+    """
+    runs: list[list[int]] = []
+    for row in range(height):
+        line = cells[row * width:(row + 1) * width]
+        col = 0
+        while col < width:
+            if line[col] >= OCCUPIED_AT:
+                start = col
+                while col < width and line[col] >= OCCUPIED_AT:
+                    col += 1
+                runs.append([row, start, col - start])
+            else:
+                col += 1
+    return {"width": width, "height": height, "resolution": resolution,
+            "origin": [origin[0], origin[1]], "walls": runs}
+
+
+def file_grid_view(map_yaml: Path = MAP_YAML) -> dict[str, Any]:
+    """The page's walls from a map_server yaml file (the course map by default)."""
+    from sar_framework.sim.occupancy import OCCUPIED, load_map
+
+    grid = load_map(map_yaml)
+    cells = [100 if value == OCCUPIED else 0 for value in grid.data.ravel().tolist()]
+    return grid_view(grid.width, grid.height, grid.resolution,
+                     (grid.origin_x, grid.origin_y), cells)
+
+
+def world_view(params_file: str | Path | None, grid: dict[str, Any] | None = None
+               ) -> dict[str, Any]:
+    """The page's map: the grid (the course map when None), zones and base.
+
+    Args:
+        params_file: The mission parameter file (zones, base station), if known.
+        grid: :func:`grid_view`'s document, e.g. from ``/map``.
+    """
+    zones, base = read_mission_layout(params_file) if params_file else ([], {})
+    return {"grid": grid if grid is not None else file_grid_view(), "zones": zones,
+            "base": base or None}

@@ -96,6 +96,19 @@ class AmclStandIn:
         self.updates += 1
         self._publish(pose_msg(pose), _TRACKING_COVARIANCE, now_ns)
 
+    def reset(self, *, localized: bool) -> None:
+        """Forget the filter's state, as at start-up (``~/reset`` of the simulator)."""
+        self._seeded = localized
+        self._last_update = None
+        self._next_check_ns = 0
+
+    def publish_truth(self, now_ns: int) -> None:
+        """Publish the true pose on ``/amcl_pose`` now, if localised."""
+        if self.localized:
+            pose = self._truth()
+            self._last_update = pose
+            self._publish(pose_msg(pose), _TRACKING_COVARIANCE, now_ns)
+
     def _publish(self, pose: Pose, covariance: dict[int, float] | list[float],
                  stamp_ns: int) -> None:
         answer = PoseWithCovarianceStamped()

@@ -206,6 +206,10 @@ class DiffDrive:
         self._motion_left = abs(amount)
         self._motion_speed = math.copysign(rate, amount)
 
+    def stand_still(self) -> None:
+        """Apply no command this step (a stuck controller); the goal is kept."""
+        self._v = self._w = 0.0
+
     def cancel(self) -> None:
         """Stop and drop the current goal."""
         self._phase = Phase.IDLE

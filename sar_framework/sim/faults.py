@@ -14,6 +14,11 @@ Plain Python (no ROS). The simulator node reads these settings from its paramete
   ``"x:y:radius"`` (``,`` or spaces also separate), or the name of a world marker with an
   optional radius: ``"zone_b"`` or ``"zone_b:0.8"`` (``sar-tree run`` also accepts the
   mission's zone names, which it turns into ``x:y:radius``).
+- ``phantom_obstacles``: circles, same syntax, written into both costmaps (never into the
+  map); costmap clearing removes them (:mod:`.costmaps`). Settable at run time.
+- ``stuck_recoveries`` / ``movement_time_allowance``: the controller makes no progress and
+  fails after the allowance until that many recovery motions have completed
+  (:mod:`.navigation`). Settable at run time.
 """
 
 from __future__ import annotations
@@ -29,7 +34,7 @@ from sar_framework.sim.occupancy import OCCUPIED, OccupancyGrid
 from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
 
 __all__ = ["DEFAULT_NAMED_RADIUS", "BlockedZone", "FaultConfigError", "Faults", "make_faults",
-           "parse_blocked_zone", "with_blocked_zones"]
+           "parse_blocked_zone", "parse_zones", "with_blocked_zones"]
 
 _SEPARATORS = re.compile(r"[:,\s]+")
 
@@ -55,25 +60,27 @@ class BlockedZone:
     label: str = ""
 
 
-def _number(text: str, entry: str) -> float:
+def _number(text: str, entry: str, setting: str) -> float:
     try:
         value = float(text)
     except ValueError:
         raise FaultConfigError(
-            f"blocked_zones: {entry!r}: {text!r} is not a number (expected 'x:y:radius' "
+            f"{setting}: {entry!r}: {text!r} is not a number (expected 'x:y:radius' "
             "or 'marker[:radius]')"
         ) from None
     if not math.isfinite(value):
-        raise FaultConfigError(f"blocked_zones: {entry!r}: {text!r} is not finite")
+        raise FaultConfigError(f"{setting}: {entry!r}: {text!r} is not finite")
     return value
 
 
-def parse_blocked_zone(entry: str, markers: Mapping[str, tuple[float, float]]) -> BlockedZone:
-    """Parse one ``blocked_zones`` entry.
+def parse_blocked_zone(entry: str, markers: Mapping[str, tuple[float, float]],
+                       setting: str = "blocked_zones") -> BlockedZone:
+    """Parse one ``blocked_zones`` (or ``phantom_obstacles``) entry.
 
     Args:
         entry: ``"x:y:radius"`` or ``"marker"`` / ``"marker:radius"``.
         markers: Known marker names and their ``(x, y)`` centres.
+        setting: The parameter it comes from (named in errors).
 
     Returns:
         The zone.
@@ -83,23 +90,34 @@ def parse_blocked_zone(entry: str, markers: Mapping[str, tuple[float, float]]) -
     """
     parts = [p for p in _SEPARATORS.split(entry.strip()) if p]
     if not parts:
-        raise FaultConfigError("blocked_zones: empty entry")
+        raise FaultConfigError(f"{setting}: empty entry")
     if parts[0] in markers:
         if len(parts) > 2:
-            raise FaultConfigError(f"blocked_zones: {entry!r}: expected 'marker[:radius]'")
+            raise FaultConfigError(f"{setting}: {entry!r}: expected 'marker[:radius]'")
         x, y = markers[parts[0]]
-        radius = _number(parts[1], entry) if len(parts) == 2 else DEFAULT_NAMED_RADIUS
+        radius = _number(parts[1], entry, setting) if len(parts) == 2 else DEFAULT_NAMED_RADIUS
     elif len(parts) == 3:
-        x, y, radius = (_number(p, entry) for p in parts)
+        x, y, radius = (_number(p, entry, setting) for p in parts)
     else:
         known = ", ".join(sorted(markers)) or "none"
         raise FaultConfigError(
-            f"blocked_zones: {entry!r}: expected 'x:y:radius' or a marker name "
+            f"{setting}: {entry!r}: expected 'x:y:radius' or a marker name "
             f"(known markers: {known})"
         )
     if radius <= 0.0:
-        raise FaultConfigError(f"blocked_zones: {entry!r}: radius must be positive")
+        raise FaultConfigError(f"{setting}: {entry!r}: radius must be positive")
     return BlockedZone(x=x, y=y, radius=radius, label=entry)
+
+
+def parse_zones(entries: Iterable[str], markers: Mapping[str, tuple[float, float]],
+                setting: str) -> tuple[BlockedZone, ...]:
+    """Parse a list of zone entries; empty strings are ignored (``['']`` means none).
+
+    Raises:
+        FaultConfigError: An entry is malformed (the message names ``setting``).
+    """
+    return tuple(parse_blocked_zone(entry, markers, setting)
+                 for entry in entries if entry.strip())
 
 
 @dataclass(frozen=True)
@@ -112,6 +130,9 @@ class Faults:
         abort_delay_s: Simulated seconds an injected abort waits after the goal starts.
         accept_delay_wall_s: Wall seconds before a goal request is answered.
         blocked_zones: Extra circular obstacles.
+        phantom_obstacles: Circles in both costmaps (clearing removes them) at start-up.
+        stuck_recoveries: Recovery motions a stuck controller needs at start-up.
+        movement_time_allowance: Simulated seconds before a stuck controller fails.
     """
 
     reject_goals: bool = False
@@ -119,6 +140,9 @@ class Faults:
     abort_delay_s: float = 1.0
     accept_delay_wall_s: float = 0.0
     blocked_zones: tuple[BlockedZone, ...] = ()
+    phantom_obstacles: tuple[BlockedZone, ...] = ()
+    stuck_recoveries: int = 0
+    movement_time_allowance: float = 10.0
 
     def aborts(self, goal_number: int) -> bool:
         """Return True if the ``goal_number``-th accepted goal (1-based) must abort."""
@@ -132,6 +156,8 @@ class Faults:
             or self.abort_goal_numbers
             or self.accept_delay_wall_s > 0.0
             or self.blocked_zones
+            or self.phantom_obstacles
+            or self.stuck_recoveries
         )
 
     def describe(self) -> str:
@@ -147,6 +173,13 @@ class Faults:
         if self.blocked_zones:
             zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.blocked_zones)
             parts.append(f"blocked zones {zones}")
+        if self.phantom_obstacles:
+            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})"
+                              for z in self.phantom_obstacles)
+            parts.append(f"phantom obstacles {zones}")
+        if self.stuck_recoveries:
+            parts.append(f"stuck for {self.stuck_recoveries} recoveries "
+                         f"(fails after {self.movement_time_allowance:g} s)")
         return "; ".join(parts) or "none"
 
 
@@ -158,6 +191,9 @@ def make_faults(
     accept_delay_wall_s: float = 0.0,
     blocked_zones: Iterable[str] = (),
     markers: Mapping[str, tuple[float, float]] | None = None,
+    phantom_obstacles: Iterable[str] = (),
+    stuck_recoveries: int = 0,
+    movement_time_allowance: float = 10.0,
 ) -> Faults:
     """Validate raw settings (as read from ROS parameters) into :class:`Faults`.
 
@@ -171,6 +207,9 @@ def make_faults(
         accept_delay_wall_s: Wall seconds before a goal request is answered.
         blocked_zones: Entries for :func:`parse_blocked_zone`.
         markers: Marker names for named blocked zones.
+        phantom_obstacles: Entries for :func:`parse_blocked_zone`, as ``blocked_zones``.
+        stuck_recoveries: Recovery motions a stuck controller needs (>= 0).
+        movement_time_allowance: Seconds a stuck controller runs before it fails (> 0).
 
     Returns:
         The settings.
@@ -187,15 +226,22 @@ def make_faults(
                         ("accept_delay_wall_s", accept_delay_wall_s)):
         if not (math.isfinite(value) and value >= 0.0):
             raise FaultConfigError(f"{name}: expected a number >= 0, got {value!r}")
-    zones = tuple(
-        parse_blocked_zone(entry, markers or {}) for entry in blocked_zones if entry.strip()
-    )
+    if int(stuck_recoveries) < 0:
+        raise FaultConfigError(f"stuck_recoveries: expected an integer >= 0, "
+                               f"got {stuck_recoveries!r}")
+    if not (math.isfinite(movement_time_allowance) and movement_time_allowance > 0.0):
+        raise FaultConfigError(f"movement_time_allowance: expected a number > 0, "
+                               f"got {movement_time_allowance!r}")
+    zones = parse_zones(blocked_zones, markers or {}, "blocked_zones")
     return Faults(
         reject_goals=bool(reject_goals),
         abort_goal_numbers=numbers,
         abort_delay_s=float(abort_delay_s),
         accept_delay_wall_s=float(accept_delay_wall_s),
         blocked_zones=zones,
+        phantom_obstacles=parse_zones(phantom_obstacles, markers or {}, "phantom_obstacles"),
+        stuck_recoveries=int(stuck_recoveries),
+        movement_time_allowance=float(movement_time_allowance),
     )
 
 

@@ -17,7 +17,9 @@ ERROR_NONE = 0
 FOLLOW_PATH_UNKNOWN = 100
 """``FollowPath.Result.UNKNOWN``: the controller stopped short of the goal."""
 FOLLOW_PATH_NO_PROGRESS = 105
-"""``FollowPath.Result.FAILED_TO_MAKE_PROGRESS``: an injected abort fault."""
+"""``FollowPath.Result.FAILED_TO_MAKE_PROGRESS``: an injected abort, a stuck controller."""
+FOLLOW_PATH_NO_VALID_CONTROL = 106
+"""``FollowPath.Result.NO_VALID_CONTROL``: the path runs through a local costmap obstacle."""
 
 
 class Kind(enum.Enum):

@@ -162,6 +162,7 @@ class WaypointFollower:
         log = self.node.get_logger()
         poses = list(request.poses)
         log.info(f"Received follow waypoint request with {len(poses)} waypoints.")
+        generation = self._gate.navigator.generation
         for index in range(request.goal_index, len(poses)):
             feedback.current_waypoint = index
             handle.publish_feedback(feedback)
@@ -175,7 +176,8 @@ class WaypointFollower:
             if goal is not None and goal.outcome is Outcome.CANCELED:
                 handle.canceled()
                 return result
-            if self._gate.closing.is_set() or (goal is not None and goal.outcome
+            if self._gate.closing.is_set() or self._gate.navigator.generation != generation \
+                    or (goal is not None and goal.outcome
                                                is Outcome.ABORTED and not goal.error_msg):
                 handle.abort()  # shut down, or preempted by another goal
                 return result

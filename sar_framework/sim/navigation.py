@@ -13,7 +13,12 @@ Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
 - a new goal preempts the running one: the old goal ends ABORTED with an empty result
   (``nav2_util::SimpleActionServer::accept_pending_goal`` aborts it with an empty result);
 - a cancelled goal stops the robot and ends CANCELED;
-- success needs the robot within the xy and yaw tolerances (the drive model's arrival).
+- success needs the robot within the xy and yaw tolerances (the drive model's arrival);
+- with ``costmaps``, plans use the global costmap's phantoms, and a path through a local
+  costmap phantom fails at once with FollowPath's NO_VALID_CONTROL (no trajectory is valid);
+- a stuck controller (``stuck_recoveries`` > 0) does not move the robot on a path, and the
+  goal fails with FAILED_TO_MAKE_PROGRESS once ``movement_time_allowance`` has passed (Nav2's
+  progress checker); each completed spin or straight motion counts the fault down.
 """
 
 from __future__ import annotations
@@ -23,11 +28,13 @@ import math
 import threading
 from collections.abc import Callable, Sequence
 
+from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
 from sar_framework.sim.faults import Faults
 from sar_framework.sim.goals import (
     ERROR_NONE,
     FOLLOW_PATH_NO_PROGRESS,
+    FOLLOW_PATH_NO_VALID_CONTROL,
     FOLLOW_PATH_UNKNOWN,
     Goal,
     GoalListener,
@@ -52,6 +59,7 @@ class Navigator:
         planner: The planner (map already inflated).
         faults: Injected faults (``abort_goal_numbers``/``abort_delay_s`` are used here).
         listener: Told about every goal start and end (trace file, logs).
+        costmaps: The costmaps' phantoms (then ``planner`` is only the fallback).
     """
 
     def __init__(
@@ -60,10 +68,16 @@ class Navigator:
         planner: GridPlanner,
         faults: Faults | None = None,
         listener: GoalListener | None = None,
+        costmaps: Costmaps | None = None,
     ) -> None:
         self._robot = robot
         self._planner = planner
+        self._costmaps = costmaps
         self._faults = faults or Faults()
+        self._stuck_left = self._faults.stuck_recoveries
+        self._allowance_s = self._faults.movement_time_allowance
+        self.generation = 0
+        """Counts resets: a multi-goal action stops when it changes (see :meth:`reset`)."""
         self._listener = listener
         self._lock = threading.Lock()
         self._current: Goal | None = None
@@ -77,6 +91,31 @@ class Navigator:
     def accepted_count(self) -> int:
         """How many goals have been started."""
         return self._accepted
+
+    @property
+    def planner(self) -> GridPlanner:
+        """The planner now (over the global costmap's phantoms when there are costmaps)."""
+        return self._costmaps.planner() if self._costmaps is not None else self._planner
+
+    def is_free(self, x: float, y: float) -> bool:
+        """Whether a path may pass through ``(x, y)`` (see :meth:`GridPlanner.is_free`)."""
+        return self.planner.is_free(x, y)
+
+    @property
+    def stuck_left(self) -> int:
+        """Recovery motions the stuck controller still needs (0: it moves)."""
+        return self._stuck_left
+
+    def set_stuck(self, recoveries: int, allowance_s: float) -> None:
+        """(Re-)arm the stuck controller.
+
+        Args:
+            recoveries: Completed spin/straight motions needed to free it (0: not stuck).
+            allowance_s: Simulated seconds without progress before a goal fails.
+        """
+        with self._lock:
+            self._stuck_left = max(int(recoveries), 0)
+            self._allowance_s = float(allowance_s)
 
     @property
     def planning(self) -> bool:
@@ -149,7 +188,8 @@ class Navigator:
             return self._begin(goal, None, (failure_code, failure))
         yaws = [pose.yaw for pose in via] + [target.yaw]
         goal.legs = list(zip(legs[1:], yaws[1:], strict=True))
-        return self._begin(goal, lambda: self._robot.follow(legs[0], yaws[0]))
+        return self._begin(goal, lambda: self._robot.follow(legs[0], yaws[0]),
+                           self._local_failure(goal.path))
 
     def plan_through(self, start: Pose2D, poses: Sequence[Pose2D]
                      ) -> list[list[tuple[float, float]]]:
@@ -163,8 +203,9 @@ class Navigator:
         """
         legs = []
         here = (start.x, start.y)
+        planner = self.planner
         for pose in poses:
-            legs.append(self._planner.plan(here, (pose.x, pose.y)))
+            legs.append(planner.plan(here, (pose.x, pose.y)))
             here = (pose.x, pose.y)
         return legs
 
@@ -172,7 +213,8 @@ class Navigator:
         """Follow ``path`` (no planning) and finish facing ``target.yaw``."""
         goal, _ = self._new_goal(target, Kind.FOLLOW)
         goal.path = [(float(x), float(y)) for x, y in path]
-        return self._begin(goal, lambda: self._robot.follow(path, target.yaw))
+        return self._begin(goal, lambda: self._robot.follow(path, target.yaw),
+                           self._local_failure(goal.path))
 
     def start_spin(self, angle: float, time_allowance_s: float, timeout_code: int) -> Goal:
         """Turn in place by ``angle`` radians; time out after ``time_allowance_s``."""
@@ -200,8 +242,34 @@ class Navigator:
         return self._begin(goal, self._robot.cancel)
 
     def path_is_clear(self, a: Pose2D, b: Pose2D) -> bool:
-        """Whether the robot's centre can go straight from ``a`` to ``b`` (no lethal cell)."""
-        return self._planner.segment_is_clear((a.x, a.y), (b.x, b.y), mask=self._planner.lethal)
+        """Whether the robot can go straight from ``a`` to ``b``.
+
+        Its centre must cross no lethal cell of the global costmap and its footprint no
+        phantom of the local one.
+        """
+        planner = self.planner
+        if not planner.segment_is_clear((a.x, a.y), (b.x, b.y), mask=planner.lethal):
+            return False
+        return self._costmaps is None or self._costmaps.local_blocks(
+            [(a.x, a.y), (b.x, b.y)]) is None
+
+    def reset(self, pose: Pose2D, reason: str) -> Goal | None:
+        """Abort the active goal, put the robot at rest at ``pose``, restart goal numbers.
+
+        Returns:
+            The aborted goal, or None if none was active.
+        """
+        with self._lock:
+            goal = self._current
+            aborted = goal if goal is not None and goal.active else None
+            self._robot.cancel()
+            if aborted is not None:
+                self._finish(aborted, Outcome.ABORTED, ERROR_NONE, reason)
+            self._robot.set_pose(pose)
+            self._current = None
+            self._accepted = 0
+            self.generation += 1
+            return aborted
 
     def cancel(self, goal: Goal) -> bool:
         """Cancel ``goal`` if it is the active one: the robot stops, the goal is CANCELED.
@@ -241,10 +309,21 @@ class Navigator:
             now_s: Simulated time at the end of the step.
         """
         with self._lock:
-            self._robot.step(dt)
-            self._now_s = now_s
             goal = self._current
+            stuck = (self._stuck_left > 0 and goal is not None and goal.active
+                     and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW))
+            if stuck:
+                self._robot.stand_still()
+            else:
+                self._robot.step(dt)
+            self._now_s = now_s
             if goal is None or not goal.active:
+                return
+            if stuck and now_s - goal.started_s >= self._allowance_s:
+                self._robot.cancel()
+                self._finish(goal, Outcome.ABORTED, FOLLOW_PATH_NO_PROGRESS,
+                             "Failed to make progress (stuck_recoveries: "
+                             f"{self._stuck_left} recoveries left)")
                 return
             arrived = self._robot.succeeded
             if goal.abort_at_s is not None and (now_s >= goal.abort_at_s or arrived):
@@ -269,6 +348,8 @@ class Navigator:
                 self._robot.follow(leg, yaw)
             elif arrived and (goal.kind in (Kind.SPIN, Kind.STRAIGHT)
                               or self._robot.within_tolerance()):
+                if goal.kind in (Kind.SPIN, Kind.STRAIGHT) and self._stuck_left > 0:
+                    self._stuck_left -= 1  # the robot wriggled
                 self._finish(goal, Outcome.SUCCEEDED, ERROR_NONE, "")
             elif not self._robot.active:
                 self._finish(goal, Outcome.ABORTED, FOLLOW_PATH_UNKNOWN, "controller stopped")
@@ -283,6 +364,14 @@ class Navigator:
             if self._faults.aborts(goal.number):
                 goal.abort_at_s = goal.started_s + self._faults.abort_delay_s
             return goal, self._robot.pose
+
+    def _local_failure(self, path: Sequence[tuple[float, float]]) -> tuple[int, str] | None:
+        """FollowPath's NO_VALID_CONTROL if ``path`` runs through a local costmap phantom."""
+        zone = self._costmaps.local_blocks(path) if self._costmaps is not None else None
+        if zone is None:
+            return None
+        return (FOLLOW_PATH_NO_VALID_CONTROL, "No valid trajectories: an obstacle of the "
+                f"local costmap at ({zone.x:.2f}, {zone.y:.2f}) lies on the path")
 
     def _set_deadline(self, goal: Goal, seconds: float, code: int) -> None:
         if seconds > 0.0:

@@ -18,7 +18,7 @@ DEFAULT_NAMED_RADIUS = 0.6
 """Radius, metres, of a blocked zone given only by a marker or zone name."""
 
 SPEED = Param("speed", float, 20.0, "simulated seconds per wall second (20 = 20x real time); "
-              "the only parameter that may change at run time",
+              "may change at run time",
               exclusive_minimum=0.0, maximum=1000.0)
 """The speed factor: its one default and its one rule (the simulator's, ``sar-tree run
 --speed``'s, the launch file's ``speed``'s and :class:`~.clock.SimClock`'s)."""
@@ -27,6 +27,21 @@ SPEED = Param("speed", float, 20.0, "simulated seconds per wall second (20 = 20x
 def _rate(name: str, default: float, description: str, unit: str = "Hz") -> Param:
     return Param(name, float, default, description, exclusive_minimum=0.0, unit=unit)
 
+
+RUNTIME_FAULTS: tuple[Param, ...] = (
+    Param("phantom_obstacles", list[str], None,
+          "fault (run-time): circles in both costmaps, never in the map, that costmap clearing "
+          "removes: 'x:y:radius' (m) or 'name[:radius]', as blocked_zones"),
+    Param("stuck_recoveries", int, 0,
+          "fault (run-time): the controller makes no progress (FollowPath 105 after "
+          "movement_time_allowance) until this many spin/backup/drive_on_heading motions "
+          "have completed; 0 = never stuck", minimum=0),
+    Param("movement_time_allowance", float, 10.0,
+          "progress checker: a stuck controller fails after this long (simulated)",
+          exclusive_minimum=0.0, unit="s"),
+)
+"""The faults that may be set while the simulator runs (``ros2 param set``); ``~/reset``
+re-arms them."""
 
 SIM_PARAMETERS: tuple[Param, ...] = (
     Param("map_yaml", str, str(DEFAULT_MAP_YAML), "map_server yaml the planner and /map use"),
@@ -68,6 +83,10 @@ SIM_PARAMETERS: tuple[Param, ...] = (
           "fault: circles added to the map as obstacles: 'x:y:radius' (m) or 'name[:radius]', "
           "a mission zone or world marker (radius "
           f"{DEFAULT_NAMED_RADIUS:g} m unless given)"),
+    *RUNTIME_FAULTS,
     USE_SIM_TIME,
 )
 """Every parameter ``sar_sim`` reads."""
+
+RUNTIME_NAMES = frozenset({SPEED.name, *(p.name for p in RUNTIME_FAULTS)})
+"""The parameters that may change while the simulator runs (the others are fixed)."""

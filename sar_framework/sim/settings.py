@@ -114,6 +114,9 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
             accept_delay_wall_s=num["accept_delay_wall_s"],
             blocked_zones=raw["blocked_zones"] or (),
             markers=markers,
+            phantom_obstacles=raw["phantom_obstacles"] or (),
+            stuck_recoveries=int(raw["stuck_recoveries"]),
+            movement_time_allowance=num["movement_time_allowance"],
         )
     except FaultConfigError as exc:
         raise SimConfigError(f"parameter {exc}") from exc

@@ -26,28 +26,28 @@ import traceback
 from typing import Any
 
 from nav_msgs.msg import Odometry
-from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
+from std_srvs.srv import Trigger
 from tf2_msgs.msg import TFMessage
 
 from sar_framework.sim import messages
 from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
+from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
 from sar_framework.sim.faults import with_blocked_zones
 from sar_framework.sim.goal_actions import GoalGate
 from sar_framework.sim.goals import Goal, RobotState
 from sar_framework.sim.lifecycle import take_not_offered
 from sar_framework.sim.lifecycle_manager import LifecycleManager
+from sar_framework.sim.live_params import LiveParameters
 from sar_framework.sim.map_server import MapServer
 from sar_framework.sim.motion_servers import BehaviorServer, ControllerServer, WaypointFollower
 from sar_framework.sim.nav_server import BtNavigator
 from sar_framework.sim.navigation import Navigator
-from sar_framework.sim.params import SIM_PARAMETERS, SPEED
-from sar_framework.sim.planner import GridPlanner
 from sar_framework.sim.planning_servers import PlannerServer, SmootherServer
 from sar_framework.sim.settings import DEFAULT_MAP_YAML, SimConfigError, SimSettings, read_settings
 from sar_framework.sim.trace import TraceWriter
@@ -79,8 +79,8 @@ class Simulator:
         self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed)
         self._clock_lock = threading.Lock()
         self._now_ns = 0
-        planning_grid = with_blocked_zones(self.grid, s.faults.blocked_zones)
-        self.planner = GridPlanner(planning_grid, robot_radius=s.robot_radius)
+        self.costmaps = Costmaps(with_blocked_zones(self.grid, s.faults.blocked_zones),
+                                 s.robot_radius, s.faults.phantom_obstacles)
         try:
             self.trace = TraceWriter(s.trace_file, s.trace_period_s) if s.trace_file else None
         except OSError as exc:
@@ -88,7 +88,8 @@ class Simulator:
             raise SimConfigError(f"parameter trace_file: cannot write {s.trace_file}: "
                                  f"{exc.strerror or exc}") from exc
         self.navigator = Navigator(
-            DiffDrive(s.spawn, s.limits), self.planner, s.faults, self._on_goal_event
+            DiffDrive(s.spawn, s.limits), self.costmaps.planner(), s.faults,
+            self._on_goal_event, costmaps=self.costmaps,
         )
         self.amcl = AmclStandIn(
             lambda: self.navigator.state().pose, self.now_ns,
@@ -102,7 +103,7 @@ class Simulator:
         self.planner_server = PlannerServer(self.navigator, self.now_ns, localized,
                                             global_frame=s.global_frame,
                                             resolution=self.grid.resolution)
-        self.smoother_server = SmootherServer(self.planner.is_free)
+        self.smoother_server = SmootherServer(self.navigator.is_free)
         self.controller_server = ControllerServer(self.gate)
         self.behavior_server = BehaviorServer(self.gate)
         self.waypoint_follower = WaypointFollower(self.gate, localized)
@@ -128,7 +129,12 @@ class Simulator:
         self._clock_pub = self.node.create_publisher(Clock, "/clock", 10)
         self._tf_pub = self.node.create_publisher(TFMessage, "/tf", 100)
         self._odom_pub = self.node.create_publisher(Odometry, s.odom_topic, 10)
-        self.node.add_on_set_parameters_callback(self._on_set_parameters)
+        self.live = LiveParameters(
+            s.faults, {m.name: (m.x, m.y) for m in self.world.markers}, costmaps=self.costmaps,
+            navigator=self.navigator, set_speed=self._set_speed,
+            log=self.node.get_logger().info)
+        self.node.add_on_set_parameters_callback(self.live.on_set)
+        self.node.create_service(Trigger, "~/reset", self._on_reset)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._physics_loop, name="sim-physics",
                                         daemon=True)
@@ -304,19 +310,25 @@ class Simulator:
         if self.trace is not None:
             self.trace.event(self.now_ns() / NS_PER_S, event, **fields)
 
-    def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
-        """Allow ``speed`` to change at run time; every other simulator parameter is fixed."""
-        fixed = {p.name for p in SIM_PARAMETERS} - {SPEED.name, "use_sim_time"}
-        for param in params:
-            if param.name in fixed:
-                return SetParametersResult(
-                    successful=False, reason=f"{param.name} cannot change at run time"
-                )
-            if param.name == SPEED.name:
-                problem = SPEED.problem(param.value)
-                if problem is not None:
-                    return SetParametersResult(successful=False, reason=f"speed: {problem}")
-                speed = float(param.value)
-                self._new_speed = speed  # applied by the physics thread
-                self.node.get_logger().info(f"Speed set to {speed:g}x real time.")
-        return SetParametersResult(successful=True)
+    def _set_speed(self, speed: float) -> None:
+        self._new_speed = speed  # applied by the physics thread
+
+    def _on_reset(self, _request: Trigger.Request, response: Trigger.Response
+                  ) -> Trigger.Response:
+        """``~/reset``: abort every goal, robot at rest at spawn, faults re-armed."""
+        s = self.settings
+        aborted = self.navigator.reset(s.spawn, "simulator reset (~/reset)")
+        self.live.rearm()
+        self.amcl.reset(localized=s.auto_localize)
+        self._publish_state(self.now_ns(), self.navigator.state())
+        self.amcl.publish_truth(self.now_ns())
+        if self.trace is not None:
+            self.trace.event(self.now_ns() / NS_PER_S, "reset", x=s.spawn.x, y=s.spawn.y,
+                             yaw=s.spawn.yaw)
+        what = f"goal {aborted.number} aborted, " if aborted is not None else ""
+        response.success = True
+        response.message = (f"reset: {what}robot at spawn ({s.spawn.x:.2f}, {s.spawn.y:.2f}), "
+                            f"{len(self.live.phantoms)} phantom obstacles in both costmaps, "
+                            f"stuck for {self.live.stuck_recoveries} recoveries")
+        self.node.get_logger().info(response.message)
+        return response

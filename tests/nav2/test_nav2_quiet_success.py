@@ -81,8 +81,8 @@ class Node:
 def test_a_success_is_not_logged_a_failure_is(tmp_path: Path, service: str,
                                               expected: Status, logged: list) -> None:
     tree = tmp_path / "t.yaml"
-    tree.write_text("format: 1\nroot:\n  ClearEntireCostmap: {name: Clear, service_name: '%s'}\n"
-                    % service)
+    tree.write_text("format: 1\nroot:\n  ClearEntireCostmap: {name: Clear, service_name: "
+                    f"'{service}'}}\n")
     leaf = load_tree(tree, {}).root
     node = Node()
     leaf.setup(node=node)

@@ -11,19 +11,22 @@ are the ``phantom_obstacles`` fault's circles, written into BOTH costmaps:
   collision ahead.
 
 ``blocked_zones`` are part of the base grid (a real wall): no clearing removes them.
-Clearing follows Nav2's three services: entirely, around the robot (phantoms whose centre is
-within ``reset_distance`` of the robot) and except a region (those outside it).
+Clearing follows Nav2's three services: entirely, around the robot (the phantoms whose centre
+lies in the square of side ``reset_distance`` centred on the robot, as Nav2's
+``clearLayerRegion``) and except that region (those outside it). A phantom is removed whole
+or not at all, by its centre.
 """
 
 from __future__ import annotations
 
 import enum
 import itertools
-import math
 import threading
 from collections.abc import Callable, Iterable, Sequence
 
 from sar_framework.sim.faults import BlockedZone, with_blocked_zones
+from sar_framework.sim.geometry import segment_distance
+from sar_framework.sim.goals import FOLLOW_PATH_NO_VALID_CONTROL
 from sar_framework.sim.occupancy import OccupancyGrid
 from sar_framework.sim.planner import GridPlanner
 
@@ -37,13 +40,9 @@ class Layer(enum.Enum):
     LOCAL = "local_costmap"
 
 
-def _segment_distance(p: Point, a: Point, b: Point) -> float:
-    """Distance from ``p`` to segment ``a``-``b``."""
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    length_sq = dx * dx + dy * dy
-    t = 0.0 if length_sq == 0.0 else ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length_sq
-    t = min(max(t, 0.0), 1.0)
-    return math.hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy))
+def _in_square(zone: BlockedZone, centre: Point, side: float) -> bool:
+    """Whether ``zone``'s centre lies in the axis-aligned square of ``side`` at ``centre``."""
+    return abs(zone.x - centre[0]) <= side / 2.0 and abs(zone.y - centre[1]) <= side / 2.0
 
 
 class Costmaps:
@@ -53,18 +52,25 @@ class Costmaps:
         base: The map with ``blocked_zones`` already added (never changes).
         robot_radius: Inflation radius of the planner, metres.
         phantoms: The phantoms written into both costmaps at start.
+        planner: The planner over ``base`` if already built.
     """
 
     def __init__(self, base: OccupancyGrid, robot_radius: float,
-                 phantoms: Iterable[BlockedZone] = ()) -> None:
+                 phantoms: Iterable[BlockedZone] = (), planner: GridPlanner | None = None
+                 ) -> None:
         self._base = base
         self._radius = robot_radius
         self._lock = threading.Lock()
-        self._base_planner = GridPlanner(base, robot_radius=robot_radius)
+        self._base_planner = planner or GridPlanner(base, robot_radius=robot_radius)
         self._planner = self._base_planner
         self._phantoms: dict[Layer, tuple[BlockedZone, ...]] = {layer: () for layer in Layer}
         self._planned: tuple[BlockedZone, ...] = ()
         self.write(phantoms)
+
+    @classmethod
+    def over(cls, planner: GridPlanner) -> Costmaps:
+        """Costmaps without phantoms over ``planner``'s grid and inflation."""
+        return cls(planner.grid, planner.robot_radius, planner=planner)
 
     def phantoms(self, layer: Layer) -> tuple[BlockedZone, ...]:
         """The phantoms ``layer`` holds now."""
@@ -90,13 +96,17 @@ class Costmaps:
             self._phantoms[layer] = after
             return len(before) - len(after)
 
-    def clear_around(self, layer: Layer, robot: Point, distance: float) -> int:
-        """ClearCostmapAroundRobot: remove phantoms centred within ``distance`` of ``robot``."""
-        return self.clear(layer, lambda z: math.dist((z.x, z.y), robot) > distance)
+    def clear_around(self, layer: Layer, robot: Point, reset_distance: float) -> int:
+        """ClearCostmapAroundRobot: remove the phantoms centred near the robot.
 
-    def clear_except(self, layer: Layer, robot: Point, distance: float) -> int:
-        """ClearCostmapExceptRegion: remove phantoms centred farther than ``distance``."""
-        return self.clear(layer, lambda z: math.dist((z.x, z.y), robot) <= distance)
+        Near: in the square of side ``reset_distance`` centred on ``robot`` (Nav2's
+        ``clearLayerRegion``).
+        """
+        return self.clear(layer, lambda z: not _in_square(z, robot, reset_distance))
+
+    def clear_except(self, layer: Layer, robot: Point, reset_distance: float) -> int:
+        """ClearCostmapExceptRegion: remove the phantoms centred outside that square."""
+        return self.clear(layer, lambda z: _in_square(z, robot, reset_distance))
 
     def planner(self) -> GridPlanner:
         """The planner over the base grid plus the global costmap's phantoms.
@@ -112,6 +122,14 @@ class Costmaps:
             self._planner, self._planned = planner, zones
             return planner
 
+    def local_failure(self, path: Sequence[Point]) -> tuple[int, str] | None:
+        """FollowPath's NO_VALID_CONTROL if ``path`` runs through a local phantom, else None."""
+        zone = self.local_blocks(path)
+        if zone is None:
+            return None
+        return (FOLLOW_PATH_NO_VALID_CONTROL, "No valid trajectories: an obstacle of the "
+                f"local costmap at ({zone.x:.2f}, {zone.y:.2f}) lies on the path")
+
     def local_blocks(self, path: Sequence[Point]) -> BlockedZone | None:
         """The first local phantom the robot's footprint would touch along ``path``, if any."""
         with self._lock:
@@ -121,6 +139,6 @@ class Costmaps:
         segments = list(itertools.pairwise(path)) or [(path[0], path[0])]
         for zone in zones:
             reach = zone.radius + self._radius
-            if any(_segment_distance((zone.x, zone.y), a, b) < reach for a, b in segments):
+            if any(segment_distance((zone.x, zone.y), a, b) < reach for a, b in segments):
                 return zone
         return None

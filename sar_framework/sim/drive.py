@@ -24,9 +24,14 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from sar_framework.sim.geometry import prune_to_nearest
 from sar_framework.sim.world import Pose2D
 
 Point = tuple[float, float]
+
+PRUNE_SEARCH_M = 1.5
+"""How far along a new path's start :meth:`DiffDrive.follow` looks for the point nearest the
+robot (Nav2's controllers prune the plan up to it, searching about half the local costmap)."""
 
 
 def normalize_angle(angle: float) -> float:
@@ -163,8 +168,10 @@ class DiffDrive:
         """Start following ``path`` and finish facing ``goal_yaw``.
 
         Args:
-            path: Waypoints in metres; the last one is the goal. If the first is not the
-                robot's position, the robot's position is prepended.
+            path: Waypoints in metres; the last one is the goal. The path is followed from
+                its point nearest the robot (within :data:`PRUNE_SEARCH_M` of its start;
+                a path re-planned from a pose already passed is not driven back to),
+                and the robot's position is prepended when it is not on the path.
             goal_yaw: Final heading, radians (any value; wrapped to ``[-pi, pi)``).
 
         Raises:
@@ -175,6 +182,7 @@ class DiffDrive:
         points = [(float(x), float(y)) for x, y in path]
         if not all(math.isfinite(v) for p in points for v in p) or not math.isfinite(goal_yaw):
             raise ValueError("follow(): path and goal_yaw must be finite")
+        points = prune_to_nearest(points, (self._x, self._y), PRUNE_SEARCH_M)
         if math.dist(points[0], (self._x, self._y)) > 1e-3:
             points.insert(0, (self._x, self._y))
         if len(points) == 1:

@@ -1,10 +1,14 @@
 """The simulated ``controller_server``, ``behavior_server`` and ``waypoint_follower``.
 
-- ``controller_server``: ``follow_path`` drives the given path (no planning), feedback
-  ``distance_to_goal`` / ``speed``; it owns ``/local_costmap/local_costmap``.
+- ``controller_server``: ``follow_path`` drives the given path (no planning) from the
+  path pose nearest the robot, feedback ``distance_to_goal`` / ``speed``; ids are checked
+  (:mod:`.plugin_ids`); it owns ``/local_costmap/local_costmap``.
 - ``behavior_server``: ``spin`` (turn by ``target_yaw``), ``backup`` (drive back
-  ``|target.x|`` at ``|speed|``; COLLISION_AHEAD when the way back is blocked, INVALID_INPUT
-  for a sideways target) and ``wait``, each with Nav2's ``time_allowance`` timeout.
+  ``|target.x|`` at ``|speed|``), ``drive_on_heading`` (drive ``target.x``, its sign the
+  speed's; INVALID_INPUT when they differ) and ``wait``, each with Nav2's ``time_allowance``
+  timeout; a straight motion fails with COLLISION_AHEAD when its way is blocked (a wall, a
+  blocked zone, a phantom of either costmap) and with INVALID_INPUT for a sideways target.
+  A completed spin, backup or drive_on_heading counts a stuck controller down.
 - ``waypoint_follower``: ``follow_waypoints`` navigates to each pose in turn (from
   ``goal_index``), feedback ``current_waypoint``; a failed waypoint is reported in
   ``missed_waypoints`` and the rest are still visited (``stop_on_failure: false``).
@@ -21,6 +25,8 @@ from typing import Any
 
 from rclpy.action.server import ServerGoalHandle
 
+from sar_framework.sim.costmap_servers import costmap_node
+from sar_framework.sim.costmaps import Layer
 from sar_framework.sim.goal_actions import (
     Failure,
     GoalAction,
@@ -32,7 +38,7 @@ from sar_framework.sim.goal_actions import (
 from sar_framework.sim.goals import Goal, Outcome, Progress
 from sar_framework.sim.lifecycle import Nav2LifecycleNode, optional_type
 from sar_framework.sim.messages import duration_msg, pose_to_2d
-from sar_framework.sim.planning_servers import costmap_node
+from sar_framework.sim.plugin_ids import CONTROLLERS, GOAL_CHECKERS, PROGRESS_CHECKERS, unknown_id
 from sar_framework.sim.world import Pose2D
 
 
@@ -53,7 +59,7 @@ class ControllerServer:
 
     def __init__(self, gate: GoalGate) -> None:
         self.node = Nav2LifecycleNode("controller_server")
-        self.costmap = costmap_node("local_costmap", self.node)
+        self.costmap = costmap_node(Layer.LOCAL, self.node, gate.navigator)
         self._gate = gate
         self._kind = optional_type("nav2_msgs.action", "FollowPath", needed_by="follow_path")
         if self._kind is not None:
@@ -61,6 +67,15 @@ class ControllerServer:
                               GoalAction(self._kind, self._start, self._feedback))
 
     def _start(self, request: Any) -> Goal | Failure:
+        codes = self._kind.Result
+        for given, known, what, code in (
+                (request.controller_id, CONTROLLERS, "controller", codes.INVALID_CONTROLLER),
+                (request.goal_checker_id, GOAL_CHECKERS, "goal checker", codes.UNKNOWN),
+                (request.progress_checker_id, PROGRESS_CHECKERS, "progress checker",
+                 codes.UNKNOWN)):
+            bad_id = unknown_id(given, known, what)
+            if bad_id is not None:
+                return code, bad_id
         poses = list(request.path.poses)
         if not poses:
             return self._kind.Result.INVALID_PATH, "Path is empty."
@@ -86,6 +101,8 @@ class BehaviorServer:
                                     Callable[[Any, Goal, Progress], None]]] = {
             "spin": ("Spin", self._start_spin, self._spin_feedback),
             "backup": ("BackUp", self._start_backup, self._backup_feedback),
+            "drive_on_heading": ("DriveOnHeading", self._start_drive_on_heading,
+                                 self._backup_feedback),
             "wait": ("Wait", self._start_wait, self._wait_feedback),
         }
         for name, (type_name, start, feedback) in behaviours.items():
@@ -100,12 +117,20 @@ class BehaviorServer:
             request.target_yaw, _seconds(request.time_allowance), kind.Result.TIMEOUT)
 
     def _start_backup(self, kind: Any, request: Any) -> Goal | Failure:
+        return self._start_straight(kind, request, -abs(request.target.x))
+
+    def _start_drive_on_heading(self, kind: Any, request: Any) -> Goal | Failure:
+        if (request.target.x > 0.0) != (request.speed > 0.0):
+            return kind.Result.INVALID_INPUT, "Speed and command sign did not match"
+        return self._start_straight(kind, request, request.target.x)
+
+    def _start_straight(self, kind: Any, request: Any, distance: float) -> Goal | Failure:
+        """BackUp and DriveOnHeading (Nav2's BackUp is a DriveOnHeading backwards)."""
         if request.target.y != 0.0 or request.target.z != 0.0:
             return kind.Result.INVALID_INPUT, "DrivingOnHeading in Y and Z not supported"
         if request.speed == 0.0:
             return kind.Result.INVALID_INPUT, "Speed must not be zero"
         navigator = self._gate.navigator
-        distance = -abs(request.target.x)
         here = navigator.state().pose
         end = Pose2D(here.x + distance * math.cos(here.yaw), here.y + distance * math.sin(here.yaw),
                      here.yaw)

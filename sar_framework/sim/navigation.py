@@ -16,9 +16,8 @@ Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
 - success needs the robot within the xy and yaw tolerances (the drive model's arrival);
 - with ``costmaps``, plans use the global costmap's phantoms, and a path through a local
   costmap phantom fails at once with FollowPath's NO_VALID_CONTROL (no trajectory is valid);
-- a stuck controller (``stuck_recoveries`` > 0) does not move the robot on a path, and the
-  goal fails with FAILED_TO_MAKE_PROGRESS once ``movement_time_allowance`` has passed (Nav2's
-  progress checker); each completed spin or straight motion counts the fault down.
+- a stuck controller (``stuck_recoveries``) fails path goals as Nav2's progress checker
+  would (:mod:`.progress_checker`).
 """
 
 from __future__ import annotations
@@ -34,7 +33,6 @@ from sar_framework.sim.faults import Faults
 from sar_framework.sim.goals import (
     ERROR_NONE,
     FOLLOW_PATH_NO_PROGRESS,
-    FOLLOW_PATH_NO_VALID_CONTROL,
     FOLLOW_PATH_UNKNOWN,
     Goal,
     GoalListener,
@@ -44,6 +42,7 @@ from sar_framework.sim.goals import (
     RobotState,
 )
 from sar_framework.sim.planner import GridPlanner, PlanningError
+from sar_framework.sim.progress_checker import ProgressChecker
 from sar_framework.sim.world import Pose2D
 
 
@@ -59,7 +58,7 @@ class Navigator:
         planner: The planner (map already inflated).
         faults: Injected faults (``abort_goal_numbers``/``abort_delay_s`` are used here).
         listener: Told about every goal start and end (trace file, logs).
-        costmaps: The costmaps' phantoms (then ``planner`` is only the fallback).
+        costmaps: The costmaps' phantoms over ``planner``'s grid (default: none).
     """
 
     def __init__(
@@ -71,11 +70,10 @@ class Navigator:
         costmaps: Costmaps | None = None,
     ) -> None:
         self._robot = robot
-        self._planner = planner
-        self._costmaps = costmaps
+        self._costmaps = costmaps or Costmaps.over(planner)
         self._faults = faults or Faults()
-        self._stuck_left = self._faults.stuck_recoveries
-        self._allowance_s = self._faults.movement_time_allowance
+        self._checker = ProgressChecker(self._faults.stuck_recoveries,
+                                        self._faults.movement_time_allowance)
         self.generation = 0
         """Counts resets: a multi-goal action stops when it changes (see :meth:`reset`)."""
         self._listener = listener
@@ -95,7 +93,12 @@ class Navigator:
     @property
     def planner(self) -> GridPlanner:
         """The planner now (over the global costmap's phantoms when there are costmaps)."""
-        return self._costmaps.planner() if self._costmaps is not None else self._planner
+        return self._costmaps.planner()
+
+    @property
+    def costmaps(self) -> Costmaps:
+        """The costmaps' phantoms."""
+        return self._costmaps
 
     def is_free(self, x: float, y: float) -> bool:
         """Whether a path may pass through ``(x, y)`` (see :meth:`GridPlanner.is_free`)."""
@@ -104,7 +107,7 @@ class Navigator:
     @property
     def stuck_left(self) -> int:
         """Recovery motions the stuck controller still needs (0: it moves)."""
-        return self._stuck_left
+        return self._checker.stuck_left
 
     def set_stuck(self, recoveries: int, allowance_s: float) -> None:
         """(Re-)arm the stuck controller.
@@ -114,8 +117,7 @@ class Navigator:
             allowance_s: Simulated seconds without progress before a goal fails.
         """
         with self._lock:
-            self._stuck_left = max(int(recoveries), 0)
-            self._allowance_s = float(allowance_s)
+            self._checker = ProgressChecker(max(int(recoveries), 0), float(allowance_s))
 
     @property
     def planning(self) -> bool:
@@ -189,7 +191,7 @@ class Navigator:
         yaws = [pose.yaw for pose in via] + [target.yaw]
         goal.legs = list(zip(legs[1:], yaws[1:], strict=True))
         return self._begin(goal, lambda: self._robot.follow(legs[0], yaws[0]),
-                           self._local_failure(goal.path))
+                           self._costmaps.local_failure(goal.path))
 
     def plan_through(self, start: Pose2D, poses: Sequence[Pose2D]
                      ) -> list[list[tuple[float, float]]]:
@@ -214,7 +216,7 @@ class Navigator:
         goal, _ = self._new_goal(target, Kind.FOLLOW)
         goal.path = [(float(x), float(y)) for x, y in path]
         return self._begin(goal, lambda: self._robot.follow(path, target.yaw),
-                           self._local_failure(goal.path))
+                           self._costmaps.local_failure(goal.path))
 
     def start_spin(self, angle: float, time_allowance_s: float, timeout_code: int) -> Goal:
         """Turn in place by ``angle`` radians; time out after ``time_allowance_s``."""
@@ -250,8 +252,7 @@ class Navigator:
         planner = self.planner
         if not planner.segment_is_clear((a.x, a.y), (b.x, b.y), mask=planner.lethal):
             return False
-        return self._costmaps is None or self._costmaps.local_blocks(
-            [(a.x, a.y), (b.x, b.y)]) is None
+        return self._costmaps.local_blocks([(a.x, a.y), (b.x, b.y)]) is None
 
     def reset(self, pose: Pose2D, reason: str) -> Goal | None:
         """Abort the active goal, put the robot at rest at ``pose``, restart goal numbers.
@@ -310,8 +311,7 @@ class Navigator:
         """
         with self._lock:
             goal = self._current
-            stuck = (self._stuck_left > 0 and goal is not None and goal.active
-                     and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW))
+            stuck = self._checker.holds(goal)
             if stuck:
                 self._robot.stand_still()
             else:
@@ -319,11 +319,10 @@ class Navigator:
             self._now_s = now_s
             if goal is None or not goal.active:
                 return
-            if stuck and now_s - goal.started_s >= self._allowance_s:
+            failure = self._checker.failure(goal, now_s) if stuck else None
+            if failure is not None:
                 self._robot.cancel()
-                self._finish(goal, Outcome.ABORTED, FOLLOW_PATH_NO_PROGRESS,
-                             "Failed to make progress (stuck_recoveries: "
-                             f"{self._stuck_left} recoveries left)")
+                self._finish(goal, Outcome.ABORTED, *failure)
                 return
             arrived = self._robot.succeeded
             if goal.abort_at_s is not None and (now_s >= goal.abort_at_s or arrived):
@@ -348,8 +347,7 @@ class Navigator:
                 self._robot.follow(leg, yaw)
             elif arrived and (goal.kind in (Kind.SPIN, Kind.STRAIGHT)
                               or self._robot.within_tolerance()):
-                if goal.kind in (Kind.SPIN, Kind.STRAIGHT) and self._stuck_left > 0:
-                    self._stuck_left -= 1  # the robot wriggled
+                self._checker.succeeded(goal)
                 self._finish(goal, Outcome.SUCCEEDED, ERROR_NONE, "")
             elif not self._robot.active:
                 self._finish(goal, Outcome.ABORTED, FOLLOW_PATH_UNKNOWN, "controller stopped")
@@ -364,14 +362,6 @@ class Navigator:
             if self._faults.aborts(goal.number):
                 goal.abort_at_s = goal.started_s + self._faults.abort_delay_s
             return goal, self._robot.pose
-
-    def _local_failure(self, path: Sequence[tuple[float, float]]) -> tuple[int, str] | None:
-        """FollowPath's NO_VALID_CONTROL if ``path`` runs through a local costmap phantom."""
-        zone = self._costmaps.local_blocks(path) if self._costmaps is not None else None
-        if zone is None:
-            return None
-        return (FOLLOW_PATH_NO_VALID_CONTROL, "No valid trajectories: an obstacle of the "
-                f"local costmap at ({zone.x:.2f}, {zone.y:.2f}) lies on the path")
 
     def _set_deadline(self, goal: Goal, seconds: float, code: int) -> None:
         if seconds > 0.0:

@@ -161,6 +161,11 @@ class GridPlanner:
         row, col = self.grid.world_to_cell(x, y)
         return self.grid.in_bounds(row, col) and not self.blocked[row, col]
 
+    def is_lethal(self, x: float, y: float) -> bool:
+        """Return True if ``(x, y)`` is outside the map or in an occupied or unknown cell."""
+        row, col = self.grid.world_to_cell(x, y)
+        return not self.grid.in_bounds(row, col) or bool(self.lethal[row, col])
+
     def segment_is_clear(self, a: Point, b: Point, *, mask: np.ndarray | None = None) -> bool:
         """Return True if segment ``a``-``b`` (metres) touches no cell of ``mask``.
 

@@ -8,9 +8,9 @@
   inner point towards its neighbours, ends fixed), SMOOTHED_PATH_IN_COLLISION on request.
 - ``controller_server`` owns ``/local_costmap/local_costmap`` (see motion_servers).
 
-Costmap nodes serve ``clear_entirely_<name>`` (they hold no sensor data, so clearing has
-nothing to drop) and follow their owner's lifecycle. Every action here needs the full
-``nav2_msgs``; without it (fallback tier) the server node exists but offers no action.
+The costmap nodes and ``is_path_valid`` are in :mod:`~sar_framework.sim.costmap_servers`.
+Every action here needs the full ``nav2_msgs``; without it (fallback tier) the server node
+exists but offers no action.
 """
 
 from __future__ import annotations
@@ -24,10 +24,13 @@ from typing import Any
 import numpy as np
 from nav_msgs.msg import Path
 
+from sar_framework.sim.costmap_servers import costmap_node, serve_is_path_valid
+from sar_framework.sim.costmaps import Layer
 from sar_framework.sim.lifecycle import Nav2LifecycleNode, optional_type
 from sar_framework.sim.messages import duration_msg, pose_stamped, pose_to_2d, time_msg
 from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.planner import PlanningError
+from sar_framework.sim.plugin_ids import PLANNERS, SMOOTHERS, unknown_id
 from sar_framework.sim.world import Pose2D
 
 SMOOTH_W_DATA = 0.2
@@ -36,22 +39,6 @@ SMOOTH_W_SMOOTH = 0.3
 """Nav2 SimpleSmoother's ``w_smooth`` (pull towards the neighbours)."""
 SMOOTH_MAX_ITS = 1000
 SMOOTH_TOLERANCE = 1e-10
-
-
-def costmap_node(name: str, owner: Nav2LifecycleNode) -> Nav2LifecycleNode:
-    """Create ``/<name>/<name>`` serving ``clear_entirely_<name>``, managed by ``owner``."""
-    node = Nav2LifecycleNode(name, namespace=name)
-    owner.children.append(node)
-    clear = optional_type("nav2_msgs.srv", "ClearEntireCostmap",
-                          needed_by=f"{name}/clear_entirely_{name}")
-    if clear is not None:
-        def on_clear(_request: Any, response: Any) -> Any:
-            node.get_logger().info(f"Received request to clear entirely the {name}")
-            return response
-
-        node.create_service(clear, f"clear_entirely_{name}", on_clear,
-                            callback_group=node.group)
-    return node
 
 
 def dense_path(points: list[tuple[float, float]], goal_yaw: float, frame: str, stamp_ns: int,
@@ -100,7 +87,8 @@ class PlannerServer:
                  localized: Callable[[], bool], *, global_frame: str = "map",
                  resolution: float = 0.05) -> None:
         self.node = Nav2LifecycleNode("planner_server")
-        self.costmap = costmap_node("global_costmap", self.node)
+        self.costmap = costmap_node(Layer.GLOBAL, self.node, navigator)
+        serve_is_path_valid(self.node, navigator)
         self._navigator = navigator
         self._now_ns = now_ns
         self._localized = localized
@@ -121,7 +109,10 @@ class PlannerServer:
             started = time.monotonic()
             request = handle.request
             goals = goals_of(request)
-            if not request.use_start and not self._localized():
+            bad_id = unknown_id(request.planner_id, PLANNERS, "planner")
+            if bad_id is not None:
+                result.error_code, result.error_msg = kind.Result.INVALID_PLANNER, bad_id
+            elif not request.use_start and not self._localized():
                 result.error_code = kind.Result.TF_ERROR
                 result.error_msg = "Could not get the robot pose: AMCL has no initial pose"
             elif not goals:
@@ -171,7 +162,10 @@ class SmootherServer:
         started = time.monotonic()
         poses = list(request.path.poses)
         result.path = request.path
-        if len(poses) < 2:
+        bad_id = unknown_id(request.smoother_id, SMOOTHERS, "smoother")
+        if bad_id is not None:
+            result.error_code, result.error_msg = kind.Result.INVALID_SMOOTHER, bad_id
+        elif len(poses) < 2:
             result.error_code, result.error_msg = kind.Result.INVALID_PATH, "path too short"
         else:
             points = np.array([(p.pose.position.x, p.pose.position.y) for p in poses])

@@ -9,7 +9,11 @@ One process, one executor, the nodes of a Jazzy ``bringup_launch.py``:
 - lifecycle nodes ``map_server``, ``amcl`` (``lifecycle_manager_localization``) and
   ``controller_server``, ``smoother_server``, ``planner_server``, ``behavior_server``,
   ``bt_navigator``, ``waypoint_follower`` (``lifecycle_manager_navigation``), plus the
-  costmap nodes ``/global_costmap/global_costmap`` and ``/local_costmap/local_costmap``.
+  costmap nodes ``/global_costmap/global_costmap`` and ``/local_costmap/local_costmap``
+  (:mod:`~sar_framework.sim.costmap_servers`);
+- run-time faults (:mod:`~sar_framework.sim.live_params`) and ``/sar_sim/reset``
+  (``std_srvs/srv/Trigger``): every running goal ends ABORTED, the robot is at rest at its
+  spawn pose (localised as at start-up), the faults are re-armed, goal numbers restart.
 
 Simulated time: the simulator *is* the time source, so its own nodes' ROS clocks follow
 simulated time directly (an rclpy ``TimeSource`` fed by the physics loop) instead of

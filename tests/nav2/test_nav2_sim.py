@@ -195,7 +195,7 @@ root:
             - DistanceController:
                 distance: 0.3
                 child: {ComputePathToPose: {goal: "{goal}", path: "{replan}"}}
-            - FollowPath: {path: "{path}"}
+            - FollowPath: {path: "{replan}"}
 """
 
 
@@ -203,8 +203,8 @@ def test_distance_controller_replans_on_the_runners_robot_state(
         ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
     """Nav2's replanning-by-distance shape, on the runner's context sources (TF, odometry).
 
-    The replanned path is not followed: the simulator's follower does not finish a path
-    swapped in mid-drive that starts behind the robot (issue 21, point 3).
+    FollowPath follows each replanned path: before the fix, the simulator's follower never
+    finished a path swapped in mid-drive that starts behind the robot (issue 21, point 3).
     """
     from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
     from sar_framework.ros.robot_state import robot_context

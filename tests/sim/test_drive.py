@@ -173,3 +173,35 @@ def test_property_normalize_angle(angle):
     assert -math.pi <= wrapped < math.pi
     assert math.sin(wrapped) == pytest.approx(math.sin(angle), abs=1e-9)
     assert math.cos(wrapped) == pytest.approx(math.cos(angle), abs=1e-9)
+
+
+@pytest.mark.parametrize("path", [
+    [(-0.2, 0.0), (0.5, 0.0), (1.0, 0.0), (2.0, 0.0)],  # re-planned from a pose passed
+    [(-0.5, 0.0), (2.0, 0.0)],
+    [(-1.0, 0.0), (-0.5, 0.0), (2.0, 0.0)],
+    [(-0.3, 0.1), (0.3, 0.1), (2.0, 0.0)],
+])
+def test_a_path_that_starts_behind_the_robot_is_followed_from_the_nearest_point(path):
+    """Bug: the robot drove back to the path's first pose and circled there forever.
+
+    Nav2's controllers prune the plan up to the pose nearest the robot; so does follow().
+    """
+    robot = DiffDrive(Pose2D(0.0, 0.0, 0.0))
+    robot.follow(path, 0.0)
+    t, xs = 0.0, []
+    while robot.active and t < 30.0:
+        robot.step(0.05)
+        t += 0.05
+        xs.append(robot.pose.x)
+    assert robot.succeeded, (robot.phase, robot.pose)
+    assert t < 8.0
+    assert min(xs) > -0.05  # never drove back to the path's start
+    assert math.dist((robot.pose.x, robot.pose.y), (2.0, 0.0)) <= 0.25
+
+
+def test_a_path_through_the_robot_later_is_not_cut_short():
+    """The nearest point is searched near the path's start only: a loop is driven whole."""
+    loop = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0), (0.0, 0.2), (1.0, 0.2)]
+    robot = DiffDrive(Pose2D(0.0, 0.0, 0.0))
+    robot.follow(loop, 0.0)
+    assert robot.distance_remaining() == pytest.approx(8.8, abs=0.01)

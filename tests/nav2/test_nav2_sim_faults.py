@@ -1,0 +1,222 @@
+"""Nav2's leaves against the simulator's faults, over real DDS with the real rclpy.
+
+One simulator for the module (40x, a ``blocked_zones`` wall at (2.0, -1.5)); faults are set
+at run time with SetParameters, and ``/sar_sim/reset`` puts the robot back after each test.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from py_trees.blackboard import Blackboard
+from py_trees.common import Status
+from sar_testing.leaf_harness import TreeMaker, tick_until_done
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import call_service, ros_node, spin_until
+
+from sar_framework.engine.api import load_tree
+
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
+pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
+SPEED = 40.0
+DISCOVERY_S = 15.0
+GOAL = (1.0, -0.5)
+WALL = (2.0, -1.5)
+
+
+@pytest.fixture(scope="module")
+def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
+    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
+            "-p", f"blocked_zones:=['{WALL[0]}:{WALL[1]}:0.3']"]
+    with NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")) as proc:
+        proc.wait_for_output("ready", timeout=30)
+        yield proc
+
+
+@pytest.fixture(scope="module")
+def ros(sim: NodeProcess) -> Iterator[tuple[Any, Any]]:
+    from nav2_msgs.action import Spin
+    from rclpy.action import ActionClient
+
+    with ros_node("nav2_faults_test") as (node, executor):
+        node.declare_parameter("default_server_timeout", 2000)
+        probe = ActionClient(node, Spin, "spin")
+        assert spin_until(executor, probe.server_is_ready, DISCOVERY_S), sim.output
+        probe.destroy()
+        yield node, executor
+
+
+@pytest.fixture
+def trees(ros: tuple[Any, Any]) -> Iterator[TreeMaker]:
+    Blackboard.storage.clear()
+    maker = TreeMaker(ros[0])
+    yield maker
+    maker.shutdown()
+    set_params(ros, phantom_obstacles=[""], stuck_recoveries=0, movement_time_allowance=10.0)
+    answer = reset(ros)
+    assert answer.success, answer.message
+
+
+def set_params(ros: tuple[Any, Any], **values: Any) -> None:
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+
+    request = SetParameters.Request()
+    request.parameters = [Parameter(name, value=value).to_parameter_msg()
+                          for name, value in values.items()]
+    answer = call_service(*ros, SetParameters, "/sar_sim/set_parameters", request)
+    assert all(r.successful for r in answer.results), [r.reason for r in answer.results]
+
+
+def reset(ros: tuple[Any, Any]) -> Any:
+    from std_srvs.srv import Trigger
+
+    return call_service(*ros, Trigger, "/sar_sim/reset", Trigger.Request(), timeout=20.0)
+
+
+def pose(x: float, y: float, yaw: float = 0.0) -> Any:
+    from geometry_msgs.msg import PoseStamped
+
+    msg = PoseStamped()
+    msg.header.frame_id = "map"
+    msg.pose.position.x, msg.pose.position.y = x, y
+    msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return msg
+
+
+def run(ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path, text: str,
+        timeout: float = 30.0) -> Status:
+    tree = tmp_path / "t.yaml"
+    tree.write_text("format: 1\n" + text)
+    root = load_tree(tree, {}).root
+    status = tick_until_done(ros[1], trees(root), timeout)
+    run.messages = [f"{b.name}: {b.feedback_message}" for b in root.iterate()]  # type: ignore[attr-defined]
+    return status
+
+
+BOARD = """
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+  path: {type: nav_msgs/msg/Path}
+  plan_error: {type: int, initial: -1}
+  follow_error: {type: int, initial: -1}
+"""
+PLAN = BOARD + """root:
+  ComputePathToPose: {goal: "{goal}", path: "{path}", error_code_id: "{plan_error}"}
+"""
+FOLLOW = BOARD + """root:
+  FollowPath: {path: "{path}", error_code_id: "{follow_error}"}
+"""
+NAVIGATE = BOARD + """root:
+  Sequence:
+    children:
+      - ComputePathToPose: {goal: "{goal}", path: "{path}", error_code_id: "{plan_error}"}
+      - FollowPath: {path: "{path}", error_code_id: "{follow_error}"}
+"""
+
+
+def clear(which: str) -> str:
+    return (f"root:\n  ClearEntireCostmap: {{service_name: "
+            f"{which}_costmap/clear_entirely_{which}_costmap}}\n")
+
+
+def test_a_phantom_at_the_goal_is_cleared_from_the_global_costmap_then_planning_succeeds(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    set_params(ros, phantom_obstacles=[f"{GOAL[0]}:{GOAL[1]}:0.3"])
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    assert run(ros, trees, tmp_path, PLAN) == Status.FAILURE
+    assert Blackboard.storage["/plan_error"] == 206  # GOAL_OCCUPIED
+    assert run(ros, trees, tmp_path, clear("local")) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, PLAN) == Status.FAILURE  # the global one still has it
+    assert run(ros, trees, tmp_path, clear("global")) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS, run.messages
+    assert Blackboard.storage["/plan_error"] == 0
+
+
+def test_a_blocked_zones_wall_stays_after_clearing(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    Blackboard.storage["/goal"] = pose(*WALL)
+    assert run(ros, trees, tmp_path, clear("global")) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, PLAN) == Status.FAILURE
+    assert Blackboard.storage["/plan_error"] == 206
+
+
+def test_a_local_phantom_stops_follow_path_until_the_local_costmap_is_cleared(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS
+    set_params(ros, phantom_obstacles=["0.5:-0.25:0.15"])  # on the path
+    assert run(ros, trees, tmp_path, FOLLOW) == Status.FAILURE
+    assert Blackboard.storage["/follow_error"] == 106  # NO_VALID_CONTROL
+    assert run(ros, trees, tmp_path, clear("local")) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, FOLLOW) == Status.SUCCESS, run.messages
+
+
+def test_is_path_valid_is_false_across_a_phantom_and_true_once_cleared(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS
+    valid = BOARD + 'root:\n  IsPathValid: {path: "{path}", server_timeout: 2000}\n'
+    assert run(ros, trees, tmp_path, valid) == Status.SUCCESS
+    set_params(ros, phantom_obstacles=["0.5:-0.25:0.15"])
+    assert run(ros, trees, tmp_path, valid) == Status.FAILURE
+    around = ("root:\n  ClearCostmapAroundRobot: {reset_distance: 2.0, service_name: "
+              "global_costmap/clear_around_global_costmap}\n")
+    assert run(ros, trees, tmp_path, around) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, valid) == Status.SUCCESS
+
+
+def test_a_stuck_controller_fails_with_105_and_a_spin_frees_it(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    set_params(ros, stuck_recoveries=1, movement_time_allowance=4.0)
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    assert run(ros, trees, tmp_path, NAVIGATE) == Status.FAILURE
+    assert Blackboard.storage["/plan_error"] == 0
+    assert Blackboard.storage["/follow_error"] == 105  # FAILED_TO_MAKE_PROGRESS
+    assert run(ros, trees, tmp_path, "root:\n  Spin: {spin_dist: 1.0}\n") == Status.SUCCESS
+    assert run(ros, trees, tmp_path, NAVIGATE) == Status.SUCCESS, run.messages
+    assert Blackboard.storage["/follow_error"] == 0
+
+
+def robot_xy(ros: tuple[Any, Any]) -> tuple[float, float]:
+    from nav_msgs.msg import Odometry
+
+    node, executor = ros
+    seen: list[Odometry] = []
+    sub = node.create_subscription(Odometry, "/odometry/filtered", seen.append, 10)
+    try:
+        assert spin_until(executor, lambda: len(seen) >= 2, 10.0)
+        p = seen[-1].pose.pose.position
+        return p.x, p.y
+    finally:
+        node.destroy_subscription(sub)
+
+
+def test_drive_on_heading_moves_the_robot_and_refuses_a_mismatched_sign(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    drive = ("blackboard:\n  code: {type: int, initial: -1}\n"
+             "root:\n  DriveOnHeading: {dist_to_travel: %s, speed: %s, error_code_id: "
+             "'{code}'}\n")
+    assert run(ros, trees, tmp_path, drive % (0.4, 0.2)) == Status.SUCCESS, run.messages
+    assert robot_xy(ros)[0] == pytest.approx(0.4, abs=0.05)
+    assert run(ros, trees, tmp_path, drive % (0.4, -0.2)) == Status.FAILURE
+    assert Blackboard.storage["/code"] == 724  # INVALID_INPUT
+
+
+@pytest.mark.parametrize(("text", "key", "code"), [
+    ('root:\n  ComputePathToPose: {goal: "{goal}", planner_id: Nope, '
+     'error_code_id: "{plan_error}"}\n', "/plan_error", 201),
+    ('root:\n  FollowPath: {path: "{path}", controller_id: Nope, '
+     'error_code_id: "{follow_error}"}\n', "/follow_error", 101),
+])
+def test_an_unknown_plugin_id_fails_with_nav2s_code(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path, text: str, key: str,
+        code: int) -> None:
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS
+    assert run(ros, trees, tmp_path, BOARD + text) == Status.FAILURE
+    assert Blackboard.storage[key] == code

@@ -1,0 +1,77 @@
+"""The costmaps' phantom layer: clearing entirely, around the robot, except a region."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from sar_framework.sim import plugin_ids
+from sar_framework.sim.costmaps import Costmaps, Layer
+from sar_framework.sim.faults import BlockedZone, FaultConfigError, parse_zones, with_blocked_zones
+from sar_framework.sim.occupancy import load_map
+from sar_framework.sim.planner import GoalInObstacle
+from sar_framework.sim.world import DEFAULT_WORLD_PATH
+
+NEAR = BlockedZone(0.6, 0.0, 0.2, "near")
+FAR = BlockedZone(1.0, -1.5, 0.3, "far")
+WALL = BlockedZone(2.0, -0.5, 0.3, "wall")
+
+
+@pytest.fixture(scope="module")
+def base():
+    grid = load_map(DEFAULT_WORLD_PATH.parent / "final_project_map.yaml")
+    return with_blocked_zones(grid, [WALL])
+
+
+@pytest.fixture
+def costmaps(base) -> Costmaps:
+    return Costmaps(base, 0.22, [NEAR, FAR])
+
+
+def test_phantoms_are_written_into_both_costmaps_and_block_the_global_planner(costmaps):
+    assert costmaps.phantoms(Layer.GLOBAL) == costmaps.phantoms(Layer.LOCAL) == (NEAR, FAR)
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))
+    assert costmaps.local_blocks([(0.0, 0.0), (1.0, 0.0)]) == NEAR
+    assert costmaps.local_blocks([(0.0, 0.0), (0.0, -1.0)]) is None
+
+
+def test_clearing_entirely_one_costmap_leaves_the_other_and_the_walls(costmaps):
+    assert costmaps.clear(Layer.GLOBAL) == 2
+    assert costmaps.phantoms(Layer.LOCAL) == (NEAR, FAR)
+    assert costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))[-1] == pytest.approx((1.0, -1.5))
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (2.0, -0.5))  # blocked_zones stay
+
+
+def test_around_the_robot_and_except_a_region_use_nav2s_square(costmaps):
+    assert costmaps.clear_around(Layer.LOCAL, (0.0, 0.0), 1.0) == 0  # NEAR at 0.6 > 0.5
+    assert costmaps.clear_around(Layer.LOCAL, (0.0, 0.0), 1.4) == 1
+    assert costmaps.phantoms(Layer.LOCAL) == (FAR,)
+    assert costmaps.clear_except(Layer.GLOBAL, (0.0, 0.0), 1.4) == 1
+    assert costmaps.phantoms(Layer.GLOBAL) == (NEAR,)
+    costmaps.write([FAR])
+    assert costmaps.phantoms(Layer.GLOBAL) == costmaps.phantoms(Layer.LOCAL) == (FAR,)
+
+
+def test_a_malformed_phantom_names_the_parameter():
+    with pytest.raises(FaultConfigError, match="phantom_obstacles: '1:2'"):
+        parse_zones(["1:2"], {}, "phantom_obstacles")
+    assert parse_zones(["", "zone_b"], {"zone_b": (3.5, 3.0)}, "phantom_obstacles")[0].x == 3.5
+
+
+def test_the_plugin_ids_are_the_params_files():
+    params = yaml.safe_load((DEFAULT_WORLD_PATH.parents[1] / "config" / "nav2_params.yaml")
+                            .read_text())
+    controller = params["controller_server"]["ros__parameters"]
+    assert tuple(controller["controller_plugins"]) == plugin_ids.CONTROLLERS
+    assert tuple(controller["goal_checker_plugins"]) == plugin_ids.GOAL_CHECKERS
+    assert tuple(controller["progress_checker_plugins"]) == plugin_ids.PROGRESS_CHECKERS
+    assert controller["progress_checker"]["movement_time_allowance"] == 10.0  # our default
+    planners = params["planner_server"]["ros__parameters"]["planner_plugins"]
+    assert tuple(planners) == plugin_ids.PLANNERS
+    smoothers = params["smoother_server"]["ros__parameters"]["smoother_plugins"]
+    assert tuple(smoothers) == plugin_ids.SMOOTHERS
+    assert plugin_ids.unknown_id("", plugin_ids.PLANNERS, "planner") is None
+    assert "'Nope' is not loaded" in plugin_ids.unknown_id("Nope", plugin_ids.PLANNERS,
+                                                          "planner")

@@ -90,17 +90,6 @@ def _env() -> dict[str, str]:
     return env
 
 
-def goal_pose(x: float, y: float) -> Any:
-    """A ``PoseStamped`` in ``map`` facing +x."""
-    from geometry_msgs.msg import PoseStamped
-
-    msg = PoseStamped()
-    msg.header.frame_id = "map"
-    msg.pose.position.x, msg.pose.position.y = x, y
-    msg.pose.orientation.w = 1.0
-    return msg
-
-
 def wait_for_servers(node: Any, executor: Any) -> None:
     """Spin until the planner and the controller servers are discovered."""
     from nav2_msgs.action import ComputePathToPose, FollowPath
@@ -146,6 +135,7 @@ def run_once(tree_file: Path, node: Any, executor: Any, *, goal: tuple[float, fl
     import py_trees
     from py_trees.blackboard import Blackboard
     from py_trees.common import Status
+    from sar_plugins.zone_goal import pose_stamped
 
     from sar_framework.engine.api import load_tree
 
@@ -153,7 +143,7 @@ def run_once(tree_file: Path, node: Any, executor: Any, *, goal: tuple[float, fl
     loaded = load_tree(tree_file, {})
     tree = py_trees.trees.BehaviourTree(loaded.root)
     tree.setup(timeout=10.0, node=node)
-    Blackboard.set("/goal", goal_pose(*goal))
+    Blackboard.set("/goal", pose_stamped(goal[0], goal[1], 0.0, "map"))
     ticks: list[float] = []
     late = 0
     start = time.monotonic()

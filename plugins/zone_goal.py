@@ -107,13 +107,12 @@ class MarkZoneReached(LoggingLeaf):
 
     def update(self) -> Status:
         """Mark the current zone reached and return SUCCESS (FAILURE without a zone)."""
-        try:
-            zone_id = self.zone_manager.current_zone()["id"]
-        except IndexError:
-            self.feedback_message = "no current zone: every zone has been visited"
+        if not self.zone_manager.has_remaining():
+            self.feedback_message = "no zone to mark reached: every zone has been visited"
             return Status.FAILURE
+        zone_id = self.zone_manager.current_zone()["id"]
         self.zone_manager.mark_reached(zone_id)  # the zone manager tells the events
         self.feedback_message = f"Reached {zone_id}."
-        logger = self._node.get_logger() if self._node is not None else self.logger
-        logger.info(self.feedback_message)
+        (self._node.get_logger() if self._node is not None else self.logger).info(
+            self.feedback_message)
         return Status.SUCCESS

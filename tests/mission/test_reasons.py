@@ -149,11 +149,10 @@ root:
 """
 
 
-def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path) -> None:
-    """Nav2's RecoveryNode: the action's failure, each recovery that let it try again (the
-    recovery's actions named, not its conditions), then giving up."""
+def recovery_reasons(tmp_path: Path, text: str, ticks: int) -> list[str]:
+    """The reason lines of a RecoveryNode tree ticked ``ticks`` times (or until it fails)."""
     path = tmp_path / "t.yaml"
-    path.write_text(RECOVERY)
+    path.write_text(text)
     zones = ZoneManager([], {"x": 0.0, "y": 0.0, "yaw": 0.0})
     loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
     writer = StatusFileWriter(str(path), loaded.spec, loaded.behaviours, lambda: 0.0,
@@ -161,13 +160,19 @@ def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path)
     tree = py_trees.trees.BehaviourTree(loaded.root)
     tree.visitors.append(writer)
     tree.add_post_tick_handler(writer.after_tick)
-    for _ in range(20):
+    for _ in range(ticks):
         tree.tick()
         if loaded.root.status == Status.FAILURE:
             break
     assert loaded.root.status == Status.FAILURE
+    return [reason_line(r) for r in writer.failures]
+
+
+def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path) -> None:
+    """Nav2's RecoveryNode: the action's failure, each recovery that let it try again (the
+    recovery's actions named, not its conditions), then giving up."""
     recovered = "after Act: goal occupied; trying Act again"
-    assert [reason_line(r) for r in writer.failures] == [
+    assert recovery_reasons(tmp_path, RECOVERY, 20) == [
         "Act [0.0]: goal occupied",
         f"Recover [0] retry: recovery 1/2 done (Countdown Clear) {recovered}",
         "Act [0.0]: goal occupied",
@@ -179,19 +184,9 @@ def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path)
 
 def test_a_recovery_that_fails_fails_the_recovery_node_saying_both_reasons(
         tmp_path: Path) -> None:
-    path = tmp_path / "t.yaml"
-    path.write_text(RECOVERY.replace('succeed: true, message: "cleared"',
-                                     'succeed: false, message: "service gone"'))
-    zones = ZoneManager([], {"x": 0.0, "y": 0.0, "yaw": 0.0})
-    loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
-    writer = StatusFileWriter(str(path), loaded.spec, loaded.behaviours, lambda: 0.0,
-                              completion="once")
-    tree = py_trees.trees.BehaviourTree(loaded.root)
-    tree.visitors.append(writer)
-    tree.add_post_tick_handler(writer.after_tick)
-    for _ in range(5):
-        tree.tick()
-    assert [reason_line(r) for r in writer.failures] == [
+    text = RECOVERY.replace('succeed: true, message: "cleared"',
+                            'succeed: false, message: "service gone"')
+    assert recovery_reasons(tmp_path, text, 5) == [
         "Act [0.0]: goal occupied",
         "Clear [0.1.1]: service gone",
         "Recover [0] retry: giving up: the recovery of Act failed (Clear: service gone) "

@@ -79,8 +79,8 @@ def entry_values(entries: Sequence[str],
                  zones: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
     """``NAME:=VALUE`` entries as typed values, read as rcl reads them (the last one wins).
 
-    Mission zone names in a ``blocked_zones`` list become ``x:y:radius`` (the simulator
-    knows its world's markers, not the mission's zones).
+    Mission zone names in a ``blocked_zones`` or ``phantom_obstacles`` list become
+    ``x:y:radius`` (the simulator knows its world's markers, not the mission's zones).
 
     Args:
         entries: ``--sim-param`` (or ``--detect-param``...) entries, already checked.
@@ -92,7 +92,7 @@ def entry_values(entries: Sequence[str],
         if parsed is None:
             continue  # check_config reported it; nothing starts with it
         name, value = parsed
-        if name == "blocked_zones" and isinstance(value, list):
+        if name in ("blocked_zones", "phantom_obstacles") and isinstance(value, list):
             value = [blocked_zone_entry(str(e), zones or {}) for e in value]
         values[name] = value
     return values

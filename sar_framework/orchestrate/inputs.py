@@ -100,11 +100,13 @@ def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]
 
 
 def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]],
-                   problems: list[str]) -> tuple[tuple[float, float, float], ...]:
+                   problems: list[str], name: str = "blocked_zones"
+                   ) -> tuple[tuple[float, float, float], ...]:
+    """The circles of a zone-list fault (``blocked_zones``, ``phantom_obstacles``)."""
     from sar_framework.sim.faults import FaultConfigError, parse_blocked_zone
     from sar_framework.sim.world import WorldError, load_world
 
-    entries = values.get("blocked_zones")
+    entries = values.get(name)
     if not isinstance(entries, list):
         return ()
     try:
@@ -117,7 +119,7 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
         if not str(entry).strip():
             continue  # [''] means none (a ROS list cannot be empty)
         try:
-            zone = parse_blocked_zone(str(entry), {**markers, **zones})
+            zone = parse_blocked_zone(str(entry), {**markers, **zones}, name)
         except FaultConfigError as err:
             problems.append(f"--sim-param {err}")
         else:
@@ -164,6 +166,7 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
                                                           config.params)]
     zones = zone_positions(values)
     blocked = _blocked_areas(overrides["sim"], zones, problems)
+    _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
     if config.survivors is not None and Path(config.survivors).is_file():
         try:
             load_survivors(config.survivors)

@@ -7,7 +7,11 @@ ROS-free core (plain Python + numpy)::
     planner     A* on the inflated grid
     drive       differential-drive model and path follower, stepped by dt
     clock       simulated time paced by a speed factor
-    faults      fault-injection params (reject, abort Nth, delay, blocked zones)
+    faults      fault-injection params (reject, abort Nth, delay, blocked zones, phantoms)
+    costmaps    the two costmaps' phantom layer: what clearing removes, walls that stay
+    progress_checker  the stuck-controller fault as Nav2's progress checker sees it
+    plugin_ids  the planner/controller/checker/smoother ids of config/nav2_params.yaml
+    geometry    nearest points on paths, pruning a path to the robot
     params      the simulator's parameter table (SPEED: the speed's one default and rule)
     navigation  one goal at a time: plan, drive, decide the outcome as Nav2 would
     trace       JSON Lines trace of the robot's path and goal events
@@ -16,11 +20,13 @@ ROS nodes (rclpy)::
 
     sim_node           the simulator: physics thread, /clock, /tf, /odometry/filtered
     settings           its parameters declared from the table, validated
+    live_params        run-time parameter changes (speed, phantoms, stuck, walls)
     lifecycle          Nav2LifecycleNode: rclpy lifecycle, action servers need ACTIVE
     lifecycle_manager  lifecycle_manager_localization / _navigation (manage_nodes, is_active)
     goal_actions       serve a navigator goal as an action (feedback, cancel, result)
     nav_server         bt_navigator: navigate_to_pose, navigate_through_poses
-    planning_servers   planner_server, smoother_server, the costmap nodes
+    planning_servers   planner_server, smoother_server
+    costmap_servers    the costmap nodes' clearing services, is_path_valid
     motion_servers     controller_server, behavior_server, waypoint_follower
     map_server         map_server: /map latched on activation
     amcl               /initialpose -> /amcl_pose, updates as the robot moves

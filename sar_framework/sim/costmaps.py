@@ -46,22 +46,26 @@ def _in_square(zone: BlockedZone, centre: Point, side: float) -> bool:
 
 
 class Costmaps:
-    """The phantom obstacles of the global and local costmap over one base grid.
+    """The phantom obstacles of the global and local costmap over the map and its walls.
 
     Args:
-        base: The map with ``blocked_zones`` already added (never changes).
+        static: The map.
         robot_radius: Inflation radius of the planner, metres.
         phantoms: The phantoms written into both costmaps at start.
-        planner: The planner over ``base`` if already built.
+        walls: The ``blocked_zones`` (never cleared; :meth:`set_walls` replaces them).
+        planner: The planner over ``static`` (no walls) if already built.
     """
 
-    def __init__(self, base: OccupancyGrid, robot_radius: float,
-                 phantoms: Iterable[BlockedZone] = (), planner: GridPlanner | None = None
-                 ) -> None:
-        self._base = base
+    def __init__(self, static: OccupancyGrid, robot_radius: float,
+                 phantoms: Iterable[BlockedZone] = (), *, walls: Iterable[BlockedZone] = (),
+                 planner: GridPlanner | None = None) -> None:
+        self._static = static
         self._radius = robot_radius
         self._lock = threading.Lock()
-        self._base_planner = planner or GridPlanner(base, robot_radius=robot_radius)
+        self.walls = tuple(walls)
+        self._base = with_blocked_zones(static, self.walls) if self.walls else static
+        self._base_planner = planner if planner is not None and not self.walls else \
+            GridPlanner(self._base, robot_radius=robot_radius)
         self._planner = self._base_planner
         self._phantoms: dict[Layer, tuple[BlockedZone, ...]] = {layer: () for layer in Layer}
         self._planned: tuple[BlockedZone, ...] = ()
@@ -71,6 +75,15 @@ class Costmaps:
     def over(cls, planner: GridPlanner) -> Costmaps:
         """Costmaps without phantoms over ``planner``'s grid and inflation."""
         return cls(planner.grid, planner.robot_radius, planner=planner)
+
+    def set_walls(self, walls: Iterable[BlockedZone]) -> None:
+        """Replace the ``blocked_zones`` walls (tens of milliseconds: the planner is rebuilt)."""
+        zones = tuple(walls)
+        base = with_blocked_zones(self._static, zones) if zones else self._static
+        planner = GridPlanner(base, robot_radius=self._radius)
+        with self._lock:
+            self.walls, self._base, self._base_planner = zones, base, planner
+            self._planner, self._planned = planner, ()
 
     def phantoms(self, layer: Layer) -> tuple[BlockedZone, ...]:
         """The phantoms ``layer`` holds now."""

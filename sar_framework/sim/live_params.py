@@ -6,6 +6,7 @@ are parsed) before anything changes; a bad value is refused with a reason naming
 parameter, and the simulator keeps what it had. Every other parameter is fixed.
 
 - ``phantom_obstacles``: re-written into both costmaps at once;
+- ``blocked_zones``: the walls are replaced (the planner is rebuilt);
 - ``stuck_recoveries`` / ``movement_time_allowance``: the stuck controller is re-armed;
 - ``speed``: handed to the physics loop.
 
@@ -78,7 +79,7 @@ class LiveParameters:
             problem = None if value is None else _TABLE[name].problem(value)
             if problem is not None:
                 return SetParametersResult(successful=False, reason=f"{name}: {problem}")
-            if name == "phantom_obstacles":
+            if name in ("phantom_obstacles", "blocked_zones"):
                 try:
                     value = parse_zones(value or (), self._markers, name)
                 except FaultConfigError as exc:
@@ -99,6 +100,11 @@ class LiveParameters:
             self._costmaps.write(self.phantoms)
             zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.phantoms)
             self._log(f"phantom_obstacles written into both costmaps: {zones or 'none'}")
+        if "blocked_zones" in changes:
+            self._costmaps.set_walls(changes["blocked_zones"])
+            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})"
+                              for z in changes["blocked_zones"])
+            self._log(f"blocked_zones (walls) now: {zones or 'none'}")
         if {"stuck_recoveries", "movement_time_allowance"} & changes.keys():
             self.stuck_recoveries = int(changes.get("stuck_recoveries", self.stuck_recoveries))
             self.movement_time_allowance = float(

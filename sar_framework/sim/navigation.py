@@ -14,10 +14,8 @@ Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
   (``nav2_util::SimpleActionServer::accept_pending_goal`` aborts it with an empty result);
 - a cancelled goal stops the robot and ends CANCELED;
 - success needs the robot within the xy and yaw tolerances (the drive model's arrival);
-- with ``costmaps``, plans use the global costmap's phantoms, and a path through a local
-  costmap phantom fails at once with FollowPath's NO_VALID_CONTROL (no trajectory is valid);
-- a stuck controller (``stuck_recoveries``) fails path goals as Nav2's progress checker
-  would (:mod:`.progress_checker`).
+- plans use the global costmap's phantoms; a path through a local one fails at once with
+  NO_VALID_CONTROL (:mod:`.costmaps`); a stuck controller fails as :mod:`.progress_checker`.
 """
 
 from __future__ import annotations
@@ -110,12 +108,7 @@ class Navigator:
         return self._checker.stuck_left
 
     def set_stuck(self, recoveries: int, allowance_s: float) -> None:
-        """(Re-)arm the stuck controller.
-
-        Args:
-            recoveries: Completed spin/straight motions needed to free it (0: not stuck).
-            allowance_s: Simulated seconds without progress before a goal fails.
-        """
+        """(Re-)arm the stuck controller (see :class:`ProgressChecker`)."""
         with self._lock:
             self._checker = ProgressChecker(max(int(recoveries), 0), float(allowance_s))
 

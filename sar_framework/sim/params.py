@@ -80,13 +80,13 @@ SIM_PARAMETERS: tuple[Param, ...] = (
     Param("accept_delay_wall_s", float, 0.0, "fault: the server answers a goal request this late "
           "(wall clock)", minimum=0.0, unit="s"),
     Param("blocked_zones", list[str], None,
-          "fault: circles added to the map as obstacles: 'x:y:radius' (m) or 'name[:radius]', "
-          "a mission zone or world marker (radius "
-          f"{DEFAULT_NAMED_RADIUS:g} m unless given)"),
+          "fault (run-time): circles added to the map as obstacles (walls no costmap "
+          "clearing removes): 'x:y:radius' (m) or 'name[:radius]', a mission zone or world "
+          f"marker (radius {DEFAULT_NAMED_RADIUS:g} m unless given)"),
     *RUNTIME_FAULTS,
     USE_SIM_TIME,
 )
 """Every parameter ``sar_sim`` reads."""
 
-RUNTIME_NAMES = frozenset({SPEED.name, *(p.name for p in RUNTIME_FAULTS)})
+RUNTIME_NAMES = frozenset({SPEED.name, "blocked_zones", *(p.name for p in RUNTIME_FAULTS)})
 """The parameters that may change while the simulator runs (the others are fixed)."""

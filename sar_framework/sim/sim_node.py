@@ -42,7 +42,6 @@ from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import with_blocked_zones
 from sar_framework.sim.goal_actions import GoalGate
 from sar_framework.sim.goals import Goal, RobotState
 from sar_framework.sim.lifecycle import take_not_offered
@@ -83,8 +82,8 @@ class Simulator:
         self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed)
         self._clock_lock = threading.Lock()
         self._now_ns = 0
-        self.costmaps = Costmaps(with_blocked_zones(self.grid, s.faults.blocked_zones),
-                                 s.robot_radius, s.faults.phantom_obstacles)
+        self.costmaps = Costmaps(self.grid, s.robot_radius, s.faults.phantom_obstacles,
+                                 walls=s.faults.blocked_zones)
         try:
             self.trace = TraceWriter(s.trace_file, s.trace_period_s) if s.trace_file else None
         except OSError as exc:
@@ -144,6 +143,8 @@ class Simulator:
                                         daemon=True)
         self._wall_start = 0.0
         self._new_speed: float | None = None
+        self._published = threading.Condition()  # the physics loop's last published state:
+        self._published_generation = 0  # of this navigator generation (see _on_reset)
 
     @property
     def nodes(self) -> list[Node]:
@@ -267,10 +268,14 @@ class Simulator:
                 clock_msg = Clock(clock=messages.time_msg(now_ns))
                 self._time_source.clock_callback(clock_msg)
                 self._clock_pub.publish(clock_msg)
+                generation = self.navigator.generation  # read before the state it describes
                 state = self.navigator.state()
-                if now_ns >= next_publish_ns:
+                if now_ns >= next_publish_ns or generation != self._published_generation:
                     self._publish_state(now_ns, state)
                     next_publish_ns = now_ns + publish_period_ns
+                    with self._published:
+                        self._published_generation = generation
+                        self._published.notify_all()
                 if self.trace is not None:
                     self.trace.pose(now_ns / NS_PER_S, state.pose.x, state.pose.y,
                                     state.pose.yaw, state.odometry)
@@ -324,7 +329,9 @@ class Simulator:
         aborted = self.navigator.reset(s.spawn, "simulator reset (~/reset)")
         self.live.rearm()
         self.amcl.reset(localized=s.auto_localize)
-        self._publish_state(self.now_ns(), self.navigator.state())
+        with self._published:  # the next physics step publishes TF and odometry at spawn
+            self._published.wait_for(
+                lambda: self._published_generation == self.navigator.generation, timeout=1.0)
         self.amcl.publish_truth(self.now_ns())
         if self.trace is not None:
             self.trace.event(self.now_ns() / NS_PER_S, "reset", x=s.spawn.x, y=s.spawn.y,

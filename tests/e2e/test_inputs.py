@@ -73,6 +73,21 @@ def test_blocked_zones_accept_mission_zone_names(tmp_path: Path) -> None:
     assert "ne_corner" in bad[0]
 
 
+def test_phantom_obstacles_are_checked_and_accept_mission_zone_names(tmp_path: Path) -> None:
+    config = RunConfig(tree=str(DEFAULT_TREE), params=str(SIX_ZONES),
+                       sim_params=["phantom_obstacles:=['ne_corner:0.5', '1:-0.5:0.3']",
+                                   "stuck_recoveries:=2"])
+    inputs, problems = check_inputs(config)
+    assert problems == [] and inputs is not None
+    assert inputs.blocked_areas == ()  # a phantom is no wall
+    sim = next(c for c in child_specs(config, tmp_path, inputs.zones) if c.label == "sim")
+    assert "phantom_obstacles:=['5:4.2:0.5', '1:-0.5:0.3']" in sim.ros_args
+    bad = _problems(tmp_path, sim_params=["phantom_obstacles:=['1:2']", "stuck_recoveries:=-1"])
+    assert bad == ["--sim-param: stuck_recoveries: must be >= 0, got -1",
+                   "--sim-param phantom_obstacles: '1:2': expected 'x:y:radius' or a marker "
+                   "name (known markers: base_station, zone_a, zone_b, zone_c, zone_d)"]
+
+
 def test_nothing_starts_and_no_internal_text_leaks(tmp_path: Path) -> None:
     params = tmp_path / "params.yaml"
     params.write_text(THREE_MISTAKES)

@@ -6,7 +6,6 @@ at run time with SetParameters, and ``/sar_sim/reset`` puts the robot back after
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -14,78 +13,62 @@ from typing import Any
 import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
-from sar_testing.leaf_harness import TreeMaker, tick_until_done
+from sar_testing.leaf_harness import TreeMaker, tick_until_done, wait_for_service
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service, ros_node, spin_until
+from sar_testing.spin import ros_node
 
 from sar_framework.engine.api import load_tree
+from sar_framework.sim.messages import pose_stamped
+from sar_framework.sim.world import Pose2D
+from sar_framework.testing.sim_control import odometry_xy, reset_sim, set_sim_params, sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
-SPEED = 40.0
-DISCOVERY_S = 15.0
 GOAL = (1.0, -0.5)
+MESSAGES: list[str] = []
+"""The last tree's feedback messages (for assertion messages)."""
 WALL = (2.0, -1.5)
 
 
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
-            "-p", f"blocked_zones:=['{WALL[0]}:{WALL[1]}:0.3']"]
-    with NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")) as proc:
-        proc.wait_for_output("ready", timeout=30)
+    wall = f"blocked_zones:=['{WALL[0]}:{WALL[1]}:0.3']"
+    with sim_process(tmp_path_factory.mktemp("sim"), wall, speed=40.0) as proc:
         yield proc
 
 
 @pytest.fixture(scope="module")
 def ros(sim: NodeProcess) -> Iterator[tuple[Any, Any]]:
-    from nav2_msgs.action import Spin
-    from rclpy.action import ActionClient
+    from nav2_msgs.srv import IsPathValid
 
     with ros_node("nav2_faults_test") as (node, executor):
         node.declare_parameter("default_server_timeout", 2000)
-        probe = ActionClient(node, Spin, "spin")
-        assert spin_until(executor, probe.server_is_ready, DISCOVERY_S), sim.output
-        probe.destroy()
+        wait_for_service(node, executor, IsPathValid, "is_path_valid")
         yield node, executor
 
 
 @pytest.fixture
 def trees(ros: tuple[Any, Any]) -> Iterator[TreeMaker]:
-    Blackboard.storage.clear()
+    """A tree maker on a clean blackboard; afterwards, faults unset and the robot reset."""
     maker = TreeMaker(ros[0])
-    yield maker
-    maker.shutdown()
-    set_params(ros, phantom_obstacles=[""], stuck_recoveries=0, movement_time_allowance=10.0)
-    answer = reset(ros)
-    assert answer.success, answer.message
+    Blackboard.storage.clear()
+    try:
+        yield maker
+    finally:
+        maker.shutdown()
+        set_params(ros, phantom_obstacles=[""], stuck_recoveries=0,
+                   movement_time_allowance=10.0)
+        answer = reset_sim(*ros)
+        assert answer.success, answer.message
 
 
 def set_params(ros: tuple[Any, Any], **values: Any) -> None:
-    from rcl_interfaces.srv import SetParameters
-    from rclpy.parameter import Parameter
-
-    request = SetParameters.Request()
-    request.parameters = [Parameter(name, value=value).to_parameter_msg()
-                          for name, value in values.items()]
-    answer = call_service(*ros, SetParameters, "/sar_sim/set_parameters", request)
-    assert all(r.successful for r in answer.results), [r.reason for r in answer.results]
+    results = set_sim_params(*ros, **values)
+    assert all(r.successful for r in results), [r.reason for r in results]
 
 
-def reset(ros: tuple[Any, Any]) -> Any:
-    from std_srvs.srv import Trigger
-
-    return call_service(*ros, Trigger, "/sar_sim/reset", Trigger.Request(), timeout=20.0)
-
-
-def pose(x: float, y: float, yaw: float = 0.0) -> Any:
-    from geometry_msgs.msg import PoseStamped
-
-    msg = PoseStamped()
-    msg.header.frame_id = "map"
-    msg.pose.position.x, msg.pose.position.y = x, y
-    msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-    return msg
+def pose(x: float, y: float) -> Any:
+    return pose_stamped(Pose2D(x, y, 0.0), "map", 0)
 
 
 def run(ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path, text: str,
@@ -94,7 +77,7 @@ def run(ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path, text: str,
     tree.write_text("format: 1\n" + text)
     root = load_tree(tree, {}).root
     status = tick_until_done(ros[1], trees(root), timeout)
-    run.messages = [f"{b.name}: {b.feedback_message}" for b in root.iterate()]  # type: ignore[attr-defined]
+    MESSAGES[:] = [f"{b.name}: {b.feedback_message}" for b in root.iterate()]
     return status
 
 
@@ -133,7 +116,7 @@ def test_a_phantom_at_the_goal_is_cleared_from_the_global_costmap_then_planning_
     assert run(ros, trees, tmp_path, clear("local")) == Status.SUCCESS
     assert run(ros, trees, tmp_path, PLAN) == Status.FAILURE  # the global one still has it
     assert run(ros, trees, tmp_path, clear("global")) == Status.SUCCESS
-    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS, run.messages
+    assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS, MESSAGES
     assert Blackboard.storage["/plan_error"] == 0
 
 
@@ -153,7 +136,7 @@ def test_a_local_phantom_stops_follow_path_until_the_local_costmap_is_cleared(
     assert run(ros, trees, tmp_path, FOLLOW) == Status.FAILURE
     assert Blackboard.storage["/follow_error"] == 106  # NO_VALID_CONTROL
     assert run(ros, trees, tmp_path, clear("local")) == Status.SUCCESS
-    assert run(ros, trees, tmp_path, FOLLOW) == Status.SUCCESS, run.messages
+    assert run(ros, trees, tmp_path, FOLLOW) == Status.SUCCESS, MESSAGES
 
 
 def test_is_path_valid_is_false_across_a_phantom_and_true_once_cleared(
@@ -178,22 +161,8 @@ def test_a_stuck_controller_fails_with_105_and_a_spin_frees_it(
     assert Blackboard.storage["/plan_error"] == 0
     assert Blackboard.storage["/follow_error"] == 105  # FAILED_TO_MAKE_PROGRESS
     assert run(ros, trees, tmp_path, "root:\n  Spin: {spin_dist: 1.0}\n") == Status.SUCCESS
-    assert run(ros, trees, tmp_path, NAVIGATE) == Status.SUCCESS, run.messages
+    assert run(ros, trees, tmp_path, NAVIGATE) == Status.SUCCESS, MESSAGES
     assert Blackboard.storage["/follow_error"] == 0
-
-
-def robot_xy(ros: tuple[Any, Any]) -> tuple[float, float]:
-    from nav_msgs.msg import Odometry
-
-    node, executor = ros
-    seen: list[Odometry] = []
-    sub = node.create_subscription(Odometry, "/odometry/filtered", seen.append, 10)
-    try:
-        assert spin_until(executor, lambda: len(seen) >= 2, 10.0)
-        p = seen[-1].pose.pose.position
-        return p.x, p.y
-    finally:
-        node.destroy_subscription(sub)
 
 
 def test_drive_on_heading_moves_the_robot_and_refuses_a_mismatched_sign(
@@ -201,8 +170,8 @@ def test_drive_on_heading_moves_the_robot_and_refuses_a_mismatched_sign(
     drive = ("blackboard:\n  code: {type: int, initial: -1}\n"
              "root:\n  DriveOnHeading: {dist_to_travel: %s, speed: %s, error_code_id: "
              "'{code}'}\n")
-    assert run(ros, trees, tmp_path, drive % (0.4, 0.2)) == Status.SUCCESS, run.messages
-    assert robot_xy(ros)[0] == pytest.approx(0.4, abs=0.05)
+    assert run(ros, trees, tmp_path, drive % (0.4, 0.2)) == Status.SUCCESS, MESSAGES
+    assert odometry_xy(*ros)[0] == pytest.approx(0.4, abs=0.05)
     assert run(ros, trees, tmp_path, drive % (0.4, -0.2)) == Status.FAILURE
     assert Blackboard.storage["/code"] == 724  # INVALID_INPUT
 
@@ -220,3 +189,18 @@ def test_an_unknown_plugin_id_fails_with_nav2s_code(
     assert run(ros, trees, tmp_path, PLAN) == Status.SUCCESS
     assert run(ros, trees, tmp_path, BOARD + text) == Status.FAILURE
     assert Blackboard.storage[key] == code
+
+
+def test_the_navigator_reports_a_stuck_controllers_105_until_a_drive_frees_it(
+        ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    set_params(ros, stuck_recoveries=1, movement_time_allowance=3.0)
+    Blackboard.storage["/goal"] = pose(*GOAL)
+    navigate = ("blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n"
+                "  code: {type: int, initial: -1}\n"
+                "root:\n  NavigateToPose: {goal: '{goal}', error_code_id: '{code}'}\n")
+    assert run(ros, trees, tmp_path, navigate) == Status.FAILURE
+    assert Blackboard.storage["/code"] == 105
+    drive = "root:\n  DriveOnHeading: {dist_to_travel: 0.2, speed: 0.2}\n"
+    assert run(ros, trees, tmp_path, drive) == Status.SUCCESS, MESSAGES
+    assert run(ros, trees, tmp_path, navigate) == Status.SUCCESS, MESSAGES
+    assert Blackboard.storage["/code"] == 0

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 import yaml
 
@@ -75,3 +77,31 @@ def test_the_plugin_ids_are_the_params_files():
     assert plugin_ids.unknown_id("", plugin_ids.PLANNERS, "planner") is None
     assert "'Nope' is not loaded" in plugin_ids.unknown_id("Nope", plugin_ids.PLANNERS,
                                                           "planner")
+
+
+def test_a_phantom_around_the_robot_or_across_the_way_gives_nav2s_codes(base):
+    from sar_framework.sim.planner import NoPath, StartInObstacle
+
+    with pytest.raises(StartInObstacle) as start:
+        Costmaps(base, 0.22, [BlockedZone(0.0, 0.0, 0.3)]).planner().plan((0.0, 0.0),
+                                                                          (1.0, -0.5))
+    assert start.value.error_code == 205  # START_OCCUPIED
+    ring = [BlockedZone(1.0 + 0.8 * math.cos(a / 20 * math.tau),
+                        -0.5 + 0.8 * math.sin(a / 20 * math.tau), 0.15) for a in range(20)]
+    with pytest.raises(NoPath) as cut:  # the goal is free, but fenced in
+        Costmaps(base, 0.22, ring).planner().plan((0.0, 0.0), (1.0, -0.5))
+    assert cut.value.error_code == 208  # NO_VALID_PATH
+
+
+def test_walls_can_be_replaced_and_never_clear(base):
+    costmaps = Costmaps(base, 0.22, [FAR])
+    costmaps.set_walls([BlockedZone(1.0, -0.5, 0.3)])
+    costmaps.clear(Layer.GLOBAL)
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (1.0, -0.5))
+    assert costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))[-1] == pytest.approx((1.0, -1.5))
+    costmaps.write([FAR])
+    costmaps.set_walls([])
+    assert costmaps.planner().plan((0.0, 0.0), (1.0, -0.5))[-1] == pytest.approx((1.0, -0.5))
+    with pytest.raises(GoalInObstacle):
+        costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))  # the phantom is back

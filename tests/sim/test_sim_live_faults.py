@@ -11,19 +11,18 @@ from typing import Any
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service, ros_node, spin_until
+from sar_testing.spin import ros_node, spin_until
+
+from sar_framework.testing.sim_control import odometry_xy, reset_sim, set_sim_params, sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
 DISCOVERY_S = 15.0
-SPEED = 40.0
 
 
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}"]
-    with NodeProcess(args, "sim", log_dir=tmp_path_factory.mktemp("sim")) as proc:
-        proc.wait_for_output("ready", timeout=30)
+    with sim_process(tmp_path_factory.mktemp("sim"), speed=40.0) as proc:
         yield proc
 
 
@@ -37,37 +36,16 @@ def client(sim: NodeProcess) -> Iterator[tuple[Any, Any]]:
 def clean(client: tuple[Any, Any]) -> Iterator[tuple[Any, Any]]:
     """Faults unset and the world reset after the test."""
     yield client
-    set_params(client, phantom_obstacles=[""], stuck_recoveries=0,
-               movement_time_allowance=10.0)
-    assert reset(client).success
-
-
-def set_params(client: tuple[Any, Any], **values: Any) -> list[Any]:
-    """SetParameters on /sar_sim, as ``ros2 param set`` does; returns the results."""
-    from rcl_interfaces.srv import SetParameters
-    from rclpy.parameter import Parameter
-
-    request = SetParameters.Request()
-    request.parameters = [Parameter(name, value=value).to_parameter_msg()
-                          for name, value in values.items()]
-    answer = call_service(*client, SetParameters, "/sar_sim/set_parameters", request)
-    return list(answer.results)
-
-
-def reset(client: tuple[Any, Any]) -> Any:
-    from std_srvs.srv import Trigger
-
-    return call_service(*client, Trigger, "/sar_sim/reset", Trigger.Request(), timeout=20.0)
+    set_sim_params(*client, phantom_obstacles=[""], stuck_recoveries=0,
+                   movement_time_allowance=10.0, blocked_zones=[""])
+    assert reset_sim(*client).success
 
 
 def compute_path(client: tuple[Any, Any], x: float, y: float) -> Any:
     """ComputePathToPose from the robot to ``(x, y)``; the result."""
     from nav2_msgs.action import ComputePathToPose
 
-    goal = ComputePathToPose.Goal()
-    goal.goal.header.frame_id = "map"
-    goal.goal.pose.position.x, goal.goal.pose.position.y = x, y
-    goal.goal.pose.orientation.w = 1.0
+    goal = ComputePathToPose.Goal(goal=map_pose(x, y))
     return run_action(client, ComputePathToPose, "compute_path_to_pose", goal)
 
 
@@ -91,20 +69,6 @@ def run_action(client: tuple[Any, Any], kind: Any, name: str, goal: Any,
         action.destroy()
 
 
-def odom_pose(client: tuple[Any, Any]) -> tuple[float, float]:
-    from nav_msgs.msg import Odometry
-
-    node, executor = client
-    seen: list[Odometry] = []
-    sub = node.create_subscription(Odometry, "/odometry/filtered", seen.append, 10)
-    try:
-        assert spin_until(executor, lambda: len(seen) >= 2, 10.0)
-        p = seen[-1].pose.pose.position
-        return p.x, p.y
-    finally:
-        node.destroy_subscription(sub)
-
-
 @pytest.mark.parametrize(("name", "value", "expect"), [
     ("phantom_obstacles", ["1:2"], "phantom_obstacles: '1:2': expected 'x:y:radius'"),
     ("phantom_obstacles", ["nowhere"], "phantom_obstacles: 'nowhere': expected"),
@@ -116,21 +80,61 @@ def odom_pose(client: tuple[Any, Any]) -> tuple[float, float]:
 ])
 def test_a_bad_value_is_refused_naming_the_parameter(
         clean: tuple[Any, Any], sim: NodeProcess, name: str, value: Any, expect: str) -> None:
-    (result,) = set_params(clean, **{name: value})
+    (result,) = set_sim_params(*clean, **{name: value})
     assert not result.successful
     assert expect in result.reason
     assert sim.returncode() is None  # still running, still answering
-    assert [r.successful for r in set_params(clean, phantom_obstacles=["zone_b:0.4"])] == [True]
+    (again,) = set_sim_params(*clean, phantom_obstacles=["zone_b:0.4"])
+    assert again.successful
 
 
 def test_a_phantom_at_the_goal_fails_planning_until_it_is_unset(
         clean: tuple[Any, Any]) -> None:
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
-    assert set_params(clean, phantom_obstacles=["1.0:-0.5:0.3"])[0].successful
+    assert set_sim_params(*clean, phantom_obstacles=["1.0:-0.5:0.3"])[0].successful
     answer = compute_path(clean, 1.0, -0.5)
     assert answer.result.error_code == 206  # GOAL_OCCUPIED
-    assert set_params(clean, phantom_obstacles=[""])[0].successful
+    assert set_sim_params(*clean, phantom_obstacles=[""])[0].successful
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
+
+
+def test_blocked_zones_set_at_run_time_are_walls_until_unset(clean: tuple[Any, Any]) -> None:
+    from nav2_msgs.srv import ClearEntireCostmap
+    from sar_testing.spin import call_service
+
+    assert set_sim_params(*clean, blocked_zones=["1.0:-0.5:0.3"])[0].successful
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 206
+    call_service(*clean, ClearEntireCostmap, "/global_costmap/clear_entirely_global_costmap",
+                 ClearEntireCostmap.Request())
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 206  # a wall stays
+    assert set_sim_params(*clean, blocked_zones=[""])[0].successful
+    assert compute_path(clean, 1.0, -0.5).result.error_code == 0
+
+
+def map_pose(x: float, y: float) -> Any:
+    from sar_framework.sim.messages import pose_stamped
+    from sar_framework.sim.world import Pose2D
+
+    return pose_stamped(Pose2D(x, y, 0.0), "map", 0)
+
+
+def reset_mid_goal(clean: tuple[Any, Any], kind: Any, name: str, goal: Any) -> tuple[Any, Any]:
+    """Send ``goal``, reset once the robot has moved 0.3 m; (reset answer, goal status)."""
+    from rclpy.action import ActionClient
+
+    node, executor = clean
+    action = ActionClient(node, kind, name)
+    try:
+        assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
+        sent = action.send_goal_async(goal)
+        assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
+        assert spin_until(executor, lambda: math.hypot(*odometry_xy(*clean)) > 0.3, 30.0)
+        done = sent.result().get_result_async()
+        answer = reset_sim(*clean)
+        assert spin_until(executor, done.done, 10.0)
+        return answer, done.result().status
+    finally:
+        action.destroy()
 
 
 def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
@@ -138,33 +142,31 @@ def test_reset_aborts_the_running_goal_and_puts_the_robot_at_spawn(
     from action_msgs.msg import GoalStatus
     from geometry_msgs.msg import PoseWithCovarianceStamped
     from nav2_msgs.action import NavigateToPose
-    from rclpy.action import ActionClient
     from rclpy.qos import DurabilityPolicy, QoSProfile
 
     node, executor = clean
-    action = ActionClient(node, NavigateToPose, "navigate_to_pose")
-    assert spin_until(executor, action.server_is_ready, DISCOVERY_S)
-    goal = NavigateToPose.Goal()
-    goal.pose.header.frame_id = "map"
-    goal.pose.pose.position.x, goal.pose.pose.position.y = -3.0, 3.0  # zone_a: far
-    goal.pose.pose.orientation.w = 1.0
-    sent = action.send_goal_async(goal)
-    assert spin_until(executor, sent.done, 10.0) and sent.result().accepted
-    assert spin_until(executor, lambda: math.hypot(*odom_pose(clean)) > 0.3, 30.0)
-    done = sent.result().get_result_async()
-
-    answer = reset(clean)
+    goal = NavigateToPose.Goal(pose=map_pose(-3.0, 3.0))  # zone_a: far
+    answer, status = reset_mid_goal(clean, NavigateToPose, "navigate_to_pose", goal)
     assert answer.success, answer.message
     assert "goal" in answer.message and "aborted" in answer.message
-    assert spin_until(executor, done.done, 10.0)
-    assert done.result().status == GoalStatus.STATUS_ABORTED
-    assert math.hypot(*odom_pose(clean)) < 0.01
+    assert status == GoalStatus.STATUS_ABORTED
+    assert math.hypot(*odometry_xy(*clean)) < 0.01
     seen: list[PoseWithCovarianceStamped] = []
     qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
     node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", seen.append, qos)
     assert spin_until(executor, lambda: bool(seen), 10.0)
     p = seen[-1].pose.pose.position
     assert math.hypot(p.x, p.y) < 0.01
-    action.destroy()
     # Goal numbers restart: the next goal runs normally.
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
+
+
+def test_reset_ends_follow_waypoints_aborted_not_at_the_next_waypoint(
+        clean: tuple[Any, Any]) -> None:
+    from action_msgs.msg import GoalStatus
+    from nav2_msgs.action import FollowWaypoints
+
+    goal = FollowWaypoints.Goal(poses=[map_pose(-3.0, 3.0), map_pose(1.0, -0.5)])
+    answer, status = reset_mid_goal(clean, FollowWaypoints, "follow_waypoints", goal)
+    assert answer.success and status == GoalStatus.STATUS_ABORTED
+    assert math.hypot(*odometry_xy(*clean)) < 0.01  # not driving to the next waypoint

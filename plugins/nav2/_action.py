@@ -208,7 +208,10 @@ class Nav2ActionLeaf(RosLeaf):
             verdict, text = Status.FAILURE, f"ended with status {status}"
         message = getattr(getattr(wrapped, "result", None), "error_msg", "")
         detail = f": {message}" if message else ""
-        return self._latch(verdict == Status.SUCCESS, f"{self.server_name} {text}{detail}")
+        # a success is not logged, as Nav2's BtActionNode says nothing then (rclpy's logger
+        # finds its caller's source file on every call: milliseconds inside the 10 ms tick)
+        return self._latch(verdict == Status.SUCCESS, f"{self.server_name} {text}{detail}",
+                           log=verdict != Status.SUCCESS)
 
     def _abandon(self) -> None:
         """Cancel the goal in flight, now or once it is accepted; forget the futures."""

@@ -112,7 +112,10 @@ class Nav2ServiceLeaf(RosLeaf):
             return self._latch(False, f"{self.service_name} failed: {future.exception()}")
         self.response = future.result()
         verdict = self.on_completion()
-        return self._latch(verdict == Status.SUCCESS, f"{self.service_name} answered")
+        # a success is not logged, as Nav2's BT nodes say nothing then (rclpy's logger finds
+        # its caller's source file on every call: milliseconds inside the 10 ms tick)
+        return self._latch(verdict == Status.SUCCESS, f"{self.service_name} answered",
+                           log=verdict != Status.SUCCESS)
 
     def terminate(self, new_status: Status) -> None:
         """On a halt, forget the call in flight (a service call cannot be cancelled)."""

@@ -10,7 +10,11 @@ did and keeps one record per event worth telling a user::
 ``what`` is ``failure`` (a leaf that had been RUNNING failed), ``timeout`` (a ``timeout``
 decorator failed its child), ``cancel`` (a RUNNING leaf was halted by its parent, e.g. a
 reactive selector), ``retry`` (a ``retry`` decorator starts its child again, or gives up)
-or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). Each
+or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). A Nav2
+``RecoveryNode`` whose recovery branch succeeded and which tries its action again is a
+``retry`` too (``NavigateRecovery [0.1] retry: recovery 1/6 done (ClearEntireCostmap
+ClearLocalCostmap-Subtree) after FollowPath: ...; trying again``), and one that fails
+after recoveries says it gives up. Each
 record's :func:`reason_line` is what the runner logs: ``NavigateToZone [0.0.1]: goal to
 zone_b aborted: no path``.
 """
@@ -24,6 +28,8 @@ from py_trees.common import Status
 
 #: The decorator kinds that explain something when their child fails.
 EXPLAINING_DECORATORS = ("timeout", "retry", "failure_is_success")
+#: The control kinds that do (Nav2's RecoveryNode: the action, then its recovery).
+EXPLAINING_CONTROLS = ("RecoveryNode",)
 
 
 def reason_line(record: dict[str, Any]) -> str:
@@ -46,16 +52,23 @@ class ReasonLog:
         self._tick: list[dict[str, Any]] = []
         self._quoted: set[str] = set()
         self._said: dict[str, str] = {}
+        # RecoveryNode uid -> (retries when its recovery started, why the action failed)
+        self._recovering: dict[str, tuple[int, str]] = {}
+        # leaves that succeeded inside a recovery branch, until its RecoveryNode tells
+        self._recovered: dict[str, str] = {}
+        self._recoveries: dict[str, int] = {}  # RecoveryNode uid -> recoveries done
+        self._recovery_branches = tuple(f"{uid}.1." for uid, kind in kinds.items()
+                                        if kind in EXPLAINING_CONTROLS)
 
     def _add(self, what: str, uid: str, message: str, stamp: dict[str, float]) -> None:
         behaviour = self._behaviours[uid]
         self._tick.append({"what": what, "uid": uid, "name": behaviour.name,
                            "kind": self._kinds[uid], "message": message, **stamp})
 
-    def _last_failure_under(self, uid: str) -> str:
+    def _last_failure_under(self, uid: str, *, named: bool = False) -> str:
         for record in reversed(self._tick):
             if record["what"] in ("failure", "timeout") and record["uid"].startswith(uid + "."):
-                return record["message"]
+                return f"{record['name']}: {record['message']}" if named else record["message"]
         for leaf, message in reversed(list(self._said.items())):
             if leaf.startswith(uid + "."):
                 return f"{self._behaviours[leaf].name}: {message}"
@@ -74,8 +87,14 @@ class ReasonLog:
         if message:
             self._said[uid] = message
 
+    def leaf_succeeded(self, uid: str) -> None:
+        """A leaf that had been RUNNING succeeded: kept when part of a RecoveryNode's recovery."""
+        if uid.startswith(self._recovery_branches):
+            self._recovered[uid] = f"{self._kinds[uid]} {self._behaviours[uid].name}" \
+                if self._kinds[uid] != self._behaviours[uid].name else self._kinds[uid]
+
     def decorator_ticked(self, uid: str, running: set[str], stamp: dict[str, float]) -> None:
-        """Explain what a ``timeout``, ``retry`` or ``failure_is_success`` just did.
+        """Explain what a ``timeout``, ``retry``, ``failure_is_success`` or RecoveryNode did.
 
         Args:
             uid: The decorator's uid.
@@ -84,6 +103,9 @@ class ReasonLog:
         """
         kind = self._kinds[uid]
         behaviour = self._behaviours[uid]
+        if kind in EXPLAINING_CONTROLS:
+            self._recovery_ticked(uid, behaviour, stamp)
+            return
         child = behaviour.children[0] if behaviour.children else None
         status = behaviour.status
         if kind == "timeout" and status == Status.FAILURE \
@@ -107,6 +129,38 @@ class ReasonLog:
                 and child is not None and child.status == Status.FAILURE:
             self._add("skip", uid, f"{child.name} failed ({self._last_failure_under(uid)}); "
                       "skipped", stamp)
+
+    def _recovery_ticked(self, uid: str, behaviour: Behaviour, stamp: dict[str, float]) -> None:
+        """A RecoveryNode: its recovery started, succeeded (a retry), or it gave up."""
+        retries = int(getattr(behaviour, "retries", 0))
+        index = int(getattr(behaviour, "index", 0))
+        limit = int(getattr(behaviour, "number_of_retries", 0))
+        action = behaviour.children[0].name
+        if behaviour.status == Status.RUNNING:
+            if index == 1 and uid not in self._recovering:
+                self._recovering[uid] = (retries, self._last_failure_under(uid, named=True))
+            elif index == 0 and uid in self._recovering:
+                before, why = self._recovering.pop(uid)
+                done = [name for leaf, name in sorted(self._recovered.items())
+                        if leaf.startswith(f"{uid}.1.")]
+                for leaf in [u for u in self._recovered if u.startswith(f"{uid}.1.")]:
+                    del self._recovered[leaf]
+                if retries == before + 1:
+                    self._recoveries[uid] = retries
+                    what = f" ({', '.join(done)})" if done else ""
+                    self._add("retry", uid, f"recovery {retries}/{limit} done{what} after "
+                              f"{why}; trying {action} again", stamp)
+            return
+        started = self._recovering.pop(uid, None)
+        count = self._recoveries.pop(uid, 0)
+        if behaviour.status != Status.FAILURE:
+            return
+        if started is not None:
+            self._add("retry", uid, f"giving up: the recovery of {action} failed "
+                      f"({self._last_failure_under(uid, named=True)}) after {started[1]}", stamp)
+        elif count:
+            self._add("retry", uid, f"giving up after {count}/{limit} recoveries "
+                      f"({self._last_failure_under(uid, named=True)})", stamp)
 
     def leaves_halted(self, halted: list[str], stamp: dict[str, float]) -> None:
         """RUNNING leaves their parent stopped this tick (not already quoted by a timeout)."""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import time
 from pathlib import Path
 from typing import Any
@@ -16,6 +17,46 @@ SKIP_TREE = REPO / "trees" / "examples" / "patrol_skip_unreachable.yaml"
 SIX_ZONES = REPO / "config" / "examples" / "six_zones.yaml"
 SIX_SURVIVORS = REPO / "config" / "examples" / "six_zones_survivors.yaml"
 FAST = "40"  # speed factor for the tests that are not about the default run
+NAV2_TREE = REPO / "trees" / "examples" / "search_and_rescue_nav2.yaml"
+
+SPEC_LINES = [
+    "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
+    "Reached zone_a.",
+    "Detection request for zone_a: FOUND at (-2.50, 3.20)",
+    "Report received: survivor_1 at (-2.50, 3.20). Acknowledged.",
+    "--- Zone 2/4: zone_b (3.50, 3.00) ---",
+    "Reached zone_b.",
+    "No survivor found at zone_b.",
+    "--- Zone 3/4: zone_c (4.00, -3.00) ---",
+    "Reached zone_c.",
+    "Detection request for zone_c: FOUND at (4.10, -2.50)",
+    "Report received: survivor_2 at (4.10, -2.50). Acknowledged.",
+    "--- Zone 4/4: zone_d (-3.50, -3.00) ---",
+    "Reached zone_d.",
+    "No survivor found at zone_d.",
+    "All zones visited. Returning to base.",
+    "Reached base station.",
+    "Mission complete.",
+]
+
+
+PROGRESS = re.compile(r"^\[\s*([0-9.]+)s\] \w+\s*\| (.*)$", re.MULTILINE)
+SAME_MOMENT_S = 0.05
+"""Lines of two processes read within this many seconds may come in either order."""
+
+
+def in_order(text: str, lines: list[str]) -> None:
+    """Every line is printed, in order; lines from two processes may swap at one moment."""
+    printed = [(float(t), message) for t, message in PROGRESS.findall(text)]
+    start, last = 0, 0.0
+    for line in lines:
+        found = next((i for i in range(start, len(printed)) if printed[i][1] == line), None)
+        if found is None:  # printed a moment before the previous line, by another process
+            found = next((i for i in range(len(printed)) if printed[i][1] == line
+                          and printed[i][0] >= last - SAME_MOMENT_S), None)
+        assert found is not None, f"missing (or out of order): {line!r}\n{text}"
+        assert printed[found][0] >= last - SAME_MOMENT_S, f"out of order: {line!r}\n{text}"
+        start, last = max(start, found + 1), max(last, printed[found][0])
 
 
 def sar_tree_run(args: list[str], report_dir: Path, label: str = "sar_tree_run") -> NodeProcess:

@@ -25,7 +25,9 @@ from sar_testing.spin import ros_node, spin_until
 
 from .helpers import (
     DEFAULT_TREE,
+    SPEC_LINES,
     child_pids,
+    in_order,
     no_traceback,
     read_json,
     read_jsonl,
@@ -34,46 +36,6 @@ from .helpers import (
 )
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-
-SPEC_LINES = [
-    "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
-    "Reached zone_a.",
-    "Detection request for zone_a: FOUND at (-2.50, 3.20)",
-    "Report received: survivor_1 at (-2.50, 3.20). Acknowledged.",
-    "--- Zone 2/4: zone_b (3.50, 3.00) ---",
-    "Reached zone_b.",
-    "No survivor found at zone_b.",
-    "--- Zone 3/4: zone_c (4.00, -3.00) ---",
-    "Reached zone_c.",
-    "Detection request for zone_c: FOUND at (4.10, -2.50)",
-    "Report received: survivor_2 at (4.10, -2.50). Acknowledged.",
-    "--- Zone 4/4: zone_d (-3.50, -3.00) ---",
-    "Reached zone_d.",
-    "No survivor found at zone_d.",
-    "All zones visited. Returning to base.",
-    "Reached base station.",
-    "Mission complete.",
-]
-
-
-PROGRESS = re.compile(r"^\[\s*([0-9.]+)s\] \w+\s*\| (.*)$", re.MULTILINE)
-SAME_MOMENT_S = 0.05
-"""Lines of two processes read within this many seconds may come in either order."""
-
-
-def _in_order(text: str, lines: list[str]) -> None:
-    """Every line is printed, in order; lines from two processes may swap at one moment."""
-    printed = [(float(t), message) for t, message in PROGRESS.findall(text)]
-    start, last = 0, 0.0
-    for line in lines:
-        found = next((i for i in range(start, len(printed)) if printed[i][1] == line), None)
-        if found is None:  # printed a moment before the previous line, by another process
-            found = next((i for i in range(len(printed)) if printed[i][1] == line
-                          and printed[i][0] >= last - SAME_MOMENT_S), None)
-        assert found is not None, f"missing (or out of order): {line!r}\n{text}"
-        assert printed[found][0] >= last - SAME_MOMENT_S, f"out of order: {line!r}\n{text}"
-        start, last = max(start, found + 1), max(last, printed[found][0])
-
 
 def first_message_frames() -> list[str]:
     """The child frames of the first /tf_static message a late ``echo``-like subscriber gets."""
@@ -126,7 +88,7 @@ def default_run(tmp_path_factory: pytest.TempPathFactory) -> dict:
 def test_exits_zero_and_prints_the_spec_lines_in_order(default_run: dict) -> None:
     out = default_run["output"]
     assert default_run["code"] == 0, out
-    _in_order(out, SPEC_LINES)
+    in_order(out, SPEC_LINES)
     assert out.count("Mission complete.") == 1
     assert out.count("All zones visited. Returning to base.") == 1
     assert "Detection request for zone_b: no survivor" in out

@@ -131,3 +131,31 @@ def test_the_goals_nav2_sets_become_declared_inputs(stem: str, entry: str, kind:
     callers = [name for name, decl in blackboard.items()
                if decl["description"].startswith("Set by the caller")]
     assert callers == [entry]  # {path} is written by ComputePathToPose: not an input
+
+
+def shape(node: object) -> list[tuple]:
+    """Pre-order (kind, name, attrs, ports as written) of a spec, minus server_timeout."""
+    found = [(node.kind, node.name, sorted((k, str(v)) for k, v in node.attrs.items()
+                                           if k in node.written),
+              sorted((k, str(v)) for k, v in node.ports.items() if k != "server_timeout"))]
+    for child in node.children:
+        found += shape(child)
+    return found
+
+
+def test_the_nav2_example_mission_holds_the_default_navigator_node_for_node(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """trees/examples/search_and_rescue_nav2.yaml's NavigateWithRecovery is Nav2's
+    navigate_to_pose_w_replanning_and_recovery.xml as imported (server_timeout aside)."""
+    from sar_framework.engine.api import validate
+
+    xml = next(p for p in NAVIGATORS if p.name == "navigate_to_pose_w_replanning_and_recovery.xml")
+    imported = tmp_path / "navigator.yaml"
+    assert main(["import", str(xml), "--nodes-model", str(PALETTE), "-o", str(imported)]) == 0, \
+        capsys.readouterr().err
+    upstream = validate(imported).spec
+    example = validate(Path(__file__).resolve().parents[2] / "trees" / "examples"
+                       / "search_and_rescue_nav2.yaml").spec
+    assert upstream is not None and example is not None
+    inserted = next(n for n in example.nodes() if n.subtree == "NavigateWithRecovery")
+    assert shape(inserted) == shape(upstream.root)

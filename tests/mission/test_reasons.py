@@ -131,3 +131,64 @@ def test_a_condition_s_reason_reaches_what_fails_because_of_it(tmp_path: Path) -
         "skipped",
         "CheckAgain [0.1]: still at 12 %",  # the root failed because of it
     ]
+
+
+RECOVERY = """\
+format: 1
+name: recovery
+root:
+  RecoveryNode:
+    name: Recover
+    number_of_retries: 2
+    children:
+      - Countdown: {name: Act, ticks: 1, succeed: false, message: "goal occupied"}
+      - Sequence:
+          children:
+            - Countdown: {name: Ready, ticks: 0, succeed: true, message: ""}
+            - Countdown: {name: Clear, ticks: 1, succeed: true, message: "cleared"}
+"""
+
+
+def recovery_reasons(tmp_path: Path, text: str, ticks: int) -> list[str]:
+    """The reason lines of a RecoveryNode tree ticked ``ticks`` times (or until it fails)."""
+    path = tmp_path / "t.yaml"
+    path.write_text(text)
+    zones = ZoneManager([], {"x": 0.0, "y": 0.0, "yaw": 0.0})
+    loaded = load_tree(path, context={"zone_manager": zones}, plugin_paths=[PLUGINS])
+    writer = StatusFileWriter(str(path), loaded.spec, loaded.behaviours, lambda: 0.0,
+                              completion="once")
+    tree = py_trees.trees.BehaviourTree(loaded.root)
+    tree.visitors.append(writer)
+    tree.add_post_tick_handler(writer.after_tick)
+    for _ in range(ticks):
+        tree.tick()
+        if loaded.root.status == Status.FAILURE:
+            break
+    assert loaded.root.status == Status.FAILURE
+    return [reason_line(r) for r in writer.failures]
+
+
+def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path) -> None:
+    """Nav2's RecoveryNode: the action's failure, each recovery that let it try again (the
+    recovery's actions named, not its conditions), then giving up."""
+    recovered = "after Act: goal occupied; trying Act again"
+    assert recovery_reasons(tmp_path, RECOVERY, 20) == [
+        "Act [0.0]: goal occupied",
+        f"Recover [0] retry: recovery 1/2 done (Countdown Clear) {recovered}",
+        "Act [0.0]: goal occupied",
+        f"Recover [0] retry: recovery 2/2 done (Countdown Clear) {recovered}",
+        "Act [0.0]: goal occupied",
+        "Recover [0] retry: giving up after 2/2 recoveries (Act: goal occupied)",
+    ]
+
+
+def test_a_recovery_that_fails_fails_the_recovery_node_saying_both_reasons(
+        tmp_path: Path) -> None:
+    text = RECOVERY.replace('succeed: true, message: "cleared"',
+                            'succeed: false, message: "service gone"')
+    assert recovery_reasons(tmp_path, text, 5) == [
+        "Act [0.0]: goal occupied",
+        "Clear [0.1.1]: service gone",
+        "Recover [0] retry: giving up: the recovery of Act failed (Clear: service gone) "
+        "after Act: goal occupied",
+    ]

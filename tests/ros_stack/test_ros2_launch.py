@@ -109,22 +109,27 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     """Regression: the second launch said '2 survivors already on record ... Repeated report'
     (every launch shared ~/.ros/sar_reports.jsonl), and redirected output carried
     ESC[0m ... ESC[0m\\r on most lines. This checkout's launch file, by path, with no
-    report_file: the default."""
+    report_file: the default. The second launch runs the reference mission through Nav2's
+    navigator shape (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path): the
+    same spec lines and survivors."""
     env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
                ROS_HOME=str(tmp_path / "ros_home"))
     env.pop("RCUTILS_COLORIZED_OUTPUT", None)
     outputs = []
-    for _ in range(2):
+    for tree in ([], [f"tree:={REPO / 'trees' / 'examples' / 'search_and_rescue_nav2.yaml'}"]):
         proc = subprocess.Popen(
             [str(ROS2), "launch", str(REPO / "launch" / "search_and_rescue.launch.py"),
-             "nav2:=embedded"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-            env=env, start_new_session=True)
+             "nav2:=embedded", *tree], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            text=True, env=env, start_new_session=True)
         STARTED.append(proc)
         output, _ = proc.communicate(timeout=240)
         assert proc.returncode == 0, output
         outputs.append(output)
+    assert "search_and_rescue_nav2.yaml at 2 Hz" in outputs[1]
     for output in outputs:
         assert "(0 survivors already on record)" in output, output
+        for line in SPEC_LINES:
+            assert line in output, line
         assert "Repeated report" not in output
         assert "\x1b[" not in output and "\r" not in output
     runs = sorted((tmp_path / "ros_home" / "sar_runs").iterdir())

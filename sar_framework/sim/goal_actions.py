@@ -144,9 +144,12 @@ def _run(node: Nav2LifecycleNode, gate: GoalGate, spec: GoalAction,
     elif goal.outcome is Outcome.CANCELED:
         log.info(f"Goal {goal.number} canceled after {elapsed:.1f} s (sim).")
         handle.canceled()
+    elif not goal.error_msg:  # preempted: routine for a replanning tree (Nav2 logs INFO)
+        log.info(f"Goal {goal.number} preempted by a newer goal after {elapsed:.1f} s (sim).")
+        handle.abort()
     else:
-        reason = goal.error_msg or "preempted by a newer goal"
-        log.warning(f"Goal {goal.number} aborted after {elapsed:.1f} s (sim): {reason}")
+        log.warning(f"Goal {goal.number} aborted after {elapsed:.1f} s (sim): "
+                    f"{goal.error_msg}")
         handle.abort()
     return result
 

@@ -30,6 +30,10 @@ class _Loop(BtDecorator):
         """Whether another attempt is allowed."""
         return self.count < self.limit or self.limit == -1
 
+    def read_port(self, port: str, value: int) -> None:
+        """Take the limit read from its entry."""
+        self.limit = value
+
     def decorate(self) -> Steps:
         """Tick the child, again within this tick while it completes after running."""
         while self.looping():
@@ -107,6 +111,10 @@ class RunOnce(BtDecorator):
         self.returned: Outcome | None = None
 
     marks_running = False
+
+    def read_port(self, port: str, value: bool) -> None:
+        """Take ``then_skip`` read from its entry."""
+        self.then_skip = value
 
     def decorate(self) -> Steps:
         """Tick the child until it completes once; afterwards do not tick it."""

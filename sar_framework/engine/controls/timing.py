@@ -39,6 +39,10 @@ class Delay(BtDecorator):
         self.clock = clock
         self.started_at: float | None = None
 
+    def read_port(self, port: str, value: int) -> None:
+        """Take ``delay_msec`` read from its entry."""
+        self.delay = value / 1000.0
+
     def decorate(self) -> Steps:
         """Start the delay; once it passed, tick the child."""
         if self.started_at is None:
@@ -76,6 +80,10 @@ class Timeout(BtDecorator):
         self.clock = clock
         self.deadline: float | None = None
         self.started = False
+
+    def read_port(self, port: str, value: int) -> None:
+        """Take ``msec`` read from its entry."""
+        self.duration = value / 1000.0
 
     def decorate(self) -> Steps:
         """Start the bound; fail without ticking the child once it passed while running."""

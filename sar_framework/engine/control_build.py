@@ -236,35 +236,26 @@ def _with_read_port(base: ControlBuilder) -> ControlBuilder:
     return build
 
 
-CONTROL_BUILDERS: dict[str, ControlBuilder] = {
-    "Sequence": _plain(sequences.Sequence),
-    "SequenceWithMemory": _plain(sequences.SequenceWithMemory),
-    "ReactiveSequence": _plain(sequences.ReactiveSequence),
-    "AsyncSequence": _plain(sequences.AsyncSequence),
-    "AsyncFallback": _plain(sequences.AsyncFallback),
-    "Fallback": _plain(sequences.Fallback),
-    "ReactiveFallback": _plain(sequences.ReactiveFallback),
-    "Parallel": _with_read_port(_plain(parallels.Parallel)),
-    "ParallelAll": _with_read_port(_plain(parallels.ParallelAll)),
-    "IfThenElse": _plain(conditionals.IfThenElse),
-    "WhileDoElse": _plain(conditionals.WhileDoElse),
+def _each(wrap: Callable[[type], ControlBuilder], module: Any, *kinds: str
+          ) -> dict[str, ControlBuilder]:
+    """``kinds`` built by ``wrap`` of the class of that name in ``module``."""
+    return {kind: wrap(getattr(module, kind)) for kind in kinds}
+
+
+_BUILDERS: dict[str, ControlBuilder] = {
+    **_each(_plain, sequences, "Sequence", "SequenceWithMemory", "ReactiveSequence",
+            "AsyncSequence", "AsyncFallback", "Fallback", "ReactiveFallback"),
+    **_each(_plain, parallels, "Parallel", "ParallelAll"),
+    **_each(_plain, conditionals, "IfThenElse", "WhileDoElse"),
     **{key: _switch for key in SWITCH_CASES},
-    "RecoveryNode": _with_read_port(_plain(nav2_controls.RecoveryNode)),
-    "PipelineSequence": _plain(nav2_controls.PipelineSequence),
-    "RoundRobin": _plain(nav2_controls.RoundRobin),
-    "Inverter": _plain(converters.Inverter),
-    "ForceSuccess": _plain(converters.ForceSuccess),
-    "ForceFailure": _plain(converters.ForceFailure),
-    "KeepRunningUntilFailure": _plain(converters.KeepRunningUntilFailure),
-    "Repeat": _with_read_port(_plain(loops.Repeat)),
-    "RetryUntilSuccessful": _with_read_port(_plain(loops.RetryUntilSuccessful)),
-    "RunOnce": _with_read_port(_plain(loops.RunOnce)),
-    "Delay": _with_read_port(_clocked(timing.Delay)),
-    "Timeout": _with_read_port(_clocked(timing.Timeout)),
+    **_each(_plain, nav2_controls, "RecoveryNode", "PipelineSequence", "RoundRobin"),
+    **_each(_plain, converters, "Inverter", "ForceSuccess", "ForceFailure",
+            "KeepRunningUntilFailure"),
+    **_each(_plain, loops, "Repeat", "RetryUntilSuccessful", "RunOnce"),
+    **_each(_clocked, timing, "Delay", "Timeout"),
     **{key: _loop for key in queues.ITEM_TYPES},
     "WasEntryUpdated": _was_updated,
-    "SkipUnlessUpdated": _updated(updated.SkipUnlessUpdated),
-    "WaitValueUpdate": _updated(updated.WaitValueUpdate),
+    **_each(_updated, updated, "SkipUnlessUpdated", "WaitValueUpdate"),
     "RateController": _clocked(nav2_decorators.RateController),
     "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
     "GoalUpdatedController": _goal_updated,
@@ -272,10 +263,13 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "DistanceController": _distance,
     "SpeedController": _speed,
     "GoalUpdater": _goal_updater,
-    "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
-    "AlwaysFailure": _plain(leaves.AlwaysFailure),
-    "Sleep": _with_read_port(_clocked(leaves.Sleep)),
+    **_each(_plain, leaves, "AlwaysSuccess", "AlwaysFailure"),
+    "Sleep": _clocked(leaves.Sleep),
     "SetBlackboard": _set_blackboard,
     "UnsetBlackboard": _unset_blackboard,
 }
+#: Each kind's builder; the kinds with ports BT.CPP reads (READ_PORTS) read them from entries.
+CONTROL_BUILDERS: dict[str, ControlBuilder] = {
+    kind: _with_read_port(build) if kind in READ_PORTS else build
+    for kind, build in _BUILDERS.items()}
 assert set(CONTROL_BUILDERS) == {k.key for k in CONTROL_KINDS}, "a kind without a builder"

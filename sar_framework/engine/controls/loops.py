@@ -17,9 +17,8 @@ from sar_framework.engine.controls.base import Behaviour, BtDecorator, Outcome, 
 class _Loop(BtDecorator):
     """Re-tick the child while it gives ``again`` (up to ``limit`` times; -1: forever)."""
 
+    #: The child's result that is tried again; the loop's result once the limit is reached.
     again: Outcome
-    #: What the loop returns when the limit is reached.
-    exhausted: Outcome
 
     def __init__(self, name: str, child: Behaviour, limit: int) -> None:
         super().__init__(name, child)
@@ -53,7 +52,7 @@ class _Loop(BtDecorator):
             if was_idle and self.looping():
                 return Outcome.RUNNING
         self.count = 0
-        return self.exhausted
+        return self.again
 
     def halt(self) -> None:
         """Forget the attempts made; the child halted and reset."""
@@ -71,7 +70,6 @@ class Repeat(_Loop):
     """
 
     again = Outcome.SUCCESS
-    exhausted = Outcome.SUCCESS
 
     def __init__(self, name: str, child: Behaviour, num_cycles: int) -> None:
         super().__init__(name, child, num_cycles)
@@ -87,7 +85,6 @@ class RetryUntilSuccessful(_Loop):
     """
 
     again = Outcome.FAILURE
-    exhausted = Outcome.FAILURE
 
     def __init__(self, name: str, child: Behaviour, num_attempts: int) -> None:
         super().__init__(name, child, num_attempts)

@@ -33,15 +33,7 @@ from sar_framework.engine.registry import Registry
 from sar_framework.engine.skipping import was_skipped
 from sar_framework.engine.variables import BlackboardVariables
 
-from .scripted_leaves import Log, Scripted, tick
-
-
-class Clock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        return self.now
+from .scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_halting_a_running_sequence_halts_only_its_running_child() -> None:

@@ -71,34 +71,41 @@ REPORT_FILE = next(p for p in REPORT_PARAMETERS if p.name == "report_file")
 PACKAGE = "sar_framework"
 NAV2_MODES = ("bringup", "embedded")
 
-#: The launch arguments after ``nav2``: (name, default, description).
-_ARGUMENT_TABLE = [
-    ("tree", "search_and_rescue.yaml",
-     "Behaviour tree: a path, or a file in the package's trees/."),
-    ("params_file", "config/mission_params.yaml",
-     "Mission parameters (zones, base station, tick rate)."),
-    ("survivors_file", "config/survivors.yaml", "Survivor table the detect server answers from."),
-    ("report_dir", "", "This run's folder (reports.jsonl, status.json, events.jsonl, "
-     "trace.jsonl); empty: a new $ROS_HOME/sar_runs/<time>/."),
-    ("report_file", REPORT_FILE.default, "The report server's JSON Lines file of acknowledged "
-     "reports; empty: reports.jsonl in report_dir. Name a file to reuse its survivors across "
-     "runs."),
-    ("tick_rate_hz", "", "Override the tick rate of params_file (empty: keep)."),
-    ("map", "maps/final_project_map.yaml", "map_server map file for Nav2 (bringup)."),
-    ("nav2_params_file", "config/nav2_params.yaml", "Nav2 parameters (ROSbot; bringup)."),
-    ("use_sim_time", "true", "Follow /clock (Gazebo, the simulator); false on the real robot."),
-    ("speed", str(SPEED.default),
-     f"The simulator's speed: {SPEED.description.split(';')[0]} (embedded)."),
-    ("rviz", "false", "Start RViz with Nav2's default view (bringup)."),
-    ("record", "", "Record the mission into this MCAP file (rosbag2-compatible; "
-     "sar-mission-recorder); empty: no recording."),
-]
 ARGUMENTS = [
     DeclareLaunchArgument("nav2", default_value="bringup", choices=list(NAV2_MODES),
                           description="bringup: nav2_bringup (robot, Gazebo); embedded: "
                           "this package's simulator."),
-    *(DeclareLaunchArgument(name, default_value=default, description=description)
-      for name, default, description in _ARGUMENT_TABLE),
+    DeclareLaunchArgument("tree", default_value="search_and_rescue.yaml",
+                          description="Behaviour tree: a path, or a file in the package's "
+                          "trees/."),
+    DeclareLaunchArgument("params_file", default_value="config/mission_params.yaml",
+                          description="Mission parameters (zones, base station, tick rate)."),
+    DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
+                          description="Survivor table the detect server answers from."),
+    DeclareLaunchArgument("report_dir", default_value="",
+                          description="This run's folder (reports.jsonl, status.json, "
+                          "events.jsonl, trace.jsonl); empty: a new $ROS_HOME/sar_runs/<time>/."),
+    DeclareLaunchArgument("report_file", default_value=REPORT_FILE.default,
+                          description="The report server's JSON Lines file of acknowledged "
+                          "reports; empty: reports.jsonl in report_dir. Name a file to reuse "
+                          "its survivors across runs."),
+    DeclareLaunchArgument("tick_rate_hz", default_value="",
+                          description="Override the tick rate of params_file (empty: keep)."),
+    DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
+                          description="map_server map file for Nav2 (bringup)."),
+    DeclareLaunchArgument("nav2_params_file", default_value="config/nav2_params.yaml",
+                          description="Nav2 parameters (ROSbot; bringup)."),
+    DeclareLaunchArgument("use_sim_time", default_value="true",
+                          description="Follow /clock (Gazebo, the simulator); false on the "
+                          "real robot."),
+    DeclareLaunchArgument("speed", default_value=str(SPEED.default),
+                          description=f"The simulator's speed: {SPEED.description.split(';')[0]} "
+                          "(embedded)."),
+    DeclareLaunchArgument("rviz", default_value="false",
+                          description="Start RViz with Nav2's default view (bringup)."),
+    DeclareLaunchArgument("record", default_value="",
+                          description="Record the mission into this MCAP file "
+                          "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
 ]
 
 

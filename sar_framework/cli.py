@@ -15,6 +15,7 @@ No traceback is ever printed unless ``--debug`` is given.
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -224,17 +225,21 @@ def _run_schema(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-# -- run --------------------------------------------------------------------------------
-def _configure_run(parser: argparse.ArgumentParser) -> None:
-    from sar_framework.orchestrate import configure  # lazy: nothing of ROS is imported here
+# -- run, faults, replay, watch: their modules are imported only when chosen ------------
+def _lazy(module: str, configure: str, run: str) -> tuple[
+        Callable[[argparse.ArgumentParser], None], Callable[[argparse.Namespace], int]]:
+    """A subcommand's ``configure`` and ``run``, functions of ``module`` imported when called.
 
-    configure(parser)
+    Nothing of ROS is imported until a command that needs it runs.
+    """
 
+    def configure_command(parser: argparse.ArgumentParser) -> None:
+        getattr(importlib.import_module(module), configure)(parser)
 
-def _run_run(args: argparse.Namespace) -> int:
-    from sar_framework.orchestrate import run_command
+    def run_command(args: argparse.Namespace) -> int:
+        return int(getattr(importlib.import_module(module), run)(args))
 
-    return run_command(args)
+    return configure_command, run_command
 
 
 def _configure_faults(parser: argparse.ArgumentParser) -> None:
@@ -246,45 +251,6 @@ def _run_faults(args: argparse.Namespace) -> int:
 
     sys.stdout.write(faults_table())
     return EXIT_OK
-
-
-# -- replay -----------------------------------------------------------------------------
-def _configure_replay(parser: argparse.ArgumentParser) -> None:
-    from sar_framework.recording.replay import configure
-
-    configure(parser)
-
-
-def _run_replay(args: argparse.Namespace) -> int:
-    from sar_framework.recording.replay import replay_command
-
-    return replay_command(args)
-
-
-# -- watch ------------------------------------------------------------------------------
-def _configure_watch(parser: argparse.ArgumentParser) -> None:
-    from sar_framework.watch.command import configure
-
-    configure(parser)
-
-
-def _run_watch(args: argparse.Namespace) -> int:
-    from sar_framework.watch.command import watch_command
-
-    return watch_command(args)
-
-
-# -- studio -----------------------------------------------------------------------------
-def _configure_studio(parser: argparse.ArgumentParser) -> None:
-    from sar_framework.studio.command import configure
-
-    configure(parser)
-
-
-def _run_studio(args: argparse.Namespace) -> int:
-    from sar_framework.studio.command import studio_command
-
-    return studio_command(args)
 
 
 _COMMANDS: dict[str, Command] = {
@@ -299,7 +265,7 @@ _COMMANDS: dict[str, Command] = {
         Command("schema", "print the JSON Schema of the tree format", _configure_schema,
                 _run_schema),
         Command("run", "run a mission: simulator, servers and runner; print progress, "
-                "write a report", _configure_run, _run_run),
+                "write a report", *_lazy("sar_framework.orchestrate", "configure", "run_command")),
         Command("faults", "list the faults `run` can inject (parameters, units, meaning)",
                 _configure_faults, _run_faults),
         Command("export", "write a tree as BehaviorTree.CPP 4 XML (Groot2 opens it)",
@@ -309,11 +275,12 @@ _COMMANDS: dict[str, Command] = {
         Command("palette", "write a Groot2 <TreeNodesModel> of every registered leaf",
                 interop.configure_palette, interop.run_palette),
         Command("replay", "draw a mission's report again from its recording (.mcap)",
-                _configure_replay, _run_replay),
+                *_lazy("sar_framework.recording.replay", "configure", "replay_command")),
         Command("watch", "show the running mission's tree live in the terminal",
-                _configure_watch, _run_watch),
+                *_lazy("sar_framework.watch.command", "configure", "watch_command")),
         Command("studio", "the mission in the browser: live, replayed from a recording, "
-                "or a tree edited", _configure_studio, _run_studio),
+                "or a tree edited",
+                *_lazy("sar_framework.studio.command", "configure", "studio_command")),
     )
 }  # fmt: skip
 

@@ -97,10 +97,15 @@ def repo_root() -> Path:
     return REPO_ROOT
 
 
-@pytest.fixture
-def ros() -> Iterator[tuple[object, object]]:
+def _ros_pair() -> Iterator[tuple[object, object]]:
     """A node and a single-threaded executor on a fresh rclpy context."""
     from sar_testing.spin import ros_node
 
     with ros_node("sar_test") as pair:
         yield pair
+
+
+#: A node and a single-threaded executor on a fresh rclpy context.
+ros = pytest.fixture(_ros_pair, name="ros")
+#: The same, one for the module (servers the tests share are discovered once).
+module_ros = pytest.fixture(_ros_pair, scope="module", name="module_ros")

@@ -1,4 +1,4 @@
-"""The engine's Python API: ``load_spec`` and ``load_tree``.
+"""The engine's Python API: ``validate``, ``load_spec`` and ``load_tree``.
 
 ::
 
@@ -20,12 +20,13 @@ from typing import TYPE_CHECKING, Any
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
-from sar_framework.engine.validate import ValidationResult, validate_file
+from sar_framework.engine.validate import ValidationResult
+from sar_framework.engine.validate import validate_file as validate
 
 if TYPE_CHECKING:
     import py_trees
 
-__all__ = ["LoadedTree", "TreeLoadError", "load_spec", "load_tree", "validate"]
+__all__ = ["LoadedTree", "TreeLoadError", "load_error", "load_spec", "load_tree", "validate"]
 
 
 @dataclass
@@ -53,25 +54,6 @@ class LoadedTree:
         return {entry.name: key for key, entry in self.spec.entries.items()}
 
 
-def validate(
-    path: str | Path,
-    *,
-    registry: Registry | None = None,
-    plugin_paths: Sequence[str | Path] = (),
-) -> ValidationResult:
-    """Validate a tree file without raising.
-
-    Args:
-        path: The tree file.
-        registry: The plugins to check against; default: built-ins and entry points.
-        plugin_paths: Extra plugin files, dirs or modules.
-
-    Returns:
-        The spec (None on errors) and every diagnostic.
-    """
-    return validate_file(path, registry=registry, plugin_paths=plugin_paths)
-
-
 def load_error(path: str | Path, result: ValidationResult) -> TreeLoadError:
     """The error for a file that gave no tree: its diagnostics, or a missing root."""
     if result.library is not None and result.ok:
@@ -79,6 +61,15 @@ def load_error(path: str | Path, result: ValidationResult) -> TreeLoadError:
         return TreeLoadError([Diagnostic(where, "missing 'root': this file only defines "
                                                 "subtrees; include it from a tree file")])
     return TreeLoadError(result.diagnostics)
+
+
+def _validated(path: str | Path, registry: Registry | None,
+               plugin_paths: Sequence[str | Path]) -> tuple[TreeSpec, Registry]:
+    """The validated tree and its registry; raises when there is no tree to build."""
+    result = validate(path, registry=registry, plugin_paths=plugin_paths)
+    if result.spec is not None:
+        return result.spec, result.registry
+    raise load_error(path, result)
 
 
 def load_spec(
@@ -100,10 +91,7 @@ def load_spec(
     Raises:
         TreeLoadError: With every problem found.
     """
-    result = validate(path, registry=registry, plugin_paths=plugin_paths)
-    if result.spec is None:
-        raise load_error(path, result)
-    return result.spec
+    return _validated(path, registry, plugin_paths)[0]
 
 
 def load_tree(
@@ -128,10 +116,8 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    result = validate(path, registry=registry, plugin_paths=plugin_paths)
-    if result.spec is None:
-        raise load_error(path, result)
+    spec, used = _validated(path, registry, plugin_paths)
     from sar_framework.engine.build import build  # py_trees' composites: only to build
 
-    root, behaviours = build(result.spec, result.registry, context)
-    return LoadedTree(root, result.spec, behaviours, result.registry)
+    root, behaviours = build(spec, used, context)
+    return LoadedTree(root, spec, behaviours, used)

@@ -49,6 +49,18 @@ def _get(doc: Document, path: DocPath) -> Any:
     return value
 
 
+def _declarations(doc: Document, path: DocPath) -> list[tuple[str, dict[str, Any]]] | None:
+    """The well-formed declarations of the section at ``path`` (None: there is none).
+
+    A malformed one (not a mapping, or a bad name) is left to the schema check to report.
+    """
+    section = _get(doc, path)
+    if not isinstance(section, dict):
+        return None
+    return [(name, decl) for name, decl in section.items()
+            if isinstance(decl, dict) and ENTRY_NAME.match(name)]
+
+
 class Bindings:
     """Port and entry handling for one validation run.
 
@@ -100,13 +112,11 @@ class Bindings:
         self, doc: Document, path: DocPath, *, caller_sets: bool = True
     ) -> dict[str, Declared] | None:
         """Read a ``blackboard:`` section (None when there is none)."""
-        section = _get(doc, path)
-        if not isinstance(section, dict):
+        declarations = _declarations(doc, path)
+        if declarations is None:
             return None
         out: dict[str, Declared] = {}
-        for name, decl in section.items():
-            if not isinstance(decl, dict) or not ENTRY_NAME.match(name):
-                continue  # the schema check reports it
+        for name, decl in declarations:
             type_ = self.type_of(doc, (*path, name, "type"), decl.get("type"))
             initial = NO_DEFAULT
             if "initial" in decl and is_message(type_):
@@ -122,13 +132,11 @@ class Bindings:
 
     def subtree_ports(self, doc: Document, path: DocPath) -> dict[str, Port] | None:
         """Read a subtree definition's ``ports:`` (None when it declares none)."""
-        section = _get(doc, path)
-        if not isinstance(section, dict):
+        declarations = _declarations(doc, path)
+        if declarations is None:
             return None
         out: dict[str, Port] = {}
-        for name, decl in section.items():
-            if not isinstance(decl, dict) or not ENTRY_NAME.match(name):
-                continue
+        for name, decl in declarations:
             type_ = self.type_of(doc, (*path, name, "type"), decl.get("type"))
             direction = decl.get("direction", "input")
             if direction not in {d.value for d in Direction}:

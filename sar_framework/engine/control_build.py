@@ -13,13 +13,11 @@ Switch reads its variable and cases, literals or entries, through a
 from __future__ import annotations
 
 import dataclasses
-import functools
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import py_trees
-from py_trees.common import Status
 
 from sar_framework.engine.clock_timeout import CLOCK_KEY
 from sar_framework.engine.control_kinds import CONTROL_KINDS, READ_PORTS, SWITCH_CASES
@@ -37,6 +35,7 @@ from sar_framework.engine.controls import (
     timing,
     updated,
 )
+from sar_framework.engine.controls.read_ports import PortReader
 from sar_framework.engine.port_values import PortValues
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.robot_context import pose_source, speed_source, update_source
@@ -201,76 +200,21 @@ def _unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mappin
     return leaves.UnsetBlackboard(node.name, "key", bound_variables(node, "key"))
 
 
-def _set_threshold(behaviour: Any, port: str, value: int) -> None:
-    """Set a parallel's threshold read from an entry; one never reached is an error."""
-    count = len(behaviour.children)
-    if parallels.threshold(value, count) > count:
-        raise RuntimeError(f"{behaviour.name}: '{port}' {value} is more than the {count} "
-                           "children (BT.CPP: the threshold can never be reached)")
-    setattr(behaviour, port, value)
-
-
-#: How a read port's value sets the behaviour's state: kind -> setter(behaviour, port, value).
-_APPLY: dict[str, Callable[[Any, str, Any], None]] = {
-    "Repeat": lambda b, p, v: setattr(b, "limit", v),
-    "RetryUntilSuccessful": lambda b, p, v: setattr(b, "limit", v),
-    "RecoveryNode": lambda b, p, v: setattr(b, "number_of_retries", v),
-    "Timeout": lambda b, p, v: setattr(b, "duration", v / 1000.0),
-    "Delay": lambda b, p, v: setattr(b, "delay", v / 1000.0),
-    "Sleep": lambda b, p, v: setattr(b, "duration", v / 1000.0),
-    "Parallel": _set_threshold,
-    "ParallelAll": _set_threshold,
-    "RunOnce": lambda b, p, v: setattr(b, "then_skip", v),
-}
 #: Kinds whose port, when its entry has no value, keeps its default (BT.CPP ignores the
 #: failed ``getInput``); the others stop the tick, as BT.CPP throws "Missing parameter".
 _DEFAULT_WHEN_UNSET = frozenset({"RunOnce"})
 
 
-def _read_value(behaviour: Any, port: str) -> Any:
-    """The value of a read port's entry, as the port's type (int or bool)."""
-    type_ = behaviour.port_types[port]
-    try:
-        value = behaviour.port_variables.get(port)
-    except KeyError:
-        if behaviour.port_kind in _DEFAULT_WHEN_UNSET:
-            return behaviour.port_defaults[port]
-        raise RuntimeError(f"{behaviour.name}: port '{port}' reads an entry that has no "
-                           "value (BT.CPP: missing parameter)") from None
-    if type_ == "int" and isinstance(value, float) and value.is_integer():
-        value = int(value)  # BT.CPP's scripts' numbers convert alike
-    if type_ == "bool" and isinstance(value, bool):
-        return value
-    if type_ == "int" and isinstance(value, int) and not isinstance(value, bool):
-        return value
-    raise RuntimeError(f"{behaviour.name}: port '{port}' must be of type {type_}, got "
-                       f"{value!r}")
-
-
-@functools.cache
-def _reading(cls: type) -> type:
-    """``cls``, reading its bound ports (:data:`.control_kinds.READ_PORTS`) as BT.CPP does."""
-
-    def tick(self: Any) -> Iterator[Behaviour]:
-        _, each_tick = READ_PORTS[self.port_kind]
-        if each_tick or getattr(self, "bt_status", Status.INVALID) != Status.RUNNING:
-            for port in self.port_types:
-                _APPLY[self.port_kind](self, port, _read_value(self, port))
-        return (yield from super(reading, self).tick())
-
-    reading = type(cls.__name__, (cls,), {"tick": tick, "__doc__": cls.__doc__})
-    return reading
-
-
 def _with_read_port(base: ControlBuilder) -> ControlBuilder:
     """``base``, reading the ports of :data:`.control_kinds.READ_PORTS` bound to entries.
 
-    Such a port is read from its entry when BT.CPP reads it, not passed as a literal.
+    Such a port is read from its entry when BT.CPP reads it (the node's
+    :class:`~.controls.read_ports.PortReader`), not passed as a literal.
     """
 
     def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
               ) -> Behaviour:
-        ports, _ = READ_PORTS[node.kind]
+        ports, each_tick = READ_PORTS[node.kind]
         attrs = dict(node.attrs)
         bound = [port for port in ports if _bound(node, port)]
         for port in ports:
@@ -281,49 +225,37 @@ def _with_read_port(base: ControlBuilder) -> ControlBuilder:
             elif binding is not None and binding.value is not NO_DEFAULT:
                 attrs[port] = binding.value
         behaviour = base(dataclasses.replace(node, attrs=attrs), children, context)
-        if not bound:
-            return behaviour
-        behaviour.__class__ = _reading(type(behaviour))
-        behaviour.port_kind = node.kind  # type: ignore[attr-defined]
-        behaviour.port_variables = bound_variables(node, *bound)  # type: ignore[attr-defined]
-        behaviour.port_types = {  # type: ignore[attr-defined]
-            port: node.bindings[port].port.type for port in bound}
-        behaviour.port_defaults = {  # type: ignore[attr-defined]
-            port: node.bindings[port].port.default for port in bound}
+        if bound:
+            defaults = ({port: node.bindings[port].port.default for port in bound}
+                        if node.kind in _DEFAULT_WHEN_UNSET else None)
+            behaviour.port_reader = PortReader(  # type: ignore[attr-defined]
+                node.name, bound_variables(node, *bound),
+                {port: node.bindings[port].port.type for port in bound}, each_tick, defaults)
         return behaviour
 
     return build
 
 
-CONTROL_BUILDERS: dict[str, ControlBuilder] = {
-    "Sequence": _plain(sequences.Sequence),
-    "SequenceWithMemory": _plain(sequences.SequenceWithMemory),
-    "ReactiveSequence": _plain(sequences.ReactiveSequence),
-    "AsyncSequence": _plain(sequences.AsyncSequence),
-    "AsyncFallback": _plain(sequences.AsyncFallback),
-    "Fallback": _plain(sequences.Fallback),
-    "ReactiveFallback": _plain(sequences.ReactiveFallback),
-    "Parallel": _with_read_port(_plain(parallels.Parallel)),
-    "ParallelAll": _with_read_port(_plain(parallels.ParallelAll)),
-    "IfThenElse": _plain(conditionals.IfThenElse),
-    "WhileDoElse": _plain(conditionals.WhileDoElse),
+def _each(wrap: Callable[[type], ControlBuilder], module: Any, *kinds: str
+          ) -> dict[str, ControlBuilder]:
+    """``kinds`` built by ``wrap`` of the class of that name in ``module``."""
+    return {kind: wrap(getattr(module, kind)) for kind in kinds}
+
+
+_BUILDERS: dict[str, ControlBuilder] = {
+    **_each(_plain, sequences, "Sequence", "SequenceWithMemory", "ReactiveSequence",
+            "AsyncSequence", "AsyncFallback", "Fallback", "ReactiveFallback"),
+    **_each(_plain, parallels, "Parallel", "ParallelAll"),
+    **_each(_plain, conditionals, "IfThenElse", "WhileDoElse"),
     **{key: _switch for key in SWITCH_CASES},
-    "RecoveryNode": _with_read_port(_plain(nav2_controls.RecoveryNode)),
-    "PipelineSequence": _plain(nav2_controls.PipelineSequence),
-    "RoundRobin": _plain(nav2_controls.RoundRobin),
-    "Inverter": _plain(converters.Inverter),
-    "ForceSuccess": _plain(converters.ForceSuccess),
-    "ForceFailure": _plain(converters.ForceFailure),
-    "KeepRunningUntilFailure": _plain(converters.KeepRunningUntilFailure),
-    "Repeat": _with_read_port(_plain(loops.Repeat)),
-    "RetryUntilSuccessful": _with_read_port(_plain(loops.RetryUntilSuccessful)),
-    "RunOnce": _with_read_port(_plain(loops.RunOnce)),
-    "Delay": _with_read_port(_clocked(timing.Delay)),
-    "Timeout": _with_read_port(_clocked(timing.Timeout)),
+    **_each(_plain, nav2_controls, "RecoveryNode", "PipelineSequence", "RoundRobin"),
+    **_each(_plain, converters, "Inverter", "ForceSuccess", "ForceFailure",
+            "KeepRunningUntilFailure"),
+    **_each(_plain, loops, "Repeat", "RetryUntilSuccessful", "RunOnce"),
+    **_each(_clocked, timing, "Delay", "Timeout"),
     **{key: _loop for key in queues.ITEM_TYPES},
     "WasEntryUpdated": _was_updated,
-    "SkipUnlessUpdated": _updated(updated.SkipUnlessUpdated),
-    "WaitValueUpdate": _updated(updated.WaitValueUpdate),
+    **_each(_updated, updated, "SkipUnlessUpdated", "WaitValueUpdate"),
     "RateController": _clocked(nav2_decorators.RateController),
     "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
     "GoalUpdatedController": _goal_updated,
@@ -331,10 +263,13 @@ CONTROL_BUILDERS: dict[str, ControlBuilder] = {
     "DistanceController": _distance,
     "SpeedController": _speed,
     "GoalUpdater": _goal_updater,
-    "AlwaysSuccess": _plain(leaves.AlwaysSuccess),
-    "AlwaysFailure": _plain(leaves.AlwaysFailure),
-    "Sleep": _with_read_port(_clocked(leaves.Sleep)),
+    **_each(_plain, leaves, "AlwaysSuccess", "AlwaysFailure"),
+    "Sleep": _clocked(leaves.Sleep),
     "SetBlackboard": _set_blackboard,
     "UnsetBlackboard": _unset_blackboard,
 }
+#: Each kind's builder; the kinds with ports BT.CPP reads (READ_PORTS) read them from entries.
+CONTROL_BUILDERS: dict[str, ControlBuilder] = {
+    kind: _with_read_port(build) if kind in READ_PORTS else build
+    for kind, build in _BUILDERS.items()}
 assert set(CONTROL_BUILDERS) == {k.key for k in CONTROL_KINDS}, "a kind without a builder"

@@ -137,3 +137,26 @@ def port_settings(node: NodeSpec, all_params: bool) -> dict[str, Any]:
             if key not in shown and binding.port.default is not NO_DEFAULT:
                 shown[key] = binding.port.default
     return shown
+
+
+def info_and_params(node: NodeSpec, glyphs: Glyphs, all_params: bool, *, id_sep: str,
+                    kind: str) -> tuple[list[str], list[str]]:
+    """What a drawing shows beside a node's name: its info, then its leaf params.
+
+    Args:
+        node: The node.
+        glyphs: The characters to draw with.
+        all_params: Show every leaf param, defaults included (default: only those set).
+        id_sep: Between ``id`` and a leaf's id (``": "``, ``"="``).
+        kind: How a control's kind is shown (its settings follow).
+
+    Returns:
+        A leaf's plugin (when it differs from its name) and id, or a control's kind and
+        settings; then the leaf's params (none for a control).
+    """
+    if node.category is not Category.LEAF:
+        return [kind, *settings(node, glyphs)], []
+    info = [node.kind] if node.kind != node.name else []
+    if node.id is not None:
+        info.append(f"id{id_sep}{node.id}")
+    return info, leaf_params(node, glyphs, all_params)

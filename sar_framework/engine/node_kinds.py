@@ -13,6 +13,8 @@ only) are left out on purpose: this framework shares state by references.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from sar_framework.engine.control_kinds import CONTROL_KINDS
 from sar_framework.engine.kind_model import (
     CONDITION_ATTRS,
@@ -49,30 +51,23 @@ _MEMORY = Attr(
 
 
 
-def _composite(
-    key: str, class_name: str, description: str, *extra: Attr, rules: tuple[Rule, ...] = ()
-) -> NodeKind:
-    return NodeKind(
-        key,
-        Category.COMPOSITE,
-        class_name,
-        description,
-        (name_attr(class_name), *extra, _CHILDREN, *CONDITION_ATTRS),
-        rules,
-    )
+def _maker(category: Category, children: Attr) -> Callable[..., NodeKind]:
+    """Make kinds of ``category`` whose children are given by the attribute ``children``.
+
+    The maker takes the kind's key, py_trees class name, description, its own attributes
+    and its rules (keyword ``rules``).
+    """
+
+    def make(key: str, class_name: str, description: str, *extra: Attr,
+             rules: tuple[Rule, ...] = ()) -> NodeKind:
+        return NodeKind(key, category, class_name, description,
+                        (name_attr(class_name), *extra, children, *CONDITION_ATTRS), rules)
+
+    return make
 
 
-def _decorator(
-    key: str, class_name: str, description: str, *extra: Attr, rules: tuple[Rule, ...] = ()
-) -> NodeKind:
-    return NodeKind(
-        key,
-        Category.DECORATOR,
-        class_name,
-        description,
-        (name_attr(class_name), *extra, _CHILD, *CONDITION_ATTRS),
-        rules,
-    )
+_composite = _maker(Category.COMPOSITE, _CHILDREN)
+_decorator = _maker(Category.DECORATOR, _CHILD)
 
 
 _PARALLEL_POLICIES = ("success_on_all", "success_on_one", "success_on_selected")

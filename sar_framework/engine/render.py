@@ -35,7 +35,7 @@ from typing import Any
 import graphviz
 
 from sar_framework.engine.data_flow import data_edges
-from sar_framework.engine.labels import UNICODE, clean, leaf_params, settings, symbol
+from sar_framework.engine.labels import UNICODE, clean, info_and_params, symbol
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.engine.text_tree import render_text
 
@@ -158,14 +158,8 @@ def _dot_label(node: NodeSpec, status: str | None, all_params: bool) -> str:
     if node.subtree is not None:
         lines.append(f"{small}<I>subtree: {_html(node.subtree)}</I></FONT><BR/>")
     lines.append(f"<B>{_html(node.name)}</B><BR/>")
-    if node.category is Category.LEAF:
-        info = [node.kind] if node.kind != node.name else []
-        if node.id is not None:
-            info.append(f"id: {node.id}")
-        params = leaf_params(node, glyphs, all_params)
-    else:
-        info = [f"{symbol(node)} {node.kind}", *settings(node, glyphs)]
-        params = []
+    info, params = info_and_params(node, glyphs, all_params, id_sep=": ",
+                                   kind=f"{symbol(node)} {node.kind}")
     if info:
         lines.append(f"{small}{_html(', '.join(info))}</FONT><BR/>")
     if len(params) > _MAX_PARAM_LINES:

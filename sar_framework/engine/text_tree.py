@@ -4,22 +4,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from sar_framework.engine.labels import ASCII, UNICODE, Glyphs, clean, leaf_params, settings, symbol
-from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.engine.labels import ASCII, UNICODE, Glyphs, clean, info_and_params, symbol
+from sar_framework.engine.spec import NodeSpec, TreeSpec
 
 
 def text_line(
     node: NodeSpec, glyphs: Glyphs, to_text: Callable[[str], str], all_params: bool
 ) -> str:
     """Build one line of the text tree for ``node`` (without the tree glyphs)."""
-    if node.category is Category.LEAF:
-        info = [node.kind] if node.kind != node.name else []
-        if node.id is not None:
-            info.append(f"id={node.id}")
-        params = leaf_params(node, glyphs, all_params)
-    else:
-        info = [node.kind, *settings(node, glyphs)]
-        params = []
+    info, params = info_and_params(node, glyphs, all_params, id_sep="=", kind=node.kind)
     line = f"{symbol(node)} {clean(node.name)}"
     if info:
         line += f" [{', '.join(info)}]"

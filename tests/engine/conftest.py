@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.validate import ValidationResult, validate_file
 
@@ -71,3 +73,10 @@ def check(validate: Callable[..., ValidationResult]) -> Checker:
         return [str(d) for d in validate(text, files).diagnostics]
 
     return run
+
+
+def load_problems(path: Path, registry: Registry) -> str:
+    """The text of the :class:`TreeLoadError` that loading the tree at ``path`` raises."""
+    with pytest.raises(TreeLoadError) as error:
+        load_tree(path, {}, registry=registry)
+    return str(error.value)

@@ -21,6 +21,28 @@ from .conftest import GENERIC_PLUGINS, HERE
 #: Test plugins that declare ports (Plan, Follow...).
 PORT_PLUGINS = HERE / "plugins_for_tests" / "ports"
 
+#: A tree that plans into ``{path}`` and follows it in the subtree ``FollowIt``.
+PLAN_AND_FOLLOW = """
+format: 1
+blackboard:
+  goal: {type: geometry_msgs/msg/Point, description: Where to go.}
+  start: {type: geometry_msgs/msg/Point}
+  path: {type: nav_msgs/msg/Path}
+  steps: {type: int, initial: 0}
+root:
+  sequence:
+    memory: true
+    children:
+      - Plan: {goal: "{goal}", path: "{path}"}
+      - subtree: {tree: FollowIt, ports: {route: "{path}"}, autoremap: true}
+subtrees:
+  FollowIt:
+    ports:
+      route: {type: nav_msgs/msg/Path}
+    root:
+      Follow: {path: "{route}", steps: "{=}"}
+"""
+
 
 @pytest.fixture(scope="module", name="registry")
 def port_registry() -> Registry:

@@ -8,6 +8,16 @@ from py_trees.common import Status
 from sar_framework.engine.skipping import mark_skipped
 
 
+class Clock:
+    """Seconds that move only when a test sets ``now``."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
 class Log:
     """The visits of every scripted leaf, in order (``"NAME STATUS"``)."""
 

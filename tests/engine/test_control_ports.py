@@ -17,13 +17,13 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import load_spec, load_tree
 from sar_framework.engine.data_flow import data_edges
-from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.node_kinds import KINDS
 from sar_framework.engine.ports import Direction, Naming
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.schema import tree_schema
 from sar_framework.engine.skipping import was_skipped
 
+from .conftest import load_problems
 from .port_setup import (
     clean_blackboard,  # noqa: F401 (pytest fixture)
     port_registry,  # noqa: F401 (pytest fixture)
@@ -39,9 +39,7 @@ def _ticked(root: py_trees.behaviour.Behaviour) -> dict[str, Status]:
 
 
 def _problems(tmp_path: Path, registry: Registry, text: str) -> str:
-    with pytest.raises(TreeLoadError) as error:
-        load_tree(write_tree(tmp_path, text), {}, registry=registry)
-    return str(error.value)
+    return load_problems(write_tree(tmp_path, text), registry)
 
 
 def test_the_attributes_that_use_the_blackboard_are_ports_with_a_direction() -> None:

@@ -22,7 +22,7 @@ from sar_framework.engine.controls.sequences import Sequence
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry
 
-from .scripted_leaves import Log, Scripted, tick
+from .scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_recovery_node_recovers_up_to_number_of_retries() -> None:
@@ -98,16 +98,8 @@ def test_round_robin_fails_after_every_child_failed_in_a_row() -> None:
     assert log.visits == ["A FAILURE", "B FAILURE", "C FAILURE"]
 
 
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        return self.now
-
-
 def test_rate_controller_ticks_the_child_at_most_hz_times_a_second() -> None:
-    log, clock = Log(), FakeClock()
+    log, clock = Log(), Clock()
     rate = RateController("Rate", Scripted("Plan", ["SUCCESS"], log), hz=2.0, clock=clock)
     pipeline = PipelineSequence("P", [rate, Scripted("Follow", ["RUNNING"], log)])
     for now in (0.0, 0.2, 0.4, 0.5, 0.7, 1.0):
@@ -121,7 +113,7 @@ def test_rate_controller_ticks_the_child_at_most_hz_times_a_second() -> None:
 
 
 def test_rate_controller_ticks_a_running_child_every_time_and_rearms_when_reset() -> None:
-    log, clock = Log(), FakeClock()
+    log, clock = Log(), Clock()
     child = Scripted("Plan", ["RUNNING", "RUNNING", "SUCCESS", "SUCCESS"], log)
     node = RateController("Rate", child, hz=1.0, clock=clock)
     parent = Sequence("S", [node])  # a Sequence resets its finished children
@@ -152,7 +144,7 @@ def test_nav2_kinds_load_from_a_tree_file(tmp_path: Path, registry: Registry) ->
                     "            - RateController: {hz: 2, child: {Fixed: {status: success}}}\n"
                     "            - SingleTrigger: {child: {Fixed: {status: running}}}\n"
                     "      - RoundRobin: {children: [Fixed: {status: failure}]}\n")
-    clock = FakeClock()
+    clock = Clock()
     root = load_tree(path, {CLOCK_KEY: clock}, registry=registry).root
     assert isinstance(root, RecoveryNode) and root.number_of_retries == 3
     rate = root.children[0].children[0]

@@ -26,7 +26,7 @@ from sar_framework.engine.registry import Registry
 from sar_framework.engine.robot_context import GOAL_UPDATE_KEY, ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 
 from .script_variables import DictVariables
-from .scripted_leaves import Log, Scripted, tick
+from .scripted_leaves import Clock, Log, Scripted, tick
 
 
 class Robot:
@@ -72,14 +72,6 @@ def test_distance_controller_ticks_the_child_every_distance() -> None:
     robot.xy = None
     assert tick(root) == Status.FAILURE
     assert node.feedback_message == "robot pose not available"
-
-
-class Clock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        return self.now
 
 
 def test_speed_controller_rate_follows_the_speed() -> None:

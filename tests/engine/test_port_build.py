@@ -13,32 +13,10 @@ from sar_framework.engine.ports import InputPort, OutputPort, PortBinding
 from sar_framework.engine.registry import Registry
 
 from .conftest import write
-from .port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
+from .port_setup import PLAN_AND_FOLLOW, clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
 
 Blackboard = py_trees.blackboard.Blackboard
 Status = py_trees.common.Status
-
-
-PLAN_AND_FOLLOW = """
-format: 1
-blackboard:
-  goal: {type: geometry_msgs/msg/Point, description: Where to go.}
-  start: {type: geometry_msgs/msg/Point}
-  path: {type: nav_msgs/msg/Path}
-  steps: {type: int, initial: 0}
-root:
-  sequence:
-    memory: true
-    children:
-      - Plan: {goal: "{goal}", path: "{path}"}
-      - subtree: {tree: FollowIt, ports: {route: "{path}"}, autoremap: true}
-subtrees:
-  FollowIt:
-    ports:
-      route: {type: nav_msgs/msg/Path}
-    root:
-      Follow: {path: "{route}", steps: "{=}"}
-"""
 
 
 def test_plan_into_path_then_follow_it(tree_dir: Path, registry: Registry) -> None:

@@ -9,7 +9,10 @@ from sar_framework.engine.spec import NodeSpec
 from sar_framework.engine.validate import ValidationResult
 
 from .conftest import Checker
-from .port_setup import port_registry  # noqa: F401 (pytest fixture)
+from .port_setup import (
+    PLAN_AND_FOLLOW,
+    port_registry,  # noqa: F401 (pytest fixture)
+)
 
 
 def node(result: ValidationResult, name: str, nth: int = 0) -> NodeSpec:
@@ -21,32 +24,14 @@ def keys(spec: NodeSpec) -> dict[str, str | None]:
     return {name: b.key for name, b in spec.bindings.items() if b.key is not None}
 
 
-PLAN_AND_FOLLOW = """
-format: 1
-blackboard:
-  goal: {type: geometry_msgs/msg/Point, description: Where to go.}
-  start: {type: geometry_msgs/msg/Point}
-  steps: {type: int, initial: 0}
-root:
-  sequence:
-    memory: true
-    children:
-      - Plan: {goal: "{goal}", path: "{path}"}
-      - subtree: {tree: FollowIt, ports: {route: "{path}"}, autoremap: true}
-  # path is not declared above: the main tree declares its entries, so this is reported
-"""
+#: PLAN_AND_FOLLOW without its ``path`` entry and its subtrees: the main tree declares its
+#: entries, so ``{path}`` is reported (each test adds its ``FollowIt``).
+UNDECLARED_PATH = PLAN_AND_FOLLOW.replace("  path: {type: nav_msgs/msg/Path}\n", "").split(
+    "subtrees:")[0]
 
 
 def test_plan_then_follow_resolves(validate: Callable[..., ValidationResult]) -> None:
-    text = PLAN_AND_FOLLOW.replace("  steps:", "  path: {type: nav_msgs/msg/Path}\n  steps:")
-    text += """subtrees:
-  FollowIt:
-    ports:
-      route: {type: nav_msgs/msg/Path}
-    root:
-      Follow: {path: "{route}", steps: "{=}"}
-"""
-    result = validate(text)
+    result = validate(PLAN_AND_FOLLOW)
     assert result.ok, [str(d) for d in result.diagnostics]
     assert keys(node(result, "Plan")) == {"start": "/start", "goal": "/goal", "path": "/path"}
     # route -> the parent's path; pose (default {start}) and steps autoremapped to the root
@@ -59,7 +44,7 @@ def test_plan_then_follow_resolves(validate: Callable[..., ValidationResult]) ->
 
 
 def test_undeclared_entry_in_declaring_scope(check: Checker) -> None:
-    assert check(PLAN_AND_FOLLOW + "subtrees:\n  FollowIt: {Follow: {path: '{route}'}}\n") == [
+    assert check(UNDECLARED_PATH + "subtrees:\n  FollowIt: {Follow: {path: '{route}'}}\n") == [
         "tree.yaml:10:38: error: port 'path' of Plan: '{path}' is not an entry of the main "
         "tree (declared: goal, start, steps)",
         "tree.yaml:11:50: error: port 'route' of subtree 'FollowIt': '{path}' is not an entry "

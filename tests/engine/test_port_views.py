@@ -7,13 +7,16 @@ import sys
 from pathlib import Path
 
 from sar_framework.engine.data_flow import data_edges
-from sar_framework.engine.registry import discover
+from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.render import node_id, render_dot
 from sar_framework.engine.validate import validate_file
 from sar_framework.plugin_catalogue import plugin_info, port_text
 
 from .conftest import GENERIC_PLUGINS, REPO, write
-from .port_setup import PORT_PLUGINS
+from .port_setup import (
+    PORT_PLUGINS,
+    port_registry,  # noqa: F401 (pytest fixture)
+)
 
 TREE = """
 format: 1
@@ -49,9 +52,8 @@ def test_catalogue_shows_ports() -> None:
     assert info["ports"][0]["default"] == "{start}"
 
 
-def test_data_edges(tmp_path: Path) -> None:
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
-    spec = validate_file(write(tmp_path, "tree.yaml", TREE), registry=reg).spec
+def test_data_edges(tmp_path: Path, registry: Registry) -> None:
+    spec = validate_file(write(tmp_path, "tree.yaml", TREE), registry=registry).spec
     assert spec is not None
     # Follow's pose is inout: it writes 'here', which Plan reads
     assert data_edges(spec) == [("0.0", "0.1", "path"), ("0.1", "0.0", "here"),
@@ -77,8 +79,7 @@ def test_render_cli_data_edges(tmp_path: Path) -> None:
     assert "style=dotted" in (tmp_path / "tree.dot").read_text(encoding="utf-8")
 
 
-def test_data_edges_include_scripts(tmp_path: Path) -> None:
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
+def test_data_edges_include_scripts(tmp_path: Path, registry: Registry) -> None:
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
         root:
@@ -88,7 +89,7 @@ def test_data_edges_include_scripts(tmp_path: Path) -> None:
               - Emit: {value: "{n}"}
               - Script: {code: "m := n + 1"}
               - ScriptCondition: {code: "m > 2"}
-    """), registry=reg).spec
+    """), registry=registry).spec
     assert spec is not None
     assert data_edges(spec) == [("0.0", "0.1", "n"), ("0.1", "0.2", "m")]
     from sar_framework.engine.render import render_text
@@ -96,10 +97,9 @@ def test_data_edges_include_scripts(tmp_path: Path) -> None:
     assert "Script" in render_text(spec) and "digraph" in render_dot(spec, data=True)
 
 
-def test_labels_show_port_bindings(tmp_path: Path) -> None:
+def test_labels_show_port_bindings(tmp_path: Path, registry: Registry) -> None:
     from sar_framework.engine.render import render_text
 
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
         blackboard:
@@ -111,7 +111,7 @@ def test_labels_show_port_bindings(tmp_path: Path) -> None:
             children:
               - Say: {label: a, text: "{@word}", times: 2, items: "x;y"}
               - Emit: {value: "{=}"}
-    """), registry=reg).spec
+    """), registry=registry).spec
     assert spec is not None
     assert render_text(spec).splitlines()[1:] == [
         '├── --> Say label="a", text={@word}, times=2, items=["x", "y"]',
@@ -123,10 +123,9 @@ def test_labels_show_port_bindings(tmp_path: Path) -> None:
     assert "text={@word}" in render_dot(spec)
 
 
-def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
+def test_labels_show_pre_and_post_conditions(tmp_path: Path, registry: Registry) -> None:
     from sar_framework.engine.render import render_text
 
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
         blackboard:
@@ -138,7 +137,7 @@ def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
             children:
               - Emit: {value: "{n}", _onSuccess: "n += 1"}
               - Script: {code: "n := 2", _while: "n < 5"}
-    """), registry=reg).spec
+    """), registry=registry).spec
     assert spec is not None
     assert render_text(spec).splitlines() == [
         '[-] Sequence [sequence, reactive, _skipIf="n > 9"]',
@@ -147,14 +146,13 @@ def test_labels_show_pre_and_post_conditions(tmp_path: Path) -> None:
     ]
 
 
-def test_data_edges_keep_the_children_in_order(tmp_path: Path) -> None:
+def test_data_edges_keep_the_children_in_order(tmp_path: Path, registry: Registry) -> None:
     import shutil
 
     import pytest
 
     if shutil.which("dot") is None:
         pytest.skip("Graphviz dot not installed")
-    reg = discover([GENERIC_PLUGINS, PORT_PLUGINS], builtins=False, entry_points=False)
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
         root:
@@ -167,7 +165,7 @@ def test_data_edges_keep_the_children_in_order(tmp_path: Path) -> None:
                   children:
                     - Emit: {value: "{m}"}
                     - Script: {code: "k := m + n; n := 1"}
-    """), registry=reg).spec
+    """), registry=registry).spec
     assert spec is not None
     plain = subprocess.run(["dot", "-Tplain"], input=render_dot(spec, data=True), text=True,
                            capture_output=True, check=True).stdout

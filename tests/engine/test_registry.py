@@ -41,36 +41,50 @@ def test_single_file_and_relative_base(tmp_path: Path) -> None:
     assert reg.names() == ["One"]
 
 
-def test_syntax_error_points_into_the_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.chdir(tmp_path)
-    write(tmp_path, "p/bad.py", "x = (\n")
-    reg = discover(["p/bad.py"], builtins=False, entry_points=False)
-    assert messages(reg) == [
+#: (file written, its text, the path discovered, the one diagnostic expected); the file's
+#: leaves are not registered, except where only a reference is wrong (``refs.py``).
+BAD_PLUGIN_FILES = {
+    "a syntax error points into the file": (
+        "p/bad.py", "x = (\n", "p/bad.py",
         "p/bad.py:1:5: error: cannot import plugin file 'p/bad.py': SyntaxError: '(' was never "
-        "closed"
-    ]
+        "closed"),
+    "a runtime error points at the raising line": (
+        "p/bad.py", "import os\n\nraise RuntimeError('no ROS here')\n", "p",
+        "p/bad.py:3:1: error: cannot import plugin file 'p/bad.py': RuntimeError: no ROS here"),
+    "sys.exit in a plugin is a diagnostic": (
+        "quits.py", "import sys\nsys.exit(3)\n", "quits.py",
+        "quits.py:2:1: error: cannot import plugin file 'quits.py': SystemExit: 3"),
+    "a reserved name": (
+        "r.py", PLUGIN.format(name="sequence"), "r.py",
+        "r.py:4:1: error: plugin name 'sequence' is reserved (from r.py)"),
+    "a leaf that is not a behaviour is reported at its class": (
+        "plain.py", "from sar_framework.engine.plugin import leaf\n\n\n"
+        "@leaf()\nclass Plain:\n    \"\"\"Not a behaviour.\"\"\"\n", "plain.py",
+        "plain.py:4:1: error: plugin 'Plain' is not a py_trees behaviour (from plain.py)"),
+    "an unknown reference type": (
+        "refs.py", textwrap.dedent("""
+            import py_trees
+            from sar_framework.engine.plugin import Param, leaf
+
+            @leaf(params=[Param("target", ref="Nowhere")])
+            class Refers(py_trees.behaviour.Behaviour):
+                pass
+        """), "refs.py",
+        "refs.py:4:1: error: param 'target' of plugin 'Refers' refers to unknown plugin "
+        "'Nowhere'"),
+}
 
 
-def test_runtime_error_points_at_the_raising_line(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+@pytest.mark.parametrize("case", BAD_PLUGIN_FILES.values(), ids=BAD_PLUGIN_FILES.keys())
+def test_a_bad_plugin_file_is_one_located_diagnostic(
+    case: tuple[str, str, str, str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    name, text, discovered, message = case
     monkeypatch.chdir(tmp_path)
-    write(tmp_path, "p/bad.py", "import os\n\nraise RuntimeError('no ROS here')\n")
-    reg = discover(["p"], builtins=False, entry_points=False)
-    assert messages(reg) == [
-        "p/bad.py:3:1: error: cannot import plugin file 'p/bad.py': RuntimeError: no ROS here"
-    ]
-
-
-def test_sys_exit_in_a_plugin_is_a_diagnostic(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.chdir(tmp_path)
-    write(tmp_path, "quits.py", "import sys\nsys.exit(3)\n")
-    reg = discover(["quits.py"], builtins=False, entry_points=False)
-    assert messages(reg) == [
-        "quits.py:2:1: error: cannot import plugin file 'quits.py': SystemExit: 3"
-    ]
+    write(tmp_path, name, text)
+    reg = discover([discovered], builtins=False, entry_points=False)
+    assert reg.names() == (["Refers"] if name == "refs.py" else [])
+    assert messages(reg) == [message]
 
 
 def test_two_plugins_with_one_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -84,26 +98,6 @@ def test_two_plugins_with_one_name(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     assert reg.get("Same").source == "a/one.py"  # type: ignore[union-attr]
 
 
-def test_reserved_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.chdir(tmp_path)
-    write(tmp_path, "r.py", PLUGIN.format(name="sequence"))
-    reg = discover(["r.py"], builtins=False, entry_points=False)
-    assert messages(reg) == ["r.py:4:1: error: plugin name 'sequence' is reserved (from r.py)"]
-
-
-def test_a_leaf_that_is_not_a_behaviour_is_reported_at_its_class(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.chdir(tmp_path)
-    write(tmp_path, "plain.py", "from sar_framework.engine.plugin import leaf\n\n\n"
-          "@leaf()\nclass Plain:\n    \"\"\"Not a behaviour.\"\"\"\n")
-    reg = discover(["plain.py"], builtins=False, entry_points=False)
-    assert reg.names() == []
-    assert messages(reg) == [
-        "plain.py:4:1: error: plugin 'Plain' is not a py_trees behaviour (from plain.py)"
-    ]
-
-
 def test_subclass_is_not_the_same_plugin(tmp_path: Path) -> None:
     write(tmp_path, "sub.py", PLUGIN.format(name="Base") + textwrap.dedent("""
         class Derived(Base):
@@ -111,22 +105,6 @@ def test_subclass_is_not_the_same_plugin(tmp_path: Path) -> None:
     """))
     reg = discover([tmp_path / "sub.py"], builtins=False, entry_points=False)
     assert reg.names() == ["Base"]
-
-
-def test_unknown_reference_type(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.chdir(tmp_path)
-    write(tmp_path, "refs.py", textwrap.dedent("""
-        import py_trees
-        from sar_framework.engine.plugin import Param, leaf
-
-        @leaf(params=[Param("target", ref="Nowhere")])
-        class Refers(py_trees.behaviour.Behaviour):
-            pass
-    """))
-    reg = discover(["refs.py"], builtins=False, entry_points=False)
-    assert messages(reg) == [
-        "refs.py:4:1: error: param 'target' of plugin 'Refers' refers to unknown plugin 'Nowhere'"
-    ]
 
 
 def test_missing_path(tmp_path: Path) -> None:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import py_trees
 import pytest
 from py_trees.blackboard import Blackboard
@@ -14,12 +12,7 @@ from sar_framework.engine.scripting import ScriptError, compile_script
 from sar_framework.engine.skipping import was_skipped
 from sar_framework.engine.variables import BlackboardVariables
 
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
+from .port_setup import clean_blackboard  # noqa: F401 (pytest fixture)
 
 
 def variables_for(owner: str, script_texts: list[str], keys: dict[str, str]) -> BlackboardVariables:

@@ -157,13 +157,12 @@ def test_enums_bt_cpp() -> None:
     assert compile_script("A := THE_ANSWER", enums={"THE_ANSWER": 42}).run(v) == 42
 
 
-def test_compare_with_negative_numbers() -> None:
+@pytest.mark.parametrize(("script", "value"), [
+    ("A:=0; A!=-1", True), ("A:=-1; A!=-1", False), ("A:=0; A>-1", True), ("A:=0; A<-1", False),
+])
+def test_compare_with_negative_numbers(script: str, value: bool) -> None:
     # BT.CPP #832 (4.7.3 could refuse "A!=-1"; fixed upstream)
-    v = DictVariables()
-    assert run("A:=0; A!=-1", v) is True
-    assert run("A:=-1; A!=-1", v) is False
-    assert run("A:=0; A>-1", v) is True
-    assert run("A:=0; A<-1", v) is False
+    assert run(script, DictVariables()) is value
 
 
 def test_statements_run_in_order_and_the_last_value_is_returned() -> None:

@@ -6,7 +6,6 @@ scope, as BT.CPP evaluates a SubTree node's own attributes in the parent's black
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import py_trees
@@ -15,10 +14,11 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
-from sar_framework.engine.registry import Registry, discover
+from sar_framework.engine.registry import Registry
 from sar_framework.engine.skipping import was_skipped
 
-from .conftest import GENERIC_PLUGINS
+from .conftest import write
+from .port_setup import clean_blackboard  # noqa: F401 (pytest fixture)
 
 Blackboard = py_trees.blackboard.Blackboard
 
@@ -39,22 +39,8 @@ root:
 """
 
 
-@pytest.fixture(scope="module")
-def registry() -> Registry:
-    return discover([GENERIC_PLUGINS], builtins=False, entry_points=False)
-
-
-@pytest.fixture(autouse=True)
-def clean_blackboard() -> Iterator[None]:
-    Blackboard.clear()
-    yield
-    Blackboard.clear()
-
-
 def _load(tmp_path: Path, registry: Registry, text: str) -> py_trees.behaviour.Behaviour:
-    path = tmp_path / "tree.yaml"
-    path.write_text(text)
-    return load_tree(path, {}, registry=registry).root
+    return load_tree(write(tmp_path, "tree.yaml", text), {}, registry=registry).root
 
 
 def test_the_conditions_read_the_parents_entries(tmp_path: Path, registry: Registry) -> None:

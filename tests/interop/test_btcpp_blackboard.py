@@ -103,21 +103,33 @@ def test_initial_values_and_declarations_come_back(tmp_path: Path,
     assert loaded.declarations[""]["goal"].initial is original.declarations[""]["goal"].initial
 
 
+def imported(xml: str, registry: Registry | None = None) -> dict[str, Any]:
+    """The tree document ``xml`` imports to, without a problem."""
+    result = import_btcpp(parse_xml(xml, "t.xml"), "t.xml", registry or default_registry())
+    assert result.problems == [] and result.document is not None
+    return result.document
+
+
+def initial_blackboard(then_skip: str, code: str, condition: str) -> str:
+    """A BT.CPP file whose tree starts with our ``InitialBlackboard`` wrapper of ``code``."""
+    return f"""<root BTCPP_format="4"><BehaviorTree ID="T">
+      <Sequence name="InitialBlackboard">
+        <RunOnce name="InitialBlackboard" then_skip="{then_skip}">
+          <Script name="InitialBlackboard" code="{code}"/>
+        </RunOnce>
+        <ScriptCondition code="{condition}"/>
+      </Sequence></BehaviorTree></root>"""
+
+
 def test_the_initial_values_alone_are_folded_back_typed_by_their_literals() -> None:
     """A file whose ``<Blackboard>`` was lost (an editor dropped it) keeps the values."""
-    xml = """<root BTCPP_format="4"><BehaviorTree ID="T">
-      <Sequence name="InitialBlackboard">
-        <RunOnce name="InitialBlackboard" then_skip="true">
-          <Script name="InitialBlackboard" code="a := 1; b := 2.5; c := 'x'; d := false"/>
-        </RunOnce>
-        <ScriptCondition code="a == 1 &amp;&amp; b &gt; 2 &amp;&amp; c == 'x' &amp;&amp; !d"/>
-      </Sequence></BehaviorTree></root>"""
-    result = import_btcpp(parse_xml(xml, "t.xml"), "t.xml", default_registry())
-    assert result.problems == [] and result.document is not None
-    assert result.document["blackboard"] == {
+    document = imported(initial_blackboard(
+        "true", "a := 1; b := 2.5; c := 'x'; d := false",
+        "a == 1 &amp;&amp; b &gt; 2 &amp;&amp; c == 'x' &amp;&amp; !d"))
+    assert document["blackboard"] == {
         "a": {"type": "int", "initial": 1}, "b": {"type": "float", "initial": 2.5},
         "c": {"type": "str", "initial": "x"}, "d": {"type": "bool", "initial": False}}
-    assert list(result.document["root"]) == ["ScriptCondition"]
+    assert list(document["root"]) == ["ScriptCondition"]
 
 
 @pytest.mark.parametrize("code", ["a := 1; b = 2", "a := b", "a := 1 + 1", "a += 1", ""])
@@ -131,17 +143,9 @@ def test_only_literal_assignments_are_initial_values(code: str) -> None:
 
 
 def test_a_script_that_merely_looks_alike_stays_a_node() -> None:
-    xml = """<root BTCPP_format="4"><BehaviorTree ID="T">
-      <Sequence name="InitialBlackboard">
-        <RunOnce name="InitialBlackboard" then_skip="false">
-          <Script name="InitialBlackboard" code="a := 1"/>
-        </RunOnce>
-        <ScriptCondition code="a == 1"/>
-      </Sequence></BehaviorTree></root>"""
-    result = import_btcpp(parse_xml(xml, "t.xml"), "t.xml", default_registry())
-    assert result.problems == [] and result.document is not None
-    assert "blackboard" not in result.document
-    assert list(result.document["root"]) == ["Sequence"]
+    document = imported(initial_blackboard("false", "a := 1", "a == 1"))
+    assert "blackboard" not in document
+    assert list(document["root"]) == ["Sequence"]
 
 
 def test_curly_equals_on_import_is_the_entry_named_like_the_port() -> None:
@@ -151,10 +155,7 @@ def test_curly_equals_on_import_is_the_entry_named_like_the_port() -> None:
         <Scan zone="{zone}" found="{=}"/>
         <ScriptCondition code="found &gt; 0"/>
       </Sequence></BehaviorTree></root>"""
-    reg = extend(default_registry().copy(), [str(PORT_LEAVES)])
-    result = import_btcpp(parse_xml(xml, "t.xml"), "t.xml", reg)
-    assert result.problems == [] and result.document is not None
-    section = result.document["blackboard"]
+    section = imported(xml, extend(default_registry().copy(), [str(PORT_LEAVES)]))["blackboard"]
     assert list(section) == ["zone", "found"]
     assert section["found"]["type"] == "int"
     assert section["found"]["description"].startswith("Written by <Scan> port 'found'")

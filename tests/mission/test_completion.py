@@ -13,6 +13,7 @@ from pathlib import Path
 import py_trees
 import pytest
 from py_trees.common import Status
+from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_spec, load_tree
 from sar_framework.engine.clock_timeout import CLOCK_KEY
@@ -26,6 +27,14 @@ from sar_framework.runner.status_file import StatusFileWriter
 
 REPO = Path(__file__).resolve().parents[2]
 PLUGINS = Path(__file__).resolve().parent / "runner_plugins"
+
+# The last child of both mission shapes below: home, once.
+HOME_ONCE = """\
+      - one_shot:
+          name: HomeOnce
+          policy: on_completion
+          child: {Countdown: {name: Home, ticks: 2}}
+"""
 
 # The user's trial tree: a time budget around a repeat over the zones, then one_shot home.
 BUDGET_THEN_HOME = """\
@@ -46,11 +55,7 @@ root:
                 repeat:
                   num_success: -1
                   child: {Countdown: {name: Patrol, ticks: 1}}
-      - one_shot:
-          name: HomeOnce
-          policy: on_completion
-          child: {Countdown: {name: Home, ticks: 2}}
-"""
+""" + HOME_ONCE
 
 # The reference tree's shape: a reactive root, a memory patrol, one_shot home last.
 REFERENCE_SHAPE = """\
@@ -68,11 +73,7 @@ root:
             - ZonesRemaining: {}
             - Countdown: {name: Visit, ticks: 1}
             - AdvanceZone: {}
-      - one_shot:
-          name: HomeOnce
-          policy: on_completion
-          child: {Countdown: {name: Home, ticks: 2}}
-"""
+""" + HOME_ONCE
 
 TICK_FOREVER = """\
 format: 1
@@ -84,18 +85,8 @@ root:
 """
 
 
-class FakeClock:
-    """ROS time for the tree: one second per tick."""
-
-    def __init__(self) -> None:
-        self.now = 100.0
-
-    def __call__(self) -> float:
-        return self.now
-
-
 def run(tmp_path: Path, text: str, *, mode: str = "auto", ticks: int = 60,
-        after: int = 0) -> tuple[StatusFileWriter, list[str], FakeClock]:
+        after: int = 0) -> tuple[StatusFileWriter, list[str], ManualClock]:
     """Tick like the runner: stop once complete; then ``after`` post-tick calls (keep-alive).
 
     Returns the recorder, the names of the leaves each time they started, and the clock.
@@ -104,7 +95,7 @@ def run(tmp_path: Path, text: str, *, mode: str = "auto", ticks: int = 60,
     path.write_text(text)
     zones = ZoneManager([{"id": z, "x": 0.0, "y": 0.0, "yaw": 0.0} for z in ("a", "b", "c")],
                         {"x": 0.0, "y": 0.0, "yaw": 0.0})
-    clock = FakeClock()
+    clock = ManualClock(100.0)
     loaded = load_tree(path, context={"zone_manager": zones, CLOCK_KEY: clock},
                        plugin_paths=[PLUGINS])
     effective = resolve_completion(mode, loaded.spec)[0]
@@ -203,13 +194,18 @@ def test_a_tree_without_a_one_shot_ends_at_the_roots_first_verdict(tmp_path: Pat
         resolve_completion("terminal", spec)
 
 
+def validate_command(path: Path) -> subprocess.CompletedProcess[str]:
+    """``sar-tree validate`` of ``path`` with the runner's test plugins."""
+    return subprocess.run([sys.executable, "-m", "sar_framework", "validate", str(path),
+                           "--plugin-path", str(PLUGINS)], capture_output=True, text=True,
+                          check=False)
+
+
 def test_validate_prints_what_applies(tmp_path: Path) -> None:
     path = tmp_path / "t.yaml"
     path.write_text(BUDGET_THEN_HOME.replace("name: budget_then_home",
                                              "name: b\ncompletion: once"))
-    done = subprocess.run([sys.executable, "-m", "sar_framework", "validate", str(path),
-                           "--plugin-path", str(PLUGINS)], capture_output=True, text=True,
-                          check=False)
+    done = validate_command(path)
     assert done.returncode == 0, done.stderr
     assert done.stdout == f"{path}: ok (7 nodes; completion: once, declared in the tree file)\n"
 
@@ -217,9 +213,7 @@ def test_validate_prints_what_applies(tmp_path: Path) -> None:
 def test_a_bad_completion_key_is_reported_with_its_place(tmp_path: Path) -> None:
     path = tmp_path / "t.yaml"
     path.write_text(TICK_FOREVER.replace("name: tick_forever", "name: t\ncompletion: restt"))
-    done = subprocess.run([sys.executable, "-m", "sar_framework", "validate", str(path),
-                           "--plugin-path", str(PLUGINS)], capture_output=True, text=True,
-                          check=False)
+    done = validate_command(path)
     assert done.returncode == 1
     assert "t.yaml:3:13: error: 'completion' must be one of: end, once, rest, forever; " \
         "got string 'restt' (did you mean 'rest'?)" in done.stderr

@@ -27,7 +27,7 @@ from sar_testing.leaf_harness import (
     wait_for_action_server,
 )
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import ros_node, spin_until
+from sar_testing.spin import spin_until
 
 pytestmark = pytest.mark.ros
 GOAL = re.compile(r"goal \d+: x=(\S+) y=(\S+) qz=(\S+) qw=(\S+) frame=(\S+) script=(\S+)")
@@ -41,13 +41,6 @@ def nav_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess
                      log_dir=log_dir) as server:
         server.wait_for_output("ready")
         yield server
-
-
-@pytest.fixture(scope="module")
-def module_ros() -> Iterator[tuple]:
-    """One node for the module, so the server is discovered once."""
-    with ros_node("sar_test") as pair:
-        yield pair
 
 
 @pytest.fixture
@@ -83,26 +76,20 @@ def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
     assert "cancel requested" not in mark.text
 
 
-def test_aborted_goal_fails_with_the_error_msg(nav: tuple) -> None:
+@pytest.mark.parametrize(("behavior_tree", "why", "server_says"), [
+    ("abort", "aborted: robot stuck", "goal aborted"),
+    ("reject", "rejected by navigate_to_pose", "script=reject"),
+])
+def test_an_aborted_or_rejected_goal_fails_saying_why(nav: tuple, behavior_tree: str, why: str,
+                                                      server_says: str) -> None:
     make_tree, executor, mark = nav
     leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
-                          behavior_tree="abort")
+                          behavior_tree=behavior_tree)
     tree = make_tree(leaf)
 
     assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
-    assert leaf.feedback_message == "goal to zone_a aborted: robot stuck"
-    assert "goal aborted" in mark.text
-
-
-def test_rejected_goal_fails(nav: tuple) -> None:
-    make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
-                          behavior_tree="reject")
-    tree = make_tree(leaf)
-
-    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
-    assert leaf.feedback_message == "goal to zone_a rejected by navigate_to_pose"
-    assert len(goals(mark.text)) == 1
+    assert leaf.feedback_message == f"goal to zone_a {why}"
+    assert len(goals(mark.text)) == 1 and server_says in mark.text
 
 
 def test_goal_that_never_finishes_fails_after_its_bound_and_is_cancelled(nav: tuple) -> None:

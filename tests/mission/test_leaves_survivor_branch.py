@@ -33,7 +33,7 @@ from sar_testing.leaf_harness import (
     wait_for_service,
 )
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import ros_node, spin_until
+from sar_testing.spin import spin_until
 
 from sar_framework.mission.zone_manager import ZoneManager
 
@@ -51,13 +51,6 @@ def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[NodeProc
         det.wait_for_output("ready")
         rep.wait_for_output("ready")
         yield det, rep
-
-
-@pytest.fixture(scope="module")
-def module_ros() -> Iterator[tuple]:
-    """One node for the module, so the servers are discovered once."""
-    with ros_node("sar_test") as pair:
-        yield pair
 
 
 @pytest.fixture
@@ -101,16 +94,23 @@ def run_counting_notify_ticks(executor, tree, notify: NotifyBase, timeout: float
     return running_ticks
 
 
-def test_memory_true_allocates_one_id_and_reports_it(branch_env: tuple) -> None:
-    node, make_tree, executor, report = branch_env
+def run_branch(branch_env: tuple, *, memory: bool
+               ) -> tuple[ZoneManager, TfStaticRecorder, py_trees.behaviour.Behaviour, int]:
+    """Run the branch to its end: the zones, the frames seen, NotifyBase, its RUNNING ticks."""
+    node, make_tree, executor, _report = branch_env
     zones = spec_zone_manager()
-    root, notify = build_branch(zones, memory=True)
+    root, notify = build_branch(zones, memory=memory)
     tree = make_tree(root)
     frames = TfStaticRecorder(node)
-
     running_ticks = run_counting_notify_ticks(executor, tree, notify, 10.0)
     assert root.status == Status.SUCCESS
     assert running_ticks >= 10, "the report server should keep NotifyBase RUNNING for a while"
+    return zones, frames, notify, running_ticks
+
+
+def test_memory_true_allocates_one_id_and_reports_it(branch_env: tuple) -> None:
+    executor, report = branch_env[2], branch_env[3]
+    zones, frames, notify, _ = run_branch(branch_env, memory=True)
     assert notify.feedback_message == "Reported survivor_1 at (1.50, -2.00): acknowledged."
     assert spin_until(executor, lambda: frames.child_frames() == {"survivor_1"}, 5.0)
     assert zones.next_survivor_id() == "survivor_2", "exactly one id was allocated"
@@ -121,15 +121,8 @@ def test_memory_true_allocates_one_id_and_reports_it(branch_env: tuple) -> None:
 def test_memory_false_reallocates_ids_while_notify_is_running(branch_env: tuple) -> None:
     """Why SurvivorFound is memory=True: without memory each RUNNING tick re-ticks the earlier
     siblings, and every re-tick of BroadcastSurvivorTF allocates (and broadcasts) a new id."""
-    node, make_tree, executor, report = branch_env
-    zones = spec_zone_manager()
-    root, notify = build_branch(zones, memory=False)
-    tree = make_tree(root)
-    frames = TfStaticRecorder(node)
-
-    running_ticks = run_counting_notify_ticks(executor, tree, notify, 10.0)
-    assert root.status == Status.SUCCESS
-    assert running_ticks >= 10
+    executor, report = branch_env[2], branch_env[3]
+    zones, frames, _, running_ticks = run_branch(branch_env, memory=False)
     duplicates = int(zones.next_survivor_id().removeprefix("survivor_")) - 1
     assert duplicates > running_ticks // 2, "each RUNNING tick should allocate another id"
     assert spin_until(executor, lambda: len(frames.child_frames()) > 1, 5.0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -9,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from sar_framework.mission import ZoneManager
+from sar_framework.mission import params as mission_params
 from sar_framework.mission.params_file import (
     ParamsError,
     check_params_file,
@@ -25,16 +27,8 @@ SPEC_ZONES = [
     {"id": "zone_d", "x": -3.5, "y": -3.0, "yaw": -1.57},
 ]
 
-GOOD = """\
-/**:
-  ros__parameters:
-    zone_order: ["zone_a", "zone_b"]
-    zones:
-      zone_a: {x: -3.0, y: 3.0, yaw: 0.0}
-      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
-    base_station: {x: 0.0, y: 0.0, yaw: 0.0}
-    tick_rate_hz: 2.0
-"""
+#: The example of the module docstring (so the docs show a file that passes).
+GOOD = textwrap.dedent(mission_params.__doc__.split("::\n\n")[1].split("\n\n")[0]) + "\n"
 
 
 def write(tmp_path: Path, text: str, name: str = "params.yaml") -> Path:

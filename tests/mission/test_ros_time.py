@@ -7,6 +7,7 @@ from types import SimpleNamespace
 
 import py_trees
 from py_trees.common import Status
+from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_tree
 from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
@@ -27,26 +28,11 @@ root:
 """
 
 
-class FakeClock:
-    """Seconds that move only when told to."""
-
-    def __init__(self) -> None:
-        self.now_s = 1000.0
-
-    def __call__(self) -> float:
-        return self.now_s
-
-    def node(self) -> SimpleNamespace:
-        """A stand-in for an rclpy node: get_clock().now().nanoseconds."""
-        clock = SimpleNamespace(now=lambda: SimpleNamespace(nanoseconds=int(self.now_s * 1e9)))
-        return SimpleNamespace(get_clock=lambda: clock)
-
-
 def test_wait_and_timeout_follow_the_clock_not_the_wall(tmp_path: Path) -> None:
     """Regression: timeouts counted wall seconds (a 1.5 s timeout was 30 s simulated at 20x)."""
     path = tmp_path / "t.yaml"
     path.write_text(TREE)
-    clock = FakeClock()
+    clock = ManualClock(1000.0)
     loaded = load_tree(path, context={CLOCK_KEY: clock})
     assert isinstance(loaded.behaviours["0.1"], ClockTimeout)
     tree = py_trees.trees.BehaviourTree(loaded.root)
@@ -54,18 +40,18 @@ def test_wait_and_timeout_follow_the_clock_not_the_wall(tmp_path: Path) -> None:
     seen = []
     for _ in range(8):  # half a simulated second per tick, no wall time passes
         tree.tick()
-        seen.append((clock.now_s - 1000.0, loaded.behaviours["0.0"].status.name,
+        seen.append((clock.now - 1000.0, loaded.behaviours["0.0"].status.name,
                      loaded.root.status.name))
-        clock.now_s += 0.5
+        clock.now += 0.5
     # Dwell runs until 2.0 s, then Within3s runs Long until 2.0 + 3.0 s and fails
     assert [s for t, s, _ in seen if t < 2.0] == ["RUNNING"] * 4
     assert seen[4][1] == "SUCCESS"
     assert loaded.root.status == Status.RUNNING
-    while loaded.root.status == Status.RUNNING and clock.now_s < 1010.0:
+    while loaded.root.status == Status.RUNNING and clock.now < 1010.0:
         tree.tick()
-        clock.now_s += 0.5
+        clock.now += 0.5
     assert loaded.root.status == Status.FAILURE
-    assert clock.now_s - 0.5 - 1000.0 == 5.5  # the first tick past 2.0 + 3.0
+    assert clock.now - 0.5 - 1000.0 == 5.5  # the first tick past 2.0 + 3.0
     assert loaded.behaviours["0.1"].feedback_message == "timed out"
     assert loaded.behaviours["0.1.0"].status == Status.INVALID  # halted
 
@@ -96,16 +82,16 @@ def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall() -> None:
 
     from sar_framework.mission.zone_manager import ZoneManager
 
-    clock = FakeClock()
+    clock = ManualClock(1000.0)
     node = clock.node()
     node.create_client = lambda *_args: FakeClient()
     node.get_logger = lambda: SimpleNamespace(info=print, warning=print)
     call = PolledServiceCall(node, object, "/detect_survivor", server_timeout_s=10.0,
                              response_timeout_s=10.0)
     call.start()
-    clock.now_s += 9.9
+    clock.now += 9.9
     assert call.poll(lambda: None) is None  # no wall second needed to pass
-    clock.now_s += 0.2
+    clock.now += 0.2
     result = call.poll(lambda: None)
     assert result is not None
     assert result.error == "/detect_survivor service not available after 10.0 s"
@@ -115,10 +101,10 @@ def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall() -> None:
     leaf = NavigateToZone("Go", zone_manager=zones, server_timeout_s=10.0)
     leaf._node, leaf._client = node, FakeClient()  # what setup(node=...) gives it
     leaf.tick_once()
-    clock.now_s += 9.9
+    clock.now += 9.9
     leaf.tick_once()
     assert leaf.status == Status.RUNNING
-    clock.now_s += 0.2
+    clock.now += 0.2
     leaf.tick_once()
     assert leaf.status == Status.FAILURE
     assert leaf.feedback_message == "navigate_to_pose server not available after 10.0 s"

@@ -17,6 +17,8 @@ the real library). The modules, one concept each:
 - :mod:`.leaves`: AlwaysSuccess, AlwaysFailure, Sleep, SetBlackboard, UnsetBlackboard.
 - :mod:`.nav2_controls`, :mod:`.nav2_decorators`: RecoveryNode, PipelineSequence,
   RoundRobin; RateController, SingleTrigger.
+- :mod:`.read_ports`: the ports bound to entries (Timeout's ``msec: "{t}"``...), read by
+  the node when BT.CPP reads them.
 
 No ROS is imported here.
 """

@@ -30,6 +30,7 @@ from enum import Enum
 import py_trees
 from py_trees.common import Status
 
+from sar_framework.engine.controls.read_ports import ReadsPorts
 from sar_framework.engine.skipping import mark_skipped, was_skipped
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -102,7 +103,7 @@ def tick_child(child: Behaviour) -> Steps:
     return outcome(child)
 
 
-class _BtNode:
+class _BtNode(ReadsPorts):
     """The tick and stop both of our base classes share (mixed into a py_trees class)."""
 
     bt_status: Status
@@ -129,6 +130,7 @@ class _BtNode:
 
     def tick(self) -> Iterator[Behaviour]:
         """Tick the node the BT.CPP way (see the module docstring)."""
+        self.read_ports()
         self.was_idle = self.bt_status == Status.INVALID  # not isStatusActive()
         if self.marks_running:
             self.bt_status = Status.RUNNING

@@ -17,16 +17,8 @@ from sar_framework.engine.controls.base import Behaviour, BtControl, Outcome, St
 from sar_framework.engine.variables import Variables
 
 
-def _branches(name: str, children: Children[Behaviour]) -> None:
-    if len(children) not in (2, 3):
-        raise ValueError(f"'{name}' needs 2 or 3 children (condition, then, else), "
-                         f"got {len(children)}")
-
-
-class IfThenElse(BtControl):
-    """BT.CPP ``IfThenElse``: the condition once, then the chosen branch until it completes.
-
-    Without a third child a failing condition fails the node.
+class _Branching(BtControl):
+    """A condition (the first child) choosing between a branch and an optional else-branch.
 
     Args:
         name: The behaviour's name.
@@ -37,29 +29,48 @@ class IfThenElse(BtControl):
     """
 
     def __init__(self, name: str, children: Children[Behaviour]) -> None:
-        _branches(name, children)
+        if len(children) not in (2, 3):
+            raise ValueError(f"'{name}' needs 2 or 3 children (condition, then, else), "
+                             f"got {len(children)}")
+        super().__init__(name, children)
+
+    def tick_condition(self) -> Steps:
+        """Tick the condition; return its outcome (SKIPPED is an error, as in BT.CPP)."""
+        condition = yield from self.tick_child(self.children[0])
+        if condition is Outcome.SKIPPED:
+            raise RuntimeError(f"{type(self).__name__} '{self.name}': its condition was "
+                               "skipped")
+        return condition
+
+    def tick_branch(self, index: int) -> Steps:
+        """Tick the branch at ``index``; once it is not running, reset every child."""
+        result = yield from self.tick_child(self.children[index])
+        if result is not Outcome.RUNNING:
+            self.reset_children()
+        return result
+
+
+class IfThenElse(_Branching):
+    """BT.CPP ``IfThenElse``: the condition once, then the chosen branch until it completes.
+
+    Without a third child a failing condition fails the node.
+    """
+
+    def __init__(self, name: str, children: Children[Behaviour]) -> None:
         super().__init__(name, children)
         self.branch = 0
 
     def control(self) -> Steps:
         """Tick the condition (unless a branch is running), then the branch."""
         if self.branch == 0:
-            condition = yield from self.tick_child(self.children[0])
-            if condition is Outcome.RUNNING:
+            condition = yield from self.tick_condition()
+            if condition is Outcome.RUNNING or (condition is Outcome.FAILURE
+                                                and len(self.children) != 3):
                 return condition
-            if condition is Outcome.SUCCESS:
-                self.branch = 1
-            elif condition is Outcome.FAILURE:
-                if len(self.children) != 3:
-                    return condition
-                self.branch = 2
-            else:
-                raise RuntimeError(f"IfThenElse '{self.name}': its condition was skipped")
-        result = yield from self.tick_child(self.children[self.branch])
-        if result is Outcome.RUNNING:
-            return result
-        self.reset_children()
-        self.branch = 0
+            self.branch = 1 if condition is Outcome.SUCCESS else 2
+        result = yield from self.tick_branch(self.branch)
+        if result is not Outcome.RUNNING:
+            self.branch = 0
         return result
 
     def halt(self) -> None:
@@ -68,43 +79,24 @@ class IfThenElse(BtControl):
         super().halt()
 
 
-class WhileDoElse(BtControl):
-    """BT.CPP ``WhileDoElse``: the condition every tick; switching branch halts the other.
-
-    Args:
-        name: The behaviour's name.
-        children: Condition, do-branch and optional else-branch.
-
-    Raises:
-        ValueError: Not 2 or 3 children.
-    """
-
-    def __init__(self, name: str, children: Children[Behaviour]) -> None:
-        _branches(name, children)
-        super().__init__(name, children)
+class WhileDoElse(_Branching):
+    """BT.CPP ``WhileDoElse``: the condition every tick; switching branch halts the other."""
 
     def control(self) -> Steps:
         """Tick the condition, then the branch it selects."""
-        condition = yield from self.tick_child(self.children[0])
+        condition = yield from self.tick_condition()
         if condition is Outcome.RUNNING:
             return condition
         three = len(self.children) == 3
         if condition is Outcome.SUCCESS:
             if three:
                 self.halt_child(2)
-            result = yield from self.tick_child(self.children[1])
-        elif condition is Outcome.FAILURE:
-            if three:
-                self.halt_child(1)
-                result = yield from self.tick_child(self.children[2])
-            else:
-                result = Outcome.FAILURE
-        else:
-            raise RuntimeError(f"WhileDoElse '{self.name}': its condition was skipped")
-        if result is Outcome.RUNNING:
-            return result
-        self.reset_children()
-        return result
+            return (yield from self.tick_branch(1))
+        if not three:
+            self.reset_children()
+            return Outcome.FAILURE
+        self.halt_child(1)
+        return (yield from self.tick_branch(2))
 
 
 _INTEGER = re.compile(r"-?[0-9]+")

@@ -12,73 +12,39 @@ from __future__ import annotations
 from sar_framework.engine.controls.base import BtDecorator, Outcome, Steps
 
 
-class Inverter(BtDecorator):
-    """BT.CPP ``Inverter``: SUCCESS becomes FAILURE and FAILURE becomes SUCCESS.
+class _Converter(BtDecorator):
+    """Tick the child once; its result, converted by ``converts``, is the decorator's."""
 
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-    """
+    #: The child's results that change, and what they become; the others pass through.
+    converts: dict[Outcome, Outcome]
 
     def decorate(self) -> Steps:
-        """Swap the child's SUCCESS and FAILURE."""
-        result = yield from self.tick_child()
-        if result is Outcome.SUCCESS:
-            self.reset_child()
-            return Outcome.FAILURE
-        if result is Outcome.FAILURE:
-            self.reset_child()
-            return Outcome.SUCCESS
-        return result
-
-
-class _Force(BtDecorator):
-    """A completed child gives ``forced``."""
-
-    forced: Outcome
-
-    def decorate(self) -> Steps:
-        """Replace a completed child's result."""
+        """Convert the child's result (a completed child is reset)."""
         result = yield from self.tick_child()
         if result.completed:
             self.reset_child()
-            return self.forced
-        return result
+        return self.converts.get(result, result)
 
 
-class ForceSuccess(_Force):
-    """BT.CPP ``ForceSuccess``: a completed child gives SUCCESS.
+class Inverter(_Converter):
+    """BT.CPP ``Inverter``: SUCCESS becomes FAILURE and FAILURE becomes SUCCESS."""
 
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-    """
-
-    forced = Outcome.SUCCESS
+    converts = {Outcome.SUCCESS: Outcome.FAILURE, Outcome.FAILURE: Outcome.SUCCESS}
 
 
-class ForceFailure(_Force):
-    """BT.CPP ``ForceFailure``: a completed child gives FAILURE.
+class ForceSuccess(_Converter):
+    """BT.CPP ``ForceSuccess``: a completed child gives SUCCESS."""
 
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-    """
-
-    forced = Outcome.FAILURE
+    converts = {Outcome.FAILURE: Outcome.SUCCESS}
 
 
-class KeepRunningUntilFailure(BtDecorator):
-    """BT.CPP ``KeepRunningUntilFailure``: RUNNING until the child fails.
+class ForceFailure(_Converter):
+    """BT.CPP ``ForceFailure``: a completed child gives FAILURE."""
 
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-    """
+    converts = {Outcome.SUCCESS: Outcome.FAILURE}
 
-    def decorate(self) -> Steps:
-        """FAILURE when the child fails, RUNNING otherwise."""
-        result = yield from self.tick_child()
-        if result.completed:
-            self.reset_child()
-        return Outcome.FAILURE if result is Outcome.FAILURE else Outcome.RUNNING
+
+class KeepRunningUntilFailure(_Converter):
+    """BT.CPP ``KeepRunningUntilFailure``: RUNNING until the child fails."""
+
+    converts = {Outcome.SUCCESS: Outcome.RUNNING, Outcome.SKIPPED: Outcome.RUNNING}

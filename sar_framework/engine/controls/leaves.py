@@ -10,12 +10,14 @@ else that offers the same four methods.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
 from typing import Any
 
 import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.controls.base import Clock
+from sar_framework.engine.controls.read_ports import ReadsPorts
 from sar_framework.engine.variables import Variables
 
 
@@ -35,7 +37,7 @@ class AlwaysFailure(py_trees.behaviour.Behaviour):
         return Status.FAILURE
 
 
-class Sleep(py_trees.behaviour.Behaviour):
+class Sleep(ReadsPorts, py_trees.behaviour.Behaviour):
     """BT.CPP ``Sleep``: RUNNING for ``msec`` milliseconds, then SUCCESS (0: SUCCESS at once).
 
     Like every BT.CPP ``StatefulActionNode``, once it succeeded it keeps returning
@@ -55,6 +57,15 @@ class Sleep(py_trees.behaviour.Behaviour):
         self.starting = True
         #: The status BT.CPP would show (INVALID: IDLE); reset by the parent.
         self.bt_status = Status.INVALID
+
+    def read_port(self, port: str, value: int) -> None:
+        """Take ``msec`` read from its entry."""
+        self.duration = value / 1000.0
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        """Read ``msec`` when BT.CPP does (on starting), then tick as py_trees does."""
+        self.read_ports()
+        return (yield from super().tick())
 
     def initialise(self) -> None:
         """Start the wait (unless it already succeeded and was not reset)."""

@@ -17,9 +17,8 @@ from sar_framework.engine.controls.base import Behaviour, BtDecorator, Outcome, 
 class _Loop(BtDecorator):
     """Re-tick the child while it gives ``again`` (up to ``limit`` times; -1: forever)."""
 
+    #: The child's result that is tried again; the loop's result once the limit is reached.
     again: Outcome
-    #: What the loop returns when the limit is reached.
-    exhausted: Outcome
 
     def __init__(self, name: str, child: Behaviour, limit: int) -> None:
         super().__init__(name, child)
@@ -29,6 +28,10 @@ class _Loop(BtDecorator):
     def looping(self) -> bool:
         """Whether another attempt is allowed."""
         return self.count < self.limit or self.limit == -1
+
+    def read_port(self, port: str, value: int) -> None:
+        """Take the limit read from its entry."""
+        self.limit = value
 
     def decorate(self) -> Steps:
         """Tick the child, again within this tick while it completes after running."""
@@ -49,7 +52,7 @@ class _Loop(BtDecorator):
             if was_idle and self.looping():
                 return Outcome.RUNNING
         self.count = 0
-        return self.exhausted
+        return self.again
 
     def halt(self) -> None:
         """Forget the attempts made; the child halted and reset."""
@@ -67,7 +70,6 @@ class Repeat(_Loop):
     """
 
     again = Outcome.SUCCESS
-    exhausted = Outcome.SUCCESS
 
     def __init__(self, name: str, child: Behaviour, num_cycles: int) -> None:
         super().__init__(name, child, num_cycles)
@@ -83,7 +85,6 @@ class RetryUntilSuccessful(_Loop):
     """
 
     again = Outcome.FAILURE
-    exhausted = Outcome.FAILURE
 
     def __init__(self, name: str, child: Behaviour, num_attempts: int) -> None:
         super().__init__(name, child, num_attempts)
@@ -107,6 +108,10 @@ class RunOnce(BtDecorator):
         self.returned: Outcome | None = None
 
     marks_running = False
+
+    def read_port(self, port: str, value: bool) -> None:
+        """Take ``then_skip`` read from its entry."""
+        self.then_skip = value
 
     def decorate(self) -> Steps:
         """Tick the child until it completes once; afterwards do not tick it."""

@@ -42,6 +42,10 @@ class RecoveryNode(BtControl):
         self.index = 0
         self.retries = 0
 
+    def read_port(self, port: str, value: int) -> None:
+        """Take ``number_of_retries`` read from its entry."""
+        self.number_of_retries = value
+
     def control(self) -> Steps:
         """Alternate the action and its recovery within the tick until one must wait."""
         while self.index < 2 and self.retries <= self.number_of_retries:

@@ -17,7 +17,23 @@ def threshold(value: int, children: int) -> int:
     return max(children + value + 1, 0) if value < 0 else value
 
 
-class Parallel(BtControl):
+class _Thresholds(BtControl):
+    """A parallel with thresholds checked against its number of children."""
+
+    def check_threshold(self, port: str, value: int, error: type[Exception]) -> None:
+        """Raise ``error`` when the threshold ``value`` of ``port`` can never be reached."""
+        count = len(self.children)
+        if threshold(value, count) > count:
+            raise error(f"{self.name}: '{port}' {value} is more than the {count} children "
+                        "(BT.CPP: the threshold can never be reached)")
+
+    def read_port(self, port: str, value: int) -> None:
+        """Take a threshold read from its entry (BT.CPP throws when it is out of reach)."""
+        self.check_threshold(port, value, RuntimeError)
+        setattr(self, port, value)
+
+
+class Parallel(_Thresholds):
     """BT.CPP ``Parallel``: SUCCESS at ``success_count`` successes, FAILURE at ``failure_count``.
 
     The thresholds are checked after each child's tick, so the children after the one
@@ -40,10 +56,8 @@ class Parallel(BtControl):
         super().__init__(name, children)
         self.success_count = success_count
         self.failure_count = failure_count
-        for port, value in (("success_count", success_count), ("failure_count", failure_count)):
-            if threshold(value, len(self.children)) > len(self.children):
-                raise ValueError(f"{port} {value} is more than the {len(self.children)} "
-                                 "children: the parallel could never reach it")
+        self.check_threshold("success_count", success_count, ValueError)
+        self.check_threshold("failure_count", failure_count, ValueError)
         self.completed: set[int] = set()
         self.successes = 0
         self.failures = 0
@@ -89,7 +103,7 @@ class Parallel(BtControl):
         super().halt()
 
 
-class ParallelAll(BtControl):
+class ParallelAll(_Thresholds):
     """BT.CPP ``ParallelAll``: wait for every child; FAILURE when ``max_failures`` failed.
 
     Args:
@@ -105,9 +119,7 @@ class ParallelAll(BtControl):
     def __init__(self, name: str, children: Children[Behaviour], max_failures: int = 1) -> None:
         super().__init__(name, children)
         self.max_failures = max_failures
-        if threshold(max_failures, len(self.children)) > len(self.children):
-            raise ValueError(f"max_failures {max_failures} is more than the "
-                             f"{len(self.children)} children: the parallel could never fail")
+        self.check_threshold("max_failures", max_failures, ValueError)
         self.completed: set[int] = set()
         self.failures = 0
 

@@ -30,13 +30,26 @@ from sar_framework.engine.controls.base import (
 )
 
 
-class _Ordered(BtControl):
-    """Sequence and Fallback: one child at a time, resuming at ``index``."""
+class _Stopping(BtControl):
+    """A sequence (stopped by a failure) or a fallback (stopped by a success).
+
+    Args:
+        name: The behaviour's name.
+        children: The children, in order.
+    """
 
     #: The outcome that ends the run early (FAILURE for a sequence).
     stop_on: Outcome
-    #: The outcome when every child is done (SUCCESS for a sequence).
-    otherwise: Outcome
+
+    @property
+    def otherwise(self) -> Outcome:
+        """The outcome when every child is done (SUCCESS for a sequence)."""
+        return Outcome.SUCCESS if self.stop_on is Outcome.FAILURE else Outcome.FAILURE
+
+
+class _Ordered(_Stopping):
+    """Sequence and Fallback: one child at a time, resuming at ``index``."""
+
     #: Whether a child that completes on its first tick yields (SequenceWithMemory).
     yields = False
     #: Whether stopping early resets to the first child (not SequenceWithMemory).
@@ -86,74 +99,41 @@ class _Ordered(BtControl):
 
 
 class Sequence(_Ordered):
-    """BT.CPP ``Sequence``: children in order until one fails; resumes at a running child.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``Sequence``: children in order until one fails; resumes at a running child."""
 
     stop_on = Outcome.FAILURE
-    otherwise = Outcome.SUCCESS
 
 
 class SequenceWithMemory(_Ordered):
-    """BT.CPP ``SequenceWithMemory``: like Sequence, but a failed child is retried next tick.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``SequenceWithMemory``: like Sequence, but a failed child is retried next tick."""
 
     stop_on = Outcome.FAILURE
-    otherwise = Outcome.SUCCESS
     yields = True
     restarts = False
 
 
 class AsyncSequence(_Ordered):
-    """BT.CPP ``AsyncSequence``: a Sequence that yields after a child's first-tick success.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``AsyncSequence``: a Sequence that yields after a child's first-tick success."""
 
     stop_on = Outcome.FAILURE
-    otherwise = Outcome.SUCCESS
     yields = True
 
 
 class AsyncFallback(_Ordered):
-    """BT.CPP ``AsyncFallback``: a Fallback that yields after a child's first-tick failure.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``AsyncFallback``: a Fallback that yields after a child's first-tick failure."""
 
     stop_on = Outcome.SUCCESS
-    otherwise = Outcome.FAILURE
     yields = True
 
 
 class Fallback(_Ordered):
-    """BT.CPP ``Fallback``: children in order until one succeeds.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``Fallback``: children in order until one succeeds."""
 
     stop_on = Outcome.SUCCESS
-    otherwise = Outcome.FAILURE
 
 
-class _Reactive(BtControl):
+class _Reactive(_Stopping):
     """ReactiveSequence and ReactiveFallback: from the first child, every tick."""
-
-    stop_on: Outcome
-    otherwise: Outcome
 
     def control(self) -> Steps:
         """Tick children from the first until one runs or stops the run."""
@@ -176,24 +156,12 @@ class _Reactive(BtControl):
 
 
 class ReactiveSequence(_Reactive):
-    """BT.CPP ``ReactiveSequence``: every tick from the first child; a failure stops it.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``ReactiveSequence``: every tick from the first child; a failure stops it."""
 
     stop_on = Outcome.FAILURE
-    otherwise = Outcome.SUCCESS
 
 
 class ReactiveFallback(_Reactive):
-    """BT.CPP ``ReactiveFallback``: every tick from the first child; a success stops it.
-
-    Args:
-        name: The behaviour's name.
-        children: The children, in order.
-    """
+    """BT.CPP ``ReactiveFallback``: every tick from the first child; a success stops it."""
 
     stop_on = Outcome.SUCCESS
-    otherwise = Outcome.FAILURE

@@ -22,7 +22,34 @@ from sar_framework.engine.controls.base import (
 )
 
 
-class Delay(BtDecorator):
+class _Timed(BtDecorator):
+    """A decorator that times ``duration`` seconds from its start, on ``clock``."""
+
+    def __init__(self, name: str, child: Behaviour, msec: int, clock: Clock) -> None:
+        super().__init__(name, child)
+        self.duration = msec / 1000.0
+        self.clock = clock
+        self.started_at: float | None = None
+
+    def read_port(self, port: str, value: int) -> None:
+        """Take the milliseconds read from their entry."""
+        self.duration = value / 1000.0
+
+    def tick_until_completed(self) -> Steps:
+        """Tick the child; once it completed, reset it and the start."""
+        result = yield from self.tick_child()
+        if result.completed:
+            self.started_at = None
+            self.reset_child()
+        return result
+
+    def halt(self) -> None:
+        """Forget the start; the child halted and reset."""
+        self.started_at = None
+        super().halt()
+
+
+class Delay(_Timed):
     """BT.CPP ``Delay``: RUNNING for ``delay_msec``, then tick the child until it completes.
 
     Args:
@@ -34,30 +61,18 @@ class Delay(BtDecorator):
 
     def __init__(self, name: str, child: Behaviour, delay_msec: int,
                  clock: Clock = time.monotonic) -> None:
-        super().__init__(name, child)
-        self.delay = delay_msec / 1000.0
-        self.clock = clock
-        self.started_at: float | None = None
+        super().__init__(name, child, delay_msec, clock)
 
     def decorate(self) -> Steps:
         """Start the delay; once it passed, tick the child."""
         if self.started_at is None:
             self.started_at = self.clock()
-        if self.clock() - self.started_at < self.delay:
+        if self.clock() - self.started_at < self.duration:
             return Outcome.RUNNING
-        result = yield from self.tick_child()
-        if result.completed:
-            self.started_at = None
-            self.reset_child()
-        return result
-
-    def halt(self) -> None:
-        """Cancel the delay; the child halted and reset."""
-        self.started_at = None
-        super().halt()
+        return (yield from self.tick_until_completed())
 
 
-class Timeout(BtDecorator):
+class Timeout(_Timed):
     """BT.CPP ``Timeout``: halt the child and fail when it still runs after ``msec``.
 
     ``msec`` 0 never times out (BT.CPP starts no timer).
@@ -71,29 +86,17 @@ class Timeout(BtDecorator):
 
     def __init__(self, name: str, child: Behaviour, msec: int,
                  clock: Clock = time.monotonic) -> None:
-        super().__init__(name, child)
-        self.duration = msec / 1000.0
-        self.clock = clock
+        super().__init__(name, child, msec, clock)
         self.deadline: float | None = None
-        self.started = False
 
     def decorate(self) -> Steps:
         """Start the bound; fail without ticking the child once it passed while running."""
-        if not self.started:
-            self.started = True
-            self.deadline = self.clock() + self.duration if self.duration > 0 else None
+        if self.started_at is None:
+            self.started_at = self.clock()
+            self.deadline = self.started_at + self.duration if self.duration > 0 else None
         if (self.deadline is not None and self.clock() >= self.deadline
                 and bt_status(self.decorated) == Status.RUNNING):
             self.reset_child()
-            self.started = False
+            self.started_at = None
             return Outcome.FAILURE
-        result = yield from self.tick_child()
-        if result.completed:
-            self.started = False
-            self.reset_child()
-        return result
-
-    def halt(self) -> None:
-        """Cancel the bound; the child halted and reset."""
-        self.started = False
-        super().halt()
+        return (yield from self.tick_until_completed())

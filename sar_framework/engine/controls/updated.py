@@ -20,36 +20,49 @@ from sar_framework.engine.controls.base import Behaviour, BtDecorator, Outcome, 
 from sar_framework.engine.variables import Variables
 
 
-def _check_versions(name: str, entry: str, variables: Variables) -> None:
-    if not callable(getattr(variables, "version", None)):
-        raise TypeError(f"'{name}': its variables cannot tell when '{entry}' was written "
-                        "(no version(name) method)")
+class _EntryWatch:
+    """The version of ``entry`` last seen, to tell whether it was written since."""
+
+    def __init__(self, name: str, entry: str, variables: Variables) -> None:
+        if not callable(getattr(variables, "version", None)):
+            raise TypeError(f"'{name}': its variables cannot tell when '{entry}' was written "
+                            "(no version(name) method)")
+        self.entry = entry
+        self.variables = variables
+        self.seen = 0
+
+    def updated(self) -> bool:
+        """Whether the entry has a value written since the last look (this is a look)."""
+        if self.entry not in self.variables:
+            return False
+        version = self.variables.version(self.entry)  # type: ignore[attr-defined]
+        previous, self.seen = self.seen, version
+        return version != previous
 
 
 class _EntryUpdated(BtDecorator):
-    """Tick the child only when ``entry`` was written since the last look."""
+    """Tick the child only when ``entry`` was written since the last look.
+
+    Args:
+        name: The behaviour's name.
+        child: The decorated behaviour.
+        entry: The watched variable's name.
+        variables: Where it lives (must offer ``version(name)``).
+    """
 
     marks_running = False
 
     not_updated: Outcome
 
     def __init__(self, name: str, child: Behaviour, entry: str, variables: Variables) -> None:
-        _check_versions(name, entry, variables)
+        self.watch = _EntryWatch(name, entry, variables)
         super().__init__(name, child)
-        self.entry = entry
-        self.variables = variables
-        self.seen = 0
         self.executing = False
 
     def decorate(self) -> Steps:
         """Tick a running child, or the child if the entry changed; else ``not_updated``."""
-        if not self.executing:
-            if self.entry not in self.variables:
-                return self.not_updated
-            version = self.variables.version(self.entry)  # type: ignore[attr-defined]
-            previous, self.seen = self.seen, version
-            if version == previous:
-                return self.not_updated
+        if not self.executing and not self.watch.updated():
+            return self.not_updated
         result = yield from self.tick_child()
         self.executing = result is Outcome.RUNNING
         return result
@@ -60,27 +73,13 @@ class _EntryUpdated(BtDecorator):
 
 
 class SkipUnlessUpdated(_EntryUpdated):
-    """BT.CPP ``SkipUnlessUpdated``: SKIPPED unless ``entry`` was written since last time.
-
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-        entry: The watched variable's name.
-        variables: Where it lives (must offer ``version(name)``).
-    """
+    """BT.CPP ``SkipUnlessUpdated``: SKIPPED unless ``entry`` was written since last time."""
 
     not_updated = Outcome.SKIPPED
 
 
 class WaitValueUpdate(_EntryUpdated):
-    """BT.CPP ``WaitValueUpdate``: RUNNING until ``entry`` was written since last time.
-
-    Args:
-        name: The behaviour's name.
-        child: The decorated behaviour.
-        entry: The watched variable's name.
-        variables: Where it lives (must offer ``version(name)``).
-    """
+    """BT.CPP ``WaitValueUpdate``: RUNNING until ``entry`` was written since last time."""
 
     not_updated = Outcome.RUNNING
 
@@ -95,16 +94,9 @@ class WasEntryUpdated(py_trees.behaviour.Behaviour):
     """
 
     def __init__(self, name: str, entry: str, variables: Variables) -> None:
-        _check_versions(name, entry, variables)
+        self.watch = _EntryWatch(name, entry, variables)
         super().__init__(name)
-        self.entry = entry
-        self.variables = variables
-        self.seen = 0
 
     def update(self) -> Status:
         """SUCCESS if the entry has a value written since the last look, else FAILURE."""
-        if self.entry not in self.variables:
-            return Status.FAILURE
-        version = self.variables.version(self.entry)  # type: ignore[attr-defined]
-        previous, self.seen = self.seen, version
-        return Status.SUCCESS if version != previous else Status.FAILURE
+        return Status.SUCCESS if self.watch.updated() else Status.FAILURE

@@ -1,7 +1,9 @@
 """``sar-tree studio live|replay|edit``: start the studio and print its address.
 
 ``live`` attaches to the mission running on this ROS domain (``sar-tree run``, ``ros2
-launch``), or starts one with ``--run TREE``; ``replay FILE.mcap`` opens a recording of
+launch``), or starts one with ``--run TREE``; given the mission's tree file (``--tree`` or
+``--run``), it also edits that file and applies it to the mission (hot reload,
+:mod:`.reload`); ``replay FILE.mcap`` opens a recording of
 ``sar-tree run --record``; ``edit TREE`` edits a tree file (:mod:`.editor`), which must
 lie in the project, the working directory or a ``--root`` directory.
 
@@ -30,6 +32,7 @@ from sar_framework.studio.safety import (
 if TYPE_CHECKING:
     from sar_framework.child_process import ChildProcess
     from sar_framework.studio.editor import TreeEditor
+    from sar_framework.studio.reload import AskReload
     from sar_framework.studio.session import Session
 
 EXIT_OK = 0
@@ -90,7 +93,7 @@ def studio_command(args: argparse.Namespace) -> int:
     if isinstance(listener, int):
         return listener
     with listener:
-        editor = _editor(args) if args.mode == "edit" else None
+        editor = _editor(args) if args.mode != "replay" else None
         if isinstance(editor, int):
             return editor
         session = _session(args, editor)
@@ -103,7 +106,7 @@ def studio_command(args: argparse.Namespace) -> int:
             feed = LiveFeed(session).start()
             mission = _start_mission(args) if args.run else None
         try:
-            return _serve(session, args, listener, editor)
+            return _serve(session, args, listener, editor, feed.reload if feed else None)
         finally:
             if mission is not None:
                 mission.stop(timeout=10.0)  # SIGINT: the mission cancels its goal and ends
@@ -123,11 +126,22 @@ def _start_mission(args: argparse.Namespace) -> ChildProcess:
     return ChildProcess(argv, "mission", die_with_parent=True).start()
 
 
-def _editor(args: argparse.Namespace) -> TreeEditor | int:
-    """The editor of ``edit TREE``, or the exit code when the file may not be edited."""
+def _editor(args: argparse.Namespace) -> TreeEditor | int | None:
+    """The editor of ``edit TREE`` or of the live mission's tree file.
+
+    Returns:
+        The editor; None live without a tree file; the exit code when it may not be edited.
+    """
     from sar_framework.studio.editor import TreeEditor
     from sar_framework.studio.safety import RefusedError
 
+    if args.mode == "live":
+        path = args.tree or args.run
+        if not path or not Path(path).is_file():
+            return None  # no file: nothing to edit (a missing one is said by _live_tree)
+        # the file the mission ticks, named on the command line: that file and no other
+        roots = [Path.cwd(), REPO, Path(path).resolve()]
+        return TreeEditor(Path(path), roots, args.plugin_path)
     roots = [Path.cwd(), REPO, *(Path(r) for r in args.root)]
     try:
         return TreeEditor(Path(args.tree), roots, args.plugin_path)
@@ -140,10 +154,9 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
     from sar_framework.studio.session import EDIT, LIVE, Session, replay_session
     from sar_framework.studio.world_view import world_view
 
-    if editor is not None:
+    if args.mode == "edit" and editor is not None:
         session = Session(EDIT, None, world_view(None), editor.shown)
-        session.edit = {"path": editor.shown, "text": editor.text(),
-                        "completions": editor.completions()}
+        session.edit = _edit_state(editor)
         checked = editor.check(session.edit["text"]) if session.edit["text"] else None
         session.tree = checked["tree"] if checked else None
         return session
@@ -163,7 +176,19 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
             return tree
         params = Path(args.params) if Path(args.params).is_file() else None
         session = Session(LIVE, tree, world_view(params), "live")
+        if editor is not None:
+            from functools import partial
+
+            from sar_framework.studio.tree_view import file_tree_view
+
+            session.edit = _edit_state(editor)
+            session.draw_file = partial(file_tree_view, str(editor.path), args.plugin_path)
     return session
+
+
+def _edit_state(editor: TreeEditor) -> dict[str, Any]:
+    """What the page's editor starts from: the file, its text and the completions."""
+    return {"path": editor.shown, "text": editor.text(), "completions": editor.completions()}
 
 
 def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
@@ -203,7 +228,7 @@ def _listen(args: argparse.Namespace) -> socket.socket | int:
 
 
 def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
-           editor: TreeEditor | None) -> int:
+           editor: TreeEditor | None, ask_reload: AskReload | None) -> int:
     import uvicorn
 
     from sar_framework.studio.server import make_app
@@ -218,7 +243,7 @@ def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
     sys.stdout.flush()
     if args.open:
         webbrowser.open(url)
-    config = uvicorn.Config(make_app(session, token, editor), log_level="warning",
+    config = uvicorn.Config(make_app(session, token, editor, ask_reload), log_level="warning",
                             ws_max_size=MESSAGE_MAX_BYTES, lifespan="off")
     server = uvicorn.Server(config)
     with contextlib.suppress(KeyboardInterrupt):

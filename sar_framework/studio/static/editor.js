@@ -25,6 +25,7 @@ window.startEditor = (edit, mode) => {
     $("run-info").hidden = true;
   }
   $("edit-path").textContent = edit.path;
+  $("edit-path").title = edit.path;
   const source = $("source");
   if (source.dataset.loaded !== "yes") {
     source.value = edit.text;

@@ -32,7 +32,7 @@ from sar_framework.studio.safety import (
 if TYPE_CHECKING:
     from sar_framework.child_process import ChildProcess
     from sar_framework.studio.editor import TreeEditor
-    from sar_framework.studio.reload import AskReload
+    from sar_framework.studio.ros_feed import LiveFeed
     from sar_framework.studio.session import Session
 
 EXIT_OK = 0
@@ -106,7 +106,7 @@ def studio_command(args: argparse.Namespace) -> int:
             feed = LiveFeed(session).start()
             mission = _start_mission(args) if args.run else None
         try:
-            return _serve(session, args, listener, editor, feed.reload if feed else None)
+            return _serve(session, args, listener, editor, feed)
         finally:
             if mission is not None:
                 mission.stop(timeout=10.0)  # SIGINT: the mission cancels its goal and ends
@@ -228,7 +228,7 @@ def _listen(args: argparse.Namespace) -> socket.socket | int:
 
 
 def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
-           editor: TreeEditor | None, ask_reload: AskReload | None) -> int:
+           editor: TreeEditor | None, feed: LiveFeed | None) -> int:
     import uvicorn
 
     from sar_framework.studio.server import make_app
@@ -243,7 +243,9 @@ def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
     sys.stdout.flush()
     if args.open:
         webbrowser.open(url)
-    config = uvicorn.Config(make_app(session, token, editor, ask_reload), log_level="warning",
+    app = make_app(session, token, editor, feed.reload if feed else None,
+                   feed.ticked_tree if feed else None)
+    config = uvicorn.Config(app, log_level="warning",
                             ws_max_size=MESSAGE_MAX_BYTES, lifespan="off")
     server = uvicorn.Server(config)
     with contextlib.suppress(KeyboardInterrupt):

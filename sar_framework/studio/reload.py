@@ -9,7 +9,8 @@ tree then goes on unchanged). Asking is a callable given by the live studio
 (:meth:`sar_framework.studio.ros_feed.LiveFeed.reload`), so this module has no ROS.
 
 A studio that does not know the mission's tree file (``live`` without ``--tree``/``--run``,
-or ``edit``) refuses with what to do instead, and writes nothing.
+or ``edit``) refuses with what to do instead, and writes nothing; so does one whose file is
+not the one the runner says it ticks (its parameter ``tree``, :func:`same_file`).
 
 No ROS here.
 """
@@ -17,6 +18,7 @@ No ROS here.
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.studio.safety import RefusedError
@@ -26,6 +28,8 @@ if TYPE_CHECKING:
 
 #: Asks the runner to reload its tree file: whether it swapped it, and its message.
 AskReload = Callable[[], tuple[bool, str]]
+#: Asks the runner which tree file it ticks (None: it does not say).
+AskTree = Callable[[], str | None]
 
 NO_MISSION = ("no running mission to apply it to: `sar-tree studio edit` only edits the file; "
               "start `sar-tree studio live --run TREE`, or `live --tree FILE` with the file "
@@ -38,8 +42,23 @@ class ReloadUnavailableError(RuntimeError):
     """The runner's reload service cannot be reached (no mission, or it did not answer)."""
 
 
+def same_file(ticked: str, edited: Path) -> bool:
+    """Whether the runner's ``tree`` (as it was given to it) can be the file ``edited``.
+
+    An absolute path must be the same file; a relative one is taken from the studio's
+    directory, else (the runner started elsewhere) must be the end of ``edited``'s path.
+    """
+    path = Path(ticked)
+    if path.is_absolute():
+        return path.resolve() == edited
+    if (Path.cwd() / path).resolve() == edited:
+        return True
+    parts = tuple(part for part in path.parts if part != ".")
+    return bool(parts) and ".." not in parts and edited.parts[-len(parts):] == parts
+
+
 def apply_to_mission(text: str, editor: TreeEditor | None, ask: AskReload | None,
-                     live: bool) -> tuple[int, dict[str, Any]]:
+                     live: bool, ask_tree: AskTree | None = None) -> tuple[int, dict[str, Any]]:
     """Save ``text`` as the mission's tree file and ask the runner to swap it in.
 
     Args:
@@ -47,6 +66,7 @@ def apply_to_mission(text: str, editor: TreeEditor | None, ask: AskReload | None
         editor: The editor of the mission's tree file (None when the studio does not know it).
         ask: Asks the runner's reload service (None without a ROS feed).
         live: Whether the studio shows a running mission.
+        ask_tree: Asks which file the runner ticks (not checked when None, or it says none).
 
     Returns:
         The HTTP status and the page's document: ``{"swapped", "message", "saved", "ok",
@@ -57,6 +77,10 @@ def apply_to_mission(text: str, editor: TreeEditor | None, ask: AskReload | None
         return 409, {"error": NO_MISSION}
     if editor is None:
         return 409, {"error": NO_TREE_FILE}
+    ticked = ask_tree() if ask_tree is not None else None
+    if ticked is not None and not same_file(ticked, editor.path):
+        return 409, {"error": f"the running mission ticks {ticked}, not {editor.shown}: "
+                              "nothing saved (give the studio its file with --tree)"}
     try:
         checked = editor.save(text)
     except RefusedError as err:

@@ -13,7 +13,8 @@ what the mission publishes on the same ROS domain:
 
 It is also the studio's client of the runner's hot reload service
 (``/sar_mission_runner/reload``, ``std_srvs/srv/Trigger``, :mod:`sar_framework.runner.reload`):
-:meth:`LiveFeed.reload` asks it and returns its answer. A ``tree_swapped`` event makes the
+:meth:`LiveFeed.reload` asks it and returns its answer, and :meth:`LiveFeed.ticked_tree`
+reads which tree file the runner ticks (its parameter ``tree``). A ``tree_swapped`` event makes the
 session draw the tree again from its file (:meth:`~.session.Session.redraw_from_file`).
 
 All are latched or kept by their publishers, so a studio started after the mission sees
@@ -45,6 +46,8 @@ POSE_PERIOD_S = 0.5
 NODE_NAME = "sar_studio"
 #: The runner's hot reload service (its node ``sar_mission_runner``, service ``~/reload``).
 RELOAD_SERVICE = "/sar_mission_runner/reload"
+#: The runner's parameter service: its ``tree`` says which file it ticks.
+PARAMETERS_SERVICE = "/sar_mission_runner/get_parameters"
 #: How long :meth:`LiveFeed.reload` waits for the service to appear (wall seconds).
 SERVICE_WAIT_S = 5.0
 #: How long it waits for the answer: the runner validates, builds and sets up the tree first.
@@ -65,6 +68,7 @@ class LiveFeed:
         self._tracker: Any = None
         self._last_pose: tuple[float, float, float, float] | None = None
         self._reload_client: Any = None
+        self._parameters_client: Any = None
         self._ready = threading.Event()
         self.error: str | None = None
 
@@ -110,10 +114,38 @@ class LiveFeed:
         answer = future.result()
         return bool(answer.success), str(answer.message)
 
+    def ticked_tree(self) -> str | None:
+        """The tree file the mission's runner ticks: its parameter ``tree``, as it was given.
+
+        Returns:
+            The path, or None when no runner answers (the reload then says why).
+        """
+        import time as clock
+
+        from rcl_interfaces.msg import ParameterType
+        from rcl_interfaces.srv import GetParameters
+
+        client = self._parameters_client
+        if not self._ready.wait(SERVICE_WAIT_S) or client is None \
+                or not client.wait_for_service(timeout_sec=SERVICE_WAIT_S):
+            return None
+        future = client.call_async(GetParameters.Request(names=["tree"]))
+        deadline = clock.monotonic() + SERVICE_WAIT_S
+        while not future.done():
+            if clock.monotonic() > deadline:
+                future.cancel()
+                return None
+            clock.sleep(0.02)
+        values = future.result().values
+        if not values or values[0].type != ParameterType.PARAMETER_STRING:
+            return None
+        return str(values[0].string_value)
+
     # -- the thread --------------------------------------------------------------------------
     def _run(self) -> None:
         import rclpy
         from nav_msgs.msg import OccupancyGrid
+        from rcl_interfaces.srv import GetParameters
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.node import Node
         from rclpy.signals import SignalHandlerOptions
@@ -137,6 +169,7 @@ class LiveFeed:
         node.create_subscription(TFMessage, "/tf_static", self._on_tf, tf_static_qos())
         node.create_subscription(OccupancyGrid, "/map", self._on_map, latched_qos())
         self._reload_client = node.create_client(Trigger, RELOAD_SERVICE)
+        self._parameters_client = node.create_client(GetParameters, PARAMETERS_SERVICE)
         self._ready.set()
         executor = SingleThreadedExecutor(context=context)
         executor.add_node(node)
@@ -147,7 +180,7 @@ class LiveFeed:
             self.error = f"{type(err).__name__}: {err}"
             node.get_logger().error(f"the studio's ROS feed stopped: {self.error}")
         finally:
-            self._reload_client = None
+            self._reload_client = self._parameters_client = None
             executor.shutdown(timeout_sec=0.0)
             node.destroy_node()
             rclpy.try_shutdown(context=context)

@@ -37,7 +37,7 @@ from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
 from sar_framework.studio.editor import TreeEditor
-from sar_framework.studio.reload import AskReload, apply_to_mission
+from sar_framework.studio.reload import AskReload, AskTree, apply_to_mission
 from sar_framework.studio.safety import MESSAGE_MAX_BYTES, RefusedError, parse_message, token_ok
 from sar_framework.studio.session import LIVE, Session
 
@@ -141,7 +141,8 @@ async def _text_of(request: Request) -> str | Response:
 
 
 def make_app(session: Session, token: str, editor: TreeEditor | None = None,
-             ask_reload: AskReload | None = None) -> Starlette:
+             ask_reload: AskReload | None = None, ask_tree: AskTree | None = None
+             ) -> Starlette:
     """The studio's ASGI application for ``session``.
 
     Args:
@@ -149,6 +150,7 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None,
         token: The session token that write requests must present.
         editor: The tree being edited (``edit`` mode; live, the mission's tree file).
         ask_reload: Asks the running mission's runner to reload its tree (live).
+        ask_tree: Asks which tree file that runner ticks (live).
     """
 
     async def page(request: Request) -> Response:
@@ -175,7 +177,7 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None,
         if isinstance(text, Response):
             return text
         code, answer = await asyncio.to_thread(apply_to_mission, text, editor, ask_reload,
-                                               session.mode == LIVE)
+                                               session.mode == LIVE, ask_tree)
         return JSONResponse(answer, status_code=code)
 
     async def save(request: Request) -> Response:

@@ -12,7 +12,7 @@ import pytest
 
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.studio.editor import TreeEditor
-from sar_framework.studio.reload import ReloadUnavailableError
+from sar_framework.studio.reload import ReloadUnavailableError, same_file
 from sar_framework.studio.server import TOKEN_HEADER, make_app
 from sar_framework.studio.session import EDIT, LIVE, Session
 from sar_framework.studio.timeline import Timeline
@@ -34,10 +34,10 @@ def tree(tmp_path: Path) -> Path:
     return path
 
 
-def live_client(tree: Path | None, ask) -> testclient.TestClient:
+def live_client(tree: Path | None, ask, ticked=None) -> testclient.TestClient:
     editor = TreeEditor(tree, [tree]) if tree is not None else None
     session = Session(LIVE, None, WORLD, "live")
-    return testclient.TestClient(make_app(session, TOKEN, editor, ask))
+    return testclient.TestClient(make_app(session, TOKEN, editor, ask, ticked))
 
 
 def post(client: testclient.TestClient, text: str, token: str = TOKEN):
@@ -131,3 +131,26 @@ def test_after_a_swap_the_diagram_is_the_new_file_with_its_params(tree: Path) ->
     assert session.adopt_status_tree(new)  # the swapped tree ticks: the file's drawing
     assert session.tree["source"] == "file" and session.tree is not old
     assert {f["name"] for f in session.tree["nodes"].values()} == {*names, "Again"}
+
+
+def test_a_file_the_runner_does_not_tick_is_refused_unsaved(tree: Path) -> None:
+    before = tree.read_text()
+    other = tree.parent / "other.yaml"
+    with live_client(tree, lambda: (True, "swapped"), lambda: str(other)) as client:
+        answer = post(client, "x")
+    assert answer.status_code == 409
+    assert answer.json()["error"] == (f"the running mission ticks {other}, not {tree}: "
+                                      "nothing saved (give the studio its file with --tree)")
+    assert tree.read_text() == before
+    with live_client(tree, lambda: (True, "swapped"), lambda: str(tree)) as client:
+        assert post(client, before).json()["swapped"]
+
+
+def test_the_runners_tree_parameter_is_matched_as_it_was_given(tree: Path,
+                                                                monkeypatch) -> None:
+    monkeypatch.chdir(tree.parent)
+    assert same_file(str(tree), tree) and same_file("mission.yaml", tree)
+    assert same_file("./mission.yaml", tree)
+    assert same_file(f"{tree.parent.name}/mission.yaml", tree)  # started one level up
+    assert not same_file("other.yaml", tree) and not same_file("/elsewhere/mission.yaml", tree)
+    assert not same_file("../x/mission.yaml", tree)

@@ -48,8 +48,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
     live = modes.add_parser("live", help="show the mission running on this ROS domain",
                             description="Attach to the mission running on this ROS domain.")
     live.add_argument("--tree", metavar="FILE",
-                      help="the mission's tree file, for its params and ports (default: the "
-                           "diagram is drawn from what the runner publishes)")
+                      help="the mission's tree file, for its params and ports and to edit it "
+                           "and apply it to the mission (default: the diagram is drawn from "
+                           "what the runner publishes)")
     live.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
                       help="a folder of leaf plugins the tree uses (repeatable)")
     live.add_argument("--run", metavar="TREE",

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import shutil
-import time
 from pathlib import Path
 from typing import Any
 
@@ -18,22 +17,14 @@ from sar_framework.testing.browser import (
     start_studio,
 )
 
+from .page import until
+
 pytestmark = [pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
 
 REPO = Path(__file__).resolve().parents[2]
 TREE = REPO / "trees" / "tutorials" / "01_first_tree.yaml"
 BAD_LINE = (255, 215, 210)  # #ffd7d2, a line with an error
-
-
-def until(driver: Any, script: str, timeout: float = 15) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = driver.execute_script(script)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise AssertionError(f"not true within {timeout} s: {script}")
 
 
 def diagnostics(driver: Any) -> list[str]:

@@ -9,7 +9,6 @@ tree from the file (with its params), and the mission completes.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +17,7 @@ from e2e.helpers import DEFAULT_TREE
 
 from sar_framework.testing.browser import browser_missing, headless_chromium, start_studio
 
-from .page import assert_drawn, wait_for
+from .page import assert_drawn, until, wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
@@ -27,16 +26,6 @@ SPEED = "20"
 NAMES = ["NavigateToZone", "MissionOrReturnToBase"]
 ANCHOR = "- AdvanceZone: {}"
 TYPED = "\n            - Dwel: {name: Linger, duration: 0.5}"
-
-
-def until(driver: Any, script: str, timeout: float = 20) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = driver.execute_script(script)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise AssertionError(f"not true within {timeout} s: {script}")
 
 
 def applied(driver: Any, prefix: str) -> str:

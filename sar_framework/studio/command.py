@@ -20,6 +20,7 @@ import socket
 import sys
 import tempfile
 import webbrowser
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -94,7 +95,7 @@ def studio_command(args: argparse.Namespace) -> int:
     if isinstance(listener, int):
         return listener
     with listener:
-        editor = _editor(args) if args.mode != "replay" else None
+        editor = _editor(args) if args.mode == "edit" else None
         if isinstance(editor, int):
             return editor
         session = _session(args, editor)
@@ -127,22 +128,11 @@ def _start_mission(args: argparse.Namespace) -> ChildProcess:
     return ChildProcess(argv, "mission", die_with_parent=True).start()
 
 
-def _editor(args: argparse.Namespace) -> TreeEditor | int | None:
-    """The editor of ``edit TREE`` or of the live mission's tree file.
-
-    Returns:
-        The editor; None live without a tree file; the exit code when it may not be edited.
-    """
+def _editor(args: argparse.Namespace) -> TreeEditor | int:
+    """The editor of ``edit TREE``, or the exit code when the file may not be edited."""
     from sar_framework.studio.editor import TreeEditor
     from sar_framework.studio.safety import RefusedError
 
-    if args.mode == "live":
-        path = args.tree or args.run
-        if not path or not Path(path).is_file():
-            return None  # no file: nothing to edit (a missing one is said by _live_tree)
-        # the file the mission ticks, named on the command line: that file and no other
-        roots = [Path.cwd(), REPO, Path(path).resolve()]
-        return TreeEditor(Path(path), roots, args.plugin_path)
     roots = [Path.cwd(), REPO, *(Path(r) for r in args.root)]
     try:
         return TreeEditor(Path(args.tree), roots, args.plugin_path)
@@ -177,14 +167,30 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
             return tree
         params = Path(args.params) if Path(args.params).is_file() else None
         session = Session(LIVE, tree, world_view(params), "live")
-        if editor is not None:
-            from functools import partial
-
-            from sar_framework.studio.tree_view import file_tree_view
-
-            session.edit = _edit_state(editor)
-            session.draw_file = partial(file_tree_view, str(editor.path), args.plugin_path)
+        if args.tree or args.run:
+            edit_live(session, args.tree or args.run, args.plugin_path)
+        else:  # the file the runner says it ticks, once it runs
+            session.learn_tree = partial(learn_tree_file, session, args.plugin_path)
     return session
+
+
+def edit_live(session: Session, path: str, plugin_paths: list[str]) -> None:
+    """Let a live session edit the mission's tree file ``path`` and draw it from the file."""
+    from sar_framework.studio.editor import TreeEditor
+    from sar_framework.studio.tree_view import file_tree_view
+
+    # the file the mission ticks, named on the command line or by its runner: that file only
+    editor = TreeEditor(Path(path), [Path.cwd(), REPO, Path(path).resolve()], plugin_paths)
+    session.draw_file = partial(file_tree_view, str(editor.path), plugin_paths)
+    session.editor = editor  # before the page can see it: its checks need the editor
+    session.edit = _edit_state(editor)
+
+
+def learn_tree_file(session: Session, plugin_paths: list[str], ticked: str) -> None:
+    """Edit and draw the tree file the mission's runner ticks, when it is found from here."""
+    if session.editor is None and Path(ticked).is_file():
+        edit_live(session, ticked, plugin_paths)
+        session.redraw_from_file()
 
 
 def _edit_state(editor: TreeEditor) -> dict[str, Any]:

@@ -14,8 +14,10 @@ what the mission publishes on the same ROS domain:
 It is also the studio's client of the runner's hot reload service
 (``/sar_mission_runner/reload``, ``std_srvs/srv/Trigger``, :mod:`sar_framework.runner.reload`):
 :meth:`LiveFeed.reload` asks it and returns its answer, and :meth:`LiveFeed.ticked_tree`
-reads which tree file the runner ticks (its parameter ``tree``). A ``tree_swapped`` event makes the
-session draw the tree again from its file (:meth:`~.session.Session.redraw_from_file`).
+reads which tree file the runner ticks (its parameter ``tree``): the session learns it from
+the first status when the studio was not given it (:attr:`~.session.Session.learn_tree`).
+A ``tree_swapped`` event makes the session draw the tree again from its file
+(:meth:`~.session.Session.redraw_from_file`).
 
 All are latched or kept by their publishers, so a studio started after the mission sees
 its recent past. A status with a lower tick than the last one is a new mission: the
@@ -69,6 +71,7 @@ class LiveFeed:
         self._last_pose: tuple[float, float, float, float] | None = None
         self._reload_client: Any = None
         self._parameters_client: Any = None
+        self._learning = False
         self._ready = threading.Event()
         self.error: str | None = None
 
@@ -201,6 +204,17 @@ class LiveFeed:
             session.adopt_status_tree(document)
             session.timeline.add_status(document, time.monotonic())
         session.changed()
+        if session.learn_tree is not None and session.editor is None and not self._learning:
+            self._learning = True  # asked aside: the answer comes through this thread
+            threading.Thread(target=self._learn_tree, name="sar-studio-tree",
+                             daemon=True).start()
+
+    def _learn_tree(self) -> None:
+        """Tell the session which tree file the runner ticks (again later if it does not say)."""
+        ticked = self.ticked_tree()
+        if ticked is not None and self._session.learn_tree is not None:
+            self._session.learn_tree(ticked)
+        self._learning = self._session.editor is not None
 
     def _on_event(self, message: Any) -> None:
         from sar_framework.runner.event_topic import from_message

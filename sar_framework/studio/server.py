@@ -69,7 +69,7 @@ class _Tab:
         self.t: float | None = None if session.mode == LIVE else session.timeline.start_s
         self._send_lock = asyncio.Lock()
         self.drawn = asyncio.Event()
-        self._scene: tuple[int, int] = (0, 0)
+        self._scene: tuple[int, int, int] = (0, 0, 0)
 
     async def send(self, document: dict[str, Any]) -> None:
         text = json.dumps(document, separators=(",", ":"), default=str)
@@ -77,7 +77,7 @@ class _Tab:
             await self.websocket.send_text(text)
 
     async def send_scene_and_frame(self) -> None:
-        scene = (id(self.session.tree), id(self.session.world))
+        scene = (id(self.session.tree), id(self.session.world), id(self.session.edit))
         if scene != self._scene:
             self._scene = scene
             await self.send(self.session.hello())
@@ -113,16 +113,17 @@ class _Tab:
         elif message["op"] == "node":
             await self.send(self.session.node_detail(message["uid"], self.t))
         elif message["op"] == "check":
-            if self.editor is None:
+            editor = self.editor or self.session.editor
+            if editor is None:
                 await self.send({"type": "error", "message": "no tree is being edited"})
                 return
             try:
-                checked = await asyncio.to_thread(self.editor.check, message["text"])
+                checked = await asyncio.to_thread(editor.check, message["text"])
             except RefusedError as err:
                 checked = {"type": "error", "message": str(err)}
             await self.send(checked)
         else:  # hello: everything again
-            self._scene = (0, 0)
+            self._scene = (0, 0, 0)
             await self.send_scene_and_frame()
 
 
@@ -148,7 +149,8 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None,
     Args:
         session: What to show.
         token: The session token that write requests must present.
-        editor: The tree being edited (``edit`` mode; live, the mission's tree file).
+        editor: The tree being edited (``edit`` mode; live, the session's editor of the
+            mission's tree file, when it knows it).
         ask_reload: Asks the running mission's runner to reload its tree (live).
         ask_tree: Asks which tree file that runner ticks (live).
     """
@@ -176,7 +178,8 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None,
         text = await _text_of(request)
         if isinstance(text, Response):
             return text
-        code, answer = await asyncio.to_thread(apply_to_mission, text, editor, ask_reload,
+        code, answer = await asyncio.to_thread(apply_to_mission, text,
+                                               editor or session.editor, ask_reload,
                                                session.mode == LIVE, ask_tree)
         return JSONResponse(answer, status_code=code)
 

@@ -19,11 +19,14 @@ import contextlib
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sar_framework.studio.timeline import Timeline, timeline_of
 from sar_framework.studio.tree_view import matches, status_tree_view, tree_view
 from sar_framework.studio.world_view import world_view
+
+if TYPE_CHECKING:
+    from sar_framework.studio.editor import TreeEditor
 
 LIVE = "live"
 REPLAY = "replay"
@@ -51,6 +54,10 @@ class Session:
         self.version = 0
         #: The editor's file, text and completions (``edit`` mode; live, the mission's file).
         self.edit: dict[str, Any] | None = None
+        #: The mission's tree file being edited (live, when known; :mod:`.editor`).
+        self.editor: TreeEditor | None = None
+        #: Live, without a tree file given: told the file the mission's runner says it ticks.
+        self.learn_tree: Callable[[str], None] | None = None
         #: Draws the mission's tree file (None when it does not validate); live, when known.
         self.draw_file: Callable[[], dict[str, Any] | None] | None = None
         self._file_tree = tree if tree is not None and tree.get("source") == "file" else None

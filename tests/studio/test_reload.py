@@ -35,9 +35,9 @@ def tree(tmp_path: Path) -> Path:
 
 
 def live_client(tree: Path | None, ask, ticked=None) -> testclient.TestClient:
-    editor = TreeEditor(tree, [tree]) if tree is not None else None
     session = Session(LIVE, None, WORLD, "live")
-    return testclient.TestClient(make_app(session, TOKEN, editor, ask, ticked))
+    session.editor = TreeEditor(tree, [tree]) if tree is not None else None  # the mission's
+    return testclient.TestClient(make_app(session, TOKEN, None, ask, ticked))
 
 
 def post(client: testclient.TestClient, text: str, token: str = TOKEN):
@@ -154,3 +154,16 @@ def test_the_runners_tree_parameter_is_matched_as_it_was_given(tree: Path,
     assert same_file(f"{tree.parent.name}/mission.yaml", tree)  # started one level up
     assert not same_file("other.yaml", tree) and not same_file("/elsewhere/mission.yaml", tree)
     assert not same_file("../x/mission.yaml", tree)
+
+
+def test_a_live_studio_learns_the_tree_file_the_runner_names(tree: Path, monkeypatch) -> None:
+    from sar_framework.studio.command import learn_tree_file
+
+    monkeypatch.chdir(tree.parent)
+    session = Session(LIVE, None, WORLD, "live")
+    learn_tree_file(session, [], "missing.yaml")  # not found from here: nothing to edit
+    assert session.editor is None and session.edit is None
+    session.timeline.add_status(status(["NextZone", "ZonesRemaining?", "AdvanceZone"]), 0.0)
+    learn_tree_file(session, [], "mission.yaml")
+    assert session.editor.path == tree and session.edit["path"] == "mission.yaml"
+    assert session.tree["source"] == "file"  # the running tree, drawn from its file

@@ -102,13 +102,18 @@ def test_a_mission_on_the_domain_fills_the_session() -> None:
 def test_the_feed_asks_the_runner_to_reload_and_a_swap_redraws_the_tree() -> None:
     from concurrent.futures import ThreadPoolExecutor
 
+    from std_msgs.msg import String
     from std_srvs.srv import Trigger
 
+    from sar_framework.ros.qos import latched_qos
     from sar_framework.runner.event_topic import event_qos, to_message
+    from sar_framework.runner.tree_status import STATUS_HISTORY, STATUS_TOPIC
 
     session = Session(LIVE, None, WORLD, "live")
     drawn: list[int] = []
     session.draw_file = lambda: drawn.append(1)  # None: nothing to draw, but asked
+    learnt: list[str] = []
+    session.learn_tree = learnt.append  # no tree file given: the runner's, once it runs
     feed = LiveFeed(session).start()
     asked: list[int] = []
 
@@ -125,6 +130,9 @@ def test_the_feed_asks_the_runner_to_reload_and_a_swap_redraws_the_tree() -> Non
             node.declare_parameter("tree", "trees/t.yaml")
             node.create_service(Trigger, "~/reload", answer)
             events = node.create_publisher(EventMsg, "/sar_mission/events", event_qos())
+            status = node.create_publisher(String, STATUS_TOPIC, latched_qos(STATUS_HISTORY))
+            status.publish(String(data=status_text(1, "RUNNING")))
+            assert spin_until(executor, lambda: learnt == ["trees/t.yaml"], 20)
             ticked = pool.submit(feed.ticked_tree)
             reloaded = pool.submit(feed.reload)
             assert spin_until(executor, lambda: ticked.done() and reloaded.done(), 20)

@@ -8,9 +8,10 @@ to the page as it is: the swap's summary, or the diagnostics of a refused tree (
 tree then goes on unchanged). Asking is a callable given by the live studio
 (:meth:`sar_framework.studio.ros_feed.LiveFeed.reload`), so this module has no ROS.
 
-A studio that does not know the mission's tree file (``live`` without ``--tree``/``--run``,
-or ``edit``) refuses with what to do instead, and writes nothing; so does one whose file is
-not the one the runner says it ticks (its parameter ``tree``, :func:`same_file`).
+A studio that does not know the mission's tree file (``live`` without ``--tree``/``--run``
+whose runner has not named one found from here, or ``edit``) refuses with what to do
+instead, and writes nothing; so does one whose file is not the one the runner says it ticks
+(its parameter ``tree``, :func:`same_file`).
 
 No ROS here.
 """
@@ -34,8 +35,9 @@ AskTree = Callable[[], str | None]
 NO_MISSION = ("no running mission to apply it to: `sar-tree studio edit` only edits the file; "
               "start `sar-tree studio live --run TREE`, or `live --tree FILE` with the file "
               "the mission's runner ticks")
-NO_TREE_FILE = ("the studio does not know the running mission's tree file: start it with "
-                "`sar-tree studio live --tree FILE` (the file the runner ticks) or `--run TREE`")
+NO_TREE_FILE = ("the studio does not know the running mission's tree file (its runner has "
+                "not named one found from here): start it with `sar-tree studio live --tree "
+                "FILE` (the file the runner ticks) or `--run TREE`")
 
 
 class ReloadUnavailableError(RuntimeError):

@@ -1,7 +1,9 @@
 """``sar-tree studio live|replay|edit``: start the studio and print its address.
 
 ``live`` attaches to the mission running on this ROS domain (``sar-tree run``, ``ros2
-launch``), or starts one with ``--run TREE``; ``replay FILE.mcap`` opens a recording of
+launch``), or starts one with ``--run TREE``; given the mission's tree file (``--tree`` or
+``--run``), it also edits that file and applies it to the mission (hot reload,
+:mod:`.reload`); ``replay FILE.mcap`` opens a recording of
 ``sar-tree run --record``; ``edit TREE`` edits a tree file (:mod:`.editor`), which must
 lie in the project, the working directory or a ``--root`` directory.
 
@@ -18,6 +20,7 @@ import socket
 import sys
 import tempfile
 import webbrowser
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +33,7 @@ from sar_framework.studio.safety import (
 if TYPE_CHECKING:
     from sar_framework.child_process import ChildProcess
     from sar_framework.studio.editor import TreeEditor
+    from sar_framework.studio.ros_feed import LiveFeed
     from sar_framework.studio.session import Session
 
 EXIT_OK = 0
@@ -45,8 +49,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
     live = modes.add_parser("live", help="show the mission running on this ROS domain",
                             description="Attach to the mission running on this ROS domain.")
     live.add_argument("--tree", metavar="FILE",
-                      help="the mission's tree file, for its params and ports (default: the "
-                           "diagram is drawn from what the runner publishes)")
+                      help="the mission's tree file, for its params and ports and to edit it "
+                           "and apply it to the mission (default: the diagram is drawn from "
+                           "what the runner publishes)")
     live.add_argument("--plugin-path", action="append", default=[], metavar="DIR",
                       help="a folder of leaf plugins the tree uses (repeatable)")
     live.add_argument("--run", metavar="TREE",
@@ -103,7 +108,7 @@ def studio_command(args: argparse.Namespace) -> int:
             feed = LiveFeed(session).start()
             mission = _start_mission(args) if args.run else None
         try:
-            return _serve(session, args, listener, editor)
+            return _serve(session, args, listener, editor, feed)
         finally:
             if mission is not None:
                 mission.stop(timeout=10.0)  # SIGINT: the mission cancels its goal and ends
@@ -140,10 +145,9 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
     from sar_framework.studio.session import EDIT, LIVE, Session, replay_session
     from sar_framework.studio.world_view import world_view
 
-    if editor is not None:
+    if args.mode == "edit" and editor is not None:
         session = Session(EDIT, None, world_view(None), editor.shown)
-        session.edit = {"path": editor.shown, "text": editor.text(),
-                        "completions": editor.completions()}
+        session.edit = _edit_state(editor)
         checked = editor.check(session.edit["text"]) if session.edit["text"] else None
         session.tree = checked["tree"] if checked else None
         return session
@@ -163,7 +167,35 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
             return tree
         params = Path(args.params) if Path(args.params).is_file() else None
         session = Session(LIVE, tree, world_view(params), "live")
+        if args.tree or args.run:
+            edit_live(session, args.tree or args.run, args.plugin_path)
+        else:  # the file the runner says it ticks, once it runs
+            session.learn_tree = partial(learn_tree_file, session, args.plugin_path)
     return session
+
+
+def edit_live(session: Session, path: str, plugin_paths: list[str]) -> None:
+    """Let a live session edit the mission's tree file ``path`` and draw it from the file."""
+    from sar_framework.studio.editor import TreeEditor
+    from sar_framework.studio.tree_view import file_tree_view
+
+    # the file the mission ticks, named on the command line or by its runner: that file only
+    editor = TreeEditor(Path(path), [Path.cwd(), REPO, Path(path).resolve()], plugin_paths)
+    session.draw_file = partial(file_tree_view, str(editor.path), plugin_paths)
+    session.editor = editor  # before the page can see it: its checks need the editor
+    session.edit = _edit_state(editor)
+
+
+def learn_tree_file(session: Session, plugin_paths: list[str], ticked: str) -> None:
+    """Edit and draw the tree file the mission's runner ticks, when it is found from here."""
+    if session.editor is None and Path(ticked).is_file():
+        edit_live(session, ticked, plugin_paths)
+        session.redraw_from_file()
+
+
+def _edit_state(editor: TreeEditor) -> dict[str, Any]:
+    """What the page's editor starts from: the file, its text and the completions."""
+    return {"path": editor.shown, "text": editor.text(), "completions": editor.completions()}
 
 
 def _live_tree(args: argparse.Namespace) -> dict[str, Any] | int | None:
@@ -203,7 +235,7 @@ def _listen(args: argparse.Namespace) -> socket.socket | int:
 
 
 def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
-           editor: TreeEditor | None) -> int:
+           editor: TreeEditor | None, feed: LiveFeed | None) -> int:
     import uvicorn
 
     from sar_framework.studio.server import make_app
@@ -218,7 +250,9 @@ def _serve(session: Session, args: argparse.Namespace, listener: socket.socket,
     sys.stdout.flush()
     if args.open:
         webbrowser.open(url)
-    config = uvicorn.Config(make_app(session, token, editor), log_level="warning",
+    app = make_app(session, token, editor, feed.reload if feed else None,
+                   feed.ticked_tree if feed else None)
+    config = uvicorn.Config(app, log_level="warning",
                             ws_max_size=MESSAGE_MAX_BYTES, lifespan="off")
     server = uvicorn.Server(config)
     with contextlib.suppress(KeyboardInterrupt):

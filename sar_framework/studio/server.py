@@ -17,9 +17,8 @@ it works on a robot with no network). The websocket ``/ws`` speaks JSON:
   (:func:`~sar_framework.studio.safety.parse_message`).
 
 ``POST /api/save`` (the editor's file; JSON ``{"text": ...}``) needs the session token in
-the ``X-Studio-Token`` header. ``POST /api/reload`` is where hot reload of a running
-mission (issue 22, point 4) plugs in; it checks the token and, until then, says it is not
-available.
+the ``X-Studio-Token`` header, and so does ``POST /api/reload`` (the same body): the text
+saved to the running mission's tree file and swapped in by its runner (:mod:`.reload`).
 """
 
 from __future__ import annotations
@@ -38,6 +37,7 @@ from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
 from sar_framework.studio.editor import TreeEditor
+from sar_framework.studio.reload import AskReload, AskTree, apply_to_mission
 from sar_framework.studio.safety import MESSAGE_MAX_BYTES, RefusedError, parse_message, token_ok
 from sar_framework.studio.session import LIVE, Session
 
@@ -69,7 +69,7 @@ class _Tab:
         self.t: float | None = None if session.mode == LIVE else session.timeline.start_s
         self._send_lock = asyncio.Lock()
         self.drawn = asyncio.Event()
-        self._scene: tuple[int, int] = (0, 0)
+        self._scene: tuple[int, int, int] = (0, 0, 0)
 
     async def send(self, document: dict[str, Any]) -> None:
         text = json.dumps(document, separators=(",", ":"), default=str)
@@ -77,7 +77,7 @@ class _Tab:
             await self.websocket.send_text(text)
 
     async def send_scene_and_frame(self) -> None:
-        scene = (id(self.session.tree), id(self.session.world))
+        scene = (id(self.session.tree), id(self.session.world), id(self.session.edit))
         if scene != self._scene:
             self._scene = scene
             await self.send(self.session.hello())
@@ -113,26 +113,46 @@ class _Tab:
         elif message["op"] == "node":
             await self.send(self.session.node_detail(message["uid"], self.t))
         elif message["op"] == "check":
-            if self.editor is None:
+            editor = self.editor or self.session.editor
+            if editor is None:
                 await self.send({"type": "error", "message": "no tree is being edited"})
                 return
             try:
-                checked = await asyncio.to_thread(self.editor.check, message["text"])
+                checked = await asyncio.to_thread(editor.check, message["text"])
             except RefusedError as err:
                 checked = {"type": "error", "message": str(err)}
             await self.send(checked)
         else:  # hello: everything again
-            self._scene = (0, 0)
+            self._scene = (0, 0, 0)
             await self.send_scene_and_frame()
 
 
-def make_app(session: Session, token: str, editor: TreeEditor | None = None) -> Starlette:
+async def _text_of(request: Request) -> str | Response:
+    """The ``text`` of a write request's JSON body, or the answer to a bad body."""
+    body = await request.body()
+    if len(body) > 2 * MESSAGE_MAX_BYTES:
+        return JSONResponse({"error": "too large"}, status_code=413)
+    try:
+        text = json.loads(body)["text"]
+    except (ValueError, KeyError, TypeError):
+        text = None
+    if not isinstance(text, str):
+        return JSONResponse({"error": 'the body is JSON {"text": "..."}'}, status_code=400)
+    return text
+
+
+def make_app(session: Session, token: str, editor: TreeEditor | None = None,
+             ask_reload: AskReload | None = None, ask_tree: AskTree | None = None
+             ) -> Starlette:
     """The studio's ASGI application for ``session``.
 
     Args:
         session: What to show.
         token: The session token that write requests must present.
-        editor: The tree being edited (``edit`` mode).
+        editor: The tree being edited (``edit`` mode; live, the session's editor of the
+            mission's tree file, when it knows it).
+        ask_reload: Asks the running mission's runner to reload its tree (live).
+        ask_tree: Asks which tree file that runner ticks (live).
     """
 
     async def page(request: Request) -> Response:
@@ -155,8 +175,13 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None) -> 
         if not token_ok(request.headers.get(TOKEN_HEADER), token):
             return JSONResponse({"error": "a valid session token is required"},
                                 status_code=403)
-        return JSONResponse({"error": "hot reload is not available in this version"},
-                            status_code=501)
+        text = await _text_of(request)
+        if isinstance(text, Response):
+            return text
+        code, answer = await asyncio.to_thread(apply_to_mission, text,
+                                               editor or session.editor, ask_reload,
+                                               session.mode == LIVE, ask_tree)
+        return JSONResponse(answer, status_code=code)
 
     async def save(request: Request) -> Response:
         if not token_ok(request.headers.get(TOKEN_HEADER), token):
@@ -164,17 +189,11 @@ def make_app(session: Session, token: str, editor: TreeEditor | None = None) -> 
                                 status_code=403)
         if editor is None:
             return JSONResponse({"error": "no tree is being edited"}, status_code=404)
-        body = await request.body()
-        if len(body) > 2 * MESSAGE_MAX_BYTES:
-            return JSONResponse({"error": "too large"}, status_code=413)
+        text = await _text_of(request)
+        if isinstance(text, Response):
+            return text
         try:
-            text = json.loads(body)["text"]
-            if not isinstance(text, str):
-                raise TypeError(text)
             return JSONResponse(await asyncio.to_thread(editor.save, text))
-        except (ValueError, KeyError, TypeError):
-            return JSONResponse({"error": 'the body is JSON {"text": "..."}'},
-                                status_code=400)
         except RefusedError as err:
             return JSONResponse({"error": str(err)}, status_code=403)
 

@@ -3,7 +3,9 @@
 A :class:`Session` holds the :class:`~sar_framework.studio.timeline.Timeline`, the tree's
 diagram (:mod:`.tree_view`) and the map (:mod:`.world_view`). Live, the ROS feed
 (:mod:`.ros_feed`) fills it from its own thread and calls :meth:`Session.changed`; the
-server's tabs wait on :meth:`Session.wait_change` and send the newest frame. Replayed, it
+server's tabs wait on :meth:`Session.wait_change` and send the newest frame. A live
+session that knows the mission's tree file draws it from the file (params and ports), and
+again after a hot reload swapped it (:meth:`Session.redraw_from_file`). Replayed, it
 is filled once from the recording (:func:`replay_session`) and each tab asks for the frame
 at the instant its scrubber shows.
 
@@ -17,11 +19,14 @@ import contextlib
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sar_framework.studio.timeline import Timeline, timeline_of
 from sar_framework.studio.tree_view import matches, status_tree_view, tree_view
 from sar_framework.studio.world_view import world_view
+
+if TYPE_CHECKING:
+    from sar_framework.studio.editor import TreeEditor
 
 LIVE = "live"
 REPLAY = "replay"
@@ -47,8 +52,15 @@ class Session:
         self.timeline = Timeline()
         self.lock = threading.Lock()
         self.version = 0
-        #: The editor's file, text and completions (``edit`` mode only).
+        #: The editor's file, text and completions (``edit`` mode; live, the mission's file).
         self.edit: dict[str, Any] | None = None
+        #: The mission's tree file being edited (live, when known; :mod:`.editor`).
+        self.editor: TreeEditor | None = None
+        #: Live, without a tree file given: told the file the mission's runner says it ticks.
+        self.learn_tree: Callable[[str], None] | None = None
+        #: Draws the mission's tree file (None when it does not validate); live, when known.
+        self.draw_file: Callable[[], dict[str, Any] | None] | None = None
+        self._file_tree = tree if tree is not None and tree.get("source") == "file" else None
         self._listeners: dict[int, Callable[[], None]] = {}
 
     # -- filled by the feed (any thread) -------------------------------------------------------
@@ -66,8 +78,29 @@ class Session:
         """
         if self.tree is not None and matches(self.tree, document["nodes"]):
             return False
+        if self._file_tree is not None and matches(self._file_tree, document["nodes"]):
+            self.tree = self._file_tree
+            return True
         self.tree = status_tree_view(document.get("tree", "tree"), document["nodes"])
         return True
+
+    def redraw_from_file(self) -> None:
+        """Draw the tree again from its file (after a hot reload swapped it in; any thread).
+
+        The new drawing is shown as soon as the statuses list its nodes (at once when they
+        already do); until then the diagram stays the one that fits them.
+        """
+        if self.draw_file is None:
+            return
+        view = self.draw_file()
+        if view is None:
+            return
+        with self.lock:
+            self._file_tree = view
+            statuses = self.timeline.statuses
+            if not statuses or matches(view, statuses[-1]["nodes"]):
+                self.tree = view
+        self.changed()
 
     # -- read by the server ------------------------------------------------------------------
     def listen(self, loop: asyncio.AbstractEventLoop) -> asyncio.Event:
@@ -92,8 +125,7 @@ class Session:
                     "tree": self.tree, "world": self.world, "version": self.version,
                     "timeline": {"start": self.timeline.start_s, "end": self.timeline.end_s,
                                  "marks": self.timeline.marks()},
-                    "edit": self.edit,
-                    "reload": None}  # hot reload (issue 22, point 4) plugs in here
+                    "edit": self.edit}
 
     def frame(self, t: float | None = None) -> dict[str, Any]:
         """The frame at ``t`` (the newest when None)."""

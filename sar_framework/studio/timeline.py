@@ -32,13 +32,15 @@ REASONS_SHOWN = 40
 PATH_STEP_M = 0.05
 #: The window (seconds of the clock the statuses arrive by) ticks per second are counted on.
 RATE_WINDOW_S = 2.0
-#: Events (by kind name) that mark the replay timeline, and the mark's kind. A tree swapped
-#: by hot reload (issue 22, point 4; its event kind ``tree_swapped`` comes with it) is marked
-#: as soon as the event stream carries it.
+#: Events (by kind name) that mark the replay timeline, and the mark's kind.
 MARKS = {EventKind.FAILURE.value: "failure", EventKind.TIMEOUT.value: "failure",
          EventKind.ZONE_REACHED.value: "zone", EventKind.ZONE_UNREACHED.value: "failure",
          EventKind.SURVIVOR_BROADCAST.value: "survivor", EventKind.DETECTION.value: "survivor",
-         EventKind.COMPLETION.value: "end", "tree_swapped": "swap"}
+         EventKind.COMPLETION.value: "end", EventKind.TREE_SWAPPED.value: "swap",
+         EventKind.RELOAD_REFUSED.value: "refused"}
+#: Events the reasons feed lists: the reasons, and hot reload's swaps and refusals
+#: (docs/hot-reload.md).
+FEED_KINDS = REASON_KINDS | {EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED}
 _SURVIVOR_KINDS = frozenset({EventKind.SURVIVOR_BROADCAST, EventKind.DETECTION})
 
 
@@ -94,7 +96,7 @@ class Timeline:
     def add_event(self, event: MissionEvent) -> None:
         """Add one mission event."""
         sim_s = max(event.sim_s, self._event_times[-1]) if self._event_times else event.sim_s
-        if event.kind in REASON_KINDS:
+        if event.kind in FEED_KINDS:
             self._reasons.append(len(self.events))
         self.events.append(event)
         self._event_times.append(sim_s)
@@ -129,7 +131,7 @@ class Timeline:
         return max(lasts) if lasts else 0.0
 
     def marks(self) -> list[dict[str, Any]]:
-        """The timeline's marks: failures, survivors, zone arrivals, swaps and the end."""
+        """The timeline's marks: failures, survivors, zone arrivals, reloads and the end."""
         return [{"t": self._event_times[i], "kind": MARKS[e.kind.value], "seq": e.seq,
                  "label": _event_label(e)}
                 for i, e in enumerate(self.events) if e.kind.value in MARKS]

@@ -57,6 +57,14 @@ def tree_view(spec: TreeSpec) -> dict[str, Any]:
             "colours": STATUS_COLOURS}
 
 
+def file_tree_view(path: str, plugin_paths: Sequence[str] = ()) -> dict[str, Any] | None:
+    """The page's tree from a tree file, or None when the file does not validate."""
+    from sar_framework.engine.api import validate
+
+    result = validate(path, plugin_paths=list(plugin_paths))
+    return tree_view(result.spec) if result.spec is not None else None
+
+
 def status_tree_view(name: str, nodes: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """The page's tree drawn from a status message's node list alone.
 

@@ -51,6 +51,17 @@ def wait_for(driver: Any, names: list[str], found: Callable[[dict[str, Any]], bo
     raise AssertionError(f"{what}: not seen within {timeout} s; last state: {last}")
 
 
+def until(driver: Any, script: str, timeout: float = 15) -> Any:
+    """Poll a script on the page until it returns something true; return that."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = driver.execute_script(script)
+        if value:
+            return value
+        time.sleep(0.1)
+    raise AssertionError(f"not true within {timeout} s: {script}")
+
+
 def drawn_status(png: bytes, rect: list[float]) -> dict[str, float]:
     """The share of each status colour inside a node's box on a screenshot."""
     return {status: colour_share(png, tuple(rect), hex_rgb(colour))

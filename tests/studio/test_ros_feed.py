@@ -97,3 +97,52 @@ def test_a_mission_on_the_domain_fills_the_session() -> None:
         started = time.monotonic()
         feed.stop()
         assert time.monotonic() - started < 2.0
+
+
+def test_the_feed_asks_the_runner_to_reload_and_a_swap_redraws_the_tree() -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    from std_msgs.msg import String
+    from std_srvs.srv import Trigger
+
+    from sar_framework.ros.qos import latched_qos
+    from sar_framework.runner.event_topic import event_qos, to_message
+    from sar_framework.runner.tree_status import STATUS_HISTORY, STATUS_TOPIC
+
+    session = Session(LIVE, None, WORLD, "live")
+    drawn: list[int] = []
+    session.draw_file = lambda: drawn.append(1)  # None: nothing to draw, but asked
+    learnt: list[str] = []
+    session.learn_tree = learnt.append  # no tree file given: the runner's, once it runs
+    feed = LiveFeed(session).start()
+    asked: list[int] = []
+
+    def answer(_request, response):
+        asked.append(1)
+        response.success, response.message = True, "Tree swapped from t.yaml: 1 added (X)"
+        return response
+
+    try:
+        with ros_node("sar_mission_runner") as (node, executor), \
+                ThreadPoolExecutor(max_workers=2) as pool:
+            from sar_interfaces.msg import MissionEvent as EventMsg
+
+            node.declare_parameter("tree", "trees/t.yaml")
+            node.create_service(Trigger, "~/reload", answer)
+            events = node.create_publisher(EventMsg, "/sar_mission/events", event_qos())
+            status = node.create_publisher(String, STATUS_TOPIC, latched_qos(STATUS_HISTORY))
+            status.publish(String(data=status_text(1, "RUNNING")))
+            assert spin_until(executor, lambda: learnt == ["trees/t.yaml"], 20)
+            ticked = pool.submit(feed.ticked_tree)
+            reloaded = pool.submit(feed.reload)
+            assert spin_until(executor, lambda: ticked.done() and reloaded.done(), 20)
+            assert ticked.result() == "trees/t.yaml"
+            assert reloaded.result() == (True, "Tree swapped from t.yaml: 1 added (X)")
+            assert asked == [1]
+            spin_until(executor, lambda: events.get_subscription_count() > 0, 15)
+            events.publish(to_message(MissionEvent(EventKind.TREE_SWAPPED, seq=1, sim_s=3.0,
+                                                   message="Tree swapped")))
+            assert spin_until(executor, lambda: drawn == [1], 15)
+            assert session.frame()["reasons"][0]["kind"] == "tree_swapped"
+    finally:
+        feed.stop()

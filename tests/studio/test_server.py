@@ -64,8 +64,8 @@ def test_a_frame_over_http(client) -> None:
 def test_what_writes_needs_the_token(client) -> None:
     assert client.post("/api/reload").status_code == 403
     assert client.post("/api/reload", headers={TOKEN_HEADER: "x" * 48}).status_code == 403
-    answer = client.post("/api/reload", headers={TOKEN_HEADER: TOKEN})
-    assert answer.status_code == 501 and "not available" in answer.json()["error"]
+    answer = client.post("/api/reload", headers={TOKEN_HEADER: TOKEN}, json={"text": "x"})
+    assert answer.status_code == 409 and "no running mission" in answer.json()["error"]
 
 
 def test_the_websocket_says_hello_and_answers_seeks_and_node_questions(client) -> None:

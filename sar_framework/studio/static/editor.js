@@ -1,21 +1,31 @@
-// sar-tree studio: the tree editor (edit mode). A textarea over a highlighted copy of its
-// text; each change is checked by the server (the diagnostics of `sar-tree validate`) and a
-// valid one redraws the diagram; completion offers the kinds and params of the JSON Schema;
-// Save writes the file with the session token.
+// sar-tree studio: the tree editor. A textarea over a highlighted copy of its text; each
+// change is checked by the server (the diagnostics of `sar-tree validate`) and, in edit mode,
+// a valid one redraws the diagram; completion offers the kinds and params of the JSON Schema;
+// Save writes the file with the session token. Live, it edits the running mission's tree
+// file (opened by "Edit tree"), and "Apply to mission" saves it and has the runner swap it in
+// (hot reload); the diagram stays the running tree's until the swap redraws it.
 "use strict";
 
 const editor = { path: null, kinds: {}, top: [], timer: null, checked: null, options: [],
-                 chosen: 0, badLines: new Set() };
+                 chosen: 0, badLines: new Set(), live: false, applied: null };
 window.editor = editor;  // the browser tests read it
 
-window.startEditor = (edit) => {
+window.startEditor = (edit, mode) => {
   editor.path = edit.path;
   editor.kinds = edit.completions.kinds;
   editor.top = edit.completions.top;
-  $("editor-pane").hidden = false;
-  document.querySelector("aside").hidden = true;
-  $("run-info").hidden = true;
+  editor.live = mode === "live";
+  $("apply").hidden = !editor.live;
+  if (editor.live) {
+    $("edit-open").hidden = false;
+    $("edit-open").onclick = () => { $("editor-pane").hidden = !$("editor-pane").hidden; };
+  } else {
+    $("editor-pane").hidden = false;
+    document.querySelector("aside").hidden = true;
+    $("run-info").hidden = true;
+  }
   $("edit-path").textContent = edit.path;
+  $("edit-path").title = edit.path;
   const source = $("source");
   if (source.dataset.loaded !== "yes") {
     source.value = edit.text;
@@ -57,7 +67,7 @@ window.onChecked = (msg) => {
     li.className = "ok";
     li.textContent = "✓ valid";
     list.appendChild(li);
-    if (msg.tree) drawTree(msg.tree);
+    if (msg.tree && !editor.live) drawTree(msg.tree);
   }
   paint();
 };
@@ -182,14 +192,20 @@ async function post(url, body) {
   return [answer.ok, await answer.json()];
 }
 
-// Hot reload (issue 22, point 4): the server's /api/reload swaps the running mission's tree;
-// until it does, it answers 501 and this says so.
+// Hot reload: the server saves the text to the mission's tree file and asks its runner to
+// swap it in; the runner's answer (the swap's summary, or why it refused) is shown here.
 async function apply() {
   const state = $("save-state");
   state.textContent = "applying…";
   try {
     const [ok, body] = await post("/api/reload", { text: $("source").value });
-    state.textContent = ok ? `applied: ${body.summary || "tree swapped"}` : `not applied: ${body.error}`;
+    editor.applied = body;
+    if (ok) {
+      state.textContent = `${body.swapped ? "applied" : "refused by the mission"}: ${body.message}`;
+      window.onChecked({ type: "checked", ok: body.ok, diagnostics: body.diagnostics, tree: null });
+    } else {
+      state.textContent = `not applied: ${body.error}`;
+    }
   } catch (err) {
     state.textContent = `not applied: ${err}`;
   }

@@ -47,7 +47,7 @@ function onHello(msg) {
   if (msg.tree) drawTree(msg.tree);
   drawWorld(msg.world);
   if (msg.mode === "replay") setupTimeline(msg.timeline);
-  if (msg.mode === "edit") window.startEditor(msg.edit);
+  if (msg.edit) window.startEditor(msg.edit, msg.mode);  // live: the mission's tree file
 }
 
 function uidOf(title) {  // Graphviz name "n0_1_3" -> uid "0.1.3"
@@ -236,7 +236,7 @@ function fillReasons(frame) {
     li.className = r.kind;
     li.innerHTML = `<span class="kind"></span> <span class="node"></span>: <span class="msg"></span> <small></small>`;
     li.querySelector(".kind").textContent = r.kind;
-    li.querySelector(".node").textContent = r.node;
+    li.querySelector(".node").textContent = r.node || "mission";
     li.querySelector(".msg").textContent = r.message;
     li.querySelector("small").textContent = `@ ${(r.t - startOf()).toFixed(1)} s`;
     li.addEventListener("click", () => { if (r.uid) selectNode(r.uid); if (studio.mode === "replay") seek(r.t); });

@@ -295,7 +295,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self.status = root_status
         reasons = self._reasons.take()
         if self.status == Status.FAILURE:
-            reasons += [f for f in self._tick_failures if f not in self.failures]
+            reasons += self._tick_failures  # each failing execution once
         self._tick_failures = []
         if reasons:
             self.failures.extend(reasons)

@@ -41,7 +41,13 @@ from sar_framework.sim.goals import (
 )
 from sar_framework.sim.planner import GridPlanner, PlanningError
 from sar_framework.sim.progress_checker import ProgressChecker
+from sar_framework.sim.traffic import Traffic
 from sar_framework.sim.world import Pose2D
+
+
+def _drives(goal: Goal | None) -> bool:
+    """Whether ``goal`` drives a path (the goals another robot can block)."""
+    return goal is not None and goal.active and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW)
 
 
 def _length(points: Sequence[tuple[float, float]]) -> float:
@@ -57,6 +63,7 @@ class Navigator:
         faults: Injected faults (``abort_goal_numbers``/``abort_delay_s`` are used here).
         listener: Told about every goal start and end (trace file, logs).
         costmaps: The costmaps' phantoms over ``planner``'s grid (default: none).
+        traffic: The other robots of a fleet (default: none), see :mod:`.traffic`.
     """
 
     def __init__(
@@ -66,8 +73,11 @@ class Navigator:
         faults: Faults | None = None,
         listener: GoalListener | None = None,
         costmaps: Costmaps | None = None,
+        *,
+        traffic: Traffic | None = None,
     ) -> None:
         self._robot = robot
+        self._traffic = traffic
         self._costmaps = costmaps or Costmaps.over(planner)
         self._faults = faults or Faults()
         self._checker = ProgressChecker(self._faults.stuck_recoveries,
@@ -305,14 +315,18 @@ class Navigator:
         with self._lock:
             goal = self._current
             stuck = self._checker.holds(goal)
-            if stuck:
+            held, failure = (False, None) if self._traffic is None else self._traffic.hold(
+                self._robot.pose if _drives(goal) and not stuck else None, now_s,
+                self._checker.allowance_s)
+            if stuck or held:
                 self._robot.stand_still()
             else:
                 self._robot.step(dt)
             self._now_s = now_s
             if goal is None or not goal.active:
                 return
-            failure = self._checker.failure(goal, now_s) if stuck else None
+            if stuck:
+                failure = self._checker.failure(goal, now_s)
             if failure is not None:
                 self._robot.cancel()
                 self._finish(goal, Outcome.ABORTED, *failure)

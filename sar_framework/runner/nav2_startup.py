@@ -329,9 +329,9 @@ class _Nav2Waiter:
         from sar_framework.ros.qos import latched_qos
 
         pose = self._pose
-        publisher = node.create_publisher(PoseWithCovarianceStamped, "/initialpose", 10)
+        publisher = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
         subscription = node.create_subscription(
-            PoseWithCovarianceStamped, "/amcl_pose", self._on_amcl_pose, latched_qos())
+            PoseWithCovarianceStamped, "amcl_pose", self._on_amcl_pose, latched_qos())
         _log(self._logger, f"Seeding {localizer}: /initialpose ({pose.x:.2f}, {pose.y:.2f}, "
                            f"yaw {pose.yaw:.2f}) in {pose.frame_id}; waiting for /amcl_pose")
         try:

@@ -157,6 +157,28 @@ def test_both_robots_navigate_at_once_and_arrive(client: tuple) -> None:
         assert pose_of(node, executor, ns) == pytest.approx((x, y), abs=0.3)
 
 
+@pytest.mark.usefixtures("sim")
+def test_nav2_start_up_in_a_namespace_waits_for_that_robot_s_nodes() -> None:
+    """The runner's start-up: seed ``/robot2/amcl``, wait for ``/robot2/bt_navigator``.
+
+    Our rclpy path (used on a given context, and where nav2_simple_commander is not
+    installed); BasicNavigator's names are relative already (the runners' test below).
+    """
+    import rclpy
+    from rclpy.context import Context
+
+    from sar_framework.runner.nav2_startup import InitialPose, seed_amcl_and_wait_for_nav2
+
+    context = Context()
+    rclpy.init(args=["x", "--ros-args", "-r", "__ns:=/robot2"], context=context)
+    try:
+        seed_amcl_and_wait_for_nav2(
+            pose=InitialPose(2.0, 3.5), timeout_s=15.0, context=context,
+            prefer_basic_navigator=False)
+    finally:
+        rclpy.try_shutdown(context=context)
+
+
 def test_two_runners_in_two_namespaces_tick_the_same_tree(client: tuple,
                                                           tmp_path: Path) -> None:
     tree = tmp_path / "visit.yaml"

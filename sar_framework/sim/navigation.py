@@ -45,11 +45,6 @@ from sar_framework.sim.traffic import Traffic
 from sar_framework.sim.world import Pose2D
 
 
-def _drives(goal: Goal | None) -> bool:
-    """Whether ``goal`` drives a path (the goals another robot can block)."""
-    return goal is not None and goal.active and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW)
-
-
 def _length(points: Sequence[tuple[float, float]]) -> float:
     return sum(math.dist(a, b) for a, b in itertools.pairwise(points))
 
@@ -315,9 +310,8 @@ class Navigator:
         with self._lock:
             goal = self._current
             stuck = self._checker.holds(goal)
-            held, failure = (False, None) if self._traffic is None else self._traffic.hold(
-                self._robot.pose if _drives(goal) and not stuck else None, now_s,
-                self._checker.allowance_s)
+            held, failure = (False, None) if self._traffic is None or stuck else \
+                self._traffic.hold(goal, self._robot.pose, now_s, self._checker.allowance_s)
             if stuck or held:
                 self._robot.stand_still()
             else:

@@ -21,7 +21,7 @@ import threading
 from collections.abc import Sequence
 
 from sar_framework.sim.faults import BlockedZone
-from sar_framework.sim.goals import FOLLOW_PATH_NO_PROGRESS
+from sar_framework.sim.goals import FOLLOW_PATH_NO_PROGRESS, Goal, Kind
 from sar_framework.sim.world import Pose2D
 
 __all__ = ["CLEARANCE_M", "GLOBAL_UPDATE_S", "Traffic"]
@@ -84,12 +84,14 @@ class Traffic:
                 return zone
         return None
 
-    def hold(self, pose: Pose2D | None, now_s: float, allowance_s: float
+    def hold(self, goal: Goal | None, pose: Pose2D, now_s: float, allowance_s: float
              ) -> tuple[bool, tuple[int, str] | None]:
-        """Whether a path goal at ``pose`` must stand still now, and its failure if it is due.
+        """Whether the robot at ``pose`` must stand still now, and ``goal``'s failure if due.
 
         Args:
-            pose: The robot's pose, or None when it has no path goal (forgets a block).
+            goal: The running goal; only a path (``navigate_*``, ``follow_path``) is held,
+                and any other goal, or none, forgets a block.
+            pose: The robot's pose.
             now_s: Simulated time.
             allowance_s: The progress checker's ``movement_time_allowance``.
 
@@ -97,7 +99,8 @@ class Traffic:
             ``(hold, failure)``: failure is FAILED_TO_MAKE_PROGRESS once the robot has been
             held ``allowance_s`` seconds in a row, else None.
         """
-        zone = None if pose is None else self.ahead(pose)
+        drives = goal is not None and goal.active and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW)
+        zone = self.ahead(pose) if drives else None
         if zone is None:
             self._blocked_since = None
             return False, None

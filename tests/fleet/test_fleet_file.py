@@ -76,3 +76,25 @@ def test_bad_files_name_file_line_and_column(tmp_path: Path, text: str,
 def test_a_missing_file_is_an_error_not_a_traceback(tmp_path: Path) -> None:
     with pytest.raises(FleetFileError, match=r"nope\.yaml:1:1: no such file"):
         load_fleet(tmp_path / "nope.yaml")
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize(("text", "expected"), [
+    ("robots:\n  - name: a\n    pose: {x: 0, y: zero}\n",
+     ":3:21: robots[0].pose.y: expected a finite number, got 'zero'"),
+    ("robots:\n  - name: a\n    pose: {x: 0, y: 0}\n  - name: b\n    pose: {x: 0.3, y: 0}\n",
+     ":4:5: robot 'b' spawns within 0.44 m (two footprints) of robot 'a' ("),
+])
+def test_the_simulator_refuses_a_bad_fleet_file_with_its_line(tmp_path: Path, text: str,
+                                                              expected: str) -> None:
+    import subprocess
+    import sys
+
+    path = write(tmp_path, text)
+    result = subprocess.run(
+        [sys.executable, "-m", "sar_framework.sim", "--ros-args", "-p",
+         f"fleet_file:={path}"], capture_output=True, text=True, timeout=60, check=False)
+    output = result.stdout + result.stderr
+    assert result.returncode == 2, output
+    assert f"{path}{expected}" in output
+    assert "Traceback" not in output

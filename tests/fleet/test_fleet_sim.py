@@ -141,6 +141,29 @@ def test_a_robot_in_the_only_doorway_fails_the_other_s_plan(client: tuple) -> No
     result = navigate(node, executor, {"robot2": (4.0, -3.0, 0.0)})["robot2"]
     assert result.status == GoalStatus.STATUS_ABORTED
     assert result.result.error_code == 208  # ComputePathToPose NO_VALID_PATH
+    assert plan_error(node, executor, "robot2", (4.0, -3.0)) == 208  # its own planner
+    assert plan_error(node, executor, "robot1", (4.0, -3.0)) == 0  # robot1 is not blocked
+
+
+def plan_error(node, executor, ns: str, goal_xy: tuple[float, float]) -> int:
+    """``/ns/compute_path_to_pose``'s error code for a plan from the robot to ``goal_xy``."""
+    nav2_action = pytest.importorskip("nav2_msgs.action")
+    if not hasattr(nav2_action, "ComputePathToPose"):
+        pytest.skip("the stand-in nav2_msgs has NavigateToPose only")
+    from rclpy.action import ActionClient
+
+    action = ActionClient(node, nav2_action.ComputePathToPose, f"/{ns}/compute_path_to_pose")
+    assert action.wait_for_server(timeout_sec=DISCOVERY_S)
+    goal = nav2_action.ComputePathToPose.Goal(use_start=False)
+    goal.goal.header.frame_id = "map"
+    goal.goal.pose.position.x, goal.goal.pose.position.y = goal_xy
+    goal.goal.pose.orientation.w = 1.0
+    sent = action.send_goal_async(goal)
+    assert spin_until(executor, sent.done, 10.0)
+    result = sent.result().get_result_async()
+    assert spin_until(executor, result.done, 10.0)
+    action.destroy()
+    return result.result().result.error_code
 
 
 def test_both_robots_navigate_at_once_and_arrive(client: tuple) -> None:

@@ -48,7 +48,8 @@ class PolledServiceCall:
     Args:
         node: The node that owns the client.
         srv_type: The service type (e.g. ``sar_interfaces.srv.DetectSurvivor``).
-        service_name: The service to call.
+        service_name: The service to call (relative: in the node's namespace; messages
+            name it fully resolved).
         server_timeout_s: Seconds the server may take to become ready.
         response_timeout_s: Seconds the server may take to answer a request.
         resend_after_wall_s: Wall seconds without an answer after which the request is sent
@@ -58,9 +59,9 @@ class PolledServiceCall:
     def __init__(self, node: Node, srv_type: Any, service_name: str, *,
                  server_timeout_s: float, response_timeout_s: float,
                  resend_after_wall_s: float = 2.0) -> None:
-        self.service_name = service_name
         self._node = node
         self._client = node.create_client(srv_type, service_name)
+        self.service_name: str = self._client.service_name  # resolved: /robot1/detect_survivor
         self._server_timeout_s = server_timeout_s
         self._response_timeout_s = response_timeout_s
         self._resend_after_wall_s = resend_after_wall_s

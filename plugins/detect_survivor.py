@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 @leaf(
     params=[
-        Param("service_name", str, default="/detect_survivor",
+        Param("service_name", str, default="detect_survivor",
               description="Name of the sar_interfaces/srv/DetectSurvivor service."),
         *SERVICE_TIMEOUT_PARAMS,
     ],
@@ -41,7 +41,7 @@ class DetectSurvivor(ServiceLeaf):
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager,
-                 service_name: str = "/detect_survivor", server_timeout_s: float = 10.0,
+                 service_name: str = "detect_survivor", server_timeout_s: float = 10.0,
                  response_timeout_s: float = 10.0) -> None:
         super().__init__(name, service_name=service_name, server_timeout_s=server_timeout_s,
                          response_timeout_s=response_timeout_s)

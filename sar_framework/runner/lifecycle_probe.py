@@ -22,9 +22,11 @@ class LifecycleProbe:
     Args:
         names: The lifecycle nodes (``amcl``, ``bt_navigator``).
         resend_s: Seconds after which an unanswered request is sent again.
+        namespace: The robot's namespace the names are in (the runner's; ``/`` alone).
     """
 
-    def __init__(self, names: tuple[str, ...], *, resend_s: float = 1.0) -> None:
+    def __init__(self, names: tuple[str, ...], *, resend_s: float = 1.0,
+                 namespace: str = "/") -> None:
         from lifecycle_msgs.srv import GetState
         from rclpy.context import Context
         from rclpy.executors import SingleThreadedExecutor
@@ -32,10 +34,10 @@ class LifecycleProbe:
 
         self._context = Context()
         self._context.init()
-        self._node = Node("sar_nav2_probe", context=self._context)
+        self._node = Node("sar_nav2_probe", namespace=namespace, context=self._context)
         self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(self._node)
-        self._clients = {n: self._node.create_client(GetState, f"/{n}/get_state")
+        self._clients = {n: self._node.create_client(GetState, f"{n}/get_state")
                          for n in names}
         self._asks: dict[str, tuple[float, list[Any]]] = {}
         self._active: set[str] = set()

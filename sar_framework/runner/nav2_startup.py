@@ -174,7 +174,8 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
                                        f"{timeout_s:g} s: {_HINT}")
             if probe is None and now > started + PROBE_AFTER_S \
                     and getattr(nav, "initial_pose_received", False):
-                probe = LifecycleProbe((localizer, navigator), resend_s=RESEND_S)
+                probe = LifecycleProbe((localizer, navigator), resend_s=RESEND_S,
+                                       namespace=nav.get_namespace())
             if probe is not None and probe.all_active():
                 _log(logger, "BasicNavigator is still waiting for a get_state reply (DDS "
                              f"dropped one; it does not ask again): {localizer} and "
@@ -222,7 +223,7 @@ def _join_after_shutdown(waiter: threading.Thread) -> None:
 def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
     """Name the step BasicNavigator is stuck in, worded as the rclpy path words it."""
     def served(name: str) -> bool:  # a server, not BasicNavigator's own client
-        return nav.count_services(f"/{name}/get_state") > 0
+        return nav.count_services(f"{name}/get_state") > 0  # in its namespace
 
     if not served(localizer):
         return f"{localizer} never reported ACTIVE (/{localizer}/get_state never appeared)"
@@ -289,12 +290,13 @@ class _Nav2Waiter:
         from lifecycle_msgs.srv import GetState
 
         _log(self._logger, f"Waiting for {name} to become ACTIVE")
-        client = node.create_client(GetState, f"/{name}/get_state")
+        client = node.create_client(GetState, f"{name}/get_state")  # in the robot's namespace
+        service = client.service_name
         last_label = ""
         try:
             while True:
                 if not self._spin_until(executor, client.service_is_ready, self._deadline):
-                    raise self._timed_out(f"{name} never reported ACTIVE (/{name}/get_state "
+                    raise self._timed_out(f"{name} never reported ACTIVE ({service} "
                                           "never appeared)")
                 futures = [client.call_async(GetState.Request())]
 
@@ -305,7 +307,7 @@ class _Nav2Waiter:
                                            time.monotonic() + RESEND_S):
                     if time.monotonic() >= self._deadline:
                         raise self._timed_out(f"{name} never reported ACTIVE (no answer "
-                                              f"from /{name}/get_state)")
+                                              f"from {service})")
                     futures.append(client.call_async(GetState.Request()))  # a lost reply
                 response = next(f for f in futures if f.done()).result()
                 for future in futures:
@@ -329,9 +331,9 @@ class _Nav2Waiter:
         from sar_framework.ros.qos import latched_qos
 
         pose = self._pose
-        publisher = node.create_publisher(PoseWithCovarianceStamped, "/initialpose", 10)
+        publisher = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
         subscription = node.create_subscription(
-            PoseWithCovarianceStamped, "/amcl_pose", self._on_amcl_pose, latched_qos())
+            PoseWithCovarianceStamped, "amcl_pose", self._on_amcl_pose, latched_qos())
         _log(self._logger, f"Seeding {localizer}: /initialpose ({pose.x:.2f}, {pose.y:.2f}, "
                            f"yaw {pose.yaw:.2f}) in {pose.frame_id}; waiting for /amcl_pose")
         try:

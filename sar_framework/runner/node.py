@@ -68,6 +68,7 @@ from sar_framework.mission.params_file import (
     params_files_from_args,
 )
 from sar_framework.ros.delivery import deliver
+from sar_framework.ros.tf_topics import TF_REMAP_ARGS
 from sar_framework.runner.entry_values import EntryTracker, writers_of
 from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
@@ -279,6 +280,18 @@ class MissionRunner:
         self.status_writer.write()
 
 
+def create_runner_node(**kwargs: Any) -> Node:
+    """The runner's node, with Nav2 bringup's TF remapping (:mod:`sar_framework.ros.tf_topics`).
+
+    Started in a namespace (``--ros-args -r __ns:=/robot1``), its leaves find their servers
+    by relative names and read TF from ``/robot1/tf``, as a namespaced Nav2 stack does.
+
+    Args:
+        **kwargs: Further ``rclpy.node.Node`` arguments (``context``...).
+    """
+    return create_params_node(NODE_NAME, cli_args=TF_REMAP_ARGS, **kwargs)
+
+
 def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLocation]]:
     """Check every ``--params-file`` in pure Python; merge where keys are set."""
     files = params_files_from_args(argv)
@@ -338,7 +351,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         mission_file = locations.get("zone_order")
         source = mission_file.file if mission_file else (files[0] if files else "parameters")
         try:
-            node = create_params_node(NODE_NAME)
+            node = create_runner_node()
         except ValueError as err:  # e.g. -p zone_order:=[] (an untyped empty list)
             return fail(EXIT_CONFIG, "parameters", f"{source}: {err}")
         try:

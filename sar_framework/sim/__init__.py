@@ -14,11 +14,14 @@ ROS-free core (plain Python + numpy)::
     geometry    nearest points on paths, pruning a path to the robot
     params      the simulator's parameter table (SPEED: the speed's one default and rule)
     navigation  one goal at a time: plan, drive, decide the outcome as Nav2 would
+    traffic     a fleet's other robots as obstacles (global costmap, controller)
+    fleet_file  the fleet file: robot names (namespaces) and spawn poses
     trace       JSON Lines trace of the robot's path and goal events
 
 ROS nodes (rclpy)::
 
-    sim_node           the simulator: physics thread, /clock, /tf, /odometry/filtered
+    sim_node           the simulator: physics thread, /clock, one RobotStack per robot
+    robot_stack        one robot's Nav2 nodes (root or its namespace), its TF and odometry
     settings           its parameters declared from the table, validated
     live_params        run-time parameter changes (speed, phantoms, stuck, walls)
     lifecycle          Nav2LifecycleNode: rclpy lifecycle, action servers need ACTIVE

@@ -68,10 +68,10 @@ class AmclStandIn:
         self.node.declare_parameter("update_min_d", 0.25)
         self.node.declare_parameter("update_min_a", 0.2)
         self._publisher = self.node.create_publisher(
-            PoseWithCovarianceStamped, "/amcl_pose", latched_qos()
+            PoseWithCovarianceStamped, "amcl_pose", latched_qos()
         )
         self.node.create_subscription(
-            PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10
+            PoseWithCovarianceStamped, "initialpose", self._on_initial_pose, 10
         )
 
     @property

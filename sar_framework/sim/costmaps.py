@@ -29,6 +29,7 @@ from sar_framework.sim.geometry import segment_distance
 from sar_framework.sim.goals import FOLLOW_PATH_NO_VALID_CONTROL
 from sar_framework.sim.occupancy import OccupancyGrid
 from sar_framework.sim.planner import GridPlanner
+from sar_framework.sim.traffic import Traffic
 
 Point = tuple[float, float]
 
@@ -54,12 +55,14 @@ class Costmaps:
         phantoms: The phantoms written into both costmaps at start.
         walls: The ``blocked_zones`` (never cleared; :meth:`set_walls` replaces them).
         planner: The planner over ``static`` (no walls) if already built.
+        traffic: The other robots of a fleet, an obstacle layer of the global costmap.
     """
 
     def __init__(self, static: OccupancyGrid, robot_radius: float,
                  phantoms: Iterable[BlockedZone] = (), *, walls: Iterable[BlockedZone] = (),
-                 planner: GridPlanner | None = None) -> None:
+                 planner: GridPlanner | None = None, traffic: Traffic | None = None) -> None:
         self._static = static
+        self._traffic = traffic
         self._radius = robot_radius
         self._lock = threading.Lock()
         self.walls = tuple(walls)
@@ -122,12 +125,13 @@ class Costmaps:
         return self.clear(layer, lambda z: _in_square(z, robot, reset_distance))
 
     def planner(self) -> GridPlanner:
-        """The planner over the base grid plus the global costmap's phantoms.
+        """The planner over the base grid plus the global costmap's phantoms and robots.
 
         Rebuilt (tens of milliseconds) only when those phantoms have changed.
         """
+        others = self._traffic.in_costmap if self._traffic is not None else ()
         with self._lock:
-            zones = self._phantoms[Layer.GLOBAL]
+            zones = self._phantoms[Layer.GLOBAL] + others
             if zones == self._planned:
                 return self._planner
             planner = self._base_planner if not zones else GridPlanner(

@@ -9,13 +9,19 @@ server is inactive. Rejecting the goal.").
 Types that only the full ``nav2_msgs`` provides are looked up with :func:`optional_type`: on
 the fallback tier (the stand-in ``nav2_msgs``, ``NavigateToPose`` only) the servers needing
 them are not offered, and the simulator says which in one log line.
+
+A fleet's robots are built inside :func:`robot_namespace`: every node made there lives in
+that robot's namespace (``/robot1/planner_server``, ``/robot1/global_costmap/global_costmap``),
+as nav2_bringup's ``use_namespace`` puts one Nav2 stack per robot.
 """
 
 from __future__ import annotations
 
 import importlib
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any
 
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -23,6 +29,30 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
 _not_offered: list[str] = []
+_robot_ns: ContextVar[str] = ContextVar("robot_namespace", default="")
+
+
+@contextmanager
+def robot_namespace(name: str) -> Iterator[None]:
+    """Make the nodes created inside live under ``/name`` ('' = the root, one robot)."""
+    token = _robot_ns.set(name.strip("/"))
+    try:
+        yield
+    finally:
+        _robot_ns.reset(token)
+
+
+def in_robot_namespace(namespace: str = "") -> str:
+    """``namespace`` (relative, may be '') inside the current robot's namespace.
+
+    Returns:
+        The node namespace to give rclpy: ``/robot1/global_costmap``, or ``global_costmap``
+        and '' outside a fleet (rclpy's defaults, unchanged).
+    """
+    robot = _robot_ns.get()
+    if not robot:
+        return namespace
+    return "/" + "/".join(part for part in (robot, namespace.strip("/")) if part)
 
 
 def optional_type(module: str, name: str, *, needed_by: str) -> Any | None:
@@ -56,7 +86,7 @@ class Nav2LifecycleNode(LifecycleNode):
     """
 
     def __init__(self, name: str, namespace: str | None = None) -> None:
-        super().__init__(name, namespace=namespace or "")
+        super().__init__(name, namespace=in_robot_namespace(namespace or ""))
         self._active = threading.Event()
         self.group = ReentrantCallbackGroup()
         self.on_active_change: list[Callable[[bool], None]] = []

@@ -19,7 +19,7 @@ from typing import Any
 from lifecycle_msgs.msg import State
 from rclpy.node import Node
 
-from sar_framework.sim.lifecycle import Nav2LifecycleNode, optional_type
+from sar_framework.sim.lifecycle import Nav2LifecycleNode, in_robot_namespace, optional_type
 
 LOCALIZATION_NODES = ("map_server", "amcl")
 """Nav2 Jazzy ``localization_launch.py``'s managed nodes, in start-up order."""
@@ -48,7 +48,7 @@ class LifecycleManager:
     """
 
     def __init__(self, name: str, nodes: Sequence[Nav2LifecycleNode]) -> None:
-        self.node = Node(name)
+        self.node = Node(name, namespace=in_robot_namespace())
         self.nodes = list(nodes)
         self._lock = threading.Lock()
         self.system_active = False

@@ -41,6 +41,7 @@ from sar_framework.sim.goals import (
 )
 from sar_framework.sim.planner import GridPlanner, PlanningError
 from sar_framework.sim.progress_checker import ProgressChecker
+from sar_framework.sim.traffic import Traffic
 from sar_framework.sim.world import Pose2D
 
 
@@ -57,6 +58,7 @@ class Navigator:
         faults: Injected faults (``abort_goal_numbers``/``abort_delay_s`` are used here).
         listener: Told about every goal start and end (trace file, logs).
         costmaps: The costmaps' phantoms over ``planner``'s grid (default: none).
+        traffic: The other robots of a fleet (default: none), see :mod:`.traffic`.
     """
 
     def __init__(
@@ -66,8 +68,11 @@ class Navigator:
         faults: Faults | None = None,
         listener: GoalListener | None = None,
         costmaps: Costmaps | None = None,
+        *,
+        traffic: Traffic | None = None,
     ) -> None:
         self._robot = robot
+        self._traffic = traffic
         self._costmaps = costmaps or Costmaps.over(planner)
         self._faults = faults or Faults()
         self._checker = ProgressChecker(self._faults.stuck_recoveries,
@@ -305,14 +310,17 @@ class Navigator:
         with self._lock:
             goal = self._current
             stuck = self._checker.holds(goal)
-            if stuck:
+            held, failure = (False, None) if self._traffic is None or stuck else \
+                self._traffic.hold(goal, self._robot.pose, now_s, self._checker.allowance_s)
+            if stuck or held:
                 self._robot.stand_still()
             else:
                 self._robot.step(dt)
             self._now_s = now_s
             if goal is None or not goal.active:
                 return
-            failure = self._checker.failure(goal, now_s) if stuck else None
+            if stuck:
+                failure = self._checker.failure(goal, now_s)
             if failure is not None:
                 self._robot.cancel()
                 self._finish(goal, Outcome.ABORTED, *failure)

@@ -70,6 +70,8 @@ SIM_PARAMETERS: tuple[Param, ...] = (
     Param("global_frame", str, "map", "map frame"),
     Param("odom_frame", str, "odom", "odometry frame"),
     Param("base_frame", str, "base_link", "robot frame"),
+    Param("fleet_file", str, "", "fleet file: robots (name, pose), each under its namespace "
+          "('' = one robot, no namespace; docs/fleet.md)"),
     Param("trace_file", str, "", "JSON Lines trace of poses and goal events ('' = off)"),
     _rate("trace_period_s", 0.2, "simulated seconds between trace pose lines", "s"),
     Param("reject_goals", bool, False, "fault: the navigation server rejects every goal"),

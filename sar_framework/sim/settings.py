@@ -7,6 +7,7 @@ The table, with each parameter's type, default, unit and range, is
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -15,6 +16,7 @@ from sar_framework.mission.params_file import ParamsError
 from sar_framework.ros.parameters import declare_table
 from sar_framework.sim.drive import DriveLimits
 from sar_framework.sim.faults import FaultConfigError, Faults, make_faults
+from sar_framework.sim.fleet_file import FleetFileError, load_fleet
 from sar_framework.sim.occupancy import MapError, OccupancyGrid, load_map
 from sar_framework.sim.params import DEFAULT_MAP_YAML, SIM_PARAMETERS
 from sar_framework.sim.world import Pose2D, World, WorldError, load_world
@@ -22,7 +24,8 @@ from sar_framework.sim.world import Pose2D, World, WorldError, load_world
 if TYPE_CHECKING:
     from rclpy.node import Node
 
-__all__ = ["DEFAULT_MAP_YAML", "SimConfigError", "SimSettings", "read_settings"]
+__all__ = ["DEFAULT_MAP_YAML", "SimConfigError", "SimSettings", "fleet_spawns",
+           "read_settings"]
 
 
 class SimConfigError(ValueError):
@@ -51,6 +54,7 @@ class SimSettings:
         odom_frame: Odometry frame.
         base_frame: Robot frame.
         trace_file: Trace path or None.
+        fleet_file: Fleet file or None (one robot, root namespace).
         trace_period_s: Trace sampling period, simulated seconds.
         faults: Injected faults.
     """
@@ -73,6 +77,7 @@ class SimSettings:
     base_frame: str
     trace_file: Path | None
     trace_period_s: float
+    fleet_file: Path | None = None
     faults: Faults = field(default_factory=Faults)
 
 
@@ -136,5 +141,33 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
         limits=limits,
         spawn=Pose2D(num["spawn_x"], num["spawn_y"], num["spawn_yaw"]),
         trace_file=Path(raw["trace_file"]) if raw["trace_file"] else None,
+        fleet_file=Path(raw["fleet_file"]) if raw["fleet_file"] else None,
         faults=faults,
     ), world, grid
+
+
+def fleet_spawns(settings: SimSettings) -> list[tuple[str, Pose2D]]:
+    """The robots to simulate: ``(namespace, spawn)``; ``[("", spawn)]`` without a fleet file.
+
+    Raises:
+        SimConfigError: The fleet file is malformed (each problem at its ``file:line:col``),
+            or two spawn poses are closer than two footprints (both lines named), or the
+            fleet file sets a trace file (one robot only, for now).
+    """
+    if settings.fleet_file is None:
+        return [("", settings.spawn)]
+    try:
+        robots = load_fleet(settings.fleet_file)
+    except FleetFileError as exc:
+        raise SimConfigError(f"fleet_file:\n{exc}") from exc
+    if settings.trace_file is not None:
+        raise SimConfigError("parameters trace_file and fleet_file: the trace records one "
+                             "robot; unset one of them")
+    gap = 2.0 * settings.robot_radius
+    for i, a in enumerate(robots):
+        for b in robots[:i]:
+            if math.dist((a.spawn.x, a.spawn.y), (b.spawn.x, b.spawn.y)) <= gap:
+                raise SimConfigError(
+                    f"{a.where}: robot '{a.name}' spawns within {gap:g} m (two footprints) "
+                    f"of robot '{b.name}' ({b.where})")
+    return [(robot.name, robot.spawn) for robot in robots]

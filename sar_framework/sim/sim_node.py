@@ -1,6 +1,9 @@
 """The composed simulator: physics loop, ``/clock``, TF, odometry and Nav2's nodes.
 
-One process, one executor, the nodes of a Jazzy ``bringup_launch.py``:
+One process, one executor, the nodes of a Jazzy ``bringup_launch.py`` per robot (one
+:class:`~sar_framework.sim.robot_stack.RobotStack` each: one in the root namespace, or one
+per robot of the ``fleet_file`` in its namespace, sharing the world, ``/clock`` and the
+physics loop; docs/fleet.md):
 
 - ``sar_sim``: parameters (see :mod:`~sar_framework.sim.settings`), ``/clock``, ``/tf``
   (``map -> odom`` while AMCL is localised, ``odom -> base_link``), odometry on
@@ -29,30 +32,24 @@ import time
 import traceback
 from typing import Any
 
-from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from rclpy.time_source import TimeSource
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Trigger
-from tf2_msgs.msg import TFMessage
 
 from sar_framework.sim import messages
-from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.clock import NS_PER_S, SimClock
-from sar_framework.sim.costmaps import Costmaps
-from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.goal_actions import GoalGate
 from sar_framework.sim.goals import Goal, RobotState
 from sar_framework.sim.lifecycle import take_not_offered
-from sar_framework.sim.lifecycle_manager import LifecycleManager
 from sar_framework.sim.live_params import LiveParameters
-from sar_framework.sim.map_server import MapServer
-from sar_framework.sim.motion_servers import BehaviorServer, ControllerServer, WaypointFollower
-from sar_framework.sim.nav_server import BtNavigator
-from sar_framework.sim.navigation import Navigator
-from sar_framework.sim.planning_servers import PlannerServer, SmootherServer
-from sar_framework.sim.settings import DEFAULT_MAP_YAML, SimConfigError, SimSettings, read_settings
+from sar_framework.sim.robot_stack import RobotStack
+from sar_framework.sim.settings import (
+    DEFAULT_MAP_YAML,
+    SimConfigError,
+    SimSettings,
+    fleet_spawns,
+    read_settings,
+)
 from sar_framework.sim.trace import TraceWriter
 
 __all__ = ["DEFAULT_MAP_YAML", "NODE_NAME", "SimConfigError", "SimSettings", "Simulator"]
@@ -82,45 +79,24 @@ class Simulator:
         self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed)
         self._clock_lock = threading.Lock()
         self._now_ns = 0
-        self.costmaps = Costmaps(self.grid, s.robot_radius, s.faults.phantom_obstacles,
-                                 walls=s.faults.blocked_zones)
         try:
+            fleet = fleet_spawns(s)
             self.trace = TraceWriter(s.trace_file, s.trace_period_s) if s.trace_file else None
         except OSError as exc:
             self.node.destroy_node()
             raise SimConfigError(f"parameter trace_file: cannot write {s.trace_file}: "
                                  f"{exc.strerror or exc}") from exc
-        self.navigator = Navigator(
-            DiffDrive(s.spawn, s.limits), self.costmaps.planner(), s.faults,
-            self._on_goal_event, costmaps=self.costmaps,
-        )
-        self.amcl = AmclStandIn(
-            lambda: self.navigator.state().pose, self.now_ns,
-            global_frame=s.global_frame, localized=s.auto_localize,
-        )
-        localized = lambda: self.amcl.localized  # noqa: E731 - read at call time
-        self.gate = GoalGate(self.navigator, self.now_ns, 1.0 / s.feedback_hz)
-        self.nav = BtNavigator(self.gate, localized, faults=s.faults,
-                               global_frame=s.global_frame, event_sink=self._on_request_event)
-        self.map_server = MapServer(self.grid, s.global_frame, self.now_ns, str(s.map_yaml))
-        self.planner_server = PlannerServer(self.navigator, self.now_ns, localized,
-                                            global_frame=s.global_frame,
-                                            resolution=self.grid.resolution)
-        self.smoother_server = SmootherServer(self.navigator.is_free)
-        self.controller_server = ControllerServer(self.gate)
-        self.behavior_server = BehaviorServer(self.gate)
-        self.waypoint_follower = WaypointFollower(self.gate, localized)
-        self.managers = [
-            LifecycleManager("lifecycle_manager_localization",
-                             [self.map_server, self.amcl.node]),
-            LifecycleManager("lifecycle_manager_navigation", [
-                self.controller_server.node, self.smoother_server.node,
-                self.planner_server.node, self.behavior_server.node, self.nav.node,
-                self.waypoint_follower.node]),
-        ]
-        for manager in self.managers:
-            manager.node.set_parameters([Parameter("autostart", value=s.autostart)])
-        missing = take_not_offered()
+        except SimConfigError:
+            self.node.destroy_node()
+            raise
+        self.robots = [RobotStack(name, spawn, s, self.grid, sim_node=self.node, now_ns=self.now_ns,
+                                  listener=self._on_goal_event,
+                                  event_sink=self._on_request_event)
+                       for name, spawn in fleet]
+        first = self.robots[0]  # the single robot's parts, by the names they always had
+        self.navigator, self.amcl, self.gate = first.navigator, first.amcl, first.gate
+        self.costmaps, self.map_server = first.costmaps, first.map_server
+        missing = list(dict.fromkeys(take_not_offered()))
         if missing:
             self.node.get_logger().info(
                 "Not offered (interface types not installed; the stand-in nav2_msgs has "
@@ -130,13 +106,14 @@ class Simulator:
         for node in self.nodes:
             self._time_source.attach_clock(node.get_clock())
         self._clock_pub = self.node.create_publisher(Clock, "/clock", 10)
-        self._tf_pub = self.node.create_publisher(TFMessage, "/tf", 100)
-        self._odom_pub = self.node.create_publisher(Odometry, s.odom_topic, 10)
-        self.live = LiveParameters(
-            s.faults, {m.name: (m.x, m.y) for m in self.world.markers}, costmaps=self.costmaps,
-            navigator=self.navigator, set_speed=self._set_speed,
-            log=self.node.get_logger().info)
-        self.node.add_on_set_parameters_callback(self.live.on_set)
+        markers = {m.name: (m.x, m.y) for m in self.world.markers}
+        self.lives = [LiveParameters(s.faults, markers, costmaps=robot.costmaps,
+                                     navigator=robot.navigator, set_speed=self._set_speed,
+                                     log=self.node.get_logger().info if i == 0 else _quiet)
+                      for i, robot in enumerate(self.robots)]
+        self.live = self.lives[0]
+        for live in self.lives:  # every robot takes a run-time fault (all or none: same check)
+            self.node.add_on_set_parameters_callback(live.on_set)
         self.node.create_service(Trigger, "~/reset", self._on_reset)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._physics_loop, name="sim-physics",
@@ -149,11 +126,7 @@ class Simulator:
     @property
     def nodes(self) -> list[Node]:
         """Every node of the simulator (to add to the executor)."""
-        servers = [self.map_server, self.amcl.node, self.controller_server.node,
-                   self.controller_server.costmap, self.smoother_server.node,
-                   self.planner_server.node, self.planner_server.costmap,
-                   self.behavior_server.node, self.nav.node, self.waypoint_follower.node]
-        return [self.node, *servers, *(m.node for m in self.managers)]
+        return [self.node, *(node for robot in self.robots for node in robot.nodes)]
 
     @property
     def alive(self) -> bool:
@@ -171,9 +144,11 @@ class Simulator:
         """Start the Nav2 nodes up (``autostart``), publish the state, start the physics."""
         s = self.settings
         if s.autostart:
-            for manager in self.managers:
-                manager.startup()
-        self._publish_state(0, self.navigator.state())
+            for robot in self.robots:
+                robot.startup()
+        self._update_traffic(0.0)
+        for robot in self.robots:
+            robot.publish_state(0, robot.navigator.state())
         self._clock_pub.publish(Clock())
         if self.trace is not None:
             spawn = s.spawn
@@ -191,9 +166,11 @@ class Simulator:
         Returns:
             Whether a goal was in flight (keep spinning briefly so its result goes out).
         """
-        aborted = self.gate.close(reason)
-        if aborted is not None:
-            self.node.get_logger().warning(f"Goal {aborted.number} aborted: {reason}")
+        closed = [robot.gate.close(reason) for robot in self.robots]
+        aborted = next((goal for goal in closed if goal is not None), None)
+        for goal in closed:
+            if goal is not None:
+                self.node.get_logger().warning(f"Goal {goal.number} aborted: {reason}")
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=1.0)
@@ -226,8 +203,7 @@ class Simulator:
             f"ready: Nav2 {'active' if s.autostart else 'unconfigured (autostart off)'}, "
             f"/clock at {s.speed:g}x real time "
             f"(physics {s.physics_hz:g} Hz), map {s.map_yaml} "
-            f"({self.grid.width}x{self.grid.height}), spawn ({s.spawn.x:.2f}, {s.spawn.y:.2f}, "
-            f"yaw {s.spawn.yaw:.2f}){faults}"
+            f"({self.grid.width}x{self.grid.height}), {self._spawns()}{faults}"
         )
 
     # ------------------------------------------------------------------ physics
@@ -252,7 +228,7 @@ class Simulator:
         while not self._stop.is_set():
             if self._new_speed is not None:
                 clock.speed, self._new_speed = self._new_speed, None
-            if self.navigator.planning:
+            if any(robot.navigator.planning for robot in self.robots):
                 clock.hold()  # a plan takes no simulated time
                 self._stop.wait(0.001)
                 continue
@@ -260,7 +236,10 @@ class Simulator:
             steps = clock.due_steps(wall)
             for _ in range(steps):
                 now_ns = clock.advance()
-                self.navigator.step(dt, now_ns / NS_PER_S)
+                if len(self.robots) > 1:
+                    self._update_traffic(now_ns / NS_PER_S)
+                for robot in self.robots:
+                    robot.navigator.step(dt, now_ns / NS_PER_S)
             if steps:
                 now_ns = clock.now_ns
                 with self._clock_lock:
@@ -268,10 +247,11 @@ class Simulator:
                 clock_msg = Clock(clock=messages.time_msg(now_ns))
                 self._time_source.clock_callback(clock_msg)
                 self._clock_pub.publish(clock_msg)
-                generation = self.navigator.generation  # read before the state it describes
+                generation = self._generation()  # read before the state it describes
                 state = self.navigator.state()
                 if now_ns >= next_publish_ns or generation != self._published_generation:
-                    self._publish_state(now_ns, state)
+                    for robot in self.robots:
+                        robot.publish_state(now_ns, robot.navigator.state())
                     next_publish_ns = now_ns + publish_period_ns
                     with self._published:
                         self._published_generation = generation
@@ -283,19 +263,17 @@ class Simulator:
             pause = max(clock.wall_until_next_step(after), min_period - (after - wall))
             self._stop.wait(pause)
 
-    def _publish_state(self, now_ns: int, state: RobotState) -> None:
-        """Publish ``/tf`` and odometry for ``state``; let AMCL update."""
-        s = self.settings
-        odom_pose = messages.relative_pose(s.spawn, state.pose)
-        self.amcl.on_motion(now_ns)
-        transforms = [messages.transform(s.odom_frame, s.base_frame, odom_pose, now_ns)]
-        if self.amcl.localized:
-            transforms.insert(0, messages.transform(s.global_frame, s.odom_frame, s.spawn,
-                                                    now_ns))
-        self._tf_pub.publish(TFMessage(transforms=transforms))
-        self._odom_pub.publish(messages.odometry(
-            odom_pose, (state.linear, state.angular), (s.odom_frame, s.base_frame), now_ns
-        ))
+    def _update_traffic(self, now_s: float) -> None:
+        """Tell each robot where the others' footprints are (see :mod:`.traffic`)."""
+        footprints = [robot.footprint() for robot in self.robots]
+        for i, robot in enumerate(self.robots):
+            robot.traffic.update(footprints[:i] + footprints[i + 1:], now_s)
+
+    def _spawns(self) -> str:
+        """The spawn poses for the ready line."""
+        return ", ".join(
+            f"{robot.name + ' ' if robot.name else ''}spawn ({robot.spawn.x:.2f}, "
+            f"{robot.spawn.y:.2f}, yaw {robot.spawn.yaw:.2f})" for robot in self.robots)
 
     # ------------------------------------------------------------------ events
 
@@ -322,24 +300,39 @@ class Simulator:
     def _set_speed(self, speed: float) -> None:
         self._new_speed = speed  # applied by the physics thread
 
+    def _generation(self) -> int:
+        """Counts resets of every robot (each navigator's count only grows)."""
+        return sum(robot.navigator.generation for robot in self.robots)
+
     def _on_reset(self, _request: Trigger.Request, response: Trigger.Response
                   ) -> Trigger.Response:
-        """``~/reset``: abort every goal, robot at rest at spawn, faults re-armed."""
+        """``~/reset``: abort every goal, robots at rest at spawn, faults re-armed."""
         s = self.settings
-        aborted = self.navigator.reset(s.spawn, "simulator reset (~/reset)")
-        self.live.rearm()
-        self.amcl.reset(localized=s.auto_localize)
+        aborted = [robot.navigator.reset(robot.spawn, "simulator reset (~/reset)")
+                   for robot in self.robots]
+        for robot, live in zip(self.robots, self.lives, strict=True):
+            live.rearm()
+            robot.amcl.reset(localized=s.auto_localize)
+            robot.traffic.refresh()
         with self._published:  # the next physics step publishes TF and odometry at spawn
             self._published.wait_for(
-                lambda: self._published_generation == self.navigator.generation, timeout=1.0)
-        self.amcl.publish_truth(self.now_ns())
+                lambda: self._published_generation == self._generation(), timeout=1.0)
+        for robot in self.robots:
+            robot.amcl.publish_truth(self.now_ns())
         if self.trace is not None:
             self.trace.event(self.now_ns() / NS_PER_S, "reset", x=s.spawn.x, y=s.spawn.y,
                              yaw=s.spawn.yaw)
-        what = f"goal {aborted.number} aborted, " if aborted is not None else ""
+        what = "".join(f"goal {goal.number} aborted, " for goal in aborted if goal is not None)
+        where = "robot at spawn" if len(self.robots) == 1 else "robots at their spawns"
+        first = self.robots[0].spawn
+        at = f" ({first.x:.2f}, {first.y:.2f})" if len(self.robots) == 1 else ""
         response.success = True
-        response.message = (f"reset: {what}robot at spawn ({s.spawn.x:.2f}, {s.spawn.y:.2f}), "
+        response.message = (f"reset: {what}{where}{at}, "
                             f"{len(self.live.phantoms)} phantom obstacles in both costmaps, "
                             f"stuck for {self.live.stuck_recoveries} recoveries")
         self.node.get_logger().info(response.message)
         return response
+
+
+def _quiet(_line: str) -> None:
+    """A log that drops its line (the fleet's robots after the first take the same change)."""

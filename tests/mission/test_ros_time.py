@@ -66,6 +66,8 @@ def test_without_a_clock_timeout_is_py_trees_own(tmp_path: Path) -> None:
 class FakeClient:
     """A client whose server never becomes ready."""
 
+    service_name = "/detect_survivor"  # rclpy's Client gives the resolved name
+
     def service_is_ready(self) -> bool:
         return False
 

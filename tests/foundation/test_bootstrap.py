@@ -265,7 +265,7 @@ def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -
     (source / "msg" / "Ping.msg").write_text("builtin_interfaces/Time stamp\nstring text\n")
     (source / "package.xml").write_text(
         "<package format='3'><name>demo_msgs</name><version>1.0.0</version>"
-        "<description>d</description><maintainer email='a@b.c'>a</maintainer>"
+        "<description>d</description><maintainer email='dev@example.com'>dev</maintainer>"
         "<license>Apache-2.0</license><buildtool_depend>ament_cmake</buildtool_depend>"
         "<depend>builtin_interfaces</depend>"
         "<member_of_group>rosidl_interface_packages</member_of_group>"

@@ -43,7 +43,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # setup_base, ros_overlay
-from ros_overlay import ensure_ros_stack
+from ros_overlay import NO_CPP_HOOK, ensure_ros_stack
 from setup_base import (
     ROOT,
     SetupError,
@@ -220,7 +220,8 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
     env = interface_build_env(venv, sourced)
     started = time.monotonic()
     run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
-         "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release"],
+         "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release",
+         f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}"],  # C and Python code only, as the overlay
         what=f"configuring {source.name}", env=env)
     run(["cmake", "--build", build, "--parallel", str(os.cpu_count() or 2)],
         what=f"building {source.name}", env=env)

@@ -13,8 +13,10 @@ built from upstream sources. The source tree is the first of:
 (``ROS_DISTRO=jazzy`` with launch_ros on ``AMENT_PREFIX_PATH``): the fallbacks or the
 system's packages are used then. The needed packages are copied out of the source tree
 (nothing is ever written inside it) and built by colcon in parallel, merged into the venv
-prefix; ``nav2_bringup`` (whose CMakeLists needs all of Nav2) has only its launch and params
-files installed as a package share. A ``.pth`` hook puts the venv on ``AMENT_PREFIX_PATH``,
+prefix. Interface packages (nav2_msgs, tf2_msgs, ...) get their C and Python code only, no
+C++ (``rosidl_no_cpp.cmake``: rclpy needs none, and it was most of the build).
+``nav2_bringup`` (whose CMakeLists needs all of Nav2) has only its launch and params files
+installed as a package share. A ``.pth`` hook puts the venv on ``AMENT_PREFIX_PATH``,
 so ``.venv/bin/ros2`` and ``ament_index_python`` find every package without sourcing.
 """
 
@@ -42,6 +44,8 @@ PACKAGES = (
 #: Installed as data only: package -> folders copied to share/<package>.
 DATA_PACKAGES = {"nav2_bringup": ("launch", "params")}
 AMENT_HOOK = "sar_ament_prefix.pth"
+#: CMAKE_PROJECT_INCLUDE for interface packages: C and Python code only, no C++ (see it).
+NO_CPP_HOOK = Path(__file__).resolve().parent / "rosidl_no_cpp.cmake"
 _NAME = re.compile(r"<name>\s*([A-Za-z0-9_]+)\s*</name>")
 
 
@@ -172,7 +176,8 @@ def build_overlay(venv: Path, stamps: Stamps, source: Path) -> set[str]:
          "--merge-install", "--executor", "parallel", "--parallel-workers", workers,
          "--event-handlers", "console_cohesion-", "console_stderr-",
          "--cmake-args", "-DBUILD_TESTING=OFF", f"-DPython3_EXECUTABLE={venv_python(venv)}",
-         "-DCMAKE_BUILD_TYPE=Release"], what="colcon build of the ROS 2 overlay", env=env)
+         "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}"],
+        what="colcon build of the ROS 2 overlay", env=env)
     for name, folders in DATA_PACKAGES.items():
         install_data_package(venv, found[name], name, folders)
     log(f"  ROS 2 overlay ready in {time.monotonic() - started:.1f} s")

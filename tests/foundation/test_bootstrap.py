@@ -251,3 +251,55 @@ def test_a_missing_executable_link_is_made_again() -> None:
     done = run_bootstrap(env=dict(os.environ))
     assert done.returncode == 0, done.stderr
     assert link.is_symlink() and link.exists(), done.stdout
+
+
+@pytest.mark.slow
+def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -> None:
+    # tools/rosidl_no_cpp.cmake (CMAKE_PROJECT_INCLUDE of the overlay build) drops the C++
+    # generators: a demo interface package gets its C typesupports and Python module, and
+    # no C++ typesupport library. A package outside the interface group is left alone.
+    prefix = Path(sys.prefix)
+    if not (prefix / "share" / "rosidl_default_generators").is_dir():
+        pytest.skip("no rosidl generators in this venv (a sourced ROS 2 provides them)")
+    source = tmp_path / "demo_msgs"
+    (source / "msg").mkdir(parents=True)
+    (source / "msg" / "Ping.msg").write_text("builtin_interfaces/Time stamp\nstring text\n")
+    (source / "package.xml").write_text(
+        "<package format='3'><name>demo_msgs</name><version>1.0.0</version>"
+        "<description>d</description><maintainer email='dev@example.com'>dev</maintainer>"
+        "<license>Apache-2.0</license><buildtool_depend>ament_cmake</buildtool_depend>"
+        "<depend>builtin_interfaces</depend>"
+        "<member_of_group>rosidl_interface_packages</member_of_group>"
+        "<export><build_type>ament_cmake</build_type></export></package>\n")
+    (source / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.8)\nproject(demo_msgs)\n"
+        "find_package(ament_cmake REQUIRED)\nfind_package(rosidl_default_generators REQUIRED)\n"
+        "find_package(builtin_interfaces REQUIRED)\n"
+        "rosidl_generate_interfaces(${PROJECT_NAME} msg/Ping.msg "
+        "DEPENDENCIES builtin_interfaces)\nament_package()\n")
+    build = tmp_path / "build"
+    env = dict(os.environ, CMAKE_PREFIX_PATH=str(prefix), AMENT_PREFIX_PATH=str(prefix),
+               PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}")
+    for cmd in (["cmake", "-S", str(source), "-B", str(build), "-DBUILD_TESTING=OFF",
+                 f"-DPython3_EXECUTABLE={sys.executable}",
+                 f"-DCMAKE_PROJECT_INCLUDE={ROOT / 'tools' / 'rosidl_no_cpp.cmake'}"],
+                ["cmake", "--build", str(build), "--parallel", "2"]):
+        done = subprocess.run(cmd, env=env, text=True, capture_output=True, check=False)
+        assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    built = {p.name for p in build.rglob("*.so")}
+    assert {"libdemo_msgs__rosidl_generator_c.so", "libdemo_msgs__rosidl_typesupport_c.so",
+            "libdemo_msgs__rosidl_typesupport_fastrtps_c.so",
+            "libdemo_msgs__rosidl_typesupport_introspection_c.so",
+            "libdemo_msgs__rosidl_generator_py.so"} <= built
+    assert any(name.startswith("demo_msgs_s__rosidl_typesupport_c.") for name in built)
+    assert not [name for name in built if "_cpp" in name]
+    assert not list(build.rglob("ping.hpp"))  # no C++ message headers either
+    # rclpy's path: the Python module and the C typesupport serialise a message (rmw).
+    code = ("from demo_msgs.msg import Ping; from rclpy.serialization import "
+            "serialize_message as s, deserialize_message as d; "
+            "print(d(s(Ping(text='over DDS')), Ping).text)")
+    library_path = os.pathsep.join([str(build), os.environ.get("LD_LIBRARY_PATH", "")])
+    env.update(PYTHONPATH=str(build / "rosidl_generator_py"), LD_LIBRARY_PATH=library_path)
+    done = subprocess.run([sys.executable, "-c", code], env=env, text=True,
+                          capture_output=True, check=False)
+    assert done.stdout.strip() == "over DDS", done.stderr

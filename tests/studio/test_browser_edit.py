@@ -89,7 +89,7 @@ def test_type_an_error_see_it_fix_it_and_save(tmp_path: Path, capsys) -> None:
             assert saved == driver.execute_script("return arguments[0].value", source)
             assert "- AdvanceZone: {name: Again}" in saved
             assert main(["validate", str(tree)]) == 0
-            # no mission here: "Apply to mission" is the live studio's (test_browser_reload)
+            # no mission here: "Apply to mission" is the live studio's (test_browser_mission)
             assert not driver.find_element(By.ID, "apply").is_displayed()
     finally:
         studio.stop()

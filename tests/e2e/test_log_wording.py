@@ -4,6 +4,9 @@ Every ROS process of the run (the runner with its plugins, the servers, the simu
 a ``sitecustomize`` that rewrites each log message before rcutils prints it (reversed, with
 a marker). Nothing that decides anything reads log text, so the exit code, the progress
 lines, ``mission.json`` and the events in the recording are those of an ordinary run.
+
+The ordinary run (a module fixture) also serves the refusing report server's own test: one
+mission fewer (the suite's time budget, issue 19).
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import pytest
 
 from sar_framework.events.event import EventKind
 
-from .helpers import DEFAULT_TREE, FAST, no_traceback, read_json, run_to_end
+from .helpers import DEFAULT_TREE, FAST, no_traceback, read_json, read_jsonl, run_to_end
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -42,6 +45,26 @@ class _Reworded:
 _logger._rclpy = _Reworded(_logger._rclpy)
 '''
 PROGRESS = re.compile(r"^\[\s*[0-9.]+s\] runner \| (?!WARN: |ERROR: )(.*)$", re.MULTILINE)
+
+
+@pytest.fixture(scope="module")
+def plain(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """An ordinary run of the reference tree with a report server that refuses every report."""
+    return _run(tmp_path_factory.mktemp("plain"), "plain", {})
+
+
+def test_refusing_report_server_the_mission_goes_on_and_says_why(plain: dict[str, Any]) -> None:
+    """The reference tree falls back to LogNoDetection when NotifyBase fails."""
+    code, out, report = plain["code"], plain["out"], plain["report"]
+    assert code == 0, out
+    assert "Report refused: 'survivor_1'" in out
+    assert "NotifyBase [0.0.3.0.2] failed on the way: report of survivor_1" in out
+    mission = read_json(report / "mission.json")
+    assert [(s["id"], s["acknowledged"]) for s in mission["survivors"]] == [
+        ("survivor_1", False), ("survivor_2", False)]
+    assert not (report / "reports.jsonl").exists() or \
+        read_jsonl(report / "reports.jsonl") == []
+    assert no_traceback(out)
 
 
 def _run(tmp_path: Path, name: str, env: dict[str, str]) -> dict[str, Any]:
@@ -91,11 +114,11 @@ def _recorded(record: Path) -> tuple[list[tuple[Any, ...]], dict[str, Any]]:
     return told, replayed
 
 
-def test_rewording_every_log_line_changes_no_verdict_report_or_recording(tmp_path) -> None:
+def test_rewording_every_log_line_changes_no_verdict_report_or_recording(
+        plain: dict[str, Any], tmp_path: Path) -> None:
     hook = tmp_path / "hook"
     hook.mkdir()
     (hook / "sitecustomize.py").write_text(SITECUSTOMIZE)
-    plain = _run(tmp_path, "plain", {})
     reworded = _run(tmp_path, "reworded", {
         "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")])})
 

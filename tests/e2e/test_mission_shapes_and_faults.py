@@ -87,22 +87,6 @@ def test_missing_detect_server_fails_the_tree_naming_detect_survivor(tmp_path) -
     assert no_traceback(out)
 
 
-def test_refusing_report_server_the_mission_goes_on_and_says_why(tmp_path) -> None:
-    """The reference tree falls back to LogNoDetection when NotifyBase fails."""
-    report = tmp_path / "report"
-    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST,
-                            "--report-param", "refuse_all:=true"], report)
-    assert code == 0, out
-    assert "Report refused: 'survivor_1'" in out
-    assert "NotifyBase [0.0.3.0.2] failed on the way: report of survivor_1" in out
-    mission = read_json(report / "mission.json")
-    assert [(s["id"], s["acknowledged"]) for s in mission["survivors"]] == [
-        ("survivor_1", False), ("survivor_2", False)]
-    assert not (report / "reports.jsonl").exists() or \
-        read_jsonl(report / "reports.jsonl") == []
-    assert no_traceback(out)
-
-
 def test_a_tree_without_a_one_shot_at_its_end_runs_once_and_ends_at_base(tmp_path) -> None:
     """Regression: after its root succeeded such a tree was ticked again and set off anew."""
     report = tmp_path / "report"

@@ -111,7 +111,8 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     ESC[0m ... ESC[0m\\r on most lines. This checkout's launch file, by path, with no
     report_file: the default. The second launch runs the reference mission through Nav2's
     navigator shape (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path): the
-    same spec lines and survivors."""
+    same spec lines and survivors. At ``speed:=40`` (the e2e tests' FAST; the default 20 is
+    the reference test's): the regression is about what the second launch finds, not speed."""
     env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
                ROS_HOME=str(tmp_path / "ros_home"))
     env.pop("RCUTILS_COLORIZED_OUTPUT", None)
@@ -119,8 +120,8 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     for tree in ([], [f"tree:={REPO / 'trees' / 'examples' / 'search_and_rescue_nav2.yaml'}"]):
         proc = subprocess.Popen(
             [str(ROS2), "launch", str(REPO / "launch" / "search_and_rescue.launch.py"),
-             "nav2:=embedded", *tree], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-            text=True, env=env, start_new_session=True)
+             "nav2:=embedded", "speed:=40", *tree], stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
         STARTED.append(proc)
         output, _ = proc.communicate(timeout=240)
         assert proc.returncode == 0, output

@@ -31,9 +31,11 @@ def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return record
 
 
-@pytest.fixture
-def page(recording: Path, tmp_path: Path) -> Any:
-    studio, url = start_studio(["replay", str(recording)], tmp_path)
+@pytest.fixture(scope="module")
+def page(recording: Path) -> Any:
+    """One replay studio and browser for the file's tests (each start costs seconds); the
+    first test reads the page as it opens, at the recording's start."""
+    studio, url = start_studio(["replay", str(recording)], recording.parent)
     try:
         with headless_chromium() as driver:
             driver.get(url)

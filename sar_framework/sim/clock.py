@@ -25,16 +25,18 @@ NS_PER_S = 1_000_000_000
 class SimClock:
     """Simulation time advanced in fixed steps, ``speed`` times faster than the wall clock.
 
-    When the caller falls behind by more than ``max_lag_steps`` (a loaded machine), the
-    backlog is dropped rather than run in a burst: simulated time then runs slower than
-    ``speed`` for a moment instead of jumping, and the robot never teleports.
+    When the caller falls behind by more than ``max_lag_wall_s`` of wall time (a loaded
+    machine), the backlog is dropped rather than run in a burst: simulated time then runs
+    slower than ``speed`` for a moment instead of jumping (as Gazebo's real-time factor
+    drops), so the world never moves on by seconds between two ``/clock`` messages.
 
     Args:
         step_s: Physics step, simulated seconds (e.g. 0.02 for 50 Hz).
         speed: Simulated seconds per wall second (1.0 real time, 20.0 twenty times faster);
             the rule is the ``speed`` parameter's (:data:`~.params.SPEED`).
         start_s: Simulated time at start, seconds.
-        max_lag_steps: Largest backlog, in steps, that :meth:`due_steps` will report.
+        max_lag_wall_s: Largest backlog, in wall seconds at ``speed`` (so in simulated time
+            ``max_lag_wall_s * speed``), that :meth:`due_steps` will report.
 
     Raises:
         ValueError: If ``step_s`` is not a positive finite number, or ``speed`` breaks
@@ -47,13 +49,13 @@ class SimClock:
         *,
         speed: float,
         start_s: float = 0.0,
-        max_lag_steps: int = 200,
+        max_lag_wall_s: float = 0.2,
     ) -> None:
         if not (math.isfinite(step_s) and step_s > 0.0):
             raise ValueError(f"step_s must be a positive number, got {step_s!r}")
         self._step_ns = max(1, round(step_s * NS_PER_S))
         self._now_ns = round(start_s * NS_PER_S)
-        self._max_lag_steps = max(1, max_lag_steps)
+        self._max_lag_wall_s = max_lag_wall_s
         self._speed = 1.0
         self._anchor_wall: float | None = None
         self._anchor_ns = self._now_ns
@@ -117,7 +119,7 @@ class SimClock:
             wall_now: A monotonic wall time, seconds.
 
         Returns:
-            Steps due (0 when simulated time is ahead), at most ``max_lag_steps``.
+            Steps due (0 when simulated time is ahead), at most ``max_lag_wall_s`` worth.
         """
         if self._anchor_wall is None:
             self._anchor_wall, self._anchor_ns = wall_now, self._now_ns
@@ -127,10 +129,12 @@ class SimClock:
         target_ns = self._anchor_ns + (wall_now - self._anchor_wall) * self._speed * NS_PER_S
         # The epsilon absorbs float noise of wall-time differences (0.1 s -> 0.0999...).
         due = math.floor((target_ns - self._now_ns) / self._step_ns + 1e-6)
-        if due > self._max_lag_steps:
-            # Forget the backlog: re-anchor so the target is max_lag_steps ahead of now.
-            self._dropped_steps += due - self._max_lag_steps
-            due = self._max_lag_steps
+        most = max(1, math.floor(self._max_lag_wall_s * self._speed * NS_PER_S / self._step_ns
+                                 + 1e-6))
+        if due > most:
+            # Forget the backlog: re-anchor so the target is `most` steps ahead of now.
+            self._dropped_steps += due - most
+            due = most
             self._anchor_wall = wall_now
             self._anchor_ns = self._now_ns + due * self._step_ns
             return due

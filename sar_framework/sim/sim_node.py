@@ -76,7 +76,9 @@ class Simulator:
             self.node.destroy_node()
             raise
         s = self.settings
-        self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed)
+        # A stall costs at most two updates' worth of simulated time, never a burst.
+        self.clock = SimClock(step_s=1.0 / s.physics_hz, speed=s.speed,
+                              max_lag_wall_s=2.0 / s.max_update_hz)
         self._clock_lock = threading.Lock()
         self._now_ns = 0
         try:

@@ -50,13 +50,26 @@ def test_clock_keeps_exact_nanoseconds_over_many_steps() -> None:
 
 
 def test_clock_drops_a_backlog_instead_of_bursting() -> None:
-    clock = SimClock(step_s=0.02, speed=1.0, max_lag_steps=10)
+    clock = SimClock(step_s=0.02, speed=1.0, max_lag_wall_s=0.2)
     clock.start(0.0)
     assert clock.due_steps(5.0) == 10  # 250 steps owed, 10 allowed
     assert clock.dropped_steps == 240
     clock.advance(10)
     assert clock.due_steps(5.0) == 0
     assert clock.due_steps(5.04) == 2  # paced normally from the new anchor
+
+
+def test_a_stall_bursts_at_most_the_lag_s_worth_at_any_speed() -> None:
+    # A process stalled by a loaded machine: the simulated time it catches up at once
+    # (one /clock gap) is bounded in wall seconds, so it scales with the speed and a tree
+    # ticking on /clock never sees the world jump by seconds.
+    for speed, most in ((10.0, 10), (20.0, 20), (100.0, 100)):
+        clock = SimClock(step_s=0.02, speed=speed, max_lag_wall_s=0.02)
+        clock.start(0.0)
+        assert clock.due_steps(0.01) == speed * 0.01 / 0.02  # on time: all due steps
+        clock.advance(clock.due_steps(0.01) or 0)
+        assert clock.due_steps(0.5) == most  # 0.49 s of wall stall: 0.02 s worth
+        assert clock.dropped_steps > 0
 
 
 def test_clock_hold_forgets_the_time_spent() -> None:
@@ -68,7 +81,7 @@ def test_clock_hold_forgets_the_time_spent() -> None:
 
 
 def test_clock_speed_change_reanchors() -> None:
-    clock = SimClock(step_s=0.1, speed=1.0)
+    clock = SimClock(step_s=0.1, speed=1.0, max_lag_wall_s=10.0)
     clock.start(0.0)
     clock.advance(clock.due_steps(1.0))
     clock.speed = 4.0

@@ -114,9 +114,11 @@ def test_each_robot_has_nav2_s_surface_under_its_namespace(client: tuple, ns: st
         state = call_service(node, executor, GetState, f"/{ns}/{server}/get_state",
                              GetState.Request(), discovery_timeout=DISCOVERY_S).current_state
         assert state.id == State.PRIMARY_STATE_ACTIVE, server
-    nodes = set(node.get_node_names_and_namespaces())
-    assert {("lifecycle_manager_navigation", f"/{ns}"),
-            ("lifecycle_manager_localization", f"/{ns}"), ("map_server", f"/{ns}")} <= nodes
+    wanted = {("lifecycle_manager_navigation", f"/{ns}"),
+              ("lifecycle_manager_localization", f"/{ns}"), ("map_server", f"/{ns}")}
+    # Node names come by discovery, which may lag the services answering on a loaded machine.
+    assert spin_until(executor, lambda: wanted <= set(node.get_node_names_and_namespaces()),
+                      DISCOVERY_S), node.get_node_names_and_namespaces()
     tf: list[TFMessage] = []
     odom: list[Odometry] = []
     node.create_subscription(TFMessage, f"/{ns}/tf", tf.append, 10)

@@ -35,7 +35,7 @@ XDIST := -n $(PYTEST_WORKERS) --dist loadfile --no-loadscope-reorder
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@$(BIN)/python -m pytest -q -p no:cacheprovider $(XDIST); rc=$$?; \
 	  [ $$rc -ne 5 ] || echo "make test: pytest collected no tests" >&2; exit $$rc
-	@$(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider tests/engine; rc=$$?; \
+	@$(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider -n 2 tests/engine; rc=$$?; \
 	  [ $$rc -ne 5 ] || echo "make test: no engine tests collected" >&2; exit $$rc
 
 test-fast: setup  ## tests without the slow end-to-end runs

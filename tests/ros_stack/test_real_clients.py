@@ -81,12 +81,14 @@ def tool(*args: str, timeout: float = TOOL_TIMEOUT_S, env: dict[str, str] | None
     return done.stdout
 
 
-def tool_until(check: str, *args: str, attempts: int = 4) -> str:
-    """Run a tool until its output holds ``check`` (DDS discovery takes a moment)."""
+def tool_until(check: str | tuple[str, ...], *args: str, attempts: int = 4) -> str:
+    """Run a tool until its output holds ``check`` (all of them: DDS discovery takes a
+    moment, and another process may be discovered a run later than the first)."""
+    checks = (check,) if isinstance(check, str) else check
     out = ""
     for _ in range(attempts):
         out = tool(*args)
-        if check in out:
+        if all(c in out for c in checks):
             break
         time.sleep(1.0)
     return out
@@ -187,8 +189,8 @@ def test_action_list_shows_navigate_to_pose_with_its_type(mission: Mission) -> N
 
 
 def test_node_list_names_are_unique(mission: Mission) -> None:
-    out = tool_until("/sar_mission_runner", "ros2", "node", "list", "--no-daemon",
-                     "--spin-time", "3")
+    out = tool_until(("/sar_mission_runner", "/bt_navigator", "/amcl"), "ros2", "node", "list",
+                     "--no-daemon", "--spin-time", "3", attempts=8)
     names = out.split()
     assert len(names) == len(set(names)), f"duplicate node names: {names}"
     assert {"/sar_mission_runner", "/bt_navigator", "/amcl"} <= set(names), names

@@ -167,8 +167,11 @@ class TreeReloader:
             return
         self._pending = None
         self.reload()
-        self._files = tree_files(self._tree_file, self._plugin_paths)  # includes may change
-        self._seen = signature(self._files)
+        files = tree_files(self._tree_file, self._plugin_paths)  # includes may change
+        # What was read is what `now` saw: a save made during the reload differs from it
+        # and is loaded at the next settled poll.
+        self._seen = now if files == self._files else signature(files)
+        self._files = files
 
 
 def follow_swap(tree: py_trees.trees.BehaviourTree, swap: HotSwap, *,

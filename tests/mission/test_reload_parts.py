@@ -157,3 +157,32 @@ def test_a_rebuilt_root_becomes_the_ticking_trees_root(tmp_path: Path) -> None:
     assert (emitted.node_uid, emitted.node_kind, emitted.node_name) == ("0.0", "Countdown", "Work")
     ticking.tick()
     assert work.status == Status.RUNNING and swap.summary.changed == ("Steps",)
+
+
+def test_a_save_during_a_reload_is_reloaded_on_the_next_poll(tmp_path: Path) -> None:
+    # Regression: the watcher took the files' signature after reloading, so a save made
+    # while the refused tree was being read (an editor fixing the error at once) was
+    # taken as already seen and never loaded.
+    from sar_framework.runner.reload import TreeReloader
+
+    tree = tmp_path / "tree.yaml"
+    tree.write_text("format: 1\nroot:\n  Countdown: {ticks: 1}\n")
+    reads: list[str] = []
+    watcher = object.__new__(TreeReloader)  # the watch logic only: no node, no service
+    watcher._tree_file, watcher._plugin_paths = str(tree), (str(PLUGINS),)
+    watcher._files = tree_files(str(tree), (str(PLUGINS),))
+    watcher._seen, watcher._pending = signature(watcher._files), None
+
+    def reload() -> tuple[bool, str]:
+        reads.append(tree.read_text())
+        if len(reads) == 1:  # the fix is saved while the first reload runs
+            time.sleep(0.01)
+            tree.write_text("format: 1\nroot:\n  Countdown: {ticks: 2}\n")
+        return False, "refused"
+
+    watcher.reload = reload  # type: ignore[method-assign]
+    time.sleep(0.01)
+    tree.write_text("format: 1\nroot:\n  Countdown: {ticks: 3}\n")
+    for _ in range(6):  # a poll sees the change, the next one (settled) reloads
+        watcher._poll()
+    assert [text.split()[-1] for text in reads] == ["3}", "2}"]

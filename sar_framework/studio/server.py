@@ -4,8 +4,9 @@ Starlette (ASGI routing, static files, websockets) served by uvicorn. The page i
 small HTML, CSS and JavaScript in ``sar_framework/studio/static`` (no framework and no CDN:
 it works on a robot with no network). The websocket ``/ws`` speaks JSON:
 
-- the server sends ``hello`` (mode, tree diagram and facts, map, timeline span and marks)
-  on connect and again whenever the tree or the map changes, and ``frame`` documents
+- the server sends ``hello`` (mode, tree diagram and facts, map, timeline span and marks;
+  replayed, every event too, for the page's event list) on connect and again whenever
+  the tree or the map changes, and ``frame`` documents
   (:meth:`~sar_framework.studio.timeline.Timeline.frame`): live, after every change of
   the mission, at most every :data:`PUSH_PERIOD_S` and once the page has drawn the last
   (it says ``{"op": "ack"}``); replayed, in answer to ``seek``;

@@ -119,13 +119,19 @@ class Session:
         self._listeners.pop(id(event), None)
 
     def hello(self) -> dict[str, Any]:
-        """Everything a tab draws once: mode, tree, map and the timeline's span and marks."""
+        """Everything a tab draws once: mode, tree, map and the timeline's span and marks.
+
+        Replayed, the timeline also lists every event (:meth:`Timeline.event_rows`), for
+        the page's event list.
+        """
         with self.lock:
+            timeline = {"start": self.timeline.start_s, "end": self.timeline.end_s,
+                        "marks": self.timeline.marks()}
+            if self.mode == REPLAY:
+                timeline["events"] = self.timeline.event_rows()
             return {"type": "hello", "mode": self.mode, "title": self.title,
                     "tree": self.tree, "world": self.world, "version": self.version,
-                    "timeline": {"start": self.timeline.start_s, "end": self.timeline.end_s,
-                                 "marks": self.timeline.marks()},
-                    "edit": self.edit}
+                    "timeline": timeline, "edit": self.edit}
 
     def frame(self, t: float | None = None) -> dict[str, Any]:
         """The frame at ``t`` (the newest when None)."""

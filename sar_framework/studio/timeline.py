@@ -136,6 +136,22 @@ class Timeline:
                  "label": _event_label(e)}
                 for i, e in enumerate(self.events) if e.kind.value in MARKS]
 
+    def event_rows(self) -> list[dict[str, Any]]:
+        """Every event in order, for the replay's event list, each with the instant it links to.
+
+        Returns:
+            ``[{"i", "t", "sim_s", "seq", "kind", "node", "uid", "status", "zone",
+            "survivor", "message"}, ...]``: ``t`` is the event's instant on the timeline
+            (never before :attr:`start_s`: an event stamped before the first tick, such as
+            ``started``, links to the start), ``sim_s`` the event's own stamp.
+        """
+        start = self.start_s
+        return [{"i": i, "t": max(t, start), "sim_s": e.sim_s, "seq": e.seq,
+                 "kind": e.kind.value, "node": e.node_name, "uid": e.node_uid,
+                 "status": e.status, "zone": e.zone_id, "survivor": e.survivor_id,
+                 "message": e.message}
+                for i, (e, t) in enumerate(zip(self.events, self._event_times, strict=True))]
+
     def frame(self, t: float | None = None) -> dict[str, Any]:
         """The mission at ``t`` (the latest when None), as the page draws it.
 

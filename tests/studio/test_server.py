@@ -55,6 +55,29 @@ def test_the_tree_is_drawn_from_the_status_when_no_tree_file_is_given(client) ->
     assert hello["timeline"]["start"] == 1.0 and hello["timeline"]["end"] == 2.0
 
 
+def test_a_replay_hello_lists_every_event_and_a_live_one_does_not() -> None:
+    from sar_framework.events.event import EventKind, MissionEvent
+    from sar_framework.studio.session import LIVE
+
+    for mode in (REPLAY, LIVE):
+        session = Session(mode, None, WORLD, "demo")
+        session.timeline.add_status(status(1, 1.0, "RUNNING"), 0.0)
+        session.timeline.add_event(MissionEvent(EventKind.NAVIGATION, seq=1, sim_s=1.5,
+                                                node_name="Leaf", node_uid="0.0",
+                                                zone_id="z", message="to z"))
+        session.timeline.add_event(MissionEvent(EventKind.DETECTION, seq=2, sim_s=2.0,
+                                                zone_id="z", status="FOUND"))
+        session.adopt_status_tree(session.timeline.statuses[0])
+        with testclient.TestClient(make_app(session, TOKEN)) as client:
+            timeline = client.get("/api/hello").json()["timeline"]
+        if mode == LIVE:
+            assert "events" not in timeline
+            continue
+        assert [(e["t"], e["kind"], e["node"], e["zone"], e["message"])
+                for e in timeline["events"]] == [(1.5, "navigation", "Leaf", "z", "to z"),
+                                                 (2.0, "detection", "", "z", "")]
+
+
 def test_a_frame_over_http(client) -> None:
     assert client.get("/api/frame?t=1.5").json()["nodes"]["0.0"][0] == "RUNNING"
     assert client.get("/api/frame").json()["nodes"]["0.0"][0] == "FAILURE"

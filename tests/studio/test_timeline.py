@@ -90,3 +90,35 @@ def test_a_clock_that_runs_back_does_not_break_the_order() -> None:
     timeline.add_status(status(1, 5.0, {"0": "RUNNING"}), 0.0)
     timeline.add_status(status(2, 4.0, {"0": "SUCCESS"}), 0.1)
     assert timeline.frame(5.0)["tick"] == 2
+
+
+def test_the_event_list_has_every_event_in_order_with_the_instant_it_links_to() -> None:
+    timeline = Timeline()
+    timeline.add_event(MissionEvent(EventKind.STARTED, seq=1, sim_s=0.0, message="go"))
+    timeline.add_status(status(1, 10.0, {"0": "RUNNING"}), 0.0)
+    kinds = [k for k in EventKind if k != EventKind.STARTED]
+    for n, kind in enumerate(kinds):
+        timeline.add_event(MissionEvent(kind, seq=n + 2, sim_s=10.0 + n / 2,
+                                        node_name=f"N{n}", node_uid=f"0.{n}",
+                                        zone_id="z" if kind == EventKind.NAVIGATION else "",
+                                        survivor_id="s" if kind == EventKind.DETECTION else "",
+                                        message=f"m{n}"))
+    timeline.add_event(MissionEvent(EventKind.NOTE, seq=99, sim_s=11.0, message="late"))
+    rows = timeline.event_rows()
+    assert [r["kind"] for r in rows] == [k.value for k in EventKind] + ["note"]
+    assert [r["seq"] for r in rows] == [1, *range(2, len(kinds) + 2), 99]
+    assert [r["i"] for r in rows] == list(range(len(rows)))
+    # started was stamped before the first tick: it links to the start, keeping its stamp
+    assert rows[0]["t"] == 10.0 and rows[0]["sim_s"] == 0.0 and rows[0]["message"] == "go"
+    assert [r["t"] for r in rows[1:-1]] == [10.0 + n / 2 for n in range(len(kinds))]
+    # a stamp behind the one before it keeps the list in time order
+    assert rows[-1]["t"] == rows[-2]["t"] and rows[-1]["sim_s"] == 11.0
+    navigation = next(r for r in rows if r["kind"] == "navigation")
+    assert (navigation["node"], navigation["uid"], navigation["zone"]) == ("N6", "0.6", "z")
+    assert next(r for r in rows if r["kind"] == "detection")["survivor"] == "s"
+    # each row's instant shows what the mission looked like then
+    assert timeline.frame(navigation["t"])["tick"] == 1
+
+
+def test_an_empty_timeline_lists_no_events() -> None:
+    assert Timeline().event_rows() == []

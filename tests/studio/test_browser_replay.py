@@ -1,5 +1,6 @@
 """A recording in the studio, in a real browser (headless chromium): the timeline's failure
-mark scrubs to the failure, with the statuses, reasons and colours of that instant."""
+mark scrubs to the failure, with the statuses, reasons and colours of that instant; a row of
+the event list moves the timeline to its event's instant, with the recorded statuses there."""
 
 from __future__ import annotations
 
@@ -10,9 +11,16 @@ from typing import Any
 import pytest
 from e2e.helpers import DEFAULT_TREE, FAST, run_to_end
 
-from sar_framework.testing.browser import browser_missing, headless_chromium, start_studio
+from sar_framework.recording.readback import read_recording
+from sar_framework.testing.browser import (
+    browser_missing,
+    colour_share,
+    headless_chromium,
+    hex_rgb,
+    start_studio,
+)
 
-from .page import assert_drawn, state, wait_for
+from .page import assert_drawn, state, until, wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
@@ -97,3 +105,95 @@ def test_the_scrubber_and_play_move_through_the_mission(page: Any) -> None:
     page.find_element(By.ID, "play").click()
     later = wait_for(page, NAMES, lambda s: s["t"] > failure["t"] + 2, 10, "playing on")
     assert later["robot"] != failure["robot"]
+
+
+#: The marked row's background in the event list (studio.css, ``#events li.now a``).
+ROW_NOW = "#ffe08a"
+ROW = """
+const li = document.querySelector(`#events li[data-i="${arguments[0]}"]`);
+const r = li.getBoundingClientRect();
+return {now: li.classList.contains("now"), marked: eventList.now,
+        rect: [r.left, r.top, r.width, r.height],
+        scrubber: +document.getElementById("scrubber").value,
+        clock: document.getElementById("clock").textContent,
+        tree: Object.fromEntries([...studio.nodes].map(([uid, g]) => [uid, g.dataset.status]))};
+"""
+
+
+def recorded_statuses(recording: Path, t: float) -> dict[str, str]:
+    """The node statuses of the recording's last tick at or before ``t``."""
+    documents = [d for d in read_recording(recording).statuses if d["sim_s"] <= t]
+    return {n["uid"]: n["status"] for n in documents[-1]["nodes"]}
+
+
+def test_an_event_row_moves_the_timeline_to_its_instant(page: Any, recording: Path,
+                                                       tmp_path: Path) -> None:
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.select import Select
+
+    timeline = page.execute_script("return studio.hello.timeline")
+    events = timeline["events"]
+    kinds = {e["kind"] for e in events}
+    assert {"started", "status", "navigation", "zone_reached", "detection", "note", "failure",
+            "survivor_broadcast", "completion"} <= kinds, kinds
+    assert len(page.find_elements(By.CSS_SELECTOR, "#events li")) == len(events)
+    assert [e["t"] for e in events] == sorted(e["t"] for e in events)
+    names = [*NAMES, "DetectSurvivor"]
+    detection = next(e for e in events if e["kind"] == "detection" and e["status"] == "FOUND")
+    navigation = next(e for e in events if e["kind"] == "navigation"
+                      and e["node"] == "NavigateToBase")  # the return after the failure
+    for event in (detection, navigation):
+        link = page.find_element(By.CSS_SELECTOR, f'#events li[data-i="{event["i"]}"] a')
+        page.execute_script("arguments[0].scrollIntoView({block: 'center'})", link)
+        link.click()
+        there = wait_for(page, names, lambda s, t=event["t"]: s["t"] == t, 10,
+                         f"the instant of {event['kind']} {event['message']}")
+        row = page.execute_script(ROW, event["i"])
+        assert row["now"] and row["marked"] == event["i"]
+        assert abs(row["scrubber"] - event["t"]) < 0.011
+        assert row["clock"] == f"{event['t'] - timeline['start']:.1f} s"
+        recorded = recorded_statuses(recording, event["t"])
+        assert {uid: row["tree"][uid] for uid in recorded} == recorded
+        assert page.execute_script("return location.hash") == f"#t={event['t']}"
+    # at the return to base: the zone's navigation failed and the base's runs
+    assert there["statuses"]["NavigateToZone"] == "FAILURE"
+    assert there["statuses"]["NavigateToBase"] == "RUNNING"
+    png = page.get_screenshot_as_png()
+    (tmp_path / "event.png").write_bytes(png)
+    assert_drawn(png, there["rects"]["NavigateToZone"], "FAILURE", "NavigateToZone")
+    assert_drawn(png, there["rects"]["NavigateToBase"], "RUNNING", "NavigateToBase")
+    assert colour_share(png, tuple(row["rect"]), hex_rgb(ROW_NOW)) > 0.3
+    # one kind only
+    Select(page.find_element(By.ID, "event-kind")).select_by_value("detection")
+    shown = [li for li in page.find_elements(By.CSS_SELECTOR, "#events li") if li.is_displayed()]
+    assert len(shown) == sum(e["kind"] == "detection" for e in events)
+    Select(page.find_element(By.ID, "event-kind")).select_by_value("")
+    # playing on marks later rows
+    page.find_element(By.ID, "play").click()
+    until(page, f"return eventList.now > {navigation['i']}")
+    page.find_element(By.ID, "play").click()
+
+
+SCALE = """
+const start = studio.hello.timeline.start;
+const rows = Array.from({length: arguments[0]}, (_, i) => ({
+  i, t: start + i * 0.01, sim_s: start + i * 0.01, seq: i + 1, kind: i % 7 ? "status" : "note",
+  node: "N", uid: "0", status: "", zone: "", survivor: "", message: `event ${i}`}));
+let began = performance.now();
+fillEvents(rows, start);
+const built = performance.now() - began;
+began = performance.now();
+for (let k = 0; k < 2000; k++) showEventAt(start + ((k * 7919) % arguments[0]) * 0.01);
+const shown = performance.now() - began;
+const marked = eventList.now;
+fillEvents(studio.hello.timeline.events, start);
+return {built, shown, marked};
+"""
+
+
+def test_the_event_list_keeps_up_with_thousands_of_events(page: Any) -> None:
+    measured = page.execute_script(SCALE, 10000)
+    assert measured["marked"] == (1999 * 7919) % 10000
+    assert measured["built"] < 3000, measured  # once per recording
+    # 2000 instants: a bisection each, no scan and no layout (measured: about 10 ms)
+    assert measured["shown"] < 300, measured

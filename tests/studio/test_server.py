@@ -41,7 +41,7 @@ def client() -> testclient.TestClient:
 def test_the_page_and_its_assets_are_served_and_need_no_network(client) -> None:
     page = client.get("/")
     assert page.status_code == 200 and "studio.js" in page.text
-    for name in ("studio.js", "studio.css"):
+    for name in ("studio.js", "events.js", "studio.css"):
         assert client.get(f"/static/{name}").status_code == 200
     for asset in STATIC.iterdir():  # no CDN: nothing is fetched from elsewhere
         assert not re.search(r"(src|href)=\"https?://", asset.read_text()), asset.name
@@ -136,5 +136,5 @@ def test_a_page_from_another_site_cannot_open_the_websocket(client) -> None:
 
 
 def test_the_static_folder_holds_only_our_own_files() -> None:
-    assert sorted(p.name for p in STATIC.iterdir()) == ["editor.js", "index.html",
+    assert sorted(p.name for p in STATIC.iterdir()) == ["editor.js", "events.js", "index.html",
                                                          "studio.css", "studio.js"]

@@ -1,7 +1,7 @@
 // sar-tree studio: the page. Plain JavaScript, no library, no network beyond this server.
 // The server sends "hello" (tree SVG, map, timeline) and "frame" documents over /ws;
 // this colours the tree's nodes, moves the robot, fills the blackboard and the reasons,
-// and (replay) drives the timeline by sending "seek".
+// and (replay) drives the timeline by sending "seek" (and the event list, events.js).
 "use strict";
 
 const SVGNS = "http://www.w3.org/2000/svg";
@@ -302,6 +302,7 @@ function setupTimeline(timeline) {
     mark.addEventListener("click", () => { pause(); seek(m.t); });
     marks.appendChild(mark);
   }
+  fillEvents(timeline.events || [], timeline.start);  // events.js
   scrubber.oninput = () => { pause(); seek(parseFloat(scrubber.value)); };
   $("play").onclick = () => (studio.playing ? pause() : play());
   $("speed").onchange = () => { studio.speed = parseFloat($("speed").value); };
@@ -310,6 +311,7 @@ function setupTimeline(timeline) {
 function showTime(t) {
   $("scrubber").value = t;
   $("clock").textContent = `${(t - startOf()).toFixed(1)} s`;
+  showEventAt(t);  // events.js
 }
 
 function seek(t) {  // at most one seek in flight; the newest wanted one goes next

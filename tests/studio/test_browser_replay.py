@@ -197,3 +197,17 @@ def test_the_event_list_keeps_up_with_thousands_of_events(page: Any) -> None:
     assert measured["built"] < 3000, measured  # once per recording
     # 2000 instants: a bisection each, no scan and no layout (measured: about 10 ms)
     assert measured["shown"] < 300, measured
+
+
+def test_an_address_with_an_instant_opens_there(page: Any) -> None:
+    events = page.execute_script("return studio.hello.timeline.events")
+    detection, zone = (next(e for e in events if e["kind"] == kind)
+                       for kind in ("detection", "zone_reached"))
+    base = page.current_url.split("#")[0]
+    page.get(f"{base}#t={detection['t']}")  # the same page: the address changes
+    wait_for(page, NAMES, lambda s: s["t"] == detection["t"], 10, "the linked instant")
+    page.get(f"{base}#t={zone['t']}")
+    page.refresh()  # a page opened on the address
+    wait_for(page, NAMES, lambda s: s["t"] == zone["t"], 30, "the linked instant on opening")
+    assert page.execute_script("return eventList.now") == max(
+        e["i"] for e in events if e["t"] == zone["t"])

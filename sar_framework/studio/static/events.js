@@ -4,7 +4,8 @@
 // shown is marked while playing or scrubbing. The rows are built once per hello; an instant
 // costs a bisection of their times and at most two class changes, whatever their number,
 // and the list scrolls to the marked row at most once per drawn frame.
-// The address keeps the last instant linked to (#t=...), and opening it goes there.
+// The address keeps the last instant linked to (#t=...); opening such an address, or
+// changing it to one, goes there.
 "use strict";
 
 const eventList = {
@@ -60,9 +61,17 @@ function fillEvents(events, start) {
     click.preventDefault();
     goToEvent(Number(li.dataset.i));
   };
-  const linked = /^#t=([-+0-9.eE]+)$/.exec(location.hash);
-  if (linked && Number.isFinite(parseFloat(linked[1]))) seek(parseFloat(linked[1]));
+  seekLinked();
 }
+
+function seekLinked() {  // the instant the address names (#t=...), if any
+  const linked = /^#t=([-+0-9.eE]+)$/.exec(location.hash);
+  const t = linked ? parseFloat(linked[1]) : NaN;
+  if (!Number.isFinite(t) || !eventList.rows.length) return;
+  pause();
+  seek(t);
+}
+window.addEventListener("hashchange", seekLinked);
 
 function goToEvent(i) {
   const t = eventList.times[i];

@@ -38,12 +38,13 @@ class NodeProcess(ChildProcess):
         label: A short name for messages and the log file.
         env: Extra environment variables (the test run's ROS settings are inherited).
         log_dir: Where the output file goes (a temp dir by default).
+        prefix: A command that runs the interpreter (``["ip", "netns", "exec", "ns1"]``).
     """
 
     def __init__(self, args: Sequence[str], label: str, *, env: dict[str, str] | None = None,
-                 log_dir: Path | None = None) -> None:
+                 log_dir: Path | None = None, prefix: Sequence[str] = ()) -> None:
         folder = log_dir or Path(tempfile.mkdtemp(prefix="sar_node_"))
-        super().__init__([sys.executable, *args], label, env={**os.environ, **(env or {})},
+        super().__init__([*prefix, sys.executable, *args], label, env={**os.environ, **(env or {})},
                          log_path=folder / f"{label}.log")
 
     def start(self) -> NodeProcess:

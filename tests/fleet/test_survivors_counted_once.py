@@ -149,6 +149,8 @@ def test_the_same_survivor_from_two_robots_gets_one_id_one_frame_one_report(
     reporter, other = first.robot, repeat.robot
     assert {reporter, other} == set(ROBOTS)
 
+    assert {robot: leaf(trees[robot], RegisterSurvivor).robot for robot in ROBOTS} == \
+        {"robot1": "robot1", "robot2": "robot2"}, "the robot is the node's namespace"
     assert leaf(trees[reporter], RegisterSurvivor).survivor_id() == "survivor_1"
     register = leaf(trees[other], RegisterSurvivor)
     assert register.status == Status.FAILURE and register.survivor_id() is None
@@ -252,3 +254,34 @@ def test_a_registration_fills_the_coordinators_fleet_event() -> None:
     assert event.has_position and (event.position.x, event.position.y) == (4.1, -2.5)
     assert event.message == ("robot3 found survivor_2 at (4.10, -2.50): repeat, not reported "
                              "again (r)")
+
+
+def test_a_broadcaster_whose_registrar_gave_no_id_broadcasts_nothing(fleet: Fleet) -> None:
+    from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
+
+    class Found:
+        def was_found(self) -> bool:
+            return True
+
+        def survivor_pose(self) -> tuple[float, float]:
+            return ROBOT1_SEES
+
+    class NoId:
+        name = "register"
+
+        def survivor_id(self) -> None:
+            return None
+
+    zones = spec_zone_manager()
+    broadcast = BroadcastSurvivorTF(
+        "broadcast", zone_manager=zones,
+        detector=Found(),  # type: ignore[arg-type]
+        registrar=NoId())  # type: ignore[arg-type]
+    tree = tree_on(fleet.nodes["robot1"], broadcast)
+    fleet.trees.append(tree)
+    tree.tick()
+    assert broadcast.status == Status.FAILURE
+    assert broadcast.feedback_message == "no fleet survivor id from register to broadcast"
+    assert zones.next_survivor_id() == "survivor_1", "no local id was allocated"
+    spin_until(fleet.executor, lambda: False, 0.5)
+    assert fleet.frames["robot1"].child_frames() == set()

@@ -12,5 +12,6 @@ behind NavigateToZone and NavigateToBase).
 Leaves share state by reference, never through a blackboard: IsSurvivorDetected,
 BroadcastSurvivorTF and NotifyBase name a DetectSurvivor leaf in ``detector``, and
 NotifyBase names the BroadcastSurvivorTF leaf in ``broadcaster`` to report the
-survivor id that leaf allocated for its TF frame.
+survivor id that leaf allocated for its TF frame (or took from the RegisterSurvivor leaf
+named in its ``registrar``: a fleet's survivors counted once).
 """

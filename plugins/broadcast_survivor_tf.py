@@ -16,6 +16,7 @@ if TYPE_CHECKING:
     from sar_framework.ros.static_tf import StaticBroadcaster
 
     from .detect_survivor import DetectSurvivor
+    from .register_survivor import RegisterSurvivor
 
 
 @leaf(
@@ -24,16 +25,21 @@ if TYPE_CHECKING:
               description="id of the DetectSurvivor leaf whose survivor to broadcast."),
         Param("parent_frame", str, default="map",
               description="Parent frame of the survivor frame (the detection's frame)."),
+        Param("registrar", ref="RegisterSurvivor", default=None,
+              description="id of a RegisterSurvivor leaf: broadcast the fleet id it was "
+                          "given instead of allocating one (fleets: survivors counted once)."),
     ],
     context=["zone_manager"],
 )
 class BroadcastSurvivorTF(RosLeaf):
     """Broadcast a static transform parent_frame -> survivor_N at the detected survivor.
 
-    Each activation allocates one new id with ``zone_manager.next_survivor_id()`` and sends
+    Each activation allocates one new id with ``zone_manager.next_survivor_id()`` (or, with
+    ``registrar`` set, takes the fleet-wide id that RegisterSurvivor leaf was given) and sends
     it on ``/tf_static`` (translation from the detection, identity rotation), then succeeds
     in the same tick. The allocated id is readable through :meth:`survivor_id`, which is how
-    NotifyBase reports the same id. FAILURE when the detector holds no survivor. Put it in a
+    NotifyBase reports the same id. FAILURE when the detector holds no survivor, or the
+    registrar holds no id for this robot to broadcast. Put it in a
     Sequence with ``memory=True`` so a RUNNING sibling after it does not re-tick it (each
     re-tick allocates another id).
 
@@ -42,14 +48,16 @@ class BroadcastSurvivorTF(RosLeaf):
         zone_manager: The mission's shared zone state (allocates survivor ids).
         detector: The DetectSurvivor leaf.
         parent_frame: Parent frame of the survivor frames.
+        registrar: The RegisterSurvivor leaf whose fleet id to use, or None.
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager, detector: DetectSurvivor,
-                 parent_frame: str = "map") -> None:
+                 parent_frame: str = "map", registrar: RegisterSurvivor | None = None) -> None:
         super().__init__(name)
         self.zone_manager = zone_manager
         self.detector = detector
         self.parent_frame = parent_frame
+        self.registrar = registrar
         self._broadcaster: StaticBroadcaster | None = None
         self._survivor_id: str | None = None
 
@@ -83,7 +91,14 @@ class BroadcastSurvivorTF(RosLeaf):
             raise RuntimeError(f"BroadcastSurvivorTF '{self.name}' used before setup(node=...)")
         from geometry_msgs.msg import TransformStamped
 
-        child = self.zone_manager.next_survivor_id()
+        if self.registrar is None:
+            child = self.zone_manager.next_survivor_id()
+        else:
+            fleet_id = self.registrar.survivor_id()
+            if fleet_id is None:
+                return self._latch(False, f"no fleet survivor id from {self.registrar.name} "
+                                          "to broadcast")
+            child = fleet_id
         transform = TransformStamped()
         transform.header.stamp = self.node.get_clock().now().to_msg()
         transform.header.frame_id = self.parent_frame

@@ -3,8 +3,9 @@
 A runner started with ``--ros-args -r __ns:=/robot1`` must reach ``/robot1/navigate_to_pose``
 and the robot's other servers, as a namespaced Nav2 stack's nodes do. So no built-in leaf
 (our mission leaves and ``plugins/nav2``) may default to an absolute server, topic or action
-name, nor hard-code one (``SERVER``). The one exception is the base station's report
-service: one base serves the whole fleet (docs/fleet.md).
+name, nor hard-code one (``SERVER``). The exceptions serve the whole fleet
+(docs/fleet.md): the base station's report service and the zone coordinator's survivor
+registry.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import discover
 
-FLEET_WIDE = {("NotifyBase", "service_name")}
+FLEET_WIDE = {("NotifyBase", "service_name"), ("RegisterSurvivor", "service_name")}
 """(leaf, param): names that stay absolute, one server for every robot."""
 
 _NAME_KEYS = ("server_name", "service_name", "action_name", "topic_name", "service",

@@ -50,9 +50,8 @@ def detect_servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     folder = tmp_path_factory.mktemp("detect")
     table = folder / "robot2_survivors.yaml"
     table.write_text(f"survivors:\n  zone_a: {{x: {ROBOT2_SEES[0]}, y: {ROBOT2_SEES[1]}}}\n")
-    # the server's default name is absolute (/detect_survivor): name it in the namespace
-    module = ["-m", "sar_framework.servers.detect_survivor_server", "--ros-args",
-              "-p", "service_name:=detect_survivor"]
+    # the server's default name is relative: in /robot1 it serves /robot1/detect_survivor
+    module = ["-m", "sar_framework.servers.detect_survivor_server", "--ros-args"]
     with (NodeProcess([*module, "-r", "__ns:=/robot1"], "detect1", log_dir=folder) as one,
           NodeProcess([*module, "-r", "__ns:=/robot2", "-p", f"survivors_file:={table}"],
                       "detect2", log_dir=folder) as two):

@@ -135,6 +135,18 @@ class ZoneManager:
         zone = next((z for z in self._zones if z["id"] == zone_id), {"id": zone_id})
         self._tell(EventKind.ZONE_REACHED, zone)
 
+    def zone(self, zone_id: str) -> dict[str, Any]:
+        """Return a copy of zone ``zone_id`` (``{"id", "x", "y", "yaw"}``).
+
+        Raises:
+            KeyError: ``zone_id`` is not a zone of the mission.
+        """
+        found = next((z for z in self._zones if z["id"] == zone_id), None)
+        if found is None:
+            known = ", ".join(z["id"] for z in self._zones)
+            raise KeyError(f"{zone_id!r} is not a zone of the mission (zones: {known})")
+        return dict(found)
+
     def claim(self, zone_id: str) -> None:
         """Make ``zone_id`` the current zone (a fleet's ``ClaimZone`` won it in an auction).
 

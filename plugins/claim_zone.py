@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 #: Notices, awards and events a late subscriber still receives (the coordinator's depths).
 HISTORY_DEPTH = 100
 EVENTS_DEPTH = 1000
+NO_WORK = "no work left: every zone is searched or abandoned"
 
 
 @leaf(
@@ -80,7 +81,7 @@ class ClaimZone(RosLeaf):
         self._bid: PolledServiceCall | None = None
         self._notices: list[Any] = []
         self._awards: list[Any] = []
-        self._complete = False
+        self._complete = False  # the coordinator said no work is left: final
         self._last_notice = 0
         self._phase = "request"
         self._round: Any = None
@@ -143,6 +144,9 @@ class ClaimZone(RosLeaf):
         self._phase = "request"
         self._round = self._costs = None
         self._bid_rounds = set()
+        if self._complete:  # decided at once, so a reactive parent does not halt the way home
+            self._latch(False, NO_WORK, log=False)
+            return
         self._calls()[0].start()
         self.feedback_message = f"{self.robot} asking for work"
 
@@ -158,7 +162,8 @@ class ClaimZone(RosLeaf):
             if result.error is not None:
                 return self._latch(False, f"cannot ask for work: {result.error}")
             if result.response.done:
-                return self._latch(False, "no work left: every zone is searched or abandoned")
+                self._complete = True
+                return self._latch(False, NO_WORK)
             if not result.response.accepted:
                 return self._latch(False, f"the coordinator refused: {result.response.reason}")
             self._phase = "wait"
@@ -167,7 +172,7 @@ class ClaimZone(RosLeaf):
         if won is not None:
             return won
         if self._complete:
-            return self._latch(False, "no work left: every zone is searched or abandoned")
+            return self._latch(False, NO_WORK)
         if self._phase == "wait":
             self._maybe_plan()
         if self._phase == "plan":

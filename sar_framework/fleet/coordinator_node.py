@@ -203,7 +203,8 @@ class ZoneCoordinator:
     def check(self) -> None:
         """Declare silent robots lost, close a finished round, open the next one."""
         now = self.now()
-        for robot, reopened in self.auction.expire(now, self.timeout_s):
+        lost = [] if self._complete else self.auction.expire(now, self.timeout_s)
+        for robot, reopened in lost:  # robots ending their runs after the end are not news
             again = f"; {', '.join(reopened)} back to auction" if reopened else ""
             self.events.emit(FleetEvent.KIND_ROBOT_LOST, f"{robot} lost: silent for more "
                              f"than {self.timeout_s:g} s{again}", robot=robot,

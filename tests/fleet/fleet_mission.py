@@ -24,6 +24,9 @@ SPAWNS = {"robot1": (0.0, 0.0, 0.0), "robot2": (-1.5, 1.0, 0.0), "robot3": (2.5,
 ZONES = ("zone_a", "zone_b", "zone_c", "zone_d")
 ROBOT_TIMEOUT_S = 2.0
 
+Killer = Callable[[list[dict[str, Any]], dict[str, str]], "str | None"]
+"""``(events so far, runner outputs) -> the robot to kill now, or None``."""
+
 
 @dataclass
 class FleetRun:
@@ -32,7 +35,8 @@ class FleetRun:
     events: list[dict[str, Any]]
     codes: dict[str, int | None]
     outputs: str
-    killed_at: float | None = None
+    victim: str | None = None
+    lost_after_s: float | None = None
 
     def kinds(self, kind: str) -> list[dict[str, Any]]:
         """The events of one kind, in order."""
@@ -54,16 +58,17 @@ def read_events(path: Path) -> list[dict[str, Any]]:
             if line.strip()]
 
 
-def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (),
-              kill: Callable[[list[dict[str, Any]]], str | None] | None = None,
-              timeout_s: float = 90.0) -> FleetRun:
+def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Sequence[str] = (),
+              kill: Killer | None = None, timeout_s: float = 90.0) -> FleetRun:
     """Run the fleet mission to its end; ``kill(events)`` may name a runner to SIGKILL.
 
     Args:
         tmp: Folder for logs and files.
         sim_params: Extra ``-p`` settings of the simulator (its faults).
-        kill: Called with the events so far while the mission runs; the first robot name
-            it returns has its runner killed with SIGKILL (at most once).
+        detect_params: Extra ``-p`` settings of every detect server.
+        kill: Called with the events so far and each runner's output while the mission
+            runs; the first robot name it returns has its runner killed with SIGKILL (at
+            most once). The time until the coordinator's ``robot_lost`` event is measured.
         timeout_s: Wall bound of the mission.
     """
     import signal
@@ -77,7 +82,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (),
     tree = str(REPO / "trees" / "fleet_search.yaml")
     procs: list[NodeProcess] = []
     runners: dict[str, NodeProcess] = {}
-    killed_at = None
+    killed_at = lost_after = None
 
     def start(args: list[str], label: str) -> NodeProcess:
         proc = NodeProcess(["-m", *args], label, log_dir=tmp).start()
@@ -96,7 +101,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (),
         coordinator.wait_for_output("ready", timeout=30)
         for name, (x, y, yaw) in SPAWNS.items():
             start(["sar_framework.servers.detect_survivor_server", "--ros-args",
-                   "-r", f"__ns:=/{name}", "-p", "service_name:=detect_survivor"],
+                   "-r", f"__ns:=/{name}", "-p", "service_name:=detect_survivor", *detect_params],
                   f"detect_{name}")
             runners[name] = start([
                 "sar_framework.runner.node", "--ros-args", "-r", f"__ns:=/{name}",
@@ -109,10 +114,15 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (),
         victim = None
         while time.monotonic() < deadline:
             if kill is not None and victim is None:
-                victim = kill(read_events(events_file))
+                victim = kill(read_events(events_file),
+                              {n: r.output for n, r in runners.items()})
                 if victim is not None:
                     runners[victim].signal(signal.SIGKILL)
                     killed_at = time.monotonic()
+            if killed_at is not None and lost_after is None and any(
+                    e["kind"] == "robot_lost" and e["robot"] == victim
+                    for e in read_events(events_file)):
+                lost_after = time.monotonic() - killed_at
             if all(r.poll() is not None for r in runners.values()):
                 break
             time.sleep(0.05)
@@ -121,4 +131,4 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (),
         for proc in reversed(procs):
             proc.stop()
     outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
-    return FleetRun(read_events(events_file), codes, outputs, killed_at)
+    return FleetRun(read_events(events_file), codes, outputs, victim, lost_after)

@@ -130,9 +130,11 @@ class ZoneCoordinator:
     # -- the robots ----------------------------------------------------------------------
 
     def _heard(self, robot: str) -> None:
+        was = self.auction.robot_state(robot)
         if self.auction.heard(robot, self.now()):
-            self.events.emit(FleetEvent.KIND_ROBOT_JOINED, f"{robot} joined the fleet",
-                             robot=robot)
+            again = "rejoined the fleet (it was lost)" if was is not None else \
+                "joined the fleet"
+            self.events.emit(FleetEvent.KIND_ROBOT_JOINED, f"{robot} {again}", robot=robot)
 
     def _on_heartbeat(self, message: FleetHeartbeat) -> None:
         if message.robot:

@@ -119,6 +119,10 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
             e["kind"] == "robot_lost" for e in _events(events_file)), 10.0)
         noticed = time.monotonic() - silent
         assert noticed < 1.0 + 1.0  # robot_timeout_s, plus the heartbeat period and checks
+        alive["r2"] = True  # heard again: back, idle, holding nothing
+        assert spin_until(executor, lambda: any(
+            e["message"] == "r2 rejoined the fleet (it was lost)"
+            for e in _events(events_file)), 10.0)
         assert call(RequestZone, "request_zone", robot="r1").accepted
         assert spin_until(executor, lambda: notices[-1].robots == ["r1"]
                           and list(notices[-1].zone_ids) == ["zone_b"], 10.0)

@@ -28,6 +28,8 @@ if TYPE_CHECKING:
 #: Notices, awards and events a late subscriber still receives (the coordinator's depths).
 HISTORY_DEPTH = 100
 EVENTS_DEPTH = 1000
+#: Wall seconds between two heartbeats: well inside the coordinator's robot_timeout_wall_s.
+HEARTBEAT_PERIOD_WALL_S = 0.5
 NO_WORK = "no work left: every zone is searched or abandoned"
 
 
@@ -37,8 +39,6 @@ NO_WORK = "no work left: every zone is searched or abandoned"
         Param("action_name", str, default="compute_path_to_pose",
               description="This robot's Nav2 ComputePathToPose action (relative)."),
         Param("frame_id", str, default="map", description="Frame of the zone poses."),
-        Param("heartbeat_period_s", float, default=0.5, exclusive_minimum=0.0,
-              description="Wall seconds between two heartbeats (from setup on)."),
         *SERVICE_TIMEOUT_PARAMS,
     ],
     context=["zone_manager"],
@@ -58,21 +58,22 @@ class ClaimZone(RosLeaf):
         server_name: The coordinator's name (absolute, fleet-wide).
         action_name: The robot's ComputePathToPose action.
         frame_id: Frame of the zone poses.
-        heartbeat_period_s: Wall seconds between two heartbeats.
+        heartbeat_period_wall_s: Wall seconds between two heartbeats (not a tree
+            parameter: a leaf's durations are ROS time; this one must not be).
         server_timeout_s: Bound on waiting for the coordinator's services.
         response_timeout_s: Bound on waiting for their answers.
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager,
                  server_name: str = COORDINATOR, action_name: str = "compute_path_to_pose",
-                 frame_id: str = "map", heartbeat_period_s: float = 0.5,
+                 frame_id: str = "map", heartbeat_period_wall_s: float = HEARTBEAT_PERIOD_WALL_S,
                  server_timeout_s: float = 10.0, response_timeout_s: float = 10.0) -> None:
         super().__init__(name)
         self.zone_manager = zone_manager
         self.prefix = server_name.rstrip("/")
         self.action_name = action_name
         self.frame_id = frame_id
-        self.heartbeat_period_s = heartbeat_period_s
+        self.heartbeat_period_wall_s = heartbeat_period_wall_s
         self.server_timeout_s = server_timeout_s
         self.response_timeout_s = response_timeout_s
         self.robot = ""
@@ -120,7 +121,7 @@ class ClaimZone(RosLeaf):
             "action_type": ComputePathToPose,
             "planner": ActionClient(node, ComputePathToPose, self.action_name),
             "heartbeat": heartbeat,
-            "timer": node.create_timer(self.heartbeat_period_s, beat,
+            "timer": node.create_timer(self.heartbeat_period_wall_s, beat,
                                        clock=Clock(clock_type=ClockType.STEADY_TIME)),
             "notices": node.create_subscription(ZoneNotice, f"{self.prefix}/notices",
                                                 self._notices.append,

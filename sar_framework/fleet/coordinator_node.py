@@ -13,13 +13,13 @@ The protocol (the rules are :mod:`sar_framework.fleet.auction`'s):
    ``/zone_coordinator/notices`` names the zones and the bidders;
 3. bid: each bidder answers on ``/zone_coordinator/bid_zones`` with its Nav2 path cost per
    zone (``inf``: it cannot reach it);
-4. award: once every bidder bid or ``bid_window_s`` passed, the lowest bids win, one zone
+4. award: once every bidder bid or ``bid_window_wall_s`` passed, the lowest bids win, one zone
    per robot; each win is a ``ZoneAward`` on ``/zone_coordinator/awards``;
 5. finish: the winner says on ``/zone_coordinator/finish_zone`` that it searched the zone,
    or gives it back (it could not reach it).
 
 Robots publish ``FleetHeartbeat`` on ``/zone_coordinator/heartbeat``; one silent for
-``robot_timeout_s`` (wall clock) is lost and its claims go back to auction. Every decision
+``robot_timeout_wall_s`` (wall clock) is lost and its claims go back to auction. Every decision
 is a ``FleetEvent`` (:mod:`.event_log`). Parameters:
 :data:`~sar_framework.fleet.params.COORDINATOR_PARAMETERS`. Exits 2 with one line on a bad
 configuration.
@@ -94,8 +94,8 @@ class ZoneCoordinator:
         values = declare_table(node, COORDINATOR_PARAMETERS, source="parameters",
                                locations=locations)
         mission = read_mission_params(node, source=source, locations=locations)
-        self.timeout_s = float(values["robot_timeout_s"])
-        self.window_s = float(values["bid_window_s"])
+        self.timeout_s = float(values["robot_timeout_wall_s"])
+        self.window_s = float(values["bid_window_wall_s"])
         self.auction = ZoneAuction(mission.zone_order,
                                    abandon_after_rounds=int(values["abandon_after_rounds"]))
         try:
@@ -120,7 +120,7 @@ class ZoneCoordinator:
         registry = "hosting" if self.survivor_registry is not None else "without"
         node.get_logger().info(
             f"ready: {len(mission.zone_order)} zones ({', '.join(mission.zone_order)}), "
-            f"robot_timeout_s {self.timeout_s:g}, bid_window_s {self.window_s:g}, "
+            f"robot_timeout_wall_s {self.timeout_s:g}, bid_window_wall_s {self.window_s:g}, "
             f"{registry} the survivor registry")
 
     def now(self) -> float:

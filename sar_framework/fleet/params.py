@@ -14,10 +14,10 @@ from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 _MISSION = tuple(p for p in RUNNER_PARAMETERS
                  if p.name == "zone_order" or p.name.startswith("zones."))
 
-ROBOT_TIMEOUT = Param("robot_timeout_s", float, 3.0, "a robot silent on "
+ROBOT_TIMEOUT = Param("robot_timeout_wall_s", float, 3.0, "a robot silent on "
                       "/zone_coordinator/heartbeat this long is lost (wall clock)",
                       exclusive_minimum=0.0, unit="s")
-BID_WINDOW = Param("bid_window_s", float, 2.0, "an auction round closes when every bidder "
+BID_WINDOW = Param("bid_window_wall_s", float, 2.0, "an auction round closes when every bidder "
                    "bid or after this long (wall clock)", exclusive_minimum=0.0, unit="s")
 EVENTS_FILE = Param("events_file", str, "", "JSON Lines file of the coordinator's events "
                     "('' = none)")

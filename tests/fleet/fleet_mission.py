@@ -22,7 +22,7 @@ REPO = Path(__file__).resolve().parents[2]
 SPEED = 30.0
 SPAWNS = {"robot1": (0.0, 0.0, 0.0), "robot2": (-1.5, 1.0, 0.0), "robot3": (2.5, -2.0, 0.0)}
 ZONES = ("zone_a", "zone_b", "zone_c", "zone_d")
-ROBOT_TIMEOUT_S = 2.0
+ROBOT_TIMEOUT_WALL_S = 2.0
 
 Killer = Callable[[list[dict[str, Any]], dict[str, str]], "str | None"]
 """``(events so far, runner outputs) -> the robot to kill now, or None``."""
@@ -96,7 +96,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
                "-p", f"report_file:={tmp / 'reports.jsonl'}"], "report")
         coordinator = start(["sar_framework.fleet.coordinator_node", "--ros-args",
                              "--params-file", params, "-p", f"events_file:={events_file}",
-                             "-p", f"robot_timeout_s:={ROBOT_TIMEOUT_S}"], "coordinator")
+                             "-p", f"robot_timeout_wall_s:={ROBOT_TIMEOUT_WALL_S}"], "coordinator")
         sim.wait_for_output("ready", timeout=30)
         coordinator.wait_for_output("ready", timeout=30)
         for name, (x, y, yaw) in SPAWNS.items():

@@ -37,8 +37,8 @@ def coordinator(tmp: Path, *extra: str) -> NodeProcess:
 
 
 @pytest.mark.parametrize(("extra", "message"), [
-    (["-p", "bid_window_s:=-1.0"], "parameters: bid_window_s: must be > 0, got -1.0"),
-    (["-p", "robot_timeout_s:=0.0"], "parameters: robot_timeout_s: must be > 0"),
+    (["-p", "bid_window_wall_s:=-1.0"], "parameters: bid_window_wall_s: must be > 0, got -1.0"),
+    (["-p", "robot_timeout_wall_s:=0.0"], "parameters: robot_timeout_wall_s: must be > 0"),
     (["-p", "events_file:=/nonexistent/dir/e.jsonl"], "events_file: cannot open "
      "/nonexistent/dir/e.jsonl"),
     (["-p", "zones.zone_b.x:=nan"], "zones.zone_b.x: must be finite"),
@@ -66,7 +66,7 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
 
     events_file = tmp_path / "events.jsonl"
     with coordinator(tmp_path, "-p", f"events_file:={events_file}", "-p",
-                     "robot_timeout_s:=1.0", "-p", "bid_window_s:=1.0") as proc, \
+                     "robot_timeout_wall_s:=1.0", "-p", "bid_window_wall_s:=1.0") as proc, \
             ros_node("fake_robots") as (node, executor):
         proc.wait_for_output("ready", timeout=20.0)
         notices: list[Any] = []
@@ -118,7 +118,7 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
         assert spin_until(executor, lambda: any(
             e["kind"] == "robot_lost" for e in _events(events_file)), 10.0)
         noticed = time.monotonic() - silent
-        assert noticed < 1.0 + 1.0  # robot_timeout_s, plus the heartbeat period and checks
+        assert noticed < 1.0 + 1.0  # robot_timeout_wall_s, plus the heartbeat period and checks
         alive["r2"] = True  # heard again: back, idle, holding nothing
         assert spin_until(executor, lambda: any(
             e["message"] == "r2 rejoined the fleet (it was lost)"

@@ -38,7 +38,7 @@ def coordinator(tmp_path: Path) -> Iterator[Path]:
     params.write_text(PARAMS, encoding="utf-8")
     events = tmp_path / "events.jsonl"
     args = ["-m", "sar_framework.fleet.coordinator_node", "--ros-args", "--params-file",
-            str(params), "-p", f"events_file:={events}", "-p", "bid_window_s:=1.0",
+            str(params), "-p", f"events_file:={events}", "-p", "bid_window_wall_s:=1.0",
             "-p", "abandon_after_rounds:=1"]
     with NodeProcess(args, "coordinator", log_dir=tmp_path) as proc:
         proc.wait_for_output("ready", timeout=20.0)
@@ -143,7 +143,7 @@ def test_without_a_coordinator_claim_fails_after_its_bound_and_beats_from_setup(
     node.create_subscription(FleetHeartbeat, "/nowhere/heartbeat",
                              lambda m: beats.append(m.robot), 10)
     leaf = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(), server_name="/nowhere",
-                     server_timeout_s=1.0, heartbeat_period_s=0.1)
+                     server_timeout_s=1.0, heartbeat_period_wall_s=0.1)
     tree = tree_on(node, leaf)
     assert spin_until(executor, lambda: len(beats) >= 3, 10.0)  # before any tick
     assert set(beats) == {"robot7"}

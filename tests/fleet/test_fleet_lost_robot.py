@@ -3,7 +3,7 @@
 Three moments (issue 23, point 5): right after the robot won a zone (it holds a claim and
 has not arrived), while it searches its zone (the detect servers answer 1 s late), and
 right after it bid in a round not yet closed. The coordinator must report the robot lost
-within ``robot_timeout_s`` plus :data:`MARGIN_S` (the heartbeat period, the coordinator's
+within ``robot_timeout_wall_s`` plus :data:`MARGIN_S` (the heartbeat period, the coordinator's
 0.1 s check, this test's 50 ms polling of the events file, and a loaded machine), put the
 zone it held back to auction, and every zone must still be searched exactly once.
 """
@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from fleet_mission import ROBOT_TIMEOUT_S, ZONES, run_fleet
+from fleet_mission import ROBOT_TIMEOUT_WALL_S, ZONES, run_fleet
 
 pytestmark = pytest.mark.ros
 
@@ -48,7 +48,7 @@ def test_a_killed_robots_zone_is_taken_over(tmp_path: Path, moment: Any,
     run = run_fleet(tmp_path, kill=moment, detect_params=["-p", "answer_delay_wall_s:=1.0"])
     assert run.victim is not None, run.outputs
     assert run.lost_after_s is not None, run.outputs
-    assert run.lost_after_s <= ROBOT_TIMEOUT_S + MARGIN_S
+    assert run.lost_after_s <= ROBOT_TIMEOUT_WALL_S + MARGIN_S
     lost = next(e for e in run.kinds("robot_lost") if e["robot"] == run.victim)
     searched = run.searched()
     abandoned = {e["zone_id"] for e in run.kinds("abandoned")}

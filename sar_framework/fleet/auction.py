@@ -22,7 +22,8 @@ finite bids wins, that robot and zone leave, and so on (one zone per robot per r
 Searched zones and zones claimed by a live robot are never offered. A lost robot's claim
 goes back to open. A robot that gave a zone back never bids on it again. A zone is
 abandoned when every live robot has given it back, or when every live robot was a bidder
-and none could reach it (no finite bid) in ``abandon_after_rounds`` rounds in a row.
+and none could reach it (no finite bid) in ``abandon_after_rounds`` rounds in a row; it
+reopens when a robot joins (or rejoins) that has not given it back.
 "No work left" (:meth:`ZoneAuction.done`): every zone searched or abandoned.
 """
 
@@ -297,6 +298,20 @@ class ZoneAuction:
                     if live and all(z in r.given_back for r in live))
         for zone_id in out:
             self._zones[zone_id] = ZoneState.ABANDONED
+        return out
+
+    def reopen_abandoned(self, robot: str) -> tuple[str, ...]:
+        """Reopen the abandoned zones ``robot`` never gave back; return them.
+
+        For a robot that just joined (or rejoined): "no live robot can reach it" was said
+        without it. Called by the coordinator whenever :meth:`heard` returns True.
+        """
+        given_back = self._robots[robot].given_back if robot in self._robots else set()
+        out = tuple(z for z in self._order
+                    if self._zones[z] is ZoneState.ABANDONED and z not in given_back)
+        for zone_id in out:
+            self._zones[zone_id] = ZoneState.OPEN
+            self._unreachable.pop(zone_id, None)
         return out
 
     def open_round(self, now: float, *, retry_after_s: float = 0.0) -> Notice | None:

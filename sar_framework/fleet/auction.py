@@ -152,10 +152,6 @@ class ZoneAuction:
         known = self._robots.get(robot)
         return known.state if known else None
 
-    def robots(self) -> tuple[str, ...]:
-        """Every robot that made contact, in order of first contact."""
-        return tuple(self._robots)
-
     def live_robots(self) -> tuple[str, ...]:
         """The robots not lost."""
         return tuple(r for r, s in self._robots.items() if s.state is not RobotState.LOST)
@@ -168,10 +164,6 @@ class ZoneAuction:
     def open_zones(self) -> tuple[str, ...]:
         """The open zones, in the mission's order."""
         return tuple(z for z in self._order if self._zones[z] is ZoneState.OPEN)
-
-    def current_round(self) -> Notice | None:
-        """The round open now, if any."""
-        return self._round.notice if self._round else None
 
     def done(self) -> bool:
         """Whether no work is left: every zone searched or abandoned."""

@@ -129,29 +129,3 @@ class SurvivorRegistryService:
         if self._on_registered is not None:
             self._on_registered(registration)
         return response
-
-
-def fill_fleet_event(event: Any, registration: Registration) -> Any:
-    """Fill a ``sar_interfaces/msg/FleetEvent``'s survivor fields from a registration.
-
-    Sets ``kind`` (``survivor_registered``), ``robot``, ``zone_id``, ``survivor_id``,
-    ``has_position``, ``position`` and ``message`` (first or repeat, and who reports); the
-    coordinator sets the stamp and sequence number.
-
-    Args:
-        event: The message to fill.
-        registration: What the registry answered.
-
-    Returns:
-        ``event``.
-    """
-    event.kind = SURVIVOR_REGISTERED
-    event.robot = registration.robot
-    event.zone_id = registration.zone_id
-    event.survivor_id = registration.survivor_id
-    event.has_position = True
-    event.position.x = registration.x
-    event.position.y = registration.y
-    event.position.z = 0.0
-    event.message = registration.describe()
-    return event

@@ -33,7 +33,6 @@ from sar_framework.fleet.survivor_registry import Registration
 from sar_framework.fleet.survivor_service import (
     REGISTER_SURVIVOR_SERVICE,
     SurvivorRegistryService,
-    fill_fleet_event,
 )
 from sar_framework.ros.tf_topics import TF_REMAP_ARGS
 
@@ -240,19 +239,6 @@ def test_a_refused_registration_is_logged_and_not_broadcast(fleet: Fleet) -> Non
     assert (nameless.survivor_id, nameless.report) == ("", False)
     assert nameless.reason == "registration refused: robot: must be a non-empty name, got ''"
     assert fleet.service.survivor_ids() == ()
-
-
-def test_a_registration_fills_the_coordinators_fleet_event() -> None:
-    from sar_interfaces.msg import FleetEvent
-
-    registration = Registration("survivor_2", "robot3", "zone_c", 4.1, -2.5, report=False,
-                                found_by="robot1", reason="r", first=False)
-    event = fill_fleet_event(FleetEvent(), registration)
-    assert event.kind == FleetEvent.KIND_SURVIVOR_REGISTERED
-    assert (event.robot, event.zone_id, event.survivor_id) == ("robot3", "zone_c", "survivor_2")
-    assert event.has_position and (event.position.x, event.position.y) == (4.1, -2.5)
-    assert event.message == ("robot3 found survivor_2 at (4.10, -2.50): repeat, not reported "
-                             "again (r)")
 
 
 def test_a_broadcaster_whose_registrar_gave_no_id_broadcasts_nothing(fleet: Fleet) -> None:

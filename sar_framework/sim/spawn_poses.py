@@ -1,0 +1,114 @@
+"""Spawn poses for N robots near the base station, and the fleet file that holds them.
+
+Plain Python (numpy, no ROS). ``sar-tree run --robots N`` and ``fleet.launch.py robots:=N``
+write a fleet file (:mod:`.fleet_file`) from :func:`spawn_poses`: the base station first
+(when a robot fits there: the example's base is a doorway, so it does not), then the
+free places nearest to it on a lattice of
+:data:`SPACING_M`, each clear of walls and debris by the footprint plus
+:data:`CLEARANCE_MARGIN_M`, reachable from the base and at least :data:`SPACING_M` from
+the others (well over the simulator's two footprints, so no robot starts blocked).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from sar_framework.sim.occupancy import OccupancyGrid, inflate, reachable
+from sar_framework.sim.world import Pose2D
+
+__all__ = ["CLEARANCE_MARGIN_M", "MAX_ROBOTS", "SPACING_M", "SpawnError", "fleet_text",
+           "spawn_poses", "write_fleet_file"]
+
+SPACING_M = 1.0
+"""Metres between two spawn poses (and the lattice step)."""
+CLEARANCE_MARGIN_M = 0.15
+"""Metres of free space beyond the footprint around a spawn pose."""
+MAX_ROBOTS = 8
+"""The most robots ``--robots`` accepts."""
+SEARCH_RADIUS_M = 4.0
+"""How far from the base spawn poses are looked for."""
+
+
+class SpawnError(ValueError):
+    """Not enough free places near the base for the robots asked for."""
+
+
+def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radius: float,
+                spacing: float = SPACING_M) -> list[Pose2D]:
+    """``count`` spawn poses in free space near ``base``, nearest first (yaw 0).
+
+    Args:
+        count: How many robots.
+        base: The base station ``(x, y)``, metres.
+        grid: The map the robots drive in.
+        radius: The robots' footprint radius, metres.
+        spacing: Metres between two poses.
+
+    Returns:
+        The poses, the base's first when it is free.
+
+    Raises:
+        SpawnError: Fewer than ``count`` places found within :data:`SEARCH_RADIUS_M`.
+    """
+    blocked = inflate(grid, radius + CLEARANCE_MARGIN_M) | (grid.data != 0)
+    base_cell = grid.world_to_cell(*base)
+    if not grid.in_bounds(*base_cell):
+        raise SpawnError(f"the base station ({base[0]:g}, {base[1]:g}) is outside the map")
+    passable = ~inflate(grid, radius)
+    around = reachable(passable, _nearest(passable, base_cell))  # where the base's robots go
+    steps = int(SEARCH_RADIUS_M / spacing)
+    candidates = sorted(
+        ((base[0] + i * spacing, base[1] + j * spacing)
+         for i in range(-steps, steps + 1) for j in range(-steps, steps + 1)),
+        key=lambda p: (round(math.dist(p, base), 6), math.atan2(p[1] - base[1], p[0] - base[0])))
+    chosen: list[tuple[float, float]] = []
+    for x, y in candidates:
+        cell = grid.world_to_cell(x, y)
+        if not grid.in_bounds(*cell) or blocked[cell] or not around[cell]:
+            continue
+        if all(math.dist((x, y), other) >= spacing - 1e-9 for other in chosen):
+            chosen.append((x, y))
+        if len(chosen) == count:
+            return [Pose2D(round(x, 3), round(y, 3), 0.0) for x, y in chosen]
+    raise SpawnError(f"only {len(chosen)} free spawn places within {SEARCH_RADIUS_M:g} m of "
+                     f"the base station, {count} robots asked for")
+
+
+def _nearest(mask: np.ndarray, cell: tuple[int, int]) -> tuple[int, int]:
+    """The cell of ``mask`` nearest to ``cell`` (``cell`` itself when set or none is)."""
+    rows, cols = np.nonzero(mask)
+    if mask[cell] or not len(rows):
+        return cell
+    best = int(np.argmin((rows - cell[0]) ** 2 + (cols - cell[1]) ** 2))
+    return int(rows[best]), int(cols[best])
+
+
+def fleet_text(poses: Sequence[Pose2D], prefix: str = "robot") -> str:
+    """The fleet file for ``poses``: robots ``robot1``, ``robot2``... in order."""
+    lines = ["# written by sar-tree run --robots / fleet.launch.py robots:=N", "robots:"]
+    for number, pose in enumerate(poses, start=1):
+        lines += [f"  - name: {prefix}{number}",
+                  f"    pose: {{x: {pose.x:g}, y: {pose.y:g}, yaw: {pose.yaw:g}}}"]
+    return "\n".join(lines) + "\n"
+
+
+def write_fleet_file(path: str | Path, count: int, base: tuple[float, float],
+                     grid: OccupancyGrid, radius: float) -> Path:
+    """Write the fleet file of ``count`` robots near ``base`` to ``path`` and return it.
+
+    Raises:
+        SpawnError: Not enough free places.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(fleet_text(spawn_poses(count, base, grid, radius)), encoding="utf-8")
+    return path
+
+
+def free_places(grid: OccupancyGrid, radius: float) -> np.ndarray:
+    """The cells a robot of ``radius`` can stand on (for tests and figures)."""
+    return ~(inflate(grid, radius) | (grid.data != 0))

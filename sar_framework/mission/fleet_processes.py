@@ -14,7 +14,7 @@ the same thing (no ROS imported here). In start order:
 - per robot, in ``/<name>``: a detect server and a runner, whose ``initial_pose`` and
   ``base_station`` are the robot's spawn pose from the fleet file (each robot goes home to
   its own place near the base, not all to one point), and whose status and events go to
-  ``RUN/<name>/``.
+  ``RUN/<name>/``; without the coordinator robot ``i`` walks the zones from the ``i``-th.
 """
 
 from __future__ import annotations
@@ -89,6 +89,9 @@ class FleetSettings:
         robots: The robots of that file.
         run_dir: The run folder (``RUN/<name>/`` holds a robot's status and events).
         coordinator: Start the zone coordinator.
+        zone_order: The mission's ``zone_order``: without the coordinator each robot walks
+            every zone, robot ``i`` starting at zone ``i`` (:func:`rotated`), so two robots
+            never head for the same zone at once; empty: the parameter file's order for all.
     """
 
     mission: MissionSettings
@@ -96,6 +99,7 @@ class FleetSettings:
     robots: tuple[FleetMember, ...]
     run_dir: str
     coordinator: bool = False
+    zone_order: tuple[str, ...] = ()
 
     def robot_dir(self, name: str) -> Path:
         """``RUN/<name>``: a robot's status, events, trace and report."""
@@ -118,8 +122,17 @@ def coordinator(settings: FleetSettings) -> Process | None:
                    (m.params_file,), parameters)
 
 
-def robot_processes(settings: FleetSettings, robot: FleetMember) -> list[Process]:
-    """One robot's detect server and runner, in ``/<name>``."""
+def rotated(zone_order: tuple[str, ...], index: int) -> list[str]:
+    """``zone_order`` started at its ``index``-th zone (wrapping): robot ``index``'s order."""
+    if not zone_order:
+        return []
+    start = index % len(zone_order)
+    return list(zone_order[start:] + zone_order[:start])
+
+
+def robot_processes(settings: FleetSettings, robot: FleetMember, index: int = 0
+                    ) -> list[Process]:
+    """One robot's detect server and runner, in ``/<name>`` (``index``: its place)."""
     m = settings.mission
     folder = settings.robot_dir(robot.name)
     own = replace(m, status_file=str(folder / "status.json"))
@@ -133,6 +146,8 @@ def robot_processes(settings: FleetSettings, robot: FleetMember) -> list[Process
     for prefix in ("initial_pose", "base_station"):
         pose.update({f"{prefix}.x": robot.x, f"{prefix}.y": robot.y,
                      f"{prefix}.yaw": robot.yaw})
+    if settings.zone_order and not settings.coordinator:
+        pose["zone_order"] = rotated(settings.zone_order, index)
     processes.append(replace(tree_runner, namespace=robot.name,
                              parameters={**tree_runner.parameters, **pose}))
     return processes
@@ -157,7 +172,8 @@ def fleet_processes(settings: FleetSettings) -> list[Process]:
     for process in (report_server(m), coordinator(settings)):
         if process is not None:
             processes.append(process)
-    servers = [p for robot in settings.robots for p in robot_processes(settings, robot)]
+    servers = [p for i, robot in enumerate(settings.robots)
+               for p in robot_processes(settings, robot, i)]
     processes += [p for p in servers if p.label != "runner"]
     processes += [p for p in servers if p.label == "runner"]
     return [with_extra(p, m) for p in processes]

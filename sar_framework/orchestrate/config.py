@@ -178,8 +178,8 @@ def write_fleet_file(config: RunConfig, report_dir: Path,
 
 def child_specs(config: RunConfig, report_dir: Path,
                 zones: dict[str, tuple[float, float]] | None = None, *,
-                fleet: Sequence[FleetMember] = (), coordinator: bool = False
-                ) -> list[ChildSpec]:
+                fleet: Sequence[FleetMember] = (), coordinator: bool = False,
+                zone_order: Sequence[str] = ()) -> list[ChildSpec]:
     """The processes of a mission, in start order (the runner last), as command lines.
 
     Args:
@@ -189,6 +189,8 @@ def child_specs(config: RunConfig, report_dir: Path,
         fleet: A fleet's robots (:func:`~sar_framework.mission.fleet_processes.fleet_processes`;
             each robot's files in ``report_dir/<name>/``); empty for one robot.
         coordinator: A fleet's zone coordinator starts.
+        zone_order: The mission's zone order (a fleet's robots without the coordinator
+            each start at a different zone).
 
     Returns:
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
@@ -198,7 +200,7 @@ def child_specs(config: RunConfig, report_dir: Path,
     if fleet:
         processes = fleet_processes(FleetSettings(
             settings, str(fleet_file(config, report_dir)), tuple(fleet), str(report_dir),
-            coordinator))
+            coordinator, tuple(zone_order)))
     else:
         processes = mission_processes(settings)
     return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)

@@ -88,7 +88,8 @@ class FleetOrchestrator(Orchestrator):
     def child_specs(self) -> list[ChildSpec]:
         """The fleet's processes (:mod:`sar_framework.mission.fleet_processes`)."""
         return child_specs(self.config, self.report_dir, self.inputs.zones,
-                           fleet=self.inputs.fleet, coordinator=self.inputs.coordinator)
+                           fleet=self.inputs.fleet, coordinator=self.inputs.coordinator,
+                           zone_order=list(self.inputs.runner_values.get("zone_order") or []))
 
     def take_events(self) -> None:
         """Read every robot's new events; show the progress ones under the robot's name."""

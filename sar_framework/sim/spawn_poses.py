@@ -1,12 +1,13 @@
 """Spawn poses for N robots near the base station, and the fleet file that holds them.
 
 Plain Python (numpy, no ROS). ``sar-tree run --robots N`` and ``fleet.launch.py robots:=N``
-write a fleet file (:mod:`.fleet_file`) from :func:`spawn_poses`: the base station first
-(when a robot fits there: the example's base is a doorway, so it does not), then the
-free places nearest to it on a lattice of
-:data:`SPACING_M`, each clear of walls and debris by the footprint plus
-:data:`CLEARANCE_MARGIN_M`, reachable from the base and at least :data:`SPACING_M` from
-the others (well over the simulator's two footprints, so no robot starts blocked).
+write a fleet file (:mod:`.fleet_file`) from :func:`spawn_poses`. The places are points
+of a lattice of :data:`SPACING_M` between :data:`MIN_BASE_DISTANCE_M` and
+:data:`SEARCH_RADIUS_M` from the base station, each clear of walls and debris by the
+footprint plus :data:`CLEARANCE_MARGIN_M` and reachable from the base. The first is the
+nearest; each next one the place farthest from those chosen (so the robots spread over
+the rooms around the base), at least :data:`SPACING_M` from all of them: well over the
+simulator's two footprints, so no robot starts blocked.
 """
 
 from __future__ import annotations
@@ -25,12 +26,16 @@ __all__ = ["CLEARANCE_MARGIN_M", "MAX_ROBOTS", "SPACING_M", "SpawnError", "fleet
 
 SPACING_M = 1.0
 """Metres between two spawn poses (and the lattice step)."""
-CLEARANCE_MARGIN_M = 0.15
-"""Metres of free space beyond the footprint around a spawn pose."""
+CLEARANCE_MARGIN_M = 0.5
+"""Metres of free space beyond the footprint around a spawn pose: away from walls, so no
+robot waiting at home stands in a doorway's approach."""
 MAX_ROBOTS = 8
 """The most robots ``--robots`` accepts."""
-SEARCH_RADIUS_M = 4.0
+SEARCH_RADIUS_M = 3.0
 """How far from the base spawn poses are looked for."""
+MIN_BASE_DISTANCE_M = 2.0
+"""How near the base a spawn may be: the example's base is the hub every path crosses, so
+robots waiting at home keep clear of it."""
 
 
 class SpawnError(ValueError):
@@ -39,7 +44,7 @@ class SpawnError(ValueError):
 
 def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radius: float,
                 spacing: float = SPACING_M) -> list[Pose2D]:
-    """``count`` spawn poses in free space near ``base``, nearest first (yaw 0).
+    """``count`` spawn poses in free space near ``base``, spread out (see the module).
 
     Args:
         count: How many robots.
@@ -49,10 +54,10 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
         spacing: Metres between two poses.
 
     Returns:
-        The poses, the base's first when it is free.
+        The poses (yaw 0), in the order chosen.
 
     Raises:
-        SpawnError: Fewer than ``count`` places found within :data:`SEARCH_RADIUS_M`.
+        SpawnError: Fewer than ``count`` places.
     """
     blocked = inflate(grid, radius + CLEARANCE_MARGIN_M) | (grid.data != 0)
     base_cell = grid.world_to_cell(*base)
@@ -61,21 +66,27 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
     passable = ~inflate(grid, radius)
     around = reachable(passable, _nearest(passable, base_cell))  # where the base's robots go
     steps = int(SEARCH_RADIUS_M / spacing)
-    candidates = sorted(
-        ((base[0] + i * spacing, base[1] + j * spacing)
-         for i in range(-steps, steps + 1) for j in range(-steps, steps + 1)),
-        key=lambda p: (round(math.dist(p, base), 6), math.atan2(p[1] - base[1], p[0] - base[0])))
-    chosen: list[tuple[float, float]] = []
-    for x, y in candidates:
+    lattice = ((base[0] + i * spacing, base[1] + j * spacing)
+               for i in range(-steps, steps + 1) for j in range(-steps, steps + 1))
+    places = []
+    for x, y in lattice:
         cell = grid.world_to_cell(x, y)
-        if not grid.in_bounds(*cell) or blocked[cell] or not around[cell]:
-            continue
-        if all(math.dist((x, y), other) >= spacing - 1e-9 for other in chosen):
-            chosen.append((x, y))
-        if len(chosen) == count:
-            return [Pose2D(round(x, 3), round(y, 3), 0.0) for x, y in chosen]
-    raise SpawnError(f"only {len(chosen)} free spawn places within {SEARCH_RADIUS_M:g} m of "
-                     f"the base station, {count} robots asked for")
+        if MIN_BASE_DISTANCE_M <= math.dist((x, y), base) <= SEARCH_RADIUS_M \
+                and grid.in_bounds(*cell) and not blocked[cell] and around[cell]:
+            places.append((x, y))
+    places.sort(key=lambda p: (round(math.dist(p, base), 6),
+                               math.atan2(p[1] - base[1], p[0] - base[0])))
+    chosen: list[tuple[float, float]] = places[:1]
+    while chosen and len(chosen) < count:
+        gaps = [(min(math.dist(p, c) for c in chosen), -i) for i, p in enumerate(places)]
+        gap, index = max(gaps)
+        if gap < spacing - 1e-9:
+            break
+        chosen.append(places[-index])
+    if len(chosen) == count:
+        return [Pose2D(round(x, 3), round(y, 3), 0.0) for x, y in chosen]
+    raise SpawnError(f"only {len(chosen)} free spawn places {MIN_BASE_DISTANCE_M:g} to "
+                     f"{SEARCH_RADIUS_M:g} m from the base station, {count} robots asked for")
 
 
 def _nearest(mask: np.ndarray, cell: tuple[int, int]) -> tuple[int, int]:

@@ -16,8 +16,8 @@ ANSWER_DELAY = Param("answer_delay_wall_s", float, 0.0, "fault: the service answ
 DETECT_PARAMETERS: tuple[Param, ...] = (
     Param("survivors_file", str, "", "survivor table (YAML); '' = the repository's "
           "config/survivors.yaml"),
-    Param(SERVICE_NAME, str, "detect_survivor", "the service's name (relative: "
-          "/robot1/detect_survivor in a fleet robot's namespace)"),
+    Param(SERVICE_NAME, str, "detect_survivor", "the service's name (relative: a server "
+          "started in /robot1 serves /robot1/detect_survivor)"),
     ANSWER_DELAY,
     USE_SIM_TIME,
 )

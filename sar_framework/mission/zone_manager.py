@@ -135,6 +135,40 @@ class ZoneManager:
         zone = next((z for z in self._zones if z["id"] == zone_id), {"id": zone_id})
         self._tell(EventKind.ZONE_REACHED, zone)
 
+    def zone(self, zone_id: str) -> dict[str, Any]:
+        """Return a copy of zone ``zone_id`` (``{"id", "x", "y", "yaw"}``).
+
+        Raises:
+            KeyError: ``zone_id`` is not a zone of the mission.
+        """
+        found = next((z for z in self._zones if z["id"] == zone_id), None)
+        if found is None:
+            known = ", ".join(z["id"] for z in self._zones)
+            raise KeyError(f"{zone_id!r} is not a zone of the mission (zones: {known})")
+        return dict(found)
+
+    def claim(self, zone_id: str) -> None:
+        """Make ``zone_id`` the current zone (a fleet's ``ClaimZone`` won it in an auction).
+
+        The zone moves to the current position, so :meth:`current_zone` returns it and
+        :meth:`advance` moves past it; the other zones keep their order. A zone already
+        passed may be claimed again (it was given back by another robot, or reopened).
+
+        Args:
+            zone_id: One of the mission's zones.
+
+        Raises:
+            KeyError: ``zone_id`` is not a zone of the mission.
+        """
+        position = next((i for i, z in enumerate(self._zones) if z["id"] == zone_id), None)
+        if position is None:
+            known = ", ".join(z["id"] for z in self._zones)
+            raise KeyError(f"claim({zone_id!r}): not a zone of the mission (zones: {known})")
+        zone = self._zones.pop(position)
+        if position < self._index:
+            self._index -= 1
+        self._zones.insert(self._index, zone)
+
     def skipped_zones(self) -> list[str]:
         """The zones already passed (advanced over) that were never reached, in order."""
         return [z["id"] for z in self._zones[:self._index] if z["id"] not in self._reached]

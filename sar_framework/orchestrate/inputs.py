@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from sar_framework.engine.param import Param
+from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
 from sar_framework.mission.params_check import check_values, mission_problems, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
@@ -37,7 +38,8 @@ CHILDREN = ("sim", "detect", "report", "runner")
 """The children ``sar-tree run`` takes parameters for (``--sim-param`` ...)."""
 NODE_PARAMETERS: dict[str, tuple[Param, ...]] = {
     "sim": SIM_PARAMETERS, "detect": DETECT_PARAMETERS, "report": REPORT_PARAMETERS,
-    "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS}
+    "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS,
+    "coordinator": COORDINATOR_PARAMETERS}
 """Each process label (:mod:`sar_framework.mission.processes`) -> its node's parameter table."""
 
 

@@ -38,6 +38,9 @@ _TITLES = {
             "`sar-tree run --speed` and the launch's `speed` set `speed`"),
     "detect": ("the detect server", "sar_framework/servers/params.py", ""),
     "report": ("the report server", "sar_framework/servers/params.py", ""),
+    "coordinator": ("the fleet's zone coordinator", "sar_framework/fleet/params.py",
+                    "a fleet's robots win their zones from it (docs/fleet.md); it reads the "
+                    "mission parameter file's `zone_order` and `zones`"),
     "recorder": ("the recorder", "sar_framework/recording/params.py",
                  "`sar-tree run --record FILE` and the launch's `record` set `output`"),
 }
@@ -73,6 +76,7 @@ def document() -> str:
     """The whole of docs/parameters.md."""
     executables = {p.label: p.executable for p in mission_processes(
         MissionSettings(tree="t", params_file="p", record="r"))}
+    executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's
     parts = [INTRO]
     for label, table in NODE_PARAMETERS.items():
         title, module, note = _TITLES[label]

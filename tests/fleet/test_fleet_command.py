@@ -102,7 +102,7 @@ def test_spawn_poses_are_free_spaced_and_near_the_base() -> None:
         for other in poses[:i]:
             assert (pose.x - other.x) ** 2 + (pose.y - other.y) ** 2 >= 1.0 - 1e-9
     assert spawn_poses(3, (0.0, 0.0), grid, 0.22) == poses[:3]  # nearest first, stable
-    with pytest.raises(SpawnError, match="only .* free spawn places"):
+    with pytest.raises(SpawnError, match=r"only .* free spawn places"):
         spawn_poses(200, (0.0, 0.0), grid, 0.22)
 
 
@@ -163,5 +163,5 @@ def test_a_tree_that_bids_needs_the_coordinator_installed(tmp_path: Path,
 
     monkeypatch.setattr(fleet_inputs, "tree_uses_coordinator", lambda kinds: True)
     monkeypatch.setattr(fleet_inputs, "coordinator_installed", lambda: False)
-    with pytest.raises(RunUsageError, match="the zone coordinator .* is not installed"):
+    with pytest.raises(RunUsageError, match=r"the zone coordinator .* is not installed"):
         check_config(RunConfig(tree=TREE, params=PARAMS, robots=2))

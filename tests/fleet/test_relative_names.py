@@ -12,7 +12,8 @@ from __future__ import annotations
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import discover
 
-FLEET_WIDE = {("NotifyBase", "service_name")}
+FLEET_WIDE = {("NotifyBase", "service_name"), ("ClaimZone", "server_name"),
+              ("CompleteZone", "server_name"), ("ReleaseZone", "server_name")}
 """(leaf, param): names that stay absolute, one server for every robot."""
 
 _NAME_KEYS = ("server_name", "service_name", "action_name", "topic_name", "service",

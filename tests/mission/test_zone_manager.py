@@ -184,3 +184,41 @@ def test_property_duplicate_id_always_rejected(zones, data):
     dup = dict(data.draw(st.sampled_from(zones)))
     with pytest.raises(ValueError, match="duplicates"):
         ZoneManager([*zones, dup], BASE)
+
+
+def _fleet_manager() -> ZoneManager:
+    zones = [{"id": z, "x": float(i), "y": 0.0, "yaw": 0.0} for i, z in enumerate("abcd")]
+    return ZoneManager(zones, {"x": 0.0, "y": 0.0, "yaw": 0.0})
+
+
+def test_claim_makes_a_later_zone_current_and_keeps_the_others_in_order() -> None:
+    zm = _fleet_manager()
+    zm.claim("c")
+    assert zm.current_zone()["id"] == "c" and zm.current_index() == 0
+    zm.advance()
+    assert [zm.current_zone()["id"], zm.total_zones()] == ["a", 4]
+    zm.claim("d")
+    zm.mark_reached("d")
+    zm.advance()
+    assert zm.current_zone()["id"] == "a"
+    assert zm.skipped_zones() == ["c"]
+
+
+def test_claim_brings_back_a_zone_already_passed() -> None:
+    zm = _fleet_manager()
+    zm.claim("b")
+    zm.advance()  # b passed unreached (given back)
+    zm.claim("a")
+    zm.advance()
+    zm.claim("b")  # another round gives it to this robot again
+    assert zm.current_zone()["id"] == "b" and zm.current_index() == 1
+    zm.mark_reached("b")
+    zm.advance()
+    assert zm.skipped_zones() == ["a"]
+    assert zm.has_remaining()
+
+
+def test_claim_of_an_unknown_zone_names_the_zones() -> None:
+    expected = r"claim\(.zz.\): not a zone of the mission \(zones: a, b, c, d\)"
+    with pytest.raises(KeyError, match=expected):
+        _fleet_manager().claim("zz")

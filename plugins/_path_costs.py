@@ -1,0 +1,89 @@
+"""PathCosts: one auction round's bids, from the robot's own Nav2 planner.
+
+For each announced zone a ``ComputePathToPose`` goal (from the robot's pose, ``use_start``
+false) is sent at once to the relative ``compute_path_to_pose`` action; the cost of a zone
+is the length of its path in metres, ``inf`` when the planner fails, the path is empty, or
+no answer comes within the bound. Polled by tick, never blocking. Imports ROS lazily.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from collections.abc import Mapping
+from typing import Any
+
+from ._navigation import yaw_to_quaternion
+
+
+def path_length(poses: Any) -> float:
+    """The length in metres of a ``nav_msgs/Path``'s poses (``inf`` for an empty path)."""
+    if not poses:
+        return math.inf
+    points = [(p.pose.position.x, p.pose.position.y) for p in poses]
+    return sum(math.dist(a, b) for a, b in itertools.pairwise(points))
+
+
+class PathCosts:
+    """The planner costs of one round's zones.
+
+    Args:
+        client: An ``ActionClient`` for ``nav2_msgs/action/ComputePathToPose``.
+        action_type: ``ComputePathToPose``.
+        frame_id: The goals' frame.
+        zones: Zone id -> ``{"x", "y", "yaw"}``.
+        bound_wall_s: Zones without an answer after this many wall seconds cost ``inf``.
+        stamp: The goals' header stamp (``builtin_interfaces/Time``).
+    """
+
+    def __init__(self, client: Any, action_type: Any, frame_id: str, *,
+                 zones: Mapping[str, Mapping[str, float]], bound_wall_s: float,
+                 stamp: Any) -> None:
+        self._client = client
+        self._started = time.monotonic()
+        self._bound = bound_wall_s
+        self.costs: dict[str, float] = {}
+        self._sent: dict[str, Any] = {}
+        self._results: dict[str, Any] = {}
+        if not client.server_is_ready():
+            self.costs = {zone_id: math.inf for zone_id in zones}
+            return
+        for zone_id, pose in zones.items():
+            goal = action_type.Goal()
+            goal.goal.header.frame_id = frame_id
+            goal.goal.header.stamp = stamp
+            goal.goal.pose.position.x = float(pose["x"])
+            goal.goal.pose.position.y = float(pose["y"])
+            q = goal.goal.pose.orientation
+            q.x, q.y, q.z, q.w = yaw_to_quaternion(float(pose["yaw"]))
+            goal.use_start = False
+            self._sent[zone_id] = client.send_goal_async(goal)
+
+    def poll(self) -> dict[str, float] | None:
+        """Return every zone's cost once known (or the bound passed), else None."""
+        for zone_id, future in list(self._sent.items()):
+            if not future.done():
+                continue
+            del self._sent[zone_id]
+            handle = future.result() if future.exception() is None else None
+            if handle is None or not handle.accepted:
+                self.costs[zone_id] = math.inf
+            else:
+                self._results[zone_id] = handle.get_result_async()
+        for zone_id, future in list(self._results.items()):
+            if not future.done():
+                continue
+            del self._results[zone_id]
+            wrapped = future.result() if future.exception() is None else None
+            from action_msgs.msg import GoalStatus
+
+            ok = wrapped is not None and wrapped.status == GoalStatus.STATUS_SUCCEEDED
+            self.costs[zone_id] = path_length(wrapped.result.path.poses) if ok else math.inf
+        if self._sent or self._results:
+            if time.monotonic() - self._started < self._bound:
+                return None
+            for zone_id in [*self._sent, *self._results]:
+                self.costs[zone_id] = math.inf
+            self._sent, self._results = {}, {}
+        return dict(self.costs)

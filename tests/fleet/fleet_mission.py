@@ -1,0 +1,134 @@
+"""A fleet mission over real DDS for the coordinator's tests: processes and their events.
+
+One simulator with three robots, the base's report server, the zone coordinator, and per
+robot a detect server and a runner of trees/fleet_search.yaml in its namespace. Each robot's
+home is its spawn pose (``base_station`` per runner), so three robots never queue for one
+base. :func:`run_fleet` returns the coordinator's events (its JSON Lines file) and each
+runner's exit code.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from sar_testing.processes import NodeProcess
+
+REPO = Path(__file__).resolve().parents[2]
+SPEED = 30.0
+SPAWNS = {"robot1": (0.0, 0.0, 0.0), "robot2": (-1.5, 1.0, 0.0), "robot3": (2.5, -2.0, 0.0)}
+ZONES = ("zone_a", "zone_b", "zone_c", "zone_d")
+ROBOT_TIMEOUT_WALL_S = 2.0
+
+Killer = Callable[[list[dict[str, Any]], dict[str, str]], "str | None"]
+"""``(events so far, runner outputs) -> the robot to kill now, or None``."""
+
+
+@dataclass
+class FleetRun:
+    """What a fleet mission left: the coordinator's events and the runners' exit codes."""
+
+    events: list[dict[str, Any]]
+    codes: dict[str, int | None]
+    outputs: str
+    victim: str | None = None
+    lost_after_s: float | None = None
+
+    def kinds(self, kind: str) -> list[dict[str, Any]]:
+        """The events of one kind, in order."""
+        return [e for e in self.events if e["kind"] == kind]
+
+    def searched(self) -> dict[str, list[str]]:
+        """Zone -> the robots that searched it."""
+        out: dict[str, list[str]] = {}
+        for event in self.kinds("searched"):
+            out.setdefault(event["zone_id"], []).append(event["robot"])
+        return out
+
+
+def read_events(path: Path) -> list[dict[str, Any]]:
+    """The coordinator's events file, one object per line (empty before it exists)."""
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()
+            if line.strip()]
+
+
+def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Sequence[str] = (),
+              kill: Killer | None = None, timeout_s: float = 90.0) -> FleetRun:
+    """Run the fleet mission to its end; ``kill(events)`` may name a runner to SIGKILL.
+
+    Args:
+        tmp: Folder for logs and files.
+        sim_params: Extra ``-p`` settings of the simulator (its faults).
+        detect_params: Extra ``-p`` settings of every detect server.
+        kill: Called with the events so far and each runner's output while the mission
+            runs; the first robot name it returns has its runner killed with SIGKILL (at
+            most once). The time until the coordinator's ``robot_lost`` event is measured.
+        timeout_s: Wall bound of the mission.
+    """
+    import signal
+
+    fleet = tmp / "fleet.yaml"
+    fleet.write_text("robots:\n" + "".join(
+        f"  - name: {n}\n    pose: {{x: {x}, y: {y}, yaw: {w}}}\n"
+        for n, (x, y, w) in SPAWNS.items()), encoding="utf-8")
+    events_file = tmp / "events.jsonl"
+    params = str(REPO / "config" / "mission_params.yaml")
+    tree = str(REPO / "trees" / "fleet_search.yaml")
+    procs: list[NodeProcess] = []
+    runners: dict[str, NodeProcess] = {}
+    killed_at = lost_after = None
+
+    def start(args: list[str], label: str) -> NodeProcess:
+        proc = NodeProcess(["-m", *args], label, log_dir=tmp).start()
+        procs.append(proc)
+        return proc
+
+    try:
+        sim = start(["sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
+                     "-p", f"fleet_file:={fleet}", *sim_params], "sim")
+        start(["sar_framework.servers.report_survivor_server", "--ros-args",
+               "-p", f"report_file:={tmp / 'reports.jsonl'}"], "report")
+        coordinator = start(["sar_framework.fleet.coordinator_node", "--ros-args",
+                             "--params-file", params, "-p", f"events_file:={events_file}",
+                             "-p", f"robot_timeout_wall_s:={ROBOT_TIMEOUT_WALL_S}"], "coordinator")
+        sim.wait_for_output("ready", timeout=30)
+        coordinator.wait_for_output("ready", timeout=30)
+        for name, (x, y, yaw) in SPAWNS.items():
+            start(["sar_framework.servers.detect_survivor_server", "--ros-args",
+                   "-r", f"__ns:=/{name}", "-p", "service_name:=detect_survivor", *detect_params],
+                  f"detect_{name}")
+            runners[name] = start([
+                "sar_framework.runner.node", "--ros-args", "-r", f"__ns:=/{name}",
+                "--params-file", params, "-p", f"tree:={tree}",
+                "-p", f"initial_pose.x:={x}", "-p", f"initial_pose.y:={y}",
+                "-p", f"initial_pose.yaw:={yaw}", "-p", f"base_station.x:={x}",
+                "-p", f"base_station.y:={y}", "-p", f"base_station.yaw:={yaw}",
+                "-p", "exit_on_completion:=true", "-p", "tick_rate_hz:=10.0"], f"runner_{name}")
+        deadline = time.monotonic() + timeout_s
+        victim = None
+        while time.monotonic() < deadline:
+            if kill is not None and victim is None:
+                victim = kill(read_events(events_file),
+                              {n: r.output for n, r in runners.items()})
+                if victim is not None:
+                    runners[victim].signal(signal.SIGKILL)
+                    killed_at = time.monotonic()
+            if killed_at is not None and lost_after is None and any(
+                    e["kind"] == "robot_lost" and e["robot"] == victim
+                    for e in read_events(events_file)):
+                lost_after = time.monotonic() - killed_at
+            if all(r.poll() is not None for r in runners.values()):
+                break
+            time.sleep(0.05)
+        codes = {name: r.poll() for name, r in runners.items()}
+    finally:
+        for proc in reversed(procs):
+            proc.stop()
+    outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
+    return FleetRun(read_events(events_file), codes, outputs, victim, lost_after)

@@ -1,0 +1,153 @@
+"""ClaimZone, CompleteZone and ReleaseZone against a real zone_coordinator process.
+
+The robot is a test node in ``/robot7``; its planner is a ComputePathToPose action server
+on the same node (a straight two-pose path), or absent (every bid is ``inf``).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from py_trees.common import Status
+from sar_plugins.claim_zone import ClaimZone
+from sar_plugins.complete_zone import CompleteZone
+from sar_plugins.release_zone import ReleaseZone
+from sar_testing.leaf_harness import spec_zone_manager, tick_until_done, tree_on
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import ros_node
+
+pytestmark = pytest.mark.ros
+
+PARAMS = """\
+/**:
+  ros__parameters:
+    zone_order: ["zone_a", "zone_b"]
+    zones:
+      zone_a: {x: -3.0, y: 3.0, yaw: 0.0}
+      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
+"""
+
+
+@pytest.fixture
+def coordinator(tmp_path: Path) -> Iterator[Path]:
+    params = tmp_path / "mission.yaml"
+    params.write_text(PARAMS, encoding="utf-8")
+    events = tmp_path / "events.jsonl"
+    args = ["-m", "sar_framework.fleet.coordinator_node", "--ros-args", "--params-file",
+            str(params), "-p", f"events_file:={events}", "-p", "bid_window_wall_s:=1.0",
+            "-p", "abandon_after_rounds:=1"]
+    with NodeProcess(args, "coordinator", log_dir=tmp_path) as proc:
+        proc.wait_for_output("ready", timeout=20.0)
+        yield events
+
+
+@pytest.fixture
+def robot() -> Iterator[tuple[Any, Any]]:
+    with ros_node("sar_mission_runner", namespace="/robot7") as pair:
+        yield pair
+
+
+def planner(node: Any) -> Any:
+    """A ComputePathToPose server: a straight path from (0, 0) to the goal."""
+    from geometry_msgs.msg import PoseStamped
+    from nav2_msgs.action import ComputePathToPose
+    from rclpy.action import ActionServer
+
+    def execute(handle: Any) -> Any:
+        result = ComputePathToPose.Result()
+        start, end = PoseStamped(), PoseStamped()
+        end.pose.position = handle.request.goal.pose.position
+        result.path.poses = [start, end]
+        handle.succeed()
+        return result
+
+    return ActionServer(node, ComputePathToPose, "compute_path_to_pose", execute)
+
+
+def events_of(path: Path) -> list[dict[str, Any]]:
+    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()]
+
+
+def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
+                                                              robot: tuple) -> None:
+    node, executor = robot
+    server = planner(node)
+    zones = spec_zone_manager([{"id": "zone_a", "x": -3.0, "y": 3.0, "yaw": 0.0},
+                               {"id": "zone_b", "x": 3.5, "y": 3.0, "yaw": 1.57}])
+    claim = ClaimZone("ClaimZone", zone_manager=zones)
+    tree = tree_on(node, claim)
+    assert tick_until_done(executor, tree, 20.0) == Status.SUCCESS, claim.feedback_message
+    assert claim.feedback_message == "robot7 won zone_a in auction 1 (4.24 m)"
+    assert zones.current_zone()["id"] == "zone_a"
+    complete = CompleteZone("CompleteZone", zone_manager=zones)
+    assert tick_until_done(executor, tree_on(node, complete), 20.0) == Status.SUCCESS
+    assert complete.feedback_message == "zone_a searched (coordinator told)"
+    zones.advance()
+    assert tick_until_done(executor, tree, 20.0) == Status.SUCCESS
+    assert zones.current_zone()["id"] == "zone_b"
+    release = ReleaseZone("ReleaseZone", zone_manager=zones)
+    assert tick_until_done(executor, tree_on(node, release), 20.0) == Status.SUCCESS
+    # Given back by the only robot: abandoned; no work is left, at once from now on.
+    assert tick_until_done(executor, tree, 20.0) == Status.FAILURE
+    assert claim.feedback_message == "no work left: every zone is searched or abandoned"
+    tree.tick()
+    assert claim.status == Status.FAILURE
+    kinds = [(e["kind"], e["robot"], e["zone_id"]) for e in events_of(coordinator)]
+    assert ("robot_joined", "robot7", "") in kinds
+    assert ("searched", "robot7", "zone_a") in kinds
+    assert ("given_back", "robot7", "zone_b") in kinds
+    assert ("abandoned", "", "zone_b") in kinds
+    server.destroy()
+
+
+def test_without_a_planner_every_bid_is_inf_and_the_zones_are_abandoned(
+        coordinator: Path, robot: tuple) -> None:
+    node, executor = robot
+    claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(),
+                      action_name="no_planner")
+    assert tick_until_done(executor, tree_on(node, claim), 20.0) == Status.FAILURE
+    assert claim.feedback_message == "no work left: every zone is searched or abandoned"
+    bid = next(e for e in events_of(coordinator) if e["kind"] == "bid")
+    assert bid["robot"] == "robot7" and bid["costs"] == [None, None]
+
+
+def test_finishing_a_zone_not_held_is_refused_with_the_reason(coordinator: Path,
+                                                             robot: tuple) -> None:
+    node, executor = robot
+    leaf = ReleaseZone("ReleaseZone", zone_manager=spec_zone_manager())
+    assert tick_until_done(executor, tree_on(node, leaf), 20.0) == Status.FAILURE
+    assert leaf.feedback_message == ("the coordinator refused zone_a given back: robot7 "
+                                     "does not hold zone_a (it is open)")
+
+
+def test_no_current_zone_fails_without_asking(robot: tuple) -> None:
+    node, executor = robot
+    zones = spec_zone_manager([])
+    leaf = CompleteZone("CompleteZone", zone_manager=zones, server_timeout_s=0.5)
+    assert tick_until_done(executor, tree_on(node, leaf), 5.0) == Status.FAILURE
+    assert leaf.feedback_message.startswith("no zone to report: no current zone")
+
+
+def test_without_a_coordinator_claim_fails_after_its_bound_and_beats_from_setup(
+        robot: tuple) -> None:
+    from sar_interfaces.msg import FleetHeartbeat
+
+    from sar_framework.testing.spin import spin_until
+
+    node, executor = robot
+    beats: list[str] = []
+    node.create_subscription(FleetHeartbeat, "/nowhere/heartbeat",
+                             lambda m: beats.append(m.robot), 10)
+    leaf = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(), server_name="/nowhere",
+                     server_timeout_s=1.0, heartbeat_period_wall_s=0.1)
+    tree = tree_on(node, leaf)
+    assert spin_until(executor, lambda: len(beats) >= 3, 10.0)  # before any tick
+    assert set(beats) == {"robot7"}
+    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
+    assert leaf.feedback_message == ("cannot ask for work: /nowhere/request_zone service "
+                                     "not available after 1.0 s")
+    tree.shutdown()

@@ -1,0 +1,68 @@
+"""A robot's runner SIGKILLed mid-mission: the coordinator notices, its zone is taken over.
+
+Three moments (issue 23, point 5): right after the robot won a zone (it holds a claim and
+has not arrived), while it searches its zone (the detect servers answer 1 s late), and
+right after it bid in a round not yet closed. The coordinator must report the robot lost
+within ``robot_timeout_wall_s`` plus :data:`MARGIN_S` (the heartbeat period, the coordinator's
+0.1 s check, this test's 50 ms polling of the events file, and a loaded machine), put the
+zone it held back to auction, and every zone must still be searched exactly once.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from fleet_mission import ROBOT_TIMEOUT_WALL_S, ZONES, run_fleet
+
+pytestmark = pytest.mark.ros
+
+MARGIN_S = 1.5
+
+
+def after_award(events: list[dict[str, Any]], outputs: dict[str, str]) -> str | None:
+    awards = [e for e in events if e["kind"] == "award"]
+    return awards[0]["robot"] if awards else None
+
+
+def mid_search(events: list[dict[str, Any]], outputs: dict[str, str]) -> str | None:
+    searched = {e["zone_id"] for e in events if e["kind"] == "searched"}
+    for award in (e for e in events if e["kind"] == "award"):
+        zone = award["zone_id"]
+        if zone not in searched and f"Reached {zone}." in outputs[award["robot"]]:
+            return award["robot"]
+    return None
+
+
+def between_zones(events: list[dict[str, Any]], outputs: dict[str, str]) -> str | None:
+    searched = [e for e in events if e["kind"] == "searched"]
+    return searched[0]["robot"] if searched and len(searched) < len(ZONES) else None
+
+
+@pytest.mark.parametrize(("moment", "holds_a_claim"), [
+    (after_award, True), (mid_search, True), (between_zones, False)],
+    ids=["claimed_before_arriving", "mid_search", "asking_for_work_between_zones"])
+def test_a_killed_robots_zone_is_taken_over(tmp_path: Path, moment: Any,
+                                            holds_a_claim: bool) -> None:
+    run = run_fleet(tmp_path, kill=moment, detect_params=["-p", "answer_delay_wall_s:=1.0"])
+    assert run.victim is not None, run.outputs
+    assert run.lost_after_s is not None, run.outputs
+    assert run.lost_after_s <= ROBOT_TIMEOUT_WALL_S + MARGIN_S
+    lost = next(e for e in run.kinds("robot_lost") if e["robot"] == run.victim)
+    searched = run.searched()
+    abandoned = {e["zone_id"] for e in run.kinds("abandoned")}
+    if holds_a_claim:
+        assert lost["zone_ids"], lost
+        for zone in lost["zone_ids"]:  # back to auction, among the live robots only
+            again = [a for a in run.kinds("auction")
+                     if zone in a["zone_ids"] and a["seq"] > lost["seq"]]
+            assert again and run.victim not in again[0]["robots"]
+            # Searched by another robot; or, when the dead robot's body stands on the
+            # zone's pose (killed there), no planner reaches it and it is abandoned.
+            assert (searched.get(zone, [""])[0] not in ("", run.victim)) or zone in abandoned
+    assert sorted([*searched, *abandoned]) == sorted(ZONES), run.outputs
+    assert all(len(robots) == 1 for robots in searched.values()), searched
+    assert not abandoned - set(lost["zone_ids"]), run.outputs
+    survivors = {n: c for n, c in run.codes.items() if n != run.victim}
+    assert survivors and all(c == 0 for c in survivors.values()), run.outputs

@@ -6,8 +6,9 @@ Plain Python (Pillow; no ROS). :func:`draw_fleet` draws a ``fleet.json`` documen
 (``RUN/<name>/trace.jsonl``, the simulator writes one per robot), its spawn (hollow) and
 end (filled); each zone ringed in the colour of the robot that searched it (grey when
 none did) with the robot's name; and, from the zone coordinator's events file, each award
-with the bids it beat in the right-hand panel (``zone_b -> robot2 4.1 m (robot1 6.0,
-robot3 7.2)``), plus robots lost and zones given back.
+with every bid of its round in the right-hand panel (``#2 zone_b -> robot2 4.1 m``,
+``   robot1: zone_b 6.0, zone_c 7.2``; path costs in metres from each robot's own planner),
+plus robots lost and zones given back.
 """
 
 from __future__ import annotations
@@ -44,6 +45,23 @@ def _trace_poses(path: Path) -> list[tuple[float, float]]:
     return poses
 
 
+def _cost(cost: Any) -> str:
+    """A bid as drawn: metres, or ``unreachable`` (``null``: the robot has no path)."""
+    return f"{float(cost):.1f} m" if isinstance(cost, (int, float)) else "unreachable"
+
+
+def _round_bids(bids: dict[tuple[Any, str], dict[str, float | None]], auction: Any
+                ) -> list[str]:
+    """``   robot1: zone_d 2.5, zone_a 7.1`` per bidder of round ``auction``."""
+    by_robot: dict[str, list[str]] = {}
+    for (round_id, zone), offers in bids.items():
+        if round_id == auction and zone:
+            for robot, cost in offers.items():
+                by_robot.setdefault(robot, []).append(
+                    f"{zone} {cost:.1f}" if cost is not None else f"{zone} -")
+    return [f"   {robot}: {', '.join(offers)}" for robot, offers in sorted(by_robot.items())]
+
+
 def award_lines(events: Sequence[dict[str, Any]]) -> list[str]:
     """The coordinator's awards, each with the other bids on that zone, and its losses.
 
@@ -52,24 +70,28 @@ def award_lines(events: Sequence[dict[str, Any]]) -> list[str]:
             ``robot_lost``, ``given_back``, ``abandoned``).
 
     Returns:
-        One line per award (``zone_b -> robot2 4.1 (robot1 6.0)``) or other notable event.
+        Per award ``#2 zone_b -> robot2 4.1 m`` and, under a round's first award, every
+        bid of that round (``   robot1: zone_b 6.0, zone_c -``; ``-``: unreachable), or a
+        line for another notable event.
     """
-    bids: dict[str, dict[str, float]] = {}  # zone -> robot -> cost, of the current round
+    bids: dict[tuple[Any, str], dict[str, float | None]] = {}  # (round, zone) -> bids
     lines = []
     for event in events:
         kind, robot, zone = event.get("kind"), str(event.get("robot", "")), \
             str(event.get("zone_id", ""))
+        auction = event.get("auction_id")
         if kind == "bid":
             for zone_id, cost in zip(event.get("zone_ids") or [], event.get("costs") or [],
                                      strict=False):
-                bids.setdefault(str(zone_id), {})[robot] = float(cost)
+                bids.setdefault((auction, str(zone_id)), {})[robot] = \
+                    float(cost) if isinstance(cost, (int, float)) else None
         elif kind == "award":
-            others = {r: c for r, c in bids.pop(zone, {}).items() if r != robot}
-            beaten = ", ".join(f"{r} {c:.1f}" for r, c in sorted(others.items(),
-                                                                    key=lambda i: i[1]))
-            cost = event.get("costs") or [event.get("cost")]
-            own = f" {float(cost[0]):.1f}" if cost and isinstance(cost[0], (int, float)) else ""
-            lines.append(f"{zone} -> {robot}{own}" + (f" ({beaten})" if beaten else ""))
+            costs = event.get("costs") or []
+            own = f" {_cost(costs[0])}" if costs else ""
+            lines.append(f"#{auction} {zone} -> {robot}{own}")
+            if (auction, "") not in bids:  # the round's bids, once, under its first award
+                bids[(auction, "")] = {}
+                lines += _round_bids(bids, auction)
         elif kind == "robot_lost":
             lines.append(f"{robot} lost" + (f": {event['message']}" if event.get("message")
                                             else ""))
@@ -156,12 +178,12 @@ def _legend(draw: Any, xy: tuple[int, int], fleet: dict[str, Any], *,
                   fill=_TEXT, font=small)
         y += 20
     y += 12
-    draw.text((x, y), "Awards (cost; other bids)" if awards else "No auction "
+    draw.text((x, y), "Auction rounds: awards, bids (m)" if awards else "No auction "
               "(no coordinator)", fill=_TEXT, font=normal)
     y += 24
-    for line in awards[:30]:
+    for line in awards[:28]:
         draw.text((x, y), line, fill=_TEXT, font=small)
         y += 18
-    if len(awards) > 30:
-        draw.text((x, y), f"... {len(awards) - 30} more (fleet_events.jsonl)", fill=_TEXT,
+    if len(awards) > 28:
+        draw.text((x, y), f"... {len(awards) - 28} more (fleet_events.jsonl)", fill=_TEXT,
                   font=small)

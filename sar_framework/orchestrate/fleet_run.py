@@ -215,6 +215,8 @@ class FleetOrchestrator(Orchestrator):
         events_path = self.report_dir / COORDINATOR_EVENTS_FILE
         bids = read_coordinator_events(events_path) if self.inputs.coordinator else None
         searched = zone_searchers(list(self.inputs.zones), self.summaries, bids)
+        self.outcomes = {name: self.outcomes[name] for name in self.robots
+                         if name in self.outcomes}  # fleet order, for fleet.json's colours
         verdict = fleet_outcome(self.outcomes, self.summaries, searched,
                                 once=self.inputs.coordinator)
         if outcome.status in ("INTERRUPTED", "TIMEOUT") or \

@@ -21,6 +21,7 @@ from sar_framework.mission.fleet_processes import (
     FleetMember,
     tree_uses_coordinator,
 )
+from sar_framework.mission.params_check import zone_positions
 from sar_framework.sim.params import SIM_PARAMETERS
 
 if TYPE_CHECKING:
@@ -62,7 +63,8 @@ def _generated(count: int, mission: dict[str, Any], sim_values: dict[str, Any],
     base = (float(mission.get("base_station.x", 0.0)), float(mission.get("base_station.y", 0.0)))
     map_yaml = sim_values.get("map_yaml") or _sim_default("map_yaml")
     try:
-        poses = spawn_poses(count, base, load_map(map_yaml), _robot_radius(sim_values))
+        poses = spawn_poses(count, base, load_map(map_yaml), _robot_radius(sim_values),
+                            zones=list(zone_positions(mission).values()))
     except (MapError, SpawnError) as err:
         problems.append(f"--robots {count}: {err}")
         return ()

@@ -4,7 +4,9 @@ Plain Python (numpy, no ROS). ``sar-tree run --robots N`` and ``fleet.launch.py 
 write a fleet file (:mod:`.fleet_file`) from :func:`spawn_poses`. The places are points
 of a lattice of :data:`SPACING_M` between :data:`MIN_BASE_DISTANCE_M` and
 :data:`SEARCH_RADIUS_M` from the base station, each clear of walls and debris by the
-footprint plus :data:`CLEARANCE_MARGIN_M` and reachable from the base. The first is the
+footprint plus :data:`CLEARANCE_MARGIN_M`, reachable from the base, and at least
+:data:`TRAFFIC_CLEARANCE_M` from the paths the simulator's planner plans between the base
+and the mission's zones (a robot at home is in nobody's way). The first is the
 nearest; each next one the place farthest from those chosen (so the robots spread over
 the rooms around the base), at least :data:`SPACING_M` from all of them: well over the
 simulator's two footprints, so no robot starts blocked.
@@ -12,6 +14,7 @@ simulator's two footprints, so no robot starts blocked.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -31,19 +34,44 @@ CLEARANCE_MARGIN_M = 0.5
 robot waiting at home stands in a doorway's approach."""
 MAX_ROBOTS = 8
 """The most robots ``--robots`` accepts."""
-SEARCH_RADIUS_M = 3.0
+SEARCH_RADIUS_M = 4.5
 """How far from the base spawn poses are looked for."""
 MIN_BASE_DISTANCE_M = 2.0
 """How near the base a spawn may be: the example's base is the hub every path crosses, so
 robots waiting at home keep clear of it."""
+TRAFFIC_CLEARANCE_M = 1.0
+"""How near a planned path between the base and the zones a spawn may be (two footprints
+and a margin: the simulator stops a robot in contact with another ahead)."""
 
 
 class SpawnError(ValueError):
     """Not enough free places near the base for the robots asked for."""
 
 
+def _traffic(base: tuple[float, float], places: Sequence[tuple[float, float]],
+             grid: OccupancyGrid, radius: float) -> list[tuple[float, float]]:
+    """Points, 0.1 m apart, of the planned paths between the base and the places."""
+    from sar_framework.sim.planner import GridPlanner, PlanningError
+
+    planner = GridPlanner(grid, radius)
+    ends = [base, *places]
+    points: list[tuple[float, float]] = []
+    for i, a in enumerate(ends):
+        for b in ends[i + 1:]:
+            try:
+                path = planner.plan(a, b)
+            except PlanningError:
+                continue
+            for (x0, y0), (x1, y1) in itertools.pairwise(path):
+                steps = max(1, math.ceil(math.dist((x0, y0), (x1, y1)) / 0.1))
+                points += [(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps)
+                           for k in range(steps + 1)]
+    return points
+
+
 def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radius: float,
-                spacing: float = SPACING_M) -> list[Pose2D]:
+                spacing: float = SPACING_M, *,
+                zones: Sequence[tuple[float, float]] = ()) -> list[Pose2D]:
     """``count`` spawn poses in free space near ``base``, spread out (see the module).
 
     Args:
@@ -52,6 +80,9 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
         grid: The map the robots drive in.
         radius: The robots' footprint radius, metres.
         spacing: Metres between two poses.
+        zones: The mission's zones: no pose within :data:`TRAFFIC_CLEARANCE_M` of the
+            planned paths between the base and the zones (robots waiting at home are out
+            of the others' way).
 
     Returns:
         The poses (yaw 0), in the order chosen.
@@ -68,8 +99,11 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
     steps = int(SEARCH_RADIUS_M / spacing)
     lattice = ((base[0] + i * spacing, base[1] + j * spacing)
                for i in range(-steps, steps + 1) for j in range(-steps, steps + 1))
+    traffic = np.array(_traffic(base, zones, grid, radius) or [(math.inf, math.inf)])
     places = []
     for x, y in lattice:
+        if np.min(np.hypot(traffic[:, 0] - x, traffic[:, 1] - y)) < TRAFFIC_CLEARANCE_M:
+            continue
         cell = grid.world_to_cell(x, y)
         if MIN_BASE_DISTANCE_M <= math.dist((x, y), base) <= SEARCH_RADIUS_M \
                 and grid.in_bounds(*cell) and not blocked[cell] and around[cell]:
@@ -108,7 +142,8 @@ def fleet_text(poses: Sequence[Pose2D], prefix: str = "robot") -> str:
 
 
 def write_fleet_file(path: str | Path, count: int, base: tuple[float, float],
-                     grid: OccupancyGrid, radius: float) -> Path:
+                     grid: OccupancyGrid, radius: float, *,
+                     zones: Sequence[tuple[float, float]] = ()) -> Path:
     """Write the fleet file of ``count`` robots near ``base`` to ``path`` and return it.
 
     Raises:
@@ -116,7 +151,8 @@ def write_fleet_file(path: str | Path, count: int, base: tuple[float, float],
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(fleet_text(spawn_poses(count, base, grid, radius)), encoding="utf-8")
+    poses = spawn_poses(count, base, grid, radius, zones=zones)
+    path.write_text(fleet_text(poses), encoding="utf-8")
     return path
 
 

@@ -6,6 +6,7 @@ problem at once, no traceback), and the fleet's process list is checked as data.
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -91,17 +92,34 @@ def test_what_a_fleet_cannot_do_yet_is_refused_at_once(tmp_path: Path) -> None:
     assert "--keep-alive: not with a fleet yet" in err
 
 
-def test_spawn_poses_are_free_spaced_and_near_the_base() -> None:
+ZONES = [(-3.0, 3.0), (3.5, 3.0), (4.0, -3.0), (-3.5, -3.0)]
+
+
+def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
+    from sar_framework.sim.planner import GridPlanner
+    from sar_framework.sim.spawn_poses import (
+        MIN_BASE_DISTANCE_M,
+        SEARCH_RADIUS_M,
+        TRAFFIC_CLEARANCE_M,
+    )
+
     grid = load_map(DEFAULT_MAP_YAML)
     free = free_places(grid, 0.22 + 0.5)
-    poses = spawn_poses(MAX_ROBOTS, (0.0, 0.0), grid, 0.22)
+    poses = spawn_poses(MAX_ROBOTS, (0.0, 0.0), grid, 0.22, zones=ZONES)
     assert len(poses) == MAX_ROBOTS
+    planner = GridPlanner(grid, 0.22)
+    paths = [planner.plan((0.0, 0.0), zone) for zone in ZONES]
     for i, pose in enumerate(poses):
         assert free[grid.world_to_cell(pose.x, pose.y)], pose
-        assert 2.0 ** 2 <= pose.x ** 2 + pose.y ** 2 <= 3.0 ** 2
+        assert MIN_BASE_DISTANCE_M <= math.hypot(pose.x, pose.y) <= SEARCH_RADIUS_M
         for other in poses[:i]:
-            assert (pose.x - other.x) ** 2 + (pose.y - other.y) ** 2 >= 1.0 - 1e-9
-    assert spawn_poses(3, (0.0, 0.0), grid, 0.22) == poses[:3]  # nearest first, stable
+            assert math.hypot(pose.x - other.x, pose.y - other.y) >= 1.0 - 1e-9
+        for path in paths:  # waypoints of the way from the base to each zone
+            assert all(math.hypot(pose.x - x, pose.y - y) >= TRAFFIC_CLEARANCE_M - 0.05
+                       for x, y in path), (pose, path)
+    assert spawn_poses(3, (0.0, 0.0), grid, 0.22, zones=ZONES) == poses[:3]  # stable
+    rooms = {(pose.x > 0, pose.y > 0) for pose in poses[:4]}
+    assert len(rooms) == 4  # the first four spread over the four rooms
     with pytest.raises(SpawnError, match=r"only .* free spawn places"):
         spawn_poses(200, (0.0, 0.0), grid, 0.22)
 
@@ -125,8 +143,8 @@ def test_the_fleet_s_processes_from_one_description(tmp_path: Path) -> None:
     assert runner[:3] == ["sar_framework.runner.node", "-r", "__ns:=/robot2"]
     assert specs["robot2/detect"][1:3] == ["-r", "__ns:=/robot2"]
     assert f"status_file:={tmp_path / 'robot2' / 'status.json'}" in runner
-    assert {"initial_pose.x:=2.0", "initial_pose.y:=2.0", "base_station.x:=2.0",
-            "base_station.y:=2.0"} <= set(runner)
+    assert {"initial_pose.x:=4.0", "initial_pose.y:=1.0", "base_station.x:=4.0",
+            "base_station.y:=1.0"} <= set(runner)
     assert "zone_order:=['zone_b', 'zone_c', 'zone_d', 'zone_a']" in runner  # each starts elsewhere
 
 

@@ -35,12 +35,12 @@ from sar_framework.mission.fleet_processes import (
     FLEET_FILE,
     FleetSettings,
     fleet_processes,
-    read_members,
     tree_uses_coordinator,
 )
 from sar_framework.mission.params_check import zone_positions
 from sar_framework.mission.params_file import read_params_file
 from sar_framework.mission.processes import RUN_FILES, MissionSettings, new_run_folder
+from sar_framework.orchestrate.fleet_inputs import read_members
 from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED
 from sar_framework.sim.spawn_poses import write_fleet_file

@@ -33,7 +33,6 @@ from sar_framework.mission.processes import (
     simulator,
     with_extra,
 )
-from sar_framework.sim.fleet_file import load_fleet
 
 FLEET_LEAVES = frozenset({"ClaimZone", "CompleteZone", "ReleaseZone"})
 """The leaves that talk to the zone coordinator: a tree with one of them needs it."""
@@ -60,16 +59,6 @@ class FleetMember:
     x: float
     y: float
     yaw: float = 0.0
-
-
-def read_members(fleet_file: str | Path) -> tuple[FleetMember, ...]:
-    """The robots of a fleet file, in file order.
-
-    Raises:
-        FleetFileError: Every problem of the file, each as ``file:line:col: problem``.
-    """
-    return tuple(FleetMember(r.name, r.spawn.x, r.spawn.y, r.spawn.yaw)
-                 for r in load_fleet(fleet_file))
 
 
 def tree_uses_coordinator(kinds: Iterable[str]) -> bool:

@@ -71,6 +71,18 @@ def _generated(count: int, mission: dict[str, Any], sim_values: dict[str, Any],
     return tuple(FleetMember(f"robot{i}", p.x, p.y, p.yaw) for i, p in enumerate(poses, 1))
 
 
+def read_members(fleet_file: str | Path) -> tuple[FleetMember, ...]:
+    """The robots of a fleet file, in file order.
+
+    Raises:
+        FleetFileError: Every problem of the file, each as ``file:line:col: problem``.
+    """
+    from sar_framework.sim.fleet_file import load_fleet
+
+    return tuple(FleetMember(r.name, r.spawn.x, r.spawn.y, r.spawn.yaw)
+                 for r in load_fleet(fleet_file))
+
+
 def _from_file(path: str, sim_values: dict[str, Any],
                problems: list[str]) -> tuple[FleetMember, ...]:
     from sar_framework.sim.fleet_file import FleetFileError, crowded_spawns, load_fleet

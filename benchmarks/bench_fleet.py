@@ -160,9 +160,10 @@ def main() -> int:
         def fmt(value: float | None) -> str:
             return f"{value:.2f} s" if value is not None else "not seen"
 
-        print(f"lost robot (robot2 SIGKILLed holding {lost['zone'] or '-'}): robot_lost after "
-              f"{fmt(lost['lost_s'])}, {lost['zone'] or 'its zone'} re-awarded after "
-              f"{fmt(lost['reawarded_s'])} (wall); searched: "
+        print(f"lost robot at {args.loss_speed:g}x (robot2 SIGKILLed as it won "
+              f"{lost['zone'] or '-'}): robot_lost, its zone back to auction, after "
+              f"{fmt(lost['lost_s'])}; re-awarded after {fmt(lost['reawarded_s'])}, once a "
+              "robot asked for work (wall); searched: "
               + " ".join(f"{z}:{by}" for z, by in sorted(lost["searched"].items())))
         print(f"  {lost['zone'] or 'its zone'} in the coordinator's events: "
               + " ".join(lost["fate"]))

@@ -25,7 +25,7 @@ ROBOT_COLOURS = ((30, 110, 220), (220, 90, 30), (40, 150, 60), (150, 60, 190),
 """One colour per robot, in fleet order (repeats after eight)."""
 _NONE = (160, 160, 160)
 _TEXT = (25, 25, 25)
-_LEGEND_W = 360
+_LEGEND_W = 420
 
 
 def _trace_poses(path: Path) -> list[tuple[float, float]]:

@@ -30,7 +30,9 @@ from sar_framework.orchestrate.inputs import CheckedInputs
 from sar_framework.orchestrate.options import RunConfig
 from sar_framework.orchestrate.orchestrator import POLL_S, Orchestrator
 from sar_framework.orchestrate.outcome import (
+    EXIT_FAILURE,
     EXIT_INTERRUPTED,
+    EXIT_OK,
     EXIT_USAGE,
     Outcome,
     child_exit_outcome,
@@ -122,8 +124,11 @@ class FleetOrchestrator(Orchestrator):
                 return Outcome("INTERRUPTED", EXIT_INTERRUPTED, "interrupted (Ctrl-C)")
             for name in left:
                 runner = runners[name]
-                code = runner.poll() if runner is not None else 1
-                if code is None or runner is None:
+                if runner is None:  # never started: nothing to wait for
+                    self.outcomes[name] = Outcome("ERROR", EXIT_FAILURE, "no runner started")
+                    continue
+                code = runner.poll()
+                if code is None:
                     continue
                 runner.finish_reading()
                 self.take_events()
@@ -135,7 +140,7 @@ class FleetOrchestrator(Orchestrator):
                             else ""))
             left = [name for name in self.robots if name not in self.outcomes]
             if not left:
-                return Outcome("SUCCESS", 0)
+                return Outcome("SUCCESS", EXIT_OK)
             for child in self.children:
                 if child.label.endswith("/runner") or child.label in self.exited \
                         or child.poll() is None:
@@ -155,8 +160,9 @@ class FleetOrchestrator(Orchestrator):
                     self.outcomes[name] = timeout_outcome(
                         self.config.timeout_s, read_status(self.robot_dir(name)), self.spec,
                         self.robot_events[name])
-                return Outcome("TIMEOUT", 1, f"timeout after {self.config.timeout_s:g} s; "
-                               f"still running: {', '.join(left)}")
+                return Outcome("TIMEOUT", EXIT_FAILURE,
+                               f"timeout after {self.config.timeout_s:g} s; still running: "
+                               f"{', '.join(left)}")
             time.sleep(POLL_S)
 
     def stop(self) -> None:

@@ -52,3 +52,24 @@ def test_three_robots_share_the_zones_and_come_home(tmp_path: Path) -> None:
                                                 "searched", "complete"}
     assert (report / "fleet.png").stat().st_size > 0
     assert "sar-tree run: Fleet SUCCESS" in result.stdout
+
+
+def test_a_fleet_cut_short_by_the_timeout_says_which_robots_were_still_running(
+        tmp_path: Path) -> None:
+    report = tmp_path / "run"
+    result = subprocess.run(
+        [sys.executable, "-m", "sar_framework", "run", "trees/fleet_search.yaml",
+         "--robots", "2", "--timeout", "4", "--report-dir", str(report)],
+        capture_output=True, text=True, timeout=120, cwd=REPO, check=False)
+    out = result.stdout + result.stderr
+    assert result.returncode == 1, out
+    assert "Traceback" not in out
+    fleet = json.loads((report / "fleet.json").read_text())
+    assert fleet["outcome"] == "TIMEOUT"
+    assert fleet["reason"].startswith("timeout after 4 s; still running: robot1, robot2")
+    assert {r["outcome"] for r in fleet["robots"].values()} == {"TIMEOUT"}
+    for name in ("robot1", "robot2"):  # each robot's stream is closed with its verdict
+        events = read_events(report / name / EVENTS_FILE)
+        assert events and events[-1].kind == EventKind.VERDICT
+        assert events[-1].status == "TIMEOUT"
+    assert "sar-tree run: Fleet TIMEOUT" in result.stdout

@@ -75,3 +75,15 @@ def test_a_runner_s_publishers_go_out_in_its_namespace(namespace: str) -> None:
         if namespace:  # nothing in the root: a fleet's runners do not share a topic
             assert reader.count_publishers(STATUS_TOPIC) == 0
             assert reader.count_publishers(EVENT_TOPIC) == 0
+
+
+@pytest.mark.ros
+def test_sar_tree_watch_follows_the_runner_of_a_namespace() -> None:
+    import subprocess
+    import sys
+
+    result = subprocess.run(
+        [sys.executable, "-m", "sar_framework", "watch", "--namespace", "robot1", "--wait", "1"],
+        capture_output=True, text=True, timeout=60, check=False)
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "no mission ticked on /robot1/sar_tree/status within 1 s" in result.stdout

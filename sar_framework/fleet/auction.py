@@ -22,7 +22,8 @@ finite bids wins, that robot and zone leave, and so on (one zone per robot per r
 Searched zones and zones claimed by a live robot are never offered. A lost robot's claim
 goes back to open. A robot that gave a zone back never bids on it again. A zone is
 abandoned when every live robot has given it back, or when every live robot was a bidder
-and none could reach it (no finite bid) in ``abandon_after_rounds`` rounds in a row.
+and none could reach it (no finite bid) in ``abandon_after_rounds`` rounds in a row; it
+reopens when a robot joins (or rejoins) that has not given it back.
 "No work left" (:meth:`ZoneAuction.done`): every zone searched or abandoned.
 """
 
@@ -151,10 +152,6 @@ class ZoneAuction:
         known = self._robots.get(robot)
         return known.state if known else None
 
-    def robots(self) -> tuple[str, ...]:
-        """Every robot that made contact, in order of first contact."""
-        return tuple(self._robots)
-
     def live_robots(self) -> tuple[str, ...]:
         """The robots not lost."""
         return tuple(r for r, s in self._robots.items() if s.state is not RobotState.LOST)
@@ -167,10 +164,6 @@ class ZoneAuction:
     def open_zones(self) -> tuple[str, ...]:
         """The open zones, in the mission's order."""
         return tuple(z for z in self._order if self._zones[z] is ZoneState.OPEN)
-
-    def current_round(self) -> Notice | None:
-        """The round open now, if any."""
-        return self._round.notice if self._round else None
 
     def done(self) -> bool:
         """Whether no work is left: every zone searched or abandoned."""
@@ -297,6 +290,20 @@ class ZoneAuction:
                     if live and all(z in r.given_back for r in live))
         for zone_id in out:
             self._zones[zone_id] = ZoneState.ABANDONED
+        return out
+
+    def reopen_abandoned(self, robot: str) -> tuple[str, ...]:
+        """Reopen the abandoned zones ``robot`` never gave back; return them.
+
+        For a robot that just joined (or rejoined): "no live robot can reach it" was said
+        without it. Called by the coordinator whenever :meth:`heard` returns True.
+        """
+        given_back = self._robots[robot].given_back if robot in self._robots else set()
+        out = tuple(z for z in self._order
+                    if self._zones[z] is ZoneState.ABANDONED and z not in given_back)
+        for zone_id in out:
+            self._zones[zone_id] = ZoneState.OPEN
+            self._unreachable.pop(zone_id, None)
         return out
 
     def open_round(self, now: float, *, retry_after_s: float = 0.0) -> Notice | None:

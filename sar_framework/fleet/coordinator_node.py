@@ -131,10 +131,15 @@ class ZoneCoordinator:
 
     def _heard(self, robot: str) -> None:
         was = self.auction.robot_state(robot)
-        if self.auction.heard(robot, self.now()):
-            again = "rejoined the fleet (it was lost)" if was is not None else \
-                "joined the fleet"
-            self.events.emit(FleetEvent.KIND_ROBOT_JOINED, f"{robot} {again}", robot=robot)
+        if not self.auction.heard(robot, self.now()):
+            return
+        again = "rejoined the fleet (it was lost)" if was is not None else "joined the fleet"
+        reopened = self.auction.reopen_abandoned(robot)
+        if reopened:
+            again += f"; {', '.join(reopened)} reopened (abandoned before it came)"
+            self._complete = False
+        self.events.emit(FleetEvent.KIND_ROBOT_JOINED, f"{robot} {again}", robot=robot,
+                         zone_ids=reopened)
 
     def _on_heartbeat(self, message: FleetHeartbeat) -> None:
         if message.robot:

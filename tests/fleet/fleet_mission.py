@@ -20,7 +20,9 @@ from sar_testing.processes import NodeProcess
 
 REPO = Path(__file__).resolve().parents[2]
 SPEED = 30.0
-SPAWNS = {"robot1": (0.0, 0.0, 0.0), "robot2": (-1.5, 1.0, 0.0), "robot3": (2.5, -2.0, 0.0)}
+# Room corners away from the doorways near the origin and from the paths to the zones: a
+# robot parked at home must not stand where the others pass.
+SPAWNS = {"robot1": (4.5, 1.0, 0.0), "robot2": (-4.5, 1.0, 0.0), "robot3": (-4.5, -1.0, 0.0)}
 ZONES = ("zone_a", "zone_b", "zone_c", "zone_d")
 ROBOT_TIMEOUT_WALL_S = 2.0
 

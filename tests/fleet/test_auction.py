@@ -278,3 +278,30 @@ def test_bad_zone_lists_are_refused(zones: list[str], message: str) -> None:
 def test_closing_without_a_round_is_an_error() -> None:
     with pytest.raises(RuntimeError, match="no auction is open"):
         ZoneAuction(["a"]).close_round()
+
+
+def test_a_robot_joining_later_reopens_the_zones_abandoned_without_it() -> None:
+    auction = ready(["a", "b"], ["r1"])
+    one_round(auction, {"r1": {"a": 1.0}})
+    auction.finish("r1", "a", searched=False)
+    assert auction.abandon_unreachable() == ("a",)
+    assert auction.heard("r2", 1.0) is True
+    assert auction.reopen_abandoned("r2") == ("a",)
+    assert auction.zone_state("a") is ZoneState.OPEN
+    auction.request("r2", 1.0)
+    notice = auction.open_round(1.0)
+    assert notice is not None and notice.bidders == ("r2",) and "a" in notice.zone_ids
+
+
+def test_a_rejoining_robot_does_not_reopen_what_it_gave_back() -> None:
+    auction = ready(["a"], ["r1"])
+    one_round(auction, {"r1": {"a": 1.0}})
+    auction.finish("r1", "a", searched=False)
+    auction.lose("r1")
+    auction.heard("r2", 1.0)
+    auction.lose("r2")
+    assert auction.abandon_unreachable() == ()  # no live robot: nothing is decided
+    auction.heard("r1", 2.0)
+    assert auction.abandon_unreachable() == ("a",)
+    assert auction.reopen_abandoned("r1") == ()
+    assert auction.done()

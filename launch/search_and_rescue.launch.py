@@ -34,9 +34,7 @@ launch does (nav2_bringup, RViz, ending with the runner).
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
-from typing import Any
 
 from ament_index_python.packages import get_package_share_directory
 from launch.actions import (
@@ -53,23 +51,21 @@ from launch.events import Shutdown
 from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
-from launch_ros.parameter_descriptions import ParameterValue
 
 from launch import LaunchContext, LaunchDescription
 from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
     RUN_FILES,
     MissionSettings,
-    Process,
     mission_processes,
     new_run_folder,
 )
+from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import SPEED
 
 REPORT_FILE = next(p for p in REPORT_PARAMETERS if p.name == "report_file")
 
-PACKAGE = "sar_framework"
 NAV2_MODES = ("bringup", "embedded")
 
 ARGUMENTS = [
@@ -111,26 +107,6 @@ ARGUMENTS = [
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
 ]
-
-
-def package_file(text: str, folder: str = "") -> str:
-    """Resolve a file argument: as given if it exists, else inside the package share.
-
-    Args:
-        text: The argument's value.
-        folder: A share sub-folder to try a bare name in (e.g. ``trees``).
-
-    Returns:
-        An absolute path (the share's, even when missing, so the error names it).
-    """
-    given = Path(text).expanduser()
-    if given.is_absolute() or given.exists():
-        return str(given.resolve())
-    share = Path(get_package_share_directory(PACKAGE))
-    candidates = [share / given]
-    if folder:
-        candidates += [share / folder / given, share / folder / f"{given}.yaml"]
-    return str(next((c for c in candidates if c.is_file()), candidates[0]))
 
 
 def end_with_runner(event: object, context: LaunchContext) -> list | None:
@@ -179,26 +155,6 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
         record=str(Path(record).expanduser().absolute()) if record else "",
     )
-
-
-def launch_parameters(parameters: dict[str, Any]) -> dict[str, Any]:
-    """The parameters with their types kept: launch_ros reads a bare string as YAML."""
-    typed: dict[str, Any] = {}
-    for name, value in parameters.items():
-        if isinstance(value, str):
-            typed[name] = ParameterValue(value, value_type=str)
-        elif isinstance(value, list) and value and all(isinstance(v, str) for v in value):
-            typed[name] = ParameterValue(value, value_type=list[str])
-        else:
-            typed[name] = value
-    return typed
-
-
-def process_node(process: Process) -> Node:
-    """One process of the mission: its executable, its params files, then its parameters."""
-    return Node(package=PACKAGE, executable=process.executable,
-                parameters=[*process.params_files, launch_parameters(process.parameters)],
-                output="screen", emulate_tty=sys.stdout.isatty())
 
 
 def launch_setup(context: LaunchContext) -> list:

@@ -51,6 +51,8 @@ class MissionInputs:
         wall_duration_s: Wall seconds of the whole run, set-up included.
         map_yaml: The map to draw on.
         blocked_areas: Injected obstacles as ``(x, y, radius)`` metres, drawn on the map.
+        base: ``{x, y, yaw}`` of this robot's base over the parameter file's (a fleet's
+            robot goes home to its own spawn place).
     """
 
     report_dir: Path
@@ -62,6 +64,7 @@ class MissionInputs:
     wall_duration_s: float = 0.0
     map_yaml: Path = MAP_YAML
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
+    base: dict[str, float] | None = None
 
 
 # -- reading ------------------------------------------------------------------------------
@@ -218,6 +221,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     trace = _read_jsonl(inputs.report_dir / "trace.jsonl")
     events = read_events(inputs.report_dir / EVENTS_FILE)
     zones, base = read_mission_layout(inputs.params_file)
+    base = dict(inputs.base) if inputs.base is not None else base
     visited: list[dict[str, Any]] = []
     base_reached: dict[str, Any] | None = None
     planned = {z["id"]: z for z in zones}

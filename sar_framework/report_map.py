@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -84,6 +85,17 @@ def _label(draw: Any, xy: tuple[float, float], text: str, colour: Any, font: Any
     draw.text(xy, text, fill=colour, font=font)
 
 
+def font(size: int) -> Any:
+    """Pillow's default font at ``size`` (a fixed bitmap font before Pillow 10.1)."""
+    return _font(size)
+
+
+def label(draw: Any, xy: tuple[float, float], text: str, colour: Any, font: Any, *,
+          limit: float) -> None:
+    """Draw ``text`` on a white box, moved left to end before ``limit`` (the legend)."""
+    _label(draw, xy, text, colour, font, limit=limit)
+
+
 def _font(size: int) -> Any:
     from PIL import ImageFont
 
@@ -93,18 +105,31 @@ def _font(size: int) -> Any:
         return ImageFont.load_default()
 
 
-def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path,
-             map_yaml: Path = MAP_YAML) -> Path:
-    """Draw ``mission.png``: map, zones, base, survivors, path, title and legend.
+@dataclass
+class MapCanvas:
+    """The course map drawn at :data:`_SCALE`, a title strip above, a legend panel right.
+
+    Attributes:
+        img: The whole picture (``PIL.Image``).
+        draw: Its ``ImageDraw``.
+        map_img: The map alone (its width is where the legend panel starts).
+        px_per_m: Pixels per metre.
+        to_px: Map ``(x, y)`` metres -> picture ``(col, row)`` pixels.
+    """
+
+    img: Any
+    draw: Any
+    map_img: Any
+    px_per_m: float
+    to_px: Callable[[float, float], tuple[float, float]]
+
+
+def map_canvas(map_yaml: Path = MAP_YAML, legend_w: int = _LEGEND_W) -> MapCanvas:
+    """The occupancy map (walls and debris) on a white picture with a 1 m dotted grid.
 
     Args:
-        summary: The ``mission.json`` document.
-        trace: The simulator's trace records (poses are drawn as the path).
-        out: The PNG file to write.
         map_yaml: The occupancy map.
-
-    Returns:
-        ``out``.
+        legend_w: The legend panel's width, pixels.
     """
     import numpy as np
     from PIL import Image, ImageDraw
@@ -118,7 +143,7 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
     rgb[grid.data == OCCUPIED] = _COLOURS["occupied"]
     map_img = Image.fromarray(rgb[::-1], "RGB").resize(
         (grid.width * _SCALE, grid.height * _SCALE), Image.NEAREST)
-    width = map_img.width + _LEGEND_W
+    width = map_img.width + legend_w
     height = max(map_img.height + _MARGIN_TOP, 420)
     img = Image.new("RGB", (width, height), _COLOURS["panel"])
     img.paste(map_img, (0, _MARGIN_TOP))
@@ -137,6 +162,26 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
         for y in range(_MARGIN_TOP, _MARGIN_TOP + map_img.height, 6):
             if img.getpixel((int(x0), y)) == _COLOURS["free"]:
                 draw.point((int(x0), y), fill=_COLOURS["grid"])
+    return MapCanvas(img, draw, map_img, px_per_m, to_px)
+
+
+def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path,
+             map_yaml: Path = MAP_YAML) -> Path:
+    """Draw ``mission.png``: map, zones, base, survivors, path, title and legend.
+
+    Args:
+        summary: The ``mission.json`` document.
+        trace: The simulator's trace records (poses are drawn as the path).
+        out: The PNG file to write.
+        map_yaml: The occupancy map.
+
+    Returns:
+        ``out``.
+    """
+    canvas = map_canvas(map_yaml)
+    img, draw, to_px, px_per_m = canvas.img, canvas.draw, canvas.to_px, canvas.px_per_m
+    map_img = canvas.map_img
+    width = img.width
     small, normal, big = _font(13), _font(15), _font(18)
 
     poses = [to_px(float(r["x"]), float(r["y"])) for r in trace

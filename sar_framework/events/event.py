@@ -17,10 +17,27 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-EVENT_TOPIC = "/sar_mission/events"
-"""The ROS topic the runner publishes the stream on (:mod:`sar_framework.runner.event_topic`)."""
+EVENT_TOPIC_NAME = "sar_mission/events"
+"""The runner's event topic, relative: ``/robot1/sar_mission/events`` for a runner in
+``/robot1`` (:mod:`sar_framework.runner.event_topic`)."""
+EVENT_TOPIC = "/" + EVENT_TOPIC_NAME
+"""The same topic in the root namespace: a single robot's runner publishes it there."""
 EVENT_TYPE = "sar_interfaces/msg/MissionEvent"
 """Its message type."""
+
+
+def in_namespace(relative: str, namespace: str = "") -> str:
+    """The full name of a relative topic in ``namespace``.
+
+    Args:
+        relative: A relative name (``sar_mission/events``).
+        namespace: ``robot1``, ``/robot1`` or ``""``/``"/"`` for the root namespace.
+
+    Returns:
+        ``/robot1/sar_mission/events`` (``/sar_mission/events`` in the root).
+    """
+    namespace = namespace.strip("/")
+    return f"/{namespace}/{relative}" if namespace else f"/{relative}"
 
 
 class EventKind(str, enum.Enum):

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -131,6 +131,7 @@ class Process:
         module: The Python module ``python -m`` runs for the same program.
         params_files: ROS parameter files, in order (before :attr:`parameters`).
         parameters: ROS parameters, set after the files.
+        namespace: The ROS namespace its nodes live in (a fleet's robot), "" for the root.
     """
 
     label: str
@@ -138,6 +139,12 @@ class Process:
     module: str
     params_files: tuple[str, ...] = ()
     parameters: dict[str, ParamValue] = field(default_factory=dict)
+    namespace: str = ""
+
+    @property
+    def name(self) -> str:
+        """``robot1/runner`` in a namespace, else the label (log files, progress lines)."""
+        return f"{self.namespace}/{self.label}" if self.namespace else self.label
 
 
 def _set(parameters: dict[str, ParamValue], name: str, value: ParamValue | None) -> None:
@@ -220,14 +227,14 @@ def mission_processes(settings: MissionSettings) -> list[Process]:
     Returns:
         One description per process; ``settings.extra`` is applied last.
     """
-    processes = []
-    for build in BUILDERS:
-        process = build(settings)
-        if process is not None:
-            extra = settings.extra.get(process.label, {})
-            processes.append(Process(process.label, process.executable, process.module,
-                                     process.params_files, {**process.parameters, **extra}))
-    return processes
+    built = (build(settings) for build in BUILDERS)
+    return [with_extra(p, settings) for p in built if p is not None]
+
+
+def with_extra(process: Process, settings: MissionSettings) -> Process:
+    """``process`` with ``settings.extra`` for its label set last."""
+    extra = settings.extra.get(process.label, {})
+    return replace(process, parameters={**process.parameters, **extra})
 
 
 # -- --ros-args ---------------------------------------------------------------------------
@@ -274,9 +281,12 @@ def ros_arguments(process: Process) -> list[str]:
         process: The process description.
 
     Returns:
-        ``["--params-file", FILE, ..., "-p", "NAME:=VALUE", ...]``.
+        ``["-r", "__ns:=/NS", "--params-file", FILE, ..., "-p", "NAME:=VALUE", ...]``
+        (the namespace only for a process in one).
     """
     arguments: list[str] = []
+    if process.namespace:
+        arguments += ["-r", f"__ns:=/{process.namespace}"]
     for file in process.params_files:
         arguments += ["--params-file", file]
     for name, value in process.parameters.items():

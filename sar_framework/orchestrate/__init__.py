@@ -20,7 +20,7 @@ of one run; the tree runner it starts is :mod:`sar_framework.runner`, and the mi
 own state and process list are :mod:`sar_framework.mission`.
 """
 
+from sar_framework.orchestrate.command import run_command
 from sar_framework.orchestrate.options import configure
-from sar_framework.orchestrate.orchestrator import run_command
 
 __all__ = ["configure", "run_command"]

@@ -14,6 +14,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from sar_framework.mission.fleet_processes import (
+    FLEET_FILE,
+    FleetMember,
+    FleetSettings,
+    fleet_processes,
+)
 from sar_framework.mission.processes import (
     MissionSettings,
     ParamValue,
@@ -152,18 +158,50 @@ def mission_settings(config: RunConfig, report_dir: Path,
                "runner": entry_values(config.runner_params)})
 
 
+def fleet_file(config: RunConfig, report_dir: Path) -> Path:
+    """The fleet file the simulator reads: ``--fleet``'s, or the one ``--robots`` writes."""
+    return Path(config.fleet).resolve() if config.fleet else report_dir / FLEET_FILE
+
+
+def write_fleet_file(config: RunConfig, report_dir: Path,
+                     robots: Sequence[FleetMember]) -> Path:
+    """Write ``--robots``' fleet file into the report folder (``--fleet``'s is used as is)."""
+    from sar_framework.sim.spawn_poses import fleet_text
+    from sar_framework.sim.world import Pose2D
+
+    path = fleet_file(config, report_dir)
+    if not config.fleet:
+        path.write_text(fleet_text([Pose2D(r.x, r.y, r.yaw) for r in robots]),
+                        encoding="utf-8")
+    return path
+
+
 def child_specs(config: RunConfig, report_dir: Path,
-                zones: dict[str, tuple[float, float]] | None = None) -> list[ChildSpec]:
+                zones: dict[str, tuple[float, float]] | None = None, *,
+                fleet: Sequence[FleetMember] = (), coordinator: bool = False,
+                zone_order: Sequence[str] = ()) -> list[ChildSpec]:
     """The processes of a mission, in start order (the runner last), as command lines.
 
     Args:
         config: The configuration.
         report_dir: The report folder (status, trace and report files go there).
         zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+        fleet: A fleet's robots (:func:`~sar_framework.mission.fleet_processes.fleet_processes`;
+            each robot's files in ``report_dir/<name>/``); empty for one robot.
+        coordinator: A fleet's zone coordinator starts.
+        zone_order: The mission's zone order (a fleet's robots without the coordinator
+            each start at a different zone).
 
     Returns:
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
-        of :func:`mission_settings`).
+        of :func:`mission_settings`), labelled ``robot1/runner`` in a namespace.
     """
-    return [ChildSpec(p.label, p.module, tuple(ros_arguments(p)), p.executable)
-            for p in mission_processes(mission_settings(config, report_dir, zones))]
+    settings = mission_settings(config, report_dir, zones)
+    if fleet:
+        processes = fleet_processes(FleetSettings(
+            settings, str(fleet_file(config, report_dir)), tuple(fleet), str(report_dir),
+            coordinator, tuple(zone_order)))
+    else:
+        processes = mission_processes(settings)
+    return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)
+            for p in processes]

@@ -23,8 +23,10 @@ import yaml
 
 from sar_framework.engine.param import Param
 from sar_framework.fleet.params import COORDINATOR_PARAMETERS
+from sar_framework.mission.fleet_processes import FleetMember
 from sar_framework.mission.params_check import check_values, mission_problems, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
+from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
 from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
 from sar_framework.sim.params import SIM_PARAMETERS, SPEED
@@ -68,12 +70,16 @@ class CheckedInputs:
         runner_values: The runner's parameters: the file's, then ``--runner-param``.
         zones: Mission zone id -> ``(x, y)``.
         blocked_areas: The ``blocked_zones`` fault as ``(x, y, radius)`` circles, metres.
+        fleet: The fleet's robots (``--robots``/``--fleet``); empty for one robot.
+        coordinator: The zone coordinator starts (a fleet whose tree bids for zones).
     """
 
     spec: Any
     runner_values: dict[str, Any]
     zones: dict[str, tuple[float, float]]
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
+    fleet: tuple[FleetMember, ...] = ()
+    coordinator: bool = False
 
 
 def _option_problems(config: RunConfig) -> list[str]:
@@ -174,6 +180,9 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
             load_survivors(config.survivors)
         except SurvivorsFileError as err:
             problems.append(str(err))
+    kinds = [node.kind for node in spec.nodes()] if spec is not None else []
+    fleet, coordinator, fleet_issues = fleet_problems(config, values, overrides["sim"], kinds)
+    problems += fleet_issues
     if problems or spec is None:
         return None, problems
-    return CheckedInputs(spec, values, zones, blocked), problems
+    return CheckedInputs(spec, values, zones, blocked, fleet, coordinator), problems

@@ -46,6 +46,8 @@ class RunConfig:
         record: The MCAP file to record the mission into, or None.
         watch: Show the tree live (``sar-tree watch``) instead of progress lines.
         reload: Reload the tree when its file changes (the runner's ``watch_tree``).
+        robots: Run a fleet of this many robots near the base (``--robots N``), or None.
+        fleet: Run the fleet of this fleet file (``--fleet FILE``), or None.
     """
 
     tree: str
@@ -67,6 +69,13 @@ class RunConfig:
     record: str | None = None
     watch: bool = False
     reload: bool = False
+    robots: int | None = None
+    fleet: str | None = None
+
+    @property
+    def is_fleet(self) -> bool:
+        """Whether the run is a fleet's (``--robots`` or ``--fleet``)."""
+        return self.robots is not None or self.fleet is not None
 
 
 # -- command line -------------------------------------------------------------------------
@@ -120,6 +129,12 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--reload", action="store_true",
                         help="swap the tree in between ticks whenever its file or an include "
                         "changes; an invalid edit is refused (docs/hot-reload.md)")
+    parser.add_argument("--robots", type=int, metavar="N",
+                        help="run a fleet: N robots near the base, each with its runner in "
+                        "/robot1... and the zone coordinator when the tree bids for zones "
+                        "(docs/fleet.md)")
+    parser.add_argument("--fleet", metavar="FILE",
+                        help="run the fleet of this fleet file (names and spawn poses)")
 
 
 def config_from_args(args: argparse.Namespace) -> RunConfig:
@@ -139,5 +154,5 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
         sim_params=list(args.sim_params), detect_params=list(args.detect_params),
         report_params=list(args.report_params), runner_params=list(args.runner_params),
         plugin_paths=list(args.plugin_path), record=args.record,
-        watch=args.watch, reload=args.reload,
+        watch=args.watch, reload=args.reload, robots=args.robots, fleet=args.fleet,
     )

@@ -7,7 +7,6 @@ and their warnings shown, for humans only.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import threading
 import time
@@ -23,9 +22,9 @@ from sar_framework.events.jsonl import (
     JsonLinesFollower,
 )
 from sar_framework.mission.completion import DEFAULT_COMPLETION, describe_completion
-from sar_framework.orchestrate.config import check_config, child_specs, ros_environment
+from sar_framework.orchestrate.config import ChildSpec, child_specs, ros_environment
 from sar_framework.orchestrate.inputs import CheckedInputs
-from sar_framework.orchestrate.options import RunConfig, RunUsageError, config_from_args
+from sar_framework.orchestrate.options import RunConfig
 from sar_framework.orchestrate.outcome import (
     EXIT_INTERRUPTED,
     EXIT_USAGE,
@@ -95,9 +94,9 @@ class Orchestrator:
         shown = self.config.verbose or line.severity in ("WARN", "ERROR", "FATAL")
         if shown and self.watcher is None:
             tag = "" if line.severity in ("INFO", "") else f"{line.severity}: "
-            self._show(line.wall_s, line.child, f"{tag}{line.message}", log_line=True)
+            self.show(line.wall_s, line.child, f"{tag}{line.message}", log_line=True)
 
-    def _show(self, wall_s: float, child: str, text: str, *, log_line: bool = False) -> None:
+    def show(self, wall_s: float, child: str, text: str, *, log_line: bool = False) -> None:
         """Print a child's line unless it repeats a recent one (then it is counted).
 
         A process's log line counts as a repeat whatever its numbers (goal counters,
@@ -118,7 +117,7 @@ class Orchestrator:
                 self.completion_wall_s = time.monotonic() - self.started
             line = progress_line(event)
             if line is not None and self.watcher is None:
-                self._show(time.monotonic() - self.started, "runner", line)
+                self.show(time.monotonic() - self.started, "runner", line)
 
     def flush_repeats(self) -> None:
         """Print the count of the lines held back, if any."""
@@ -154,7 +153,7 @@ class Orchestrator:
         )
         self.say("sar-tree run: " + describe_completion(
             str(self.inputs.runner_values.get("completion", DEFAULT_COMPLETION)), self.spec))
-        for spec in child_specs(self.config, self.report_dir, self.inputs.zones):
+        for spec in self.child_specs():
             self.children.append(start_child(spec, env, self.report_dir / f"{spec.label}.log",
                                              self._on_line, self.started))
             if spec.label == "recorder" and self.config.record:
@@ -169,6 +168,10 @@ class Orchestrator:
         import sar_framework.engine.render
         import sar_framework.report
         import sar_framework.sim.occupancy  # noqa: F401
+
+    def child_specs(self) -> list[ChildSpec]:
+        """The processes to start, in order."""
+        return child_specs(self.config, self.report_dir, self.inputs.zones)
 
     def child(self, label: str) -> ChildProcess | None:
         """The child called ``label``, if it was started."""
@@ -198,7 +201,7 @@ class Orchestrator:
                 runner.finish_reading()
                 self.take_events()  # the last events, written before it exited
                 return runner_exit_outcome(code, self.events, read_status(self.report_dir),
-                                           self._last_error("runner"))
+                                           self.last_error("runner"))
             for child in self.children:
                 if child is runner or child.label in self.exited or child.poll() is None:
                     continue
@@ -206,7 +209,7 @@ class Orchestrator:
                 self.exited[child.label] = child.poll()
                 if child.label == "sim" or child.poll() == EXIT_USAGE:  # the clock, bad input
                     return child_exit_outcome(child.label, child.poll(),
-                                              self._last_error(child.label))
+                                              self.last_error(child.label))
                 self.say(f"sar-tree run: the {child.label} process {exit_words(child.poll())} "
                          "mid-mission; the tree goes on without its service")
             if self.completion is not None and self.config.keep_alive and not announced:
@@ -228,7 +231,8 @@ class Orchestrator:
         if self.watcher is not None:
             stop_watcher(self.watcher)
 
-    def _last_error(self, label: str) -> str:
+    def last_error(self, label: str) -> str:
+        """Child ``label``'s last warning or error line (else its log's last line)."""
         errors = self._child_errors.get(label)
         if errors:
             return errors[-1]
@@ -261,6 +265,17 @@ class Orchestrator:
         writer.close()
         self.events.append(verdict)
 
+    def conclude(self, outcome: Outcome, written: list[Path]) -> int:
+        """Print the final lines; return the exit code.
+
+        Args:
+            outcome: How the mission ended.
+            written: The report files written.
+        """
+        summarise(self.say, self.report_dir, outcome, written, self.stop_s,
+                  recording=Path(self.config.record) if self.config.record else None)
+        return outcome.exit_code
+
     def write_report(self, outcome: Outcome) -> list[Path]:
         """Write mission.json, mission.png and tree.svg; return the files written.
 
@@ -285,19 +300,16 @@ class Orchestrator:
             return []
 
 
-def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = None) -> int:
+def run_mission(mission: Orchestrator) -> int:
     """Run a checked mission; return the exit code.
 
     Args:
-        config: The configuration (already checked by :func:`check_config`).
-        inputs: What :func:`check_config` found.
-        out: Where progress goes (stdout by default).
+        mission: The mission (an :class:`Orchestrator` of checked inputs, or a fleet's).
 
     Returns:
         0 SUCCESS, 1 FAILURE/timeout/start-up failure, 2 input rejected by a child,
         130 interrupted.
     """
-    mission = Orchestrator(config, inputs, out)
     interrupt = stop_on_signals()
     try:
         mission.prepare()
@@ -315,29 +327,4 @@ def run_mission(config: RunConfig, inputs: CheckedInputs, out: IO[str] | None = 
         outcome.reason = "; ".join([outcome.reason, *exited_children(mission.exited)]).strip("; ")
     mission.record_verdict(outcome)
     written = mission.write_report(outcome)
-    summarise(mission.say, mission.report_dir, outcome, written, mission.stop_s,
-              recording=Path(config.record) if config.record else None)
-    return outcome.exit_code
-
-
-def run_command(args: argparse.Namespace) -> int:
-    """``sar-tree run``: check the input, run the mission, return the exit code.
-
-    Args:
-        args: Parsed arguments (see :func:`~sar_framework.orchestrate.options.configure`).
-
-    Returns:
-        The exit code.
-    """
-    config = config_from_args(args)
-    try:
-        inputs = check_config(config)
-    except RunUsageError as err:
-        lines = str(err).splitlines()
-        if len(lines) == 1:
-            sys.stderr.write(f"sar-tree run: error: {lines[0]}\n")
-        else:
-            sys.stderr.write("\n".join(lines) + f"\nsar-tree run: error: {len(lines)} "
-                             "problems in the inputs; nothing was started\n")
-        return EXIT_USAGE
-    return run_mission(config, inputs)
+    return mission.conclude(outcome, written)

@@ -93,14 +93,15 @@ def stop_children(children: Sequence[ChildProcess], *, first: str = "runner", la
 
     Args:
         children: The children (some may have exited already).
-        first: The label of the child whose exit releases ``last``.
+        first: The label of the child whose exit releases ``last`` (every ``NS/first``
+            too: a fleet's runners).
         last: The label of the child stopped last.
         released: Polled: true once ``last`` may stop early (e.g. its goal ended).
     """
     start = time.monotonic()
     early = [c for c in children if c.label != last]
     late = [c for c in children if c.label == last]
-    leader = [c for c in children if c.label == first]
+    leader = [c for c in children if c.label == first or c.label.endswith("/" + first)]
     for child in early:
         child.signal(signal.SIGINT)
     deadline = start + RUNNER_STOP_S

@@ -1,4 +1,7 @@
-"""The mission's event stream on ROS: ``/sar_mission/events`` (``sar_interfaces/msg/MissionEvent``).
+"""The mission's event stream on ROS: ``sar_mission/events`` (``sar_interfaces/msg/MissionEvent``).
+
+The name is relative: ``/sar_mission/events`` in the root namespace, and
+``/robot1/sar_mission/events`` for a runner started in ``/robot1`` (a fleet, docs/fleet.md).
 
 QoS (:func:`event_qos`): RELIABLE, TRANSIENT_LOCAL, KEEP_LAST :data:`EVENT_HISTORY_DEPTH`.
 Reliable because a reader decides on every event (a lost ``completion`` is a lost
@@ -15,14 +18,14 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.events.event import EVENT_TOPIC, EventKind, MissionEvent
+from sar_framework.events.event import EVENT_TOPIC, EVENT_TOPIC_NAME, EventKind, MissionEvent
 
 if TYPE_CHECKING:
     from rclpy.node import Node
     from rclpy.qos import QoSProfile
 
-__all__ = ["EVENT_HISTORY_DEPTH", "EVENT_TOPIC", "EventPublisher", "event_qos",
-           "from_message", "to_message"]
+__all__ = ["EVENT_HISTORY_DEPTH", "EVENT_TOPIC", "EVENT_TOPIC_NAME", "EventPublisher",
+           "event_qos", "from_message", "to_message"]
 
 EVENT_HISTORY_DEPTH = 1000
 """Events the publisher keeps for late joiners."""
@@ -77,7 +80,7 @@ def from_message(message: Any) -> MissionEvent:
 
 
 class EventPublisher:
-    """Publishes every event it is given on :data:`EVENT_TOPIC` (an event sink).
+    """Publishes every event it is given on :data:`EVENT_TOPIC_NAME`, relative (an event sink).
 
     Args:
         node: The node to publish from (the runner's).
@@ -86,7 +89,7 @@ class EventPublisher:
     def __init__(self, node: Node) -> None:
         from sar_interfaces.msg import MissionEvent as EventMsg
 
-        self._publisher = node.create_publisher(EventMsg, EVENT_TOPIC, event_qos())
+        self._publisher = node.create_publisher(EventMsg, EVENT_TOPIC_NAME, event_qos())
 
     def __call__(self, event: MissionEvent) -> None:
         """Publish ``event``."""

@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any
 import py_trees
 from py_trees.common import Status
 
-from sar_framework.events.event import EVENT_TOPIC, EventKind
+from sar_framework.events.event import EVENT_TOPIC_NAME, EventKind, in_namespace
 from sar_framework.mission.completion import ending_one_shot, resolve_completion
 from sar_framework.mission.params import (
     MissionParams,
@@ -80,7 +80,7 @@ from sar_framework.runner.status_file import (
     write_json_atomically,
 )
 from sar_framework.runner.tree_context import tree_context
-from sar_framework.runner.tree_status import STATUS_TOPIC, TreeStatusPublisher
+from sar_framework.runner.tree_status import STATUS_TOPIC_NAME, TreeStatusPublisher
 from sar_framework.runner.tree_ticker import publish_snapshots
 from sar_framework.stop_signals import StopSignals
 
@@ -205,7 +205,9 @@ class MissionRunner:
                                     "true; is /clock being published?")
         if self.stop:
             self.logger.info(f"{self.stop.name}: stopping the tree")
-        elif not deliver(self.node, executor, (STATUS_TOPIC, EVENT_TOPIC), DELIVERY_WALL_S):
+        elif not deliver(self.node, executor,
+                         [in_namespace(name, self.node.get_namespace())
+                          for name in (STATUS_TOPIC_NAME, EVENT_TOPIC_NAME)], DELIVERY_WALL_S):
             self.logger.warning("a subscriber of the status or event topic did not receive "
                                 f"everything within {DELIVERY_WALL_S:g} s")
         self._halt(executor)

@@ -41,7 +41,10 @@ if TYPE_CHECKING:
     from sar_framework.engine.spec import TreeSpec
     from sar_framework.mission.zone_manager import ZoneManager
 
-STATUS_TOPIC = "/sar_tree/status"
+STATUS_TOPIC_NAME = "sar_tree/status"
+"""Relative: a runner in ``/robot1`` publishes ``/robot1/sar_tree/status``."""
+STATUS_TOPIC = "/" + STATUS_TOPIC_NAME
+"""The same topic in the root namespace (a single robot's runner, the readers' default)."""
 STATUS_TYPE = "std_msgs/msg/String"
 FORMAT = 1
 _BLACKBOARD_TEXT_MAX = 120
@@ -83,7 +86,7 @@ STATUS_HISTORY = 50
 
 
 class TreeStatusPublisher(py_trees.visitors.VisitorBase):
-    """Publishes the tree's status on :data:`STATUS_TOPIC` after every tick.
+    """Publishes the tree's status on :data:`STATUS_TOPIC_NAME` (relative) after every tick.
 
     Attach it to the ticking tree with :meth:`attach`; it notes the behaviours each tick
     visits (as a visitor) and publishes from a post-tick handler.
@@ -117,7 +120,8 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         self._message_type = String
         # Latched: a recorder or watcher that matches late still gets the last ticks (a
         # finished mission is not ticked again, so nothing newer would come).
-        self._publisher = node.create_publisher(String, STATUS_TOPIC, latched_qos(STATUS_HISTORY))
+        self._publisher = node.create_publisher(String, STATUS_TOPIC_NAME,
+                                                latched_qos(STATUS_HISTORY))
         self._entries = entries if entries is not None and len(entries) else None
         self._subscribers = -1
         self.tick = 0

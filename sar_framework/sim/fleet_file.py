@@ -27,7 +27,7 @@ from sar_framework.engine.diagnostics import Diagnostic, SourceLocation
 from sar_framework.engine.yaml_source import Reader, location, read
 from sar_framework.sim.world import Pose2D
 
-__all__ = ["FleetFileError", "FleetRobot", "load_fleet"]
+__all__ = ["FleetFileError", "FleetRobot", "crowded_spawns", "load_fleet"]
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 _ROBOT_KEYS = ("name", "pose")
@@ -172,3 +172,16 @@ def load_fleet(path: str | Path) -> tuple[FleetRobot, ...]:
     if diagnostics:
         raise FleetFileError(diagnostics)
     return robots
+
+
+def crowded_spawns(robots: tuple[FleetRobot, ...], gap: float) -> list[str]:
+    """One ``file:line:col: ...`` problem per robot spawned within ``gap`` of an earlier one.
+
+    Args:
+        robots: The fleet, in file order.
+        gap: The least distance between two spawns (the simulator's two footprints).
+    """
+    return [f"{a.where}: robot '{a.name}' spawns within {gap:g} m (two footprints) of "
+            f"robot '{b.name}' ({b.where})"
+            for i, a in enumerate(robots) for b in robots[:i]
+            if math.dist((a.spawn.x, a.spawn.y), (b.spawn.x, b.spawn.y)) <= gap]

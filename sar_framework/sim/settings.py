@@ -7,7 +7,6 @@ The table, with each parameter's type, default, unit and range, is
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -16,7 +15,7 @@ from sar_framework.mission.params_file import ParamsError
 from sar_framework.ros.parameters import declare_table
 from sar_framework.sim.drive import DriveLimits
 from sar_framework.sim.faults import FaultConfigError, Faults, make_faults
-from sar_framework.sim.fleet_file import FleetFileError, load_fleet
+from sar_framework.sim.fleet_file import FleetFileError, crowded_spawns, load_fleet
 from sar_framework.sim.occupancy import MapError, OccupancyGrid, load_map
 from sar_framework.sim.params import DEFAULT_MAP_YAML, SIM_PARAMETERS
 from sar_framework.sim.world import Pose2D, World, WorldError, load_world
@@ -146,13 +145,22 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
     ), world, grid
 
 
+def trace_path(trace_file: Path, robot: str) -> Path:
+    """A robot's trace file: ``trace_file`` itself, or ``DIR/<robot>/NAME`` in a fleet.
+
+    Args:
+        trace_file: The ``trace_file`` parameter.
+        robot: The robot's namespace, "" outside a fleet.
+    """
+    return trace_file.parent / robot / trace_file.name if robot else trace_file
+
+
 def fleet_spawns(settings: SimSettings) -> list[tuple[str, Pose2D]]:
     """The robots to simulate: ``(namespace, spawn)``; ``[("", spawn)]`` without a fleet file.
 
     Raises:
         SimConfigError: The fleet file is malformed (each problem at its ``file:line:col``),
-            or two spawn poses are closer than two footprints (both lines named), or the
-            fleet file sets a trace file (one robot only, for now).
+            or two spawn poses are closer than two footprints (both lines named).
     """
     if settings.fleet_file is None:
         return [("", settings.spawn)]
@@ -160,14 +168,7 @@ def fleet_spawns(settings: SimSettings) -> list[tuple[str, Pose2D]]:
         robots = load_fleet(settings.fleet_file)
     except FleetFileError as exc:
         raise SimConfigError(f"fleet_file:\n{exc}") from exc
-    if settings.trace_file is not None:
-        raise SimConfigError("parameters trace_file and fleet_file: the trace records one "
-                             "robot; unset one of them")
-    gap = 2.0 * settings.robot_radius
-    for i, a in enumerate(robots):
-        for b in robots[:i]:
-            if math.dist((a.spawn.x, a.spawn.y), (b.spawn.x, b.spawn.y)) <= gap:
-                raise SimConfigError(
-                    f"{a.where}: robot '{a.name}' spawns within {gap:g} m (two footprints) "
-                    f"of robot '{b.name}' ({b.where})")
+    crowded = crowded_spawns(robots, 2.0 * settings.robot_radius)
+    if crowded:
+        raise SimConfigError(crowded[0])
     return [(robot.name, robot.spawn) for robot in robots]

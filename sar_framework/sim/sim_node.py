@@ -27,6 +27,7 @@ yet ``node.get_clock().now()`` is simulated time, as with ``use_sim_time:=true``
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
 import traceback
@@ -49,6 +50,7 @@ from sar_framework.sim.settings import (
     SimSettings,
     fleet_spawns,
     read_settings,
+    trace_path,
 )
 from sar_framework.sim.trace import TraceWriter
 
@@ -83,18 +85,21 @@ class Simulator:
         self._now_ns = 0
         try:
             fleet = fleet_spawns(s)
-            self.trace = TraceWriter(s.trace_file, s.trace_period_s) if s.trace_file else None
+            # one trace per robot (a fleet's in DIR/<robot>/), in the robots' order
+            self.traces = [TraceWriter(trace_path(s.trace_file, name), s.trace_period_s)
+                           if s.trace_file else None for name, _ in fleet]
         except OSError as exc:
             self.node.destroy_node()
-            raise SimConfigError(f"parameter trace_file: cannot write {s.trace_file}: "
+            raise SimConfigError(f"parameter trace_file: cannot write {exc.filename}: "
                                  f"{exc.strerror or exc}") from exc
         except SimConfigError:
             self.node.destroy_node()
             raise
+        self.trace = self.traces[0]
         self.robots = [RobotStack(name, spawn, s, self.grid, sim_node=self.node, now_ns=self.now_ns,
-                                  listener=self._on_goal_event,
-                                  event_sink=self._on_request_event)
-                       for name, spawn in fleet]
+                                  listener=functools.partial(self._on_goal_event, i),
+                                  event_sink=functools.partial(self._on_request_event, i))
+                       for i, (name, spawn) in enumerate(fleet)]
         first = self.robots[0]  # the single robot's parts, by the names they always had
         self.navigator, self.amcl, self.gate = first.navigator, first.amcl, first.gate
         self.costmaps, self.map_server = first.costmaps, first.map_server
@@ -152,10 +157,11 @@ class Simulator:
         for robot in self.robots:
             robot.publish_state(0, robot.navigator.state())
         self._clock_pub.publish(Clock())
-        if self.trace is not None:
-            spawn = s.spawn
-            self.trace.event(0.0, "start", x=spawn.x, y=spawn.y, yaw=spawn.yaw, speed=s.speed,
-                             map=str(s.map_yaml), world=str(s.world))
+        for robot, trace in zip(self.robots, self.traces, strict=True):
+            if trace is not None:
+                spawn = robot.spawn
+                trace.event(0.0, "start", x=spawn.x, y=spawn.y, yaw=spawn.yaw, speed=s.speed,
+                            map=str(s.map_yaml), world=str(s.world))
         self._wall_start = time.monotonic()
         self._thread.start()
 
@@ -185,11 +191,12 @@ class Simulator:
             f"time); path travelled {state.odometry:.2f} m, "
             f"{self.navigator.accepted_count} goals."
         )
-        if self.trace is not None:
-            self.trace.event(sim_s, "end", path_m=state.odometry,
-                             goals=self.navigator.accepted_count, wall_s=wall, rtf=rtf,
-                             dropped_steps=self.clock.dropped_steps)
-            self.trace.close()
+        for robot, trace in zip(self.robots, self.traces, strict=True):
+            if trace is not None:
+                trace.event(sim_s, "end", path_m=robot.navigator.state().odometry,
+                            goals=robot.navigator.accepted_count, wall_s=wall, rtf=rtf,
+                            dropped_steps=self.clock.dropped_steps)
+                trace.close()
         return aborted is not None
 
     def destroy(self) -> None:
@@ -258,9 +265,11 @@ class Simulator:
                     with self._published:
                         self._published_generation = generation
                         self._published.notify_all()
-                if self.trace is not None:
-                    self.trace.pose(now_ns / NS_PER_S, state.pose.x, state.pose.y,
-                                    state.pose.yaw, state.odometry)
+                for robot, trace in zip(self.robots, self.traces, strict=True):
+                    if trace is not None:
+                        now = state if robot is self.robots[0] else robot.navigator.state()
+                        trace.pose(now_ns / NS_PER_S, now.pose.x, now.pose.y, now.pose.yaw,
+                                   now.odometry)
             after = time.monotonic()
             pause = max(clock.wall_until_next_step(after), min_period - (after - wall))
             self._stop.wait(pause)
@@ -279,25 +288,27 @@ class Simulator:
 
     # ------------------------------------------------------------------ events
 
-    def _on_goal_event(self, goal: Goal, sim_s: float, robot: RobotState) -> None:
-        """Trace goal starts and ends (called with the navigator's lock held)."""
-        if self.trace is None:
+    def _on_goal_event(self, index: int, goal: Goal, sim_s: float, robot: RobotState) -> None:
+        """Trace robot ``index``'s goal starts and ends (with the navigator's lock held)."""
+        trace = self.traces[index]
+        if trace is None:
             return
         target = goal.target
         fields: dict[str, Any] = {"goal": goal.number, "x": target.x, "y": target.y,
                                   "yaw": target.yaw, "path_m": robot.odometry}
         if goal.active:
-            self.trace.event(sim_s, "accepted", **fields)
+            trace.event(sim_s, "accepted", **fields)
             return
         fields.update(robot_x=robot.pose.x, robot_y=robot.pose.y, robot_yaw=robot.pose.yaw)
         if goal.error_code or goal.error_msg:
             fields.update(error_code=goal.error_code, error_msg=goal.error_msg)
-        self.trace.event(sim_s, goal.outcome.value, **fields)
+        trace.event(sim_s, goal.outcome.value, **fields)
 
-    def _on_request_event(self, event: str, **fields: Any) -> None:
-        """Trace goal requests the navigator never saw (rejections)."""
-        if self.trace is not None:
-            self.trace.event(self.now_ns() / NS_PER_S, event, **fields)
+    def _on_request_event(self, index: int, event: str, **fields: Any) -> None:
+        """Trace robot ``index``'s goal requests the navigator never saw (rejections)."""
+        trace = self.traces[index]
+        if trace is not None:
+            trace.event(self.now_ns() / NS_PER_S, event, **fields)
 
     def _set_speed(self, speed: float) -> None:
         self._new_speed = speed  # applied by the physics thread
@@ -321,9 +332,10 @@ class Simulator:
                 lambda: self._published_generation == self._generation(), timeout=1.0)
         for robot in self.robots:
             robot.amcl.publish_truth(self.now_ns())
-        if self.trace is not None:
-            self.trace.event(self.now_ns() / NS_PER_S, "reset", x=s.spawn.x, y=s.spawn.y,
-                             yaw=s.spawn.yaw)
+        for robot, trace in zip(self.robots, self.traces, strict=True):
+            if trace is not None:
+                trace.event(self.now_ns() / NS_PER_S, "reset", x=robot.spawn.x,
+                            y=robot.spawn.y, yaw=robot.spawn.yaw)
         what = "".join(f"goal {goal.number} aborted, " for goal in aborted if goal is not None)
         where = "robot at spawn" if len(self.robots) == 1 else "robots at their spawns"
         first = self.robots[0].spawn

@@ -18,8 +18,9 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
+from sar_framework.events.event import in_namespace
 from sar_framework.runner.entry_values import apply_entries
-from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.runner.tree_status import STATUS_TOPIC_NAME, StatusFormatError, decode_status
 from sar_framework.watch.snapshot_source import SnapshotFeed
 
 EXIT_OK = 0
@@ -42,6 +43,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         f"(default: {DEFAULT_WAIT_S:g})")
     parser.add_argument("--fps", type=float, default=MAX_FPS, metavar="N",
                         help=f"redraw at most N times a second (default: {MAX_FPS:g})")
+    parser.add_argument("--namespace", default="", metavar="NS",
+                        help="watch the runner in this namespace (a fleet's robot1: "
+                        "/robot1/sar_tree/status; default: the root namespace)")
 
 
 @dataclass
@@ -98,14 +102,17 @@ class WatchState:
         return (k1 - k0) / (t1 - t0) if t1 > t0 else None
 
 
-def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = None) -> int:
+def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = None,
+          namespace: str = "") -> int:
     """Show the running mission's tree until it ends; return the exit code.
 
     Args:
         wait_s: Seconds to wait for the first status.
         fps: Highest redraw rate.
         console: A ``rich.console.Console`` (stdout's by default).
+        namespace: The runner's namespace (a fleet's ``robot1``); "" for the root.
     """
+    status_topic = in_namespace(STATUS_TOPIC_NAME, namespace)
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
@@ -123,9 +130,9 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     stop = stop_on_signals()
     node = Node("sar_tree_watch")
     state = WatchState()
-    node.create_subscription(String, STATUS_TOPIC,
+    node.create_subscription(String, status_topic,
                              lambda m: state.take(m.data, time.monotonic()), 100)
-    feed = SnapshotFeed(node) if snapshots_available() else None
+    feed = SnapshotFeed(node, status_topic) if snapshots_available() else None
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     started = time.monotonic()
@@ -134,7 +141,7 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     done_since: float | None = None
     try:
         with Live(console=console, auto_refresh=False, transient=False) as live:
-            live.update(f"waiting for a mission on {STATUS_TOPIC} "
+            live.update(f"waiting for a mission on {status_topic} "
                         f"(ROS_DOMAIN_ID={_domain()})...", refresh=True)
             last_draw = 0.0
             while not stop:
@@ -152,7 +159,8 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
                 if fresh and (done or now - last_draw >= 1.0 / fps):
                     document = feed.merged(state.document) if feed else state.document
                     live.update(frame(document, state.ticks_per_s(),
-                                      source=_source(state.received, feed)), refresh=True)
+                                      source=_source(status_topic, state.received, feed)),
+                                refresh=True)
                     state.fresh, last_draw = False, now
                     state.drawn += 1
                 if done:
@@ -160,7 +168,7 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
                     break
                 if state.document is None and now - started > wait_s:
                     break
-                if state.document is not None and node.count_publishers(STATUS_TOPIC) == 0:
+                if state.document is not None and node.count_publishers(status_topic) == 0:
                     gone_since = gone_since or now
                     if now - gone_since > GONE_GRACE_S:
                         ending = "the runner has gone"
@@ -177,7 +185,7 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     if stop:
         return EXIT_INTERRUPTED
     if state.document is None:
-        console.print(f"sar-tree watch: no mission ticked on {STATUS_TOPIC} within "
+        console.print(f"sar-tree watch: no mission ticked on {status_topic} within "
                       f"{wait_s:g} s (ROS_DOMAIN_ID={_domain()}); start one with sar-tree run "
                       "or ros2 launch on the same domain", highlight=False)
         return EXIT_NO_MISSION
@@ -187,10 +195,10 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     return EXIT_OK
 
 
-def _source(received: int, feed: SnapshotFeed | None) -> str:
+def _source(status_topic: str, received: int, feed: SnapshotFeed | None) -> str:
     if feed is None or not feed.topic:
-        return f"{STATUS_TOPIC}, {received} ticks seen"
-    return f"{STATUS_TOPIC} + py_trees_ros snapshots on {feed.topic}, {received} ticks seen"
+        return f"{status_topic}, {received} ticks seen"
+    return f"{status_topic} + py_trees_ros snapshots on {feed.topic}, {received} ticks seen"
 
 
 def _domain() -> str:
@@ -202,4 +210,4 @@ def watch_command(args: argparse.Namespace) -> int:
     if not args.wait > 0 or not args.fps > 0:
         sys.stderr.write("sar-tree watch: error: --wait and --fps must be positive\n")
         return 2
-    return watch(args.wait, args.fps)
+    return watch(args.wait, args.fps, namespace=args.namespace)

@@ -97,10 +97,12 @@ class SnapshotFeed:
 
     Args:
         node: The watcher's node.
+        status_topic: The runner's status topic (another namespace's, in a fleet).
     """
 
-    def __init__(self, node: Node) -> None:
+    def __init__(self, node: Node, status_topic: str = STATUS_TOPIC) -> None:
         self.node = node
+        self.status_topic = status_topic
         self.service = ""
         self.topic = ""
         self.snapshots: dict[int, dict[str, Any]] = {}
@@ -148,7 +150,7 @@ class SnapshotFeed:
         self._opening = self._client.call_async(request)
 
     def _runner_service(self, verb: str) -> str | None:
-        for info in self.node.get_publishers_info_by_topic(STATUS_TOPIC):
+        for info in self.node.get_publishers_info_by_topic(self.status_topic):
             namespace = info.node_namespace.rstrip("/")
             name = f"{namespace}/{info.node_name}/snapshot_streams/{verb}"
             if any(n == name for n, _ in self.node.get_service_names_and_types()):

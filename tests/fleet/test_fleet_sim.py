@@ -45,7 +45,7 @@ def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     fleet = log_dir / "fleet.yaml"
     fleet.write_text(FLEET, encoding="utf-8")
     args = ["-m", "sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
-            "-p", f"fleet_file:={fleet}"]
+            "-p", f"fleet_file:={fleet}", "-p", f"trace_file:={log_dir / 'trace.jsonl'}"]
     with NodeProcess(args, "sim", log_dir=log_dir) as proc:
         proc.wait_for_output("ready", timeout=30)
         yield proc
@@ -180,6 +180,26 @@ def test_both_robots_navigate_at_once_and_arrive(client: tuple) -> None:
     assert time.monotonic() - started < 30.0
     for ns, (x, y, _) in goals.items():
         assert pose_of(node, executor, ns) == pytest.approx((x, y), abs=0.3)
+
+
+def test_each_robot_has_its_own_trace_in_a_folder_of_its_name(sim: NodeProcess) -> None:
+    """One trace per robot (DIR/<name>/trace.jsonl): its spawn, its goals, its path."""
+    import json
+
+    folder = sim.log_path.parent
+    assert not (folder / "trace.jsonl").exists()
+    for ns, (x, y, yaw) in SPAWNS.items():
+        path = folder / ns / "trace.jsonl"
+        deadline = time.monotonic() + 5.0  # written every wall second
+        while time.monotonic() < deadline and '"accepted"' not in path.read_text():
+            time.sleep(0.2)
+        records = [json.loads(line) for line in path.read_text().splitlines()]
+        start = records[0]
+        assert (start["event"], start["x"], start["y"], start["yaw"]) == ("start", x, y, yaw)
+        accepted = [r for r in records if r.get("event") == "accepted"]
+        assert accepted, ns  # the goals of the tests above, this robot's only
+        goals = {"robot1": (-3.5, -3.0), "robot2": (2.0, 3.5)}
+        assert (accepted[-1]["x"], accepted[-1]["y"]) == goals[ns]
 
 
 @pytest.mark.usefixtures("sim")

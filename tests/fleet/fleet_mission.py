@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sar_testing.netns import NetworkLab
 from sar_testing.processes import NodeProcess
 
 REPO = Path(__file__).resolve().parents[2]
@@ -25,6 +26,10 @@ SPEED = 30.0
 SPAWNS = {"robot1": (4.5, 1.0, 0.0), "robot2": (-4.5, 1.0, 0.0), "robot3": (-4.5, -1.0, 0.0)}
 ZONES = ("zone_a", "zone_b", "zone_c", "zone_d")
 ROBOT_TIMEOUT_WALL_S = 2.0
+
+#: Fast DDS over UDP only: a process SIGKILLed while it creates a shared-memory port leaves
+#: a half-made /dev/shm/fastrtps_port* on which the next process of the domain hangs.
+UDP_ONLY = {"FASTDDS_BUILTIN_TRANSPORTS": "UDPv4"}
 
 Killer = Callable[[list[dict[str, Any]], dict[str, str]], "str | None"]
 """``(events so far, runner outputs) -> the robot to kill now, or None``."""
@@ -39,6 +44,7 @@ class FleetRun:
     outputs: str
     victim: str | None = None
     lost_after_s: float | None = None
+    reports: list[dict[str, Any]] | None = None
 
     def kinds(self, kind: str) -> list[dict[str, Any]]:
         """The events of one kind, in order."""
@@ -53,7 +59,10 @@ class FleetRun:
 
 
 def read_events(path: Path) -> list[dict[str, Any]]:
-    """The coordinator's events file, one object per line (empty before it exists)."""
+    """A JSON Lines file (the coordinator's events, the base's reports), one object per line.
+
+    Empty before the file exists.
+    """
     if not path.exists():
         return []
     return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()
@@ -61,7 +70,8 @@ def read_events(path: Path) -> list[dict[str, Any]]:
 
 
 def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Sequence[str] = (),
-              kill: Killer | None = None, timeout_s: float = 90.0) -> FleetRun:
+              kill: Killer | None = None, timeout_s: float = 90.0,
+              lab: NetworkLab | None = None) -> FleetRun:
     """Run the fleet mission to its end; ``kill(events)`` may name a runner to SIGKILL.
 
     Args:
@@ -72,6 +82,8 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
             runs; the first robot name it returns has its runner killed with SIGKILL (at
             most once). The time until the coordinator's ``robot_lost`` event is measured.
         timeout_s: Wall bound of the mission.
+        lab: Run the root namespace's processes on its host ``world`` and each robot's on
+            the host of its name (hosts of their own), instead of on this machine.
     """
     import signal
 
@@ -86,8 +98,10 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
     runners: dict[str, NodeProcess] = {}
     killed_at = lost_after = None
 
-    def start(args: list[str], label: str) -> NodeProcess:
-        proc = NodeProcess(["-m", *args], label, log_dir=tmp).start()
+    def start(args: list[str], label: str, host: str = "world") -> NodeProcess:
+        where = {"prefix": lab.enter(host), "env": {**UDP_ONLY, **lab.ros_env(host)}} \
+            if lab is not None else {"env": UDP_ONLY}
+        proc = NodeProcess(["-m", *args], label, log_dir=tmp, **where).start()
         procs.append(proc)
         return proc
 
@@ -103,15 +117,15 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         coordinator.wait_for_output("ready", timeout=30)
         for name, (x, y, yaw) in SPAWNS.items():
             start(["sar_framework.servers.detect_survivor_server", "--ros-args",
-                   "-r", f"__ns:=/{name}", "-p", "service_name:=detect_survivor", *detect_params],
-                  f"detect_{name}")
+                   "-r", f"__ns:=/{name}", *detect_params], f"detect_{name}", name)
             runners[name] = start([
                 "sar_framework.runner.node", "--ros-args", "-r", f"__ns:=/{name}",
                 "--params-file", params, "-p", f"tree:={tree}",
                 "-p", f"initial_pose.x:={x}", "-p", f"initial_pose.y:={y}",
                 "-p", f"initial_pose.yaw:={yaw}", "-p", f"base_station.x:={x}",
                 "-p", f"base_station.y:={y}", "-p", f"base_station.yaw:={yaw}",
-                "-p", "exit_on_completion:=true", "-p", "tick_rate_hz:=10.0"], f"runner_{name}")
+                "-p", "exit_on_completion:=true", "-p", "tick_rate_hz:=10.0"], f"runner_{name}",
+                name)
         deadline = time.monotonic() + timeout_s
         victim = None
         while time.monotonic() < deadline:
@@ -133,4 +147,5 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         for proc in reversed(procs):
             proc.stop()
     outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
-    return FleetRun(read_events(events_file), codes, outputs, victim, lost_after)
+    return FleetRun(read_events(events_file), codes, outputs, victim, lost_after,
+                    read_events(tmp / "reports.jsonl"))

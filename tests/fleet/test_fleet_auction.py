@@ -2,7 +2,8 @@
 
 Each test runs the whole fleet (:mod:`fleet_mission`): the simulator, the coordinator,
 per robot a runner of trees/fleet_search.yaml. The verdict comes from the coordinator's
-events file: every zone searched exactly once, every runner finished (home).
+events file: every zone searched exactly once, every runner finished (home); and the
+base's report file: every survivor reported once, under its fleet-wide id.
 """
 
 from __future__ import annotations
@@ -23,6 +24,12 @@ def test_three_robots_search_every_zone_once_and_go_home(tmp_path: Path) -> None
     assert all(len(robots) == 1 for robots in searched.values()), searched
     assert len({robots[0] for robots in searched.values()}) >= 2  # the work was shared
     assert run.kinds("complete"), run.outputs
+    # Survivors counted once: each of the table's two survivors reported once, by its id.
+    reported = sorted((r["survivor_id"], round(r["x"], 2), round(r["y"], 2))
+                      for r in run.reports or [])
+    registered = {e["survivor_id"] for e in run.kinds("survivor_registered")}
+    assert sorted(p[1:] for p in reported) == [(-2.5, 3.2), (4.1, -2.5)], run.outputs
+    assert {r[0] for r in reported} == registered == {"survivor_1", "survivor_2"}
     bids = run.kinds("bid")
     assert bids and all(len(b["zone_ids"]) == len(b["costs"]) for b in bids)
     for award in run.kinds("award"):  # the winner bid the lowest among the round's bids

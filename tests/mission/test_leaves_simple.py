@@ -68,3 +68,27 @@ def test_log_no_detection_logs_the_spec_line_on_the_node(ros: tuple,
         zones.advance()
     leaf.tick_once()
     assert leaf.status == Status.FAILURE
+
+
+def test_dwell_with_jitter_waits_a_fresh_random_extra_at_each_start() -> None:
+    import random
+    import re
+    import time
+
+    from sar_plugins.dwell import Dwell
+
+    def drawn_wait(leaf: Dwell) -> float:
+        leaf.initialise()
+        assert leaf.update() == Status.RUNNING
+        return float(re.fullmatch(r"waiting: \S+ s of (\S+) s left", leaf.feedback_message)[1])
+
+    leaf = Dwell("GiveWay", duration=1.0, jitter=8.0, rng=random.Random(7))
+    waits = [drawn_wait(leaf) for _ in range(20)]
+    assert all(1.0 <= w <= 9.0 for w in waits)
+    assert len(set(waits)) >= 15  # drawn anew each time (one decimal shown)
+    assert max(waits) - min(waits) > 4.0  # spread over the range, not stuck at one end
+    assert drawn_wait(Dwell("Fixed", duration=2.0)) == 2.0  # no jitter: the duration
+    short = Dwell("Short", duration=0.0, jitter=0.05)
+    short.initialise()
+    time.sleep(0.06)
+    assert short.update() == Status.SUCCESS

@@ -50,6 +50,8 @@ class GoalGate:
         self.closing = threading.Event()
         self._idle = threading.Condition()
         self._executing = 0
+        self._published = threading.Condition()
+        self._published_ns = -1
 
     def close(self, reason: str, timeout_s: float = 0.5) -> Goal | None:
         """Stop taking goals, abort the running one and wait for the execute callbacks.
@@ -65,6 +67,27 @@ class GoalGate:
         with self._idle:
             self._idle.wait_for(lambda: self._executing == 0, timeout=timeout_s)
         return goal
+
+    def state_published(self, now_ns: int) -> None:
+        """The physics loop has published the robot's state (``/tf``, odometry) at ``now_ns``."""
+        with self._published:
+            self._published_ns = now_ns
+            self._published.notify_all()
+
+    def wait_state_published(self, at_s: float, timeout_s: float = 5.0) -> bool:
+        """Wait until the state at simulated time ``at_s`` or later has been published.
+
+        Nav2 judges a goal done from TF, so a client never gets a result before the TF that
+        shows it; waiting here before sending one keeps that order (the physics thread
+        publishes at ``publish_hz``, an executor thread sends the result).
+
+        Returns:
+            Whether it was published within ``timeout_s`` wall seconds (or the gate closed).
+        """
+        at_ns = round(at_s * 1e9) - 1000  # finished_s is a float: allow its rounding
+        with self._published:
+            return self._published.wait_for(
+                lambda: self._published_ns >= at_ns or self.closing.is_set(), timeout_s)
 
     def enter(self) -> None:
         """An execute callback starts."""
@@ -158,6 +181,9 @@ def follow_goal(gate: GoalGate, handle: ServerGoalHandle, goal: Goal, feedback: 
                 fill: Callable[[Any], None]) -> None:
     """Wait for ``goal`` to end, forwarding a cancel request and publishing feedback.
 
+    Returns once the robot's state at the goal's end has been published, so the caller's
+    result follows the TF that shows it.
+
     Args:
         gate: The shared gate (navigator, clock, feedback rate).
         handle: The action goal's handle.
@@ -171,13 +197,14 @@ def follow_goal(gate: GoalGate, handle: ServerGoalHandle, goal: Goal, feedback: 
         if handle.is_cancel_requested:
             gate.navigator.cancel(goal)
             goal.done.wait()  # set by cancel(), or by a concurrent end
-            return
+            break
         now_ns, wall = gate.now_ns(), time.monotonic()
         if now_ns >= next_feedback_ns and wall >= next_feedback_wall:
             fill(feedback)
             handle.publish_feedback(feedback)
             next_feedback_ns = now_ns + round(gate.feedback_period_s * 1e9)
             next_feedback_wall = wall + 1.0 / MAX_FEEDBACK_WALL_HZ
+    gate.wait_state_published(goal.finished_s or goal.started_s)
 
 
 def elapsed_msg(goal: Goal) -> Any:

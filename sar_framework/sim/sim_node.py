@@ -261,6 +261,7 @@ class Simulator:
                 if now_ns >= next_publish_ns or generation != self._published_generation:
                     for robot in self.robots:
                         robot.publish_state(now_ns, robot.navigator.state())
+                        robot.gate.state_published(now_ns)  # results may go out now
                     next_publish_ns = now_ns + publish_period_ns
                     with self._published:
                         self._published_generation = generation

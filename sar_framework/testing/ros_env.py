@@ -3,7 +3,9 @@
 Every run gets ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`` (no traffic leaves loopback)
 and a ``ROS_DOMAIN_ID`` nobody else on the machine holds: ids are claimed with an
 exclusive ``flock`` on a file in the temp dir, so parallel runs (two developers, CI and a
-shell) never see each other's nodes.
+shell) never see each other's nodes. An id whose DDS ports some process has already bound
+(a ``sar-tree run`` or ``ros2 launch`` on a fixed ``ROS_DOMAIN_ID``, which leases nothing)
+is skipped too.
 """
 
 from __future__ import annotations
@@ -16,6 +18,10 @@ from typing import IO
 
 # Fast DDS maps a domain to UDP ports; 1..101 is safe on Linux with default port ranges.
 _DOMAIN_RANGE = range(1, 102)
+# The RTPS port mapping (Fast DDS and Cyclone defaults): domain d owns the UDP ports
+# 7400 + 250 d ... 7400 + 250 d + 249 (discovery and user traffic of every participant).
+_PORT_BASE, _DOMAIN_GAIN = 7400, 250
+_UDP_TABLES = (Path("/proc/net/udp"), Path("/proc/net/udp6"))
 
 
 class DomainLease:
@@ -35,8 +41,26 @@ class DomainLease:
         self._handle.close()
 
 
+def domains_in_use() -> set[int]:
+    """The domain ids whose RTPS ports a process on this machine has bound (Linux).
+
+    Empty where the kernel's UDP tables cannot be read.
+    """
+    used: set[int] = set()
+    for table in _UDP_TABLES:
+        try:
+            lines = table.read_text().splitlines()[1:]
+        except OSError:
+            continue
+        for line in lines:  # "sl local_address rem_address ...", local as HEXADDR:HEXPORT
+            port = int(line.split()[1].rsplit(":", 1)[1], 16)
+            if port >= _PORT_BASE:
+                used.add((port - _PORT_BASE) // _DOMAIN_GAIN)
+    return used
+
+
 def lease_domain_id() -> DomainLease:
-    """Claim a free ROS domain id for this process.
+    """Claim a free ROS domain id for this process: unleased, and no participant on it.
 
     Returns:
         The lease; keep it alive for as long as the id is used.
@@ -49,6 +73,8 @@ def lease_domain_id() -> DomainLease:
     start = os.getpid() % len(_DOMAIN_RANGE)  # spread concurrent runs over the range
     ids = list(_DOMAIN_RANGE)
     for domain_id in ids[start:] + ids[:start]:
+        if domain_id in domains_in_use():  # read again each time: others start meanwhile
+            continue
         handle = (folder / f"{domain_id}.lock").open("w")
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)

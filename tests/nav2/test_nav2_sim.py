@@ -8,6 +8,7 @@ navigator's ``default_server_timeout`` (2 s: this machine is loaded) as bt_navig
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -108,26 +109,47 @@ def test_a_goal_in_a_wall_fails_with_nav2s_error_code_and_clears_the_path(
     assert Blackboard.storage["/follow_error"] == -1  # FollowPath never ran
 
 
-def yaw_from_tf(node: Any, executor: Any) -> float:
+def yaw_from_tf(node: Any, executor: Any, at_least: Any = None) -> float:
+    """The robot's yaw from the leaves' TF buffer; with ``at_least``, from a stamp no older."""
+    from rclpy.time import Time
     from sar_plugins.nav2._common import yaw_of
     from sar_plugins.nav2._tf import robot_pose
 
     found: list[Any] = []
-    spin_until(executor, lambda: bool(found.append(robot_pose(node, "map", "base_link"))
-                                      or found[-1]), 5.0)
-    assert found[-1] is not None
+
+    def fresh() -> bool:
+        found.append(robot_pose(node, "map", "base_link"))
+        return found[-1] is not None and (
+            at_least is None or Time.from_msg(found[-1].header.stamp) >= Time.from_msg(at_least))
+
+    assert spin_until(executor, fresh, 10.0), found[-1:]
     return yaw_of(found[-1].pose.orientation)
 
 
 def test_spin_turns_the_robot_and_counts_a_recovery(
         ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
+    from tf2_msgs.msg import TFMessage
+
     before = yaw_from_tf(*ros)
-    root = build(tmp_path, "root:\n  Spin: {spin_dist: 1.57, error_code_id: '{code}'}\n"
-                           "blackboard:\n  code: {type: int, initial: -1}\n")
-    assert run(ros, trees, root) == Status.SUCCESS
+    # A loaded test process takes /tf one message per spin while the result overtakes the
+    # queue: the turn is read from a /tf message the simulator sent after the result came.
+    sent_after: list[Any] = []
+    result_at = [float("inf")]
+    tf_sub = ros[0].create_subscription(
+        TFMessage, "/tf", lambda msg, info: sent_after.append(msg.transforms[-1].header.stamp)
+        if info["source_timestamp"] >= result_at[0] else None, 100)
+    try:
+        root = build(tmp_path, "root:\n  Spin: {spin_dist: 1.57, error_code_id: '{code}'}\n"
+                               "blackboard:\n  code: {type: int, initial: -1}\n")
+        assert run(ros, trees, root) == Status.SUCCESS
+        result_at[0] = time.time_ns()  # the source_timestamp clock (system time)
+        assert spin_until(ros[1], lambda: bool(sent_after), 10.0)
+        after = yaw_from_tf(*ros, at_least=sent_after[0])
+    finally:
+        ros[0].destroy_subscription(tf_sub)
     assert Blackboard.storage["/code"] == 0
     assert Blackboard.storage["/number_recoveries"] == 1
-    turned = math.remainder(yaw_from_tf(*ros) - before, math.tau)
+    turned = math.remainder(after - before, math.tau)
     assert turned == pytest.approx(1.57, abs=0.15)
 
 

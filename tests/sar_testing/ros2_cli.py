@@ -6,6 +6,8 @@ import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 
@@ -14,23 +16,44 @@ def ros2_executable() -> str | None:
     return shutil.which("ros2", path=str(Path(sys.executable).parent))
 
 
-def run_ros2(*args: str, expect: str = "", timeout: float = 30.0) -> str:
-    """Run ``ros2 ARGS --no-daemon`` until it succeeds and prints ``expect``; return stdout.
+def run_ros2(*args: str, expect: str = "", timeout: float = 30.0, daemon: bool = False) -> str:
+    """Run ``ros2 ARGS`` until it succeeds and prints ``expect``; return stdout.
 
-    Each run discovers the graph afresh (no daemon left behind), so a first run may not
-    see every node or topic yet: it is retried until ``timeout``.
+    Without ``daemon`` it runs with ``--no-daemon``: each run discovers the graph afresh (no
+    daemon left behind), so a first run may not see every node or topic yet. With
+    ``daemon`` it asks the daemon :func:`ros2_daemon` runs, as ``ros2`` does by default. It
+    is retried until ``timeout`` either way.
 
     Raises:
         AssertionError: It never succeeded; the message holds its last output.
     """
     executable = ros2_executable()
     assert executable is not None, "the ros2 command line is not installed here"
+    command = [sys.executable, executable, *args] + ([] if daemon else ["--no-daemon"])
     deadline = time.monotonic() + timeout
     while True:
-        done = subprocess.run([sys.executable, executable, *args, "--no-daemon"],
-                              capture_output=True, text=True, timeout=timeout, check=False)
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
+                              check=False)
         if (done.returncode == 0 and expect in done.stdout) or time.monotonic() > deadline:
             break
         time.sleep(0.5)
     assert done.returncode == 0 and expect in done.stdout, done.stdout + done.stderr
     return done.stdout
+
+
+@contextmanager
+def ros2_daemon() -> Iterator[None]:
+    """Run the ``ros2`` daemon of this process's domain for the block, stopped afterwards.
+
+    The daemon keeps discovering the graph between commands, so a command asks it for node
+    names instead of spinning ``--spin-time`` and starting over when discovery was slow.
+    """
+    executable = ros2_executable()
+    assert executable is not None, "the ros2 command line is not installed here"
+    subprocess.run([sys.executable, executable, "daemon", "start"], capture_output=True,
+                   text=True, timeout=60, check=True)
+    try:
+        yield
+    finally:
+        subprocess.run([sys.executable, executable, "daemon", "stop"], capture_output=True,
+                       text=True, timeout=60, check=False)

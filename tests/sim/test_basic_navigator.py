@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 from sar_testing.processes import NodeProcess
-from sar_testing.ros2_cli import ros2_executable, run_ros2
+from sar_testing.ros2_cli import ros2_daemon, ros2_executable, run_ros2
 
 pytest.importorskip("nav2_simple_commander.robot_navigator",
                     reason="nav2_simple_commander (real Jazzy overlay) is not installed")
@@ -157,15 +157,19 @@ def test_basic_navigator_whole_api(navigator: Any) -> None:
 def ros2(*args: str, expect: str = "") -> str:
     if ros2_executable() is None:
         pytest.skip("the ros2 command line is not installed here")
-    return run_ros2(*args, expect=expect)
+    return run_ros2(*args, expect=expect, daemon=True)
 
 
 @pytest.fixture(scope="class")
 def active_sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    """An autostarted simulator (the BasicNavigator test's one is gone by then)."""
-    proc = start_sim(tmp_path_factory.mktemp("sim_cli"))
-    yield proc
-    proc.stop()
+    """An autostarted simulator (the BasicNavigator test's one is gone by then), and the
+    ``ros2`` daemon (the command line's default) discovering it meanwhile."""
+    if ros2_executable() is None:
+        pytest.skip("the ros2 command line is not installed here")
+    with ros2_daemon():
+        proc = start_sim(tmp_path_factory.mktemp("sim_cli"))
+        yield proc
+        proc.stop()
 
 
 @pytest.mark.usefixtures("active_sim")

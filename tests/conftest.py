@@ -6,6 +6,10 @@ pytest-xdist (``-n 2``) every worker process leases its own domain, so the missi
 workers run at once never see each other's nodes; the controller, which runs no test,
 leases none. Child processes inherit their test process's domain.
 
+Before anything starts, the run removes Fast DDS shared-memory files no live process uses
+(sar_testing.shm_zombies): a half-made one left by a killed process hangs the next ROS
+process given its port.
+
 Tests marked ``soak`` (long repetitions under load) run only when asked for by name:
 ``-m soak``.
 """
@@ -19,6 +23,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, settings
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
+from sar_testing.shm_zombies import remove_unused_fastdds_files
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 # Two test workers (and other work) share the cores: a property test's examples are the same,
@@ -37,6 +42,8 @@ def is_xdist_controller(config: pytest.Config) -> bool:
 def pytest_configure(config: pytest.Config) -> None:
     """Lease a domain id and set the ROS environment for this test process."""
     global _lease  # noqa: PLW0603 - one lease per test process
+    if not hasattr(config, "workerinput"):  # once per run, before any ROS process starts
+        remove_unused_fastdds_files()
     if is_xdist_controller(config):
         return
     _lease = lease_domain_id()

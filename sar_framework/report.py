@@ -30,7 +30,7 @@ from typing import Any
 import yaml
 
 from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
-from sar_framework.events.jsonl import EVENTS_FILE, read_events
+from sar_framework.events.jsonl import EVENTS_FILE, read_events, read_json_lines
 from sar_framework.report_map import MAP_YAML, draw_map
 
 AT_BASE_M = 0.5
@@ -74,22 +74,6 @@ def _read_json(path: Path) -> dict[str, Any]:
     except (OSError, ValueError):
         return {}
     return data if isinstance(data, dict) else {}
-
-
-def _read_jsonl(path: Path) -> list[dict[str, Any]]:
-    records: list[dict[str, Any]] = []
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError:
-        return records
-    for line in text.splitlines():
-        try:
-            record = json.loads(line)
-        except ValueError:
-            continue  # a line being written when we read
-        if isinstance(record, dict):
-            records.append(record)
-    return records
 
 
 def _merge(target: dict[str, Any], source: dict[str, Any]) -> None:
@@ -178,7 +162,7 @@ def _survivors(report_dir: Path, events: Sequence[MissionEvent]) -> list[dict[st
             survivor = entry(event)
             if not survivor["acknowledged"]:
                 survivor["refused"] = event.message
-    for record in _read_jsonl(report_dir / "reports.jsonl"):
+    for record in read_json_lines(report_dir / "reports.jsonl"):
         sid = str(record.get("survivor_id", ""))
         survivor = found.setdefault(sid, {"id": sid, "found_sim_s": None})
         survivor.pop("refused", None)
@@ -218,7 +202,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         The document (JSON-ready).
     """
     status = _read_json(inputs.report_dir / "status.json")
-    trace = _read_jsonl(inputs.report_dir / "trace.jsonl")
+    trace = read_json_lines(inputs.report_dir / "trace.jsonl")
     events = read_events(inputs.report_dir / EVENTS_FILE)
     zones, base = read_mission_layout(inputs.params_file)
     base = dict(inputs.base) if inputs.base is not None else base
@@ -303,7 +287,7 @@ def write_report(inputs: MissionInputs) -> list[Path]:
     summary = summarise(inputs)
     written = [folder / "mission.json"]
     written[0].write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-    trace = _read_jsonl(folder / "trace.jsonl")
+    trace = read_json_lines(folder / "trace.jsonl")
     written.append(draw_map(summary, trace, folder / "mission.png", inputs.map_yaml))
     if inputs.spec is not None:
         from sar_framework.engine.render import render_to_file

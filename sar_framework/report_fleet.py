@@ -13,11 +13,11 @@ plus robots lost and zones given back.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from sar_framework.events.jsonl import read_json_lines
 from sar_framework.report_map import MAP_YAML, font, label, map_canvas
 
 ROBOT_COLOURS = ((30, 110, 220), (220, 90, 30), (40, 150, 60), (150, 60, 190),
@@ -29,20 +29,8 @@ _LEGEND_W = 420
 
 
 def _trace_poses(path: Path) -> list[tuple[float, float]]:
-    poses = []
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError:
-        return poses
-    for line in lines:
-        try:
-            record = json.loads(line)
-        except ValueError:
-            continue
-        if isinstance(record, dict) and "x" in record and "y" in record and \
-                record.get("event") in (None, "start"):
-            poses.append((float(record["x"]), float(record["y"])))
-    return poses
+    return [(float(record["x"]), float(record["y"])) for record in read_json_lines(path)
+            if "x" in record and "y" in record and record.get("event") in (None, "start")]
 
 
 def _cost(cost: Any) -> str:

@@ -110,3 +110,27 @@ def read_events(path: str | Path) -> list[MissionEvent]:
         path: The file.
     """
     return EventFileFollower(path).poll()
+
+
+def read_json_lines(path: str | Path) -> list[dict[str, Any]]:
+    """Every JSON object line of a file (reports, traces, the coordinator's events).
+
+    A missing file has none; a line that is not a JSON object (one cut short by a kill, or
+    being written as it is read) is skipped.
+
+    Args:
+        path: The file.
+    """
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError:
+        return []
+    records = []
+    for line in text.splitlines():
+        try:
+            record = json.loads(line)
+        except ValueError:
+            continue
+        if isinstance(record, dict):
+            records.append(record)
+    return records

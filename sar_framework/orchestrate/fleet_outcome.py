@@ -11,9 +11,7 @@ Never from log text.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 from sar_framework.orchestrate.outcome import (
@@ -23,23 +21,6 @@ from sar_framework.orchestrate.outcome import (
     EXIT_USAGE,
     Outcome,
 )
-
-
-def read_coordinator_events(path: Path) -> list[dict[str, Any]]:
-    """The coordinator's events (JSON Lines); a line that is not a JSON object is skipped."""
-    records: list[dict[str, Any]] = []
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError:
-        return records
-    for line in text.splitlines():
-        try:
-            record = json.loads(line)
-        except ValueError:
-            continue  # a line cut short by a kill
-        if isinstance(record, dict):
-            records.append(record)
-    return records
 
 
 def zone_searchers(zone_ids: Sequence[str], summaries: Mapping[str, dict[str, Any]],

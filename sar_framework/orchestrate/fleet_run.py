@@ -17,13 +17,17 @@ from pathlib import Path
 from typing import IO
 
 from sar_framework.events.event import EventKind, MissionEvent
-from sar_framework.events.jsonl import EVENTS_FILE, EventFileFollower, EventFileWriter
+from sar_framework.events.jsonl import (
+    EVENTS_FILE,
+    EventFileFollower,
+    EventFileWriter,
+    read_json_lines,
+)
 from sar_framework.mission.fleet_processes import COORDINATOR_EVENTS_FILE
 from sar_framework.orchestrate.config import ChildSpec, child_specs, write_fleet_file
 from sar_framework.orchestrate.fleet_outcome import (
     fleet_document,
     fleet_outcome,
-    read_coordinator_events,
     zone_searchers,
 )
 from sar_framework.orchestrate.inputs import CheckedInputs
@@ -219,7 +223,7 @@ class FleetOrchestrator(Orchestrator):
 
     def _write_fleet(self, outcome: Outcome, wall: float) -> list[Path]:
         events_path = self.report_dir / COORDINATOR_EVENTS_FILE
-        bids = read_coordinator_events(events_path) if self.inputs.coordinator else None
+        bids = read_json_lines(events_path) if self.inputs.coordinator else None
         searched = zone_searchers(list(self.inputs.zones), self.summaries, bids)
         self.outcomes = {name: self.outcomes[name] for name in self.robots
                          if name in self.outcomes}  # fleet order, for fleet.json's colours

@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from sar_framework.events.jsonl import read_json_lines
 from sar_framework.orchestrate.fleet_outcome import (
     fleet_document,
     fleet_outcome,
-    read_coordinator_events,
     zone_searchers,
 )
 from sar_framework.orchestrate.outcome import Outcome
@@ -66,8 +66,8 @@ def test_a_robot_s_own_verdict_decides_and_an_interrupt_wins() -> None:
 def test_the_events_file_tolerates_a_line_cut_by_a_kill(tmp_path: Path) -> None:
     path = tmp_path / "fleet_events.jsonl"
     path.write_text('{"kind": "searched", "robot": "r", "zone_id": "z"}\n[1]\n{"kind": "se')
-    assert read_coordinator_events(path) == [{"kind": "searched", "robot": "r", "zone_id": "z"}]
-    assert read_coordinator_events(tmp_path / "none.jsonl") == []
+    assert read_json_lines(path) == [{"kind": "searched", "robot": "r", "zone_id": "z"}]
+    assert read_json_lines(tmp_path / "none.jsonl") == []
 
 
 BIDS = _events(

@@ -361,17 +361,22 @@ class DiffDrive:
     def _progress(self) -> tuple[float, float]:
         """Arc length of the robot's projection on the path and its distance from the path.
 
-        The current segment only moves forward: to the next one once the robot has passed
-        the end of the current one or is closer to the next (cutting a corner).
+        As Nav2's controllers re-prune the plan every cycle, the current segment becomes the
+        one nearest the robot among it and those starting within :data:`PRUNE_SEARCH_M`
+        after the robot's projection (a tie goes to the later one). It only moves forward,
+        and a robot that cuts across a corner of the path moves on with it.
         """
         last = len(self._path) - 2
-        t, s, offset = self._project(self._segment)
-        while self._segment < last:
-            t_next, s_next, offset_next = self._project(self._segment + 1)
-            if t < 1.0 and offset_next >= offset:
-                break
-            self._segment += 1
-            t, s, offset = t_next, s_next, offset_next
+        _, s, offset = self._project(self._segment)
+        best = (self._segment, s, offset)
+        horizon = s + PRUNE_SEARCH_M
+        segment = self._segment + 1
+        while segment <= last and self._cumulative[segment] <= horizon:
+            _, s_next, offset_next = self._project(segment)
+            if offset_next <= best[2]:
+                best = (segment, s_next, offset_next)
+            segment += 1
+        self._segment, s, offset = best
         return s, offset
 
     def _point_at(self, s: float) -> Point:

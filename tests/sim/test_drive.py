@@ -205,3 +205,30 @@ def test_a_path_through_the_robot_later_is_not_cut_short():
     robot = DiffDrive(Pose2D(0.0, 0.0, 0.0))
     robot.follow(loop, 0.0)
     assert robot.distance_remaining() == pytest.approx(8.8, abs=0.01)
+
+
+# Recorded from the flaky ROS test (DistanceController re-plans, FollowPath): a path planned
+# from a pose the robot had already passed, going round a corner the robot cuts.
+DOUBLING_BACK = [
+    (0.1371, 0.1734), (0.1679, 0.1341), (0.175, 0.125), (0.175, 0.075), (0.175, 0.025),
+    (0.175, -0.025), (0.175, -0.025), (0.1255, -0.0179), (0.076, -0.0109), (0.0265, -0.0038),
+    (0.0, 0.0),
+]
+
+
+def test_a_path_left_across_a_corner_is_still_finished():
+    """Bug: the follower's place on the path stayed on its first segment when the robot cut
+    across the corner of a path that doubles back, so its carrot stopped on a point the
+    robot then reached; it spun on that point, 0.04 m from the goal, forever.
+
+    Nav2's controllers re-prune the plan to the pose nearest the robot every cycle.
+    """
+    robot = DiffDrive(Pose2D(0.1335, 0.0972, -1.9227))
+    robot.follow(DOUBLING_BACK, 0.0)
+    t = 0.0
+    while robot.active and t < 30.0:
+        robot.step(0.02)
+        t += 0.02
+    assert robot.succeeded, (robot.phase, robot.pose)
+    assert robot.within_tolerance()
+    assert t < 8.0  # ~1 s of driving, ~3 s turning to the goal yaw

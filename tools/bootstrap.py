@@ -70,7 +70,8 @@ STAND_INS = ("nav2_msgs", "tf2_msgs")
 PACKAGE = "sar_framework"
 PACKAGE_SHARE = ("launch", "config", "maps", "trees")  # share/sar_framework, as setup.py
 EXECUTABLES = ("sar-tree", "sar-mission-runner", "sar-detect-survivor-server",
-               "sar-report-survivor-server", "sar-sim", "sar-mission-recorder")
+               "sar-report-survivor-server", "sar-sim", "sar-mission-recorder",
+               "sar-zone-coordinator")
 # Command -> Debian package that provides it.
 # chromium and its driver: the studio's browser tests (tests/studio) drive them headless.
 SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz",
@@ -258,8 +259,7 @@ def install_project(venv: Path, stamps: Stamps) -> None:
     """Install this project editable (console script ``sar-tree``)."""
     key = digest([ROOT / "pyproject.toml", ROOT / "package.xml"], str(ROOT),
                  *sorted(p.name for p in (ROOT / "launch").glob("*.py")))
-    linked = all((venv / "lib" / PACKAGE / script).exists() for script in EXECUTABLES)
-    if (stamps.done("project", key) and linked
+    if (stamps.done("project", key) and package_linked(venv)
             and (venv / "share" / PACKAGE / "package.xml").exists()):
         return
     log(f"installing sar_framework (editable) into {venv.name}")
@@ -267,6 +267,11 @@ def install_project(venv: Path, stamps: Stamps) -> None:
          "--no-deps", "--no-build-isolation", "-e", ROOT], what="pip install -e .")
     link_package_share(venv)
     stamps.mark("project", key)
+
+
+def package_linked(venv: Path) -> bool:
+    """Whether every console script is linked in ``lib/sar_framework`` for ``ros2 launch``."""
+    return all((venv / "lib" / PACKAGE / script).exists() for script in EXECUTABLES)
 
 
 def link_package_share(venv: Path) -> None:

@@ -242,15 +242,36 @@ def test_the_venv_is_on_ament_prefix_path_without_sourcing(tmp_path: Path) -> No
     assert both.split(os.pathsep) == [str(venv), str(tmp_path)]
 
 
-def test_a_missing_executable_link_is_made_again() -> None:
+def test_a_missing_executable_link_is_made_again(tmp_path: Path) -> None:
     # ros2 launch finds our executables in <venv>/lib/sar_framework; a warm set-up whose
-    # links lack one (a console script added later) must make them again.
-    link = ROOT / ".venv" / "lib" / "sar_framework" / "sar-sim"
-    assert link.is_symlink(), "make setup links the console scripts for ros2 launch"
+    # links lack one (a console script added later) must make them again. On a venv of the
+    # test's own: unlinking the project's would fail a ros2 launch running meanwhile.
+    bootstrap = load_bootstrap()
+    venv = tmp_path / "venv"
+    (venv / "bin").mkdir(parents=True)
+    for script in bootstrap.EXECUTABLES:
+        (venv / "bin" / script).write_text("#!/bin/sh\n")
+    bootstrap.link_package_share(venv)
+    assert bootstrap.package_linked(venv)
+    link = venv / "lib" / "sar_framework" / "sar-sim"
     link.unlink()
-    done = run_bootstrap(env=dict(os.environ))
-    assert done.returncode == 0, done.stderr
-    assert link.is_symlink() and link.exists(), done.stdout
+    assert not bootstrap.package_linked(venv)  # so a warm run installs and links again
+    bootstrap.link_package_share(venv)
+    assert link.is_symlink() and link.exists() and bootstrap.package_linked(venv)
+
+
+def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
+        tmp_path: Path) -> None:
+    from sar_framework.mission.fleet_processes import FleetMember, FleetSettings, fleet_processes
+    from sar_framework.mission.processes import MissionSettings, mission_processes
+
+    mission = MissionSettings(tree="t.yaml", params_file="p.yaml",
+                              record=str(tmp_path / "r.mcap"))
+    fleet = FleetSettings(mission, fleet_file="f.yaml", robots=(FleetMember("r1", 0, 0, 0),),
+                          run_dir=str(tmp_path), coordinator=True)
+    started = {p.executable for p in [*mission_processes(mission), *fleet_processes(fleet)]}
+    assert "sar-zone-coordinator" in started
+    assert started <= set(load_bootstrap().EXECUTABLES)
 
 
 @pytest.mark.slow

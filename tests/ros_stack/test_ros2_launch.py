@@ -140,3 +140,25 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
                for line in (run / "reports.jsonl").read_text().splitlines()]
         assert ids == ["survivor_1", "survivor_2"], run
         assert (run / "status.json").exists() and (run / "events.jsonl").exists()
+
+
+def test_the_fleet_launch_runs_two_robots_to_the_end(tmp_path):
+    import json
+
+    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), RCUTILS_COLORIZED_OUTPUT="0",
+               PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(
+        [str(ROS2), "launch", "sar_framework", "fleet.launch.py", "robots:=2", "speed:=30.0",
+         f"report_dir:={tmp_path}"], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
+    STARTED.append(proc)
+    output, _ = proc.communicate(timeout=180)
+    assert proc.returncode == 0, output
+    assert "Traceback" not in output
+    # simulator, base, coordinator, two detect servers, two runners: all ended on their own
+    assert len(re.findall(r"process has finished cleanly", output)) == 7, output
+    events = [json.loads(line) for line in
+              (tmp_path / "fleet_events.jsonl").read_text(encoding="utf-8").splitlines()]
+    searched = sorted(e["zone_id"] for e in events if e["kind"] == "searched")
+    assert searched == ["zone_a", "zone_b", "zone_c", "zone_d"], output
+    assert events[-1]["kind"] == "complete"

@@ -2,8 +2,11 @@
 
 For each announced zone a ``ComputePathToPose`` goal (from the robot's pose, ``use_start``
 false) is sent at once to the relative ``compute_path_to_pose`` action; the cost of a zone
-is the length of its path in metres, ``inf`` when the planner fails, the path is empty, or
-no answer comes within the bound. Polled by tick, never blocking. Imports ROS lazily.
+is the length of its path in metres, ``inf`` when the planner answers that it failed or
+gives an empty path. A zone the planner did not answer for (no server, a goal not
+accepted, no answer within the bound: a busy or starting robot) gets no cost at all: not
+knowing is not "cannot reach", and the coordinator abandons zones on "cannot reach".
+Polled by tick, never blocking. Imports ROS lazily.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ class PathCosts:
         action_type: ``ComputePathToPose``.
         frame_id: The goals' frame.
         zones: Zone id -> ``{"x", "y", "yaw"}``.
-        bound_wall_s: Zones without an answer after this many wall seconds cost ``inf``.
+        bound_wall_s: Zones without an answer after this many wall seconds get no cost.
         stamp: The goals' header stamp (``builtin_interfaces/Time``).
     """
 
@@ -47,8 +50,7 @@ class PathCosts:
         self._sent: dict[str, Any] = {}
         self._results: dict[str, Any] = {}
         if not client.server_is_ready():
-            self.costs = {zone_id: math.inf for zone_id in zones}
-            return
+            return  # nothing known: no costs
         for zone_id, pose in zones.items():
             goal = action_type.Goal()
             goal.goal.header.frame_id = frame_id
@@ -61,15 +63,16 @@ class PathCosts:
             self._sent[zone_id] = client.send_goal_async(goal)
 
     def poll(self) -> dict[str, float] | None:
-        """Return every zone's cost once known (or the bound passed), else None."""
+        """Return the zones' costs once every answer came (or the bound passed), else None.
+
+        Zones without an answer are left out of the result.
+        """
         for zone_id, future in list(self._sent.items()):
             if not future.done():
                 continue
             del self._sent[zone_id]
             handle = future.result() if future.exception() is None else None
-            if handle is None or not handle.accepted:
-                self.costs[zone_id] = math.inf
-            else:
+            if handle is not None and handle.accepted:
                 self._results[zone_id] = handle.get_result_async()
         for zone_id, future in list(self._results.items()):
             if not future.done():
@@ -83,7 +86,5 @@ class PathCosts:
         if self._sent or self._results:
             if time.monotonic() - self._started < self._bound:
                 return None
-            for zone_id in [*self._sent, *self._results]:
-                self.costs[zone_id] = math.inf
-            self._sent, self._results = {}, {}
+            self._sent, self._results = {}, {}  # unanswered: no cost
         return dict(self.costs)

@@ -181,8 +181,13 @@ class ClaimZone(RosLeaf):
             costs = self._costs.poll()
             if costs is None:
                 return Status.RUNNING
-            self._bid_costs = costs
             self._bid_rounds.add(self._round.auction_id)
+            if not costs:  # the planner answered for no zone: wait for the next round
+                self._phase = "wait"
+                self.feedback_message = (f"{self.robot}: no planner answer for auction "
+                                         f"{self._round.auction_id}; no bid, waiting")
+                return Status.RUNNING
+            self._bid_costs = costs
             bid.start()
             self._phase = "bid"
         if self._phase == "bid":

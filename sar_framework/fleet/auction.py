@@ -21,8 +21,9 @@ has bid or the bid window has passed; then the lowest ``(cost, robot, zone)`` am
 finite bids wins, that robot and zone leave, and so on (one zone per robot per round: SSI).
 Searched zones and zones claimed by a live robot are never offered. A lost robot's claim
 goes back to open. A robot that gave a zone back never bids on it again. A zone is
-abandoned when every live robot has given it back, or when every live robot was a bidder
-and none could reach it (no finite bid) in ``abandon_after_rounds`` rounds in a row; it
+abandoned when every live robot has given it back, or when every live robot bid ``inf``
+for it (cannot reach it; a zone left out of a bid is unknown, not unreachable) in
+``abandon_after_rounds`` rounds in a row; it
 reopens when a robot joins (or rejoins) that has not given it back.
 "No work left" (:meth:`ZoneAuction.done`): every zone searched or abandoned.
 """
@@ -214,7 +215,8 @@ class ZoneAuction:
         Args:
             auction_id: The round.
             robot: The bidder.
-            costs: Zone -> metres; ``inf`` (or a zone left out) means it cannot reach it.
+            costs: Zone -> metres; ``inf`` means it cannot reach it; a zone left out is
+                no bid on it (the robot does not know), never evidence that it cannot.
 
         Returns:
             None when accepted, else why the bid is refused.
@@ -382,8 +384,8 @@ class ZoneAuction:
                 self._unreachable.pop(zone_id, None)
                 continue
             nobody = all(
-                zone_id in known.given_back or (robot in closed.bids and not math.isfinite(
-                    closed.bids[robot].get(zone_id, math.inf)))
+                zone_id in known.given_back or not math.isfinite(
+                    closed.bids.get(robot, {}).get(zone_id, 0.0))
                 for robot, known in live)
             if not nobody:
                 self._unreachable[zone_id] = 0

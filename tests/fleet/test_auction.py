@@ -189,6 +189,19 @@ def test_a_zone_nobody_can_reach_is_abandoned_after_rounds_in_a_row() -> None:
     assert result.abandoned == ("a",) and [w.zone_id for w in result.awards] == ["b"]
 
 
+def test_a_zone_left_out_of_every_bid_is_unknown_not_unreachable() -> None:
+    # A robot whose planner did not answer (busy, starting) bids nothing for a zone: that
+    # is no evidence it cannot reach it, so the zone is never abandoned for it.
+    auction = ready(["a", "b"], ["r1"])
+    for round_number, now in enumerate((0.0, 2.0, 4.0), start=1):
+        notice = auction.open_round(now, retry_after_s=2.0)
+        assert notice is not None and notice.auction_id == round_number
+        auction.bid(notice.auction_id, "r1", {"b": INF})
+        assert "a" not in auction.close_round(now).abandoned
+    assert auction.zone_state("a") is ZoneState.OPEN
+    assert auction.zone_state("b") is ZoneState.ABANDONED
+
+
 def test_an_inf_bid_does_not_abandon_while_another_live_robot_did_not_bid() -> None:
     auction = ZoneAuction(["a"], abandon_after_rounds=1)
     auction.heard("r2", 0.0)  # live, not asking

@@ -1,7 +1,8 @@
 """ClaimZone, CompleteZone and ReleaseZone against a real zone_coordinator process.
 
 The robot is a test node in ``/robot7``; its planner is a ComputePathToPose action server
-on the same node (a straight two-pose path), or absent (every bid is ``inf``).
+on the same node (a straight two-pose path), one that finds no path (every bid ``inf``),
+or absent (no bid).
 """
 
 from __future__ import annotations
@@ -104,15 +105,37 @@ def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
     server.destroy()
 
 
-def test_without_a_planner_every_bid_is_inf_and_the_zones_are_abandoned(
+def test_without_a_planner_answer_the_robot_does_not_bid_and_the_zones_stay_open(
         coordinator: Path, robot: tuple) -> None:
+    # Not knowing (no planner yet, or a busy one) is not "cannot reach": before the fix every
+    # bid was inf and an only robot abandoned every zone in its first round.
     node, executor = robot
     claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(),
                       action_name="no_planner")
+    tree = tree_on(node, claim)
+    assert tick_until_done(executor, tree, 4.0) == Status.RUNNING  # rounds of 1 s: waiting
+    assert claim.status == Status.RUNNING
+    kinds = [e["kind"] for e in events_of(coordinator)]
+    assert kinds.count("auction") >= 2 and "bid" not in kinds and "abandoned" not in kinds
+
+
+def test_a_planner_that_finds_no_path_bids_inf_and_the_zones_are_abandoned(
+        coordinator: Path, robot: tuple) -> None:
+    from nav2_msgs.action import ComputePathToPose
+    from rclpy.action import ActionServer
+
+    def no_path(handle: Any) -> Any:
+        handle.abort()
+        return ComputePathToPose.Result(error_code=208)  # NO_VALID_PATH
+
+    node, executor = robot
+    server = ActionServer(node, ComputePathToPose, "compute_path_to_pose", no_path)
+    claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager())
     assert tick_until_done(executor, tree_on(node, claim), 20.0) == Status.FAILURE
     assert claim.feedback_message == "no work left: every zone is searched or abandoned"
     bid = next(e for e in events_of(coordinator) if e["kind"] == "bid")
-    assert bid["robot"] == "robot7" and bid["costs"] == [None, None]
+    assert bid["robot"] == "robot7" and bid["costs"] == [None] * len(bid["zone_ids"])
+    server.destroy()
 
 
 def test_finishing_a_zone_not_held_is_refused_with_the_reason(coordinator: Path,

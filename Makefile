@@ -25,10 +25,9 @@ launch: setup  ## the reference mission under ros2 launch (real launch/launch_ro
 	@$(BIN)/ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded
 
 # Three worker processes (pytest-xdist), each on a ROS domain of its own: the ROS tests mostly
-# wait, so a third worker on two cores saves about a minute. Six measured 4.6 min instead of
-# 5.9; the tests that then failed no longer race the load (spin, two speeds), but under load
-# a ROS process can still hang at start in Fast DDS's shared-memory transport (a segment
-# in /dev/shm left half-made by a killed process), so six waits until that is fixed.
+# wait, so a third worker on two cores saves about a minute. Six measured 5.2-5.5 min instead
+# of 6.4-6.6, but then the fleet's three-robot missions and the studio's browser missions
+# fail under that load, so three stays until they hold up (or cost less).
 # A file's tests stay on one worker, so a module's shared mission runs once; files with slow
 # tests go first (tests/conftest.py), in that order.
 PYTEST_WORKERS ?= 3

@@ -16,11 +16,10 @@ import time
 from pathlib import Path
 from typing import IO
 
-from sar_framework.events.event import EventKind, MissionEvent
+from sar_framework.events.event import MissionEvent
 from sar_framework.events.jsonl import (
     EVENTS_FILE,
     EventFileFollower,
-    EventFileWriter,
     read_json_lines,
 )
 from sar_framework.mission.fleet_processes import COORDINATOR_EVENTS_FILE
@@ -180,22 +179,8 @@ class FleetOrchestrator(Orchestrator):
     def record_verdict(self, outcome: Outcome) -> None:
         """Close each robot's event stream with its own ``verdict``."""
         for name in self.robots:
-            own = self.outcomes.get(name, outcome)
-            events = self.robot_events[name]
-            last = events[-1] if events else None
-            verdict = MissionEvent(
-                kind=EventKind.VERDICT, seq=(last.seq if last else 0) + 1,
-                sim_s=last.sim_s if last else 0.0,
-                wall_s=round(time.monotonic() - self.started, 3), status=own.status,
-                message=own.reason or f"Mission {own.status}")
-            try:
-                writer = EventFileWriter(self.robot_dir(name) / EVENTS_FILE, append=True)
-            except OSError as err:
-                self.say(f"sar-tree run: warning: {name}: could not write the verdict: {err}")
-                continue
-            writer(verdict)
-            writer.close()
-            events.append(verdict)
+            self.append_verdict(self.robot_events[name], self.robot_dir(name),
+                                self.outcomes.get(name, outcome), who=name)
 
     def write_report(self, outcome: Outcome) -> list[Path]:
         """Each robot's report in its folder, then ``fleet.json`` and ``fleet.png``."""

@@ -250,20 +250,33 @@ class Orchestrator:
         Args:
             outcome: How the mission ended.
         """
-        last = self.events[-1] if self.events else None
+        self.append_verdict(self.events, self.report_dir, outcome)
+
+    def append_verdict(self, events: list[MissionEvent], folder: Path, outcome: Outcome,
+                       who: str = "") -> None:
+        """Append a ``verdict`` event after ``events`` to ``folder``'s events file and list.
+
+        Args:
+            events: The stream so far (the verdict is appended to it once written).
+            folder: Where its events file is.
+            outcome: The verdict's status and reason.
+            who: Whose stream, for the warning when the file cannot be written.
+        """
+        last = events[-1] if events else None
         verdict = MissionEvent(
             kind=EventKind.VERDICT, seq=(last.seq if last else 0) + 1,
             sim_s=last.sim_s if last else 0.0,
             wall_s=round(time.monotonic() - self.started, 3), status=outcome.status,
             message=outcome.reason or f"Mission {outcome.status}")
         try:
-            writer = EventFileWriter(self.report_dir / EVENTS_FILE, append=True)
+            writer = EventFileWriter(folder / EVENTS_FILE, append=True)
         except OSError as err:
-            self.say(f"sar-tree run: warning: could not write the verdict event: {err}")
+            whose = f"{who}: " if who else ""
+            self.say(f"sar-tree run: warning: {whose}could not write the verdict event: {err}")
             return
         writer(verdict)
         writer.close()
-        self.events.append(verdict)
+        events.append(verdict)
 
     def conclude(self, outcome: Outcome, written: list[Path]) -> int:
         """Print the final lines; return the exit code.

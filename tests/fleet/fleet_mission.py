@@ -149,3 +149,22 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
     outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
     return FleetRun(read_events(events_file), codes, outputs, victim, lost_after,
                     read_events(tmp / "reports.jsonl"))
+
+
+TWO_ZONES = """\
+/**:
+  ros__parameters:
+    zone_order: ["zone_a", "zone_b"]
+    zones:
+      zone_a: {x: -3.0, y: 3.0, yaw: 0.0}
+      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
+"""
+"""A mission parameter file of two zones, for the coordinator's own tests."""
+
+
+def two_zone_coordinator(tmp: Path, *extra: str) -> NodeProcess:
+    """The coordinator over :data:`TWO_ZONES` (not started), with extra ``--ros-args``."""
+    params = tmp / "mission.yaml"
+    params.write_text(TWO_ZONES, encoding="utf-8")
+    return NodeProcess(["-m", "sar_framework.fleet.coordinator_node", "--ros-args",
+                        "--params-file", str(params), *extra], "coordinator", log_dir=tmp)

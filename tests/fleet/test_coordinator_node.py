@@ -6,34 +6,18 @@ robot lost when its heartbeat stops, and a bad configuration: exit 2 with one li
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from pathlib import Path
 from typing import Any
 
 import pytest
-from sar_testing.processes import NodeProcess
+from fleet_mission import read_events, two_zone_coordinator
 from sar_testing.spin import call_service, ros_node, spin_until
 
 pytestmark = pytest.mark.ros
 
-PARAMS = """\
-/**:
-  ros__parameters:
-    zone_order: ["zone_a", "zone_b"]
-    zones:
-      zone_a: {x: -3.0, y: 3.0, yaw: 0.0}
-      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
-"""
 NAME = "/zone_coordinator/"
-
-
-def coordinator(tmp: Path, *extra: str) -> NodeProcess:
-    params = tmp / "mission.yaml"
-    params.write_text(PARAMS, encoding="utf-8")
-    return NodeProcess(["-m", "sar_framework.fleet.coordinator_node", "--ros-args",
-                        "--params-file", str(params), *extra], "coordinator", log_dir=tmp)
 
 
 @pytest.mark.parametrize(("extra", "message"), [
@@ -45,17 +29,13 @@ def coordinator(tmp: Path, *extra: str) -> NodeProcess:
 ])
 def test_a_bad_configuration_exits_2_with_one_clear_line(tmp_path: Path, extra: list[str],
                                                         message: str) -> None:
-    proc = coordinator(tmp_path, *extra).start()
+    proc = two_zone_coordinator(tmp_path, *extra).start()
     try:
         assert proc.wait(timeout=20.0) == 2
     finally:
         proc.stop()
     assert message in proc.output
     assert "Traceback" not in proc.output
-
-
-def _events(path: Path) -> list[dict[str, Any]]:
-    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()]
 
 
 def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
@@ -65,7 +45,7 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
     from sar_framework.ros.qos import latched_qos
 
     events_file = tmp_path / "events.jsonl"
-    with coordinator(tmp_path, "-p", f"events_file:={events_file}", "-p",
+    with two_zone_coordinator(tmp_path, "-p", f"events_file:={events_file}", "-p",
                      "robot_timeout_wall_s:=1.0", "-p", "bid_window_wall_s:=1.0") as proc, \
             ros_node("fake_robots") as (node, executor):
         proc.wait_for_output("ready", timeout=20.0)
@@ -119,13 +99,13 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
         alive["r2"] = False
         silent = time.monotonic()
         assert spin_until(executor, lambda: any(
-            e["kind"] == "robot_lost" for e in _events(events_file)), 10.0)
+            e["kind"] == "robot_lost" for e in read_events(events_file)), 10.0)
         noticed = time.monotonic() - silent
         assert noticed < 1.0 + 1.0  # robot_timeout_wall_s, plus the heartbeat period and checks
         alive["r2"] = True  # heard again: back, idle, holding nothing
         assert spin_until(executor, lambda: any(
             e["message"] == "r2 rejoined the fleet (it was lost)"
-            for e in _events(events_file)), 10.0)
+            for e in read_events(events_file)), 10.0)
         assert call(RequestZone, "request_zone", robot="r1").accepted
         assert spin_until(executor, lambda: notices[-1].robots == ["r1"]
                           and list(notices[-1].zone_ids) == ["zone_b"], 10.0)
@@ -138,16 +118,16 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
         assert call(FinishZone, "finish_zone", robot="r1", zone_id="zone_b", outcome=0).accepted
         done = call(RequestZone, "request_zone", robot="r1")
         assert (done.accepted, done.done) == (False, True)
-        assert spin_until(executor, lambda: _events(events_file)[-1]["kind"] == "complete",
+        assert spin_until(executor, lambda: read_events(events_file)[-1]["kind"] == "complete",
                           5.0)
-    kinds = [e["kind"] for e in _events(events_file)]
+    kinds = [e["kind"] for e in read_events(events_file)]
     assert kinds.count("searched") == 2 and kinds.count("award") == 3
-    lost = next(e for e in _events(events_file) if e["kind"] == "robot_lost")
+    lost = next(e for e in read_events(events_file) if e["kind"] == "robot_lost")
     assert (lost["robot"], lost["zone_ids"]) == ("r2", ["zone_b"])
     assert "the next finder of survivor_1 reports it" in lost["message"]
-    registered = [e for e in _events(events_file) if e["kind"] == "survivor_registered"]
+    registered = [e for e in read_events(events_file) if e["kind"] == "survivor_registered"]
     assert [(e["robot"], e["survivor_id"], e["zone_id"]) for e in registered] == [
         ("r2", "survivor_1", "zone_b"), ("r1", "survivor_1", "zone_b")]
     assert registered[0]["position"][:2] == [3.5, 3.2]
-    bid = next(e for e in _events(events_file) if e["kind"] == "bid")
+    bid = next(e for e in read_events(events_file) if e["kind"] == "bid")
     assert bid["costs"] == [4.0, None]  # inf is null in JSON

@@ -7,41 +7,27 @@ or absent (no bid).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
+from fleet_mission import read_events, two_zone_coordinator
 from py_trees.common import Status
 from sar_plugins.claim_zone import ClaimZone
 from sar_plugins.complete_zone import CompleteZone
 from sar_plugins.release_zone import ReleaseZone
 from sar_testing.leaf_harness import spec_zone_manager, tick_until_done, tree_on
-from sar_testing.processes import NodeProcess
 from sar_testing.spin import ros_node
 
 pytestmark = pytest.mark.ros
 
-PARAMS = """\
-/**:
-  ros__parameters:
-    zone_order: ["zone_a", "zone_b"]
-    zones:
-      zone_a: {x: -3.0, y: 3.0, yaw: 0.0}
-      zone_b: {x: 3.5, y: 3.0, yaw: 1.57}
-"""
-
-
 @pytest.fixture
 def coordinator(tmp_path: Path) -> Iterator[Path]:
-    params = tmp_path / "mission.yaml"
-    params.write_text(PARAMS, encoding="utf-8")
     events = tmp_path / "events.jsonl"
-    args = ["-m", "sar_framework.fleet.coordinator_node", "--ros-args", "--params-file",
-            str(params), "-p", f"events_file:={events}", "-p", "bid_window_wall_s:=1.0",
-            "-p", "abandon_after_rounds:=1"]
-    with NodeProcess(args, "coordinator", log_dir=tmp_path) as proc:
+    with two_zone_coordinator(tmp_path, "-p", f"events_file:={events}",
+                              "-p", "bid_window_wall_s:=1.0",
+                              "-p", "abandon_after_rounds:=1") as proc:
         proc.wait_for_output("ready", timeout=20.0)
         yield events
 
@@ -69,10 +55,6 @@ def planner(node: Any) -> Any:
     return ActionServer(node, ComputePathToPose, "compute_path_to_pose", execute)
 
 
-def events_of(path: Path) -> list[dict[str, Any]]:
-    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines()]
-
-
 def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
                                                               robot: tuple) -> None:
     node, executor = robot
@@ -97,7 +79,7 @@ def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
     assert claim.feedback_message == "no work left: every zone is searched or abandoned"
     tree.tick()
     assert claim.status == Status.FAILURE
-    kinds = [(e["kind"], e["robot"], e["zone_id"]) for e in events_of(coordinator)]
+    kinds = [(e["kind"], e["robot"], e["zone_id"]) for e in read_events(coordinator)]
     assert ("robot_joined", "robot7", "") in kinds
     assert ("searched", "robot7", "zone_a") in kinds
     assert ("given_back", "robot7", "zone_b") in kinds
@@ -115,7 +97,7 @@ def test_without_a_planner_answer_the_robot_does_not_bid_and_the_zones_stay_open
     tree = tree_on(node, claim)
     assert tick_until_done(executor, tree, 4.0) == Status.RUNNING  # rounds of 1 s: waiting
     assert claim.status == Status.RUNNING
-    kinds = [e["kind"] for e in events_of(coordinator)]
+    kinds = [e["kind"] for e in read_events(coordinator)]
     assert kinds.count("auction") >= 2 and "bid" not in kinds and "abandoned" not in kinds
 
 
@@ -133,7 +115,7 @@ def test_a_planner_that_finds_no_path_bids_inf_and_the_zones_are_abandoned(
     claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager())
     assert tick_until_done(executor, tree_on(node, claim), 20.0) == Status.FAILURE
     assert claim.feedback_message == "no work left: every zone is searched or abandoned"
-    bid = next(e for e in events_of(coordinator) if e["kind"] == "bid")
+    bid = next(e for e in read_events(coordinator) if e["kind"] == "bid")
     assert bid["robot"] == "robot7" and bid["costs"] == [None] * len(bid["zone_ids"])
     server.destroy()
 

@@ -133,15 +133,21 @@ def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
 
 
 def run_checker(checker: Path, xml: Path, script: Script, max_ticks: int,
-                *, all_ticks: bool = False, tick_seconds: float = 0.0,
+                *, all_ticks: bool = False, tick_seconds: float = 0.0, sleeps: bool = True,
                 halts: bool = False, speed: float | None = None,
-                 goal_ticks: Collection[int] = ()) -> list[str]:
-    """Run the BT.CPP checker on ``xml``; return its transcript (after the models line)."""
+                goal_ticks: Collection[int] = ()) -> list[str]:
+    """Run the BT.CPP checker on ``xml``; return its transcript (after the models line).
+
+    ``tick_seconds`` is the time between ticks on the Nav2 stand-ins' clock; with ``sleeps``
+    the checker also sleeps it after each tick (BT.CPP's own Delay, Timeout and Sleep read
+    the wall clock).
+    """
+    clock = "sleep" if sleeps else "clock"
     script_file = xml.with_suffix(".script")
     script_file.write_text("".join(f"{name} {' '.join(s)}\n" for name, s in script.items()))
     done = subprocess.run([str(checker), str(xml), str(script_file), str(max_ticks),
                            *(["all"] if all_ticks else []), *(["halts"] if halts else []),
-                           *([f"sleep={round(tick_seconds * 1000)}"] if tick_seconds else []),
+                           *([f"{clock}={round(tick_seconds * 1000)}"] if tick_seconds else []),
                            *([f"speed={speed!r}"] if speed is not None else []),
                            *([f"goals={','.join(map(str, goal_ticks))}"] if goal_ticks else [])],
                           capture_output=True, text=True, timeout=60, check=False)
@@ -158,13 +164,14 @@ def visits_and_result(lines: list[str]) -> list[str]:
 
 def compare(tree: Path, registry: Registry, checker: Path, script: Script,
             *, max_ticks: int = 40, exact_ticks: bool = True, all_ticks: bool = False,
-            export_from: Path | None = None, tick_seconds: float = 0.0,
+            export_from: Path | None = None, tick_seconds: float = 0.0, sleeps: bool = True,
             halts: bool = False, speed: float | None = None,
                  goal_ticks: Collection[int] = ()) -> list[str]:
     """Export ``tree``, tick it on both sides, assert the transcripts match; return ours.
 
     ``export_from`` is the file to export when ``tree`` is a copy without local plugins;
-    ``tick_seconds`` is the time between ticks (slept by the checker, simulated here);
+    ``tick_seconds`` is the time between ticks (simulated here; slept by the checker when
+    ``sleeps``, see :func:`run_checker`);
     ``speed`` gives both sides a robot moving at that speed, ``goal_ticks`` the ticks
     before which a new goal is set (see :func:`run_py_trees`).
     """
@@ -176,7 +183,7 @@ def compare(tree: Path, registry: Registry, checker: Path, script: Script,
                         tick_seconds=tick_seconds, halts=halts, speed=speed,
                         goal_ticks=goal_ticks)
     theirs = run_checker(checker, xml, script, max_ticks, all_ticks=all_ticks,
-                         tick_seconds=tick_seconds, halts=halts, speed=speed,
+                         tick_seconds=tick_seconds, sleeps=sleeps, halts=halts, speed=speed,
                          goal_ticks=goal_ticks)
     if exact_ticks:
         assert theirs == ours

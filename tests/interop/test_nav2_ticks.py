@@ -5,9 +5,10 @@ imported with Nav2's palette (its leaves are ``sar_plugins.nav2``'s), exported a
 ticked on both sides with the same scripted leaf results (here every leaf of the registry
 is replaced by a scripted one of the same name and ports; the checker registers every
 leaf of the export's ``<TreeNodesModel>`` as a scripted leaf); the transcripts (leaf
-visits, halts, root status per tick) must be equal. Ticks are 400 ms apart (the checker
-sleeps, our side steps its clock), so the RateControllers (1, 2 and 0.333 Hz) re-tick
-their planner on the same tick on both sides.
+visits, halts, root status per tick) must be equal. Ticks are 400 ms apart on a tick clock
+on both sides (our side steps its clock, the checker's stand-ins read its tick clock; no
+BT.CPP timer is in these trees, so nothing sleeps), so the RateControllers (1, 2 and
+0.333 Hz) re-tick their planner on the same tick on both sides.
 
 Nav2's control nodes are not in BT.CPP: the checker ticks them with stand-ins written
 from Nav2's documented behaviour (``btcpp_checker/nav2_standins.h``, no Nav2 code). The
@@ -120,7 +121,7 @@ def test_navigator_ticks_as_btcpp_does(stem: str, name: str, btcpp_checker: Path
     tree = imported[stem]
     registry = discover(entry_points=False)
     ours = compare(tree, registry, btcpp_checker, SCRIPTS[name], max_ticks=10,
-                   tick_seconds=TICK, halts=True, speed=SPEED)
+                   tick_seconds=TICK, sleeps=False, halts=True, speed=SPEED)
     assert any(line.startswith("visit ") for line in ours), ours
     if name == "the controller fails, the recoveries run" and "RoundRobin" in (
             Path(next(p for p in IMPORTED if p.stem == stem)).read_text()):
@@ -150,7 +151,8 @@ def planner_ticks(lines: list[str]) -> list[int]:
 def test_nav2_decorator_gating_ticks_as_btcpp_does(stem: str, name: str, btcpp_checker: Path,
                                                    imported: dict[str, Path]) -> None:
     ours = compare(imported[stem], discover(entry_points=False), btcpp_checker,
-                   LONG_DRIVE, max_ticks=12, tick_seconds=TICK, halts=True, speed=SPEED,
+                   LONG_DRIVE, max_ticks=12, tick_seconds=TICK, sleeps=False, halts=True,
+                   speed=SPEED,
                    goal_ticks=GATING[name])
     assert ours[-1].startswith("tick 12 "), ours  # follow_point keeps following
     if (stem, name) in PLANNER_TICKS:

@@ -1,6 +1,6 @@
 // btcpp_checker: load an exported tree with BehaviorTree.CPP 4 and tick it with scripted leaves.
 //
-// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S] [goals=T1,T2..]
+// usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC|clock=MSEC] [speed=M/S] [goals=T1,T2..]
 //
 // Every model of the file's <TreeNodesModel> is registered with its declared ports
 // (BehaviorTreeFactory::registerBuilder with a manifest built from the model): an
@@ -14,7 +14,9 @@
 // line returns SUCCESS. The tree is ticked until the root is not RUNNING (or MAX_TICKS);
 // with "all", MAX_TICKS times (a finished root starts over, as a mission runner ticks it).
 // With "halts" every halt of a running leaf prints "halt NAME".
-// With "sleep=MSEC" it sleeps MSEC milliseconds after each tick (for Delay, Timeout, Sleep).
+// With "sleep=MSEC" it sleeps MSEC milliseconds after each tick (for Delay, Timeout, Sleep);
+// both "sleep=" and "clock=" advance the Nav2 stand-ins' clock (Robot::seconds) by MSEC a tick,
+// "clock=" without sleeping.
 // Output: "visit NAME STATUS" for every leaf tick and "tick N STATUS" after each tick.
 #include <behaviortree_cpp/action_node.h>
 #include <behaviortree_cpp/bt_factory.h>
@@ -400,7 +402,8 @@ int registerModels(const std::string& path, BT::BehaviorTreeFactory& factory, Sc
 int main(int argc, char** argv)
 {
   bool all_ticks = false;
-  int sleep_msec = 0;
+  int tick_msec = 0;
+  bool sleeps = false;
   std::set<int> goal_ticks;
   bool usage = argc < 4;
   for(int i = 4; i < argc; ++i)
@@ -421,14 +424,17 @@ int main(int argc, char** argv)
       nav2_standins::Robot::known = true;
       nav2_standins::Robot::speed = std::stod(option.substr(6));
     }
-    else if(option.rfind("sleep=", 0) == 0)
-      sleep_msec = std::stoi(option.substr(6));
+    else if(option.rfind("sleep=", 0) == 0 || option.rfind("clock=", 0) == 0)
+    {
+      tick_msec = std::stoi(option.substr(6));
+      sleeps = option.rfind("sleep=", 0) == 0;
+    }
     else
       usage = true;
   }
   if(usage)
   {
-    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC] [speed=M/S] [goals=T1,T2..]\n";
+    std::cerr << "usage: btcpp_checker TREE.xml SCRIPT MAX_TICKS [all] [halts] [sleep=MSEC|clock=MSEC] [speed=M/S] [goals=T1,T2..]\n";
     return 2;
   }
   try
@@ -444,7 +450,7 @@ int main(int argc, char** argv)
     const int max_ticks = std::stoi(argv[3]);
     for(int tick = 1; tick <= max_ticks; ++tick)
     {
-      nav2_standins::Robot::seconds = (tick - 1) * sleep_msec / 1000.0;
+      nav2_standins::Robot::seconds = (tick - 1) * tick_msec / 1000.0;
       if(goal_ticks.count(tick) > 0)  // a new goal before this tick: "goal N"
       {
         tree.rootBlackboard()->set("goal", "goal " + std::to_string(tick));
@@ -455,9 +461,9 @@ int main(int argc, char** argv)
       {
         break;
       }
-      if(sleep_msec > 0)
+      if(sleeps && tick_msec > 0)
       {
-        std::this_thread::sleep_for(std::chrono::milliseconds(sleep_msec));
+        std::this_thread::sleep_for(std::chrono::milliseconds(tick_msec));
       }
     }
     ScriptedLeaf::print_halts = false;  // the tree's destructor halts every node

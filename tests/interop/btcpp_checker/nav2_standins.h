@@ -34,7 +34,6 @@
 #include <behaviortree_cpp/control_node.h>
 #include <behaviortree_cpp/decorator_node.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -186,6 +185,19 @@ private:
   size_t failed_ = 0;
 };
 
+// The clock and the robot of the reduced form. `seconds` is the simulated time of the
+// current tick ((tick - 1) * the time between ticks): the stand-ins' clock, so a rate or a
+// period falls on the same tick on both sides, whatever the machine's load (Nav2's trees
+// hold no BT.CPP timer node, so their checks need no sleeping). The robot moves along x at
+// `speed` m/s; without `known`, there is no pose and the speed is 0.
+struct Robot
+{
+  static inline bool known = false;
+  static inline double speed = 0.0;
+  static inline double seconds = 0.0;
+  static double x() { return speed * seconds; }
+};
+
 class RateController : public BT::DecoratorNode
 {
 public:
@@ -195,16 +207,15 @@ public:
 
   NodeStatus tick() override
   {
-    using Clock = std::chrono::steady_clock;
     const bool starting = !BT::isStatusActive(status());
     if(starting)
     {
-      last_ = Clock::now();
+      last_ = Robot::seconds;
     }
     setStatus(NodeStatus::RUNNING);
     const double period = 1.0 / getInput<double>("hz").value_or(10.0);
-    const std::chrono::duration<double> waited = Clock::now() - last_;
-    if(!starting && child()->status() != NodeStatus::RUNNING && waited.count() < period)
+    const double waited = Robot::seconds - last_;
+    if(!starting && child()->status() != NodeStatus::RUNNING && waited < period)
     {
       return NodeStatus::RUNNING;
     }
@@ -215,13 +226,13 @@ public:
     }
     if(result == NodeStatus::SUCCESS)
     {
-      last_ = Clock::now();
+      last_ = Robot::seconds;
     }
     return result;
   }
 
 private:
-  std::chrono::steady_clock::time_point last_;
+  double last_ = 0.0;
 };
 
 class SingleTrigger : public BT::DecoratorNode
@@ -249,17 +260,6 @@ public:
 
 private:
   bool fired_ = false;
-};
-
-// The robot of the reduced form: it moves along x at `speed` m/s; `seconds` is the
-// simulated time of the current tick ((tick - 1) * the time between ticks). Without
-// `known`, there is no pose and the speed is 0.
-struct Robot
-{
-  static inline bool known = false;
-  static inline double speed = 0.0;
-  static inline double seconds = 0.0;
-  static double x() { return speed * seconds; }
 };
 
 // How often the entry a port is remapped to was written (0: no entry).
@@ -324,8 +324,7 @@ public:
 
   NodeStatus tick() override
   {
-    using Clock = std::chrono::steady_clock;
-    const auto now = Clock::now();
+    const double now = Robot::seconds;
     const uint64_t goals = entryVersion(*this, "goal") * 1000003u + entryVersion(*this, "goals");
     const double max_rate = getInput<double>("max_rate").value_or(1.0);
     if(!BT::isStatusActive(status()) || goals != seen_)  // starting, or a new goal
@@ -336,7 +335,7 @@ public:
       seen_ = goals;
     }
     setStatus(NodeStatus::RUNNING);
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double elapsed = now - start_;
     if(first_ || child()->status() == NodeStatus::RUNNING || elapsed >= period_)
     {
       first_ = false;
@@ -364,7 +363,7 @@ private:
   }
 
   double period_ = 1.0;
-  std::chrono::steady_clock::time_point start_;
+  double start_ = 0.0;
   bool first_ = true;
   uint64_t seen_ = 0;
 };

@@ -3,7 +3,8 @@
 Real processes over real DDS (the test's leased domain): one simulator, the base, the zone
 coordinator, and per robot a detect server and a runner in ``/robotN``. The verdicts come
 from events: every robot's, and the fleet's (every zone searched once by the coordinator's
-``searched`` events, every robot home).
+``searched`` events, every robot home, each auction won by its lowest bid); and from the
+base's report file: every survivor reported once, under its fleet-wide id.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -50,8 +52,28 @@ def test_three_robots_share_the_zones_and_come_home(tmp_path: Path) -> None:
                    (report / "fleet_events.jsonl").read_text().splitlines()]
     assert {e["kind"] for e in coordinator} >= {"robot_joined", "auction", "bid", "award",
                                                 "searched", "complete"}
+    assert len(set().union(*searchers.values())) >= 2  # the work was shared
+    assert_each_award_went_to_the_lowest_bid(coordinator)
+    # Survivors counted once: each of the table's two survivors reported once, by its id.
+    reports = [json.loads(line) for line in
+               (report / "reports.jsonl").read_text().splitlines() if line.strip()]
+    assert sorted((round(r["x"], 2), round(r["y"], 2)) for r in reports) == [
+        (-2.5, 3.2), (4.1, -2.5)], out
+    registered = {e["survivor_id"] for e in coordinator if e["kind"] == "survivor_registered"}
+    assert {r["survivor_id"] for r in reports} == registered == {"survivor_1", "survivor_2"}
     assert (report / "fleet.png").stat().st_size > 0
     assert "sar-tree run: Fleet SUCCESS" in result.stdout
+
+
+def assert_each_award_went_to_the_lowest_bid(events: list[dict[str, Any]]) -> None:
+    """Every bid prices each zone it names; each award's cost is the winner's own bid."""
+    bids = [e for e in events if e["kind"] == "bid"]
+    assert bids and all(len(b["zone_ids"]) == len(b["costs"]) for b in bids)
+    for award in (e for e in events if e["kind"] == "award"):
+        mine = next(b for b in bids if b["auction_id"] == award["auction_id"]
+                    and b["robot"] == award["robot"] and award["zone_id"] in b["zone_ids"])
+        cost = mine["costs"][mine["zone_ids"].index(award["zone_id"])]
+        assert cost == pytest.approx(award["costs"][0])
 
 
 def test_a_fleet_cut_short_by_the_timeout_says_which_robots_were_still_running(

@@ -27,6 +27,7 @@ from pathlib import Path
 import pytest
 import yaml
 from e2e.helpers import DEFAULT_TREE, FAST, sar_tree_run
+from sar_testing.processes import NodeProcess
 
 REPO = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
@@ -171,7 +172,10 @@ def test_topic_echo_tf_static_once_holds_every_survivor(mission: Mission) -> Non
 
 def test_service_call_detect_answers_as_the_survivors_table(mission: Mission) -> None:
     survivors = {zone: (x, y) for _frame, zone, x, y in mission.survivors}
-    for zone in mission.zones:
+    # A zone with a survivor and one without (each call is a ros2 CLI process of its own).
+    found = next(zone for zone in mission.zones if zone in survivors)
+    empty = next(zone for zone in mission.zones if zone not in survivors)
+    for zone in (found, empty):
         out = tool("ros2", "service", "call", "/detect_survivor",
                    "sar_interfaces/srv/DetectSurvivor", f"{{zone_id: {zone}}}")
         match = re.search(r"DetectSurvivor_Response\(found=(True|False), "
@@ -219,16 +223,23 @@ def test_tree_watcher_dot_graph_shows_our_tree(mission: Mission, tmp_path: Path)
     assert dot_nodes == set(tree_node_names()), out
 
 
-def test_tree_watcher_streams_snapshots_of_our_tree(mission: Mission) -> None:
-    watcher = subprocess.Popen([str(BIN / "py-trees-tree-watcher"), "--snapshots", "-s"],
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                               env=os.environ.copy(), start_new_session=True)
-    try:
-        out, _ = watcher.communicate(timeout=12)
-    except subprocess.TimeoutExpired:
-        watcher.send_signal(signal.SIGINT)  # streaming mode runs until Ctrl-C
-        out, _ = watcher.communicate(timeout=TOOL_TIMEOUT_S)
+def test_tree_watcher_streams_snapshots_of_our_tree(mission: Mission, tmp_path: Path) -> None:
+    names = tree_node_names()
+
+    def seen_all(out: str) -> bool:
+        return bool(re.search(r"Tick \d+", out)) and ("Statistics" in out or "Duration" in out) \
+            and all(name in out for name in names)
+
+    # Streaming mode runs until Ctrl-C: stopped once every node was in a snapshot (the
+    # watcher renders every tick, a core's worth of work), or after 12 s.
+    with NodeProcess([str(BIN / "py-trees-tree-watcher"), "--snapshots", "-s"], "watcher",
+                     log_dir=tmp_path) as watcher:
+        deadline = time.monotonic() + 12.0
+        while not seen_all(watcher.output) and watcher.poll() is None \
+                and time.monotonic() < deadline:
+            time.sleep(0.1)
+    out = watcher.output
     assert re.search(r"Tick \d+", out), out
     assert "Statistics" in out or "Duration" in out, out
-    missing = [name for name in tree_node_names() if name not in out]
+    missing = [name for name in names if name not in out]
     assert not missing, f"nodes missing from the watcher's snapshots: {missing}\n{out}"

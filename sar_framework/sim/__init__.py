@@ -15,6 +15,7 @@ ROS-free core (plain Python + numpy)::
     params      the simulator's parameter table (SPEED: the speed's one default and rule)
     navigation  one goal at a time: plan, drive, decide the outcome as Nav2 would
     traffic     a fleet's other robots as obstacles (global costmap, controller)
+    detour      planning next to them: NavFn's goal tolerance, replanning a held robot
     fleet_file  the fleet file: robot names (namespaces) and spawn poses
     trace       JSON Lines trace of the robot's path and goal events
 

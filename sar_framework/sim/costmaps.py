@@ -10,6 +10,9 @@ are the ``phantom_obstacles`` fault's circles, written into BOTH costmaps:
   through one gives FollowPath's NO_VALID_CONTROL) and make drive_on_heading / backup see a
   collision ahead.
 
+A fleet's other robots are a third layer of the global costmap only (:mod:`.traffic`), each
+padded by the gap the controller keeps (:func:`~.traffic.padding`).
+
 ``blocked_zones`` are part of the base grid (a real wall): no clearing removes them.
 Clearing follows Nav2's three services: entirely, around the robot (the phantoms whose centre
 lies in the square of side ``reset_distance`` centred on the robot, as Nav2's
@@ -23,13 +26,14 @@ import enum
 import itertools
 import threading
 from collections.abc import Callable, Iterable, Sequence
+from dataclasses import replace
 
 from sar_framework.sim.faults import BlockedZone, with_blocked_zones
 from sar_framework.sim.geometry import segment_distance
 from sar_framework.sim.goals import FOLLOW_PATH_NO_VALID_CONTROL
 from sar_framework.sim.occupancy import OccupancyGrid
 from sar_framework.sim.planner import GridPlanner
-from sar_framework.sim.traffic import Traffic
+from sar_framework.sim.traffic import Traffic, padding
 
 Point = tuple[float, float]
 
@@ -124,12 +128,20 @@ class Costmaps:
         """ClearCostmapExceptRegion: remove the phantoms centred outside that square."""
         return self.clear(layer, lambda z: _in_square(z, robot, reset_distance))
 
+    @property
+    def robots(self) -> tuple[BlockedZone, ...]:
+        """The other robots as the global costmap holds them: padded by :func:`padding`."""
+        if self._traffic is None:
+            return ()
+        pad = padding(self._static.resolution)
+        return tuple(replace(z, radius=z.radius + pad) for z in self._traffic.in_costmap)
+
     def planner(self) -> GridPlanner:
         """The planner over the base grid plus the global costmap's phantoms and robots.
 
         Rebuilt (tens of milliseconds) only when those phantoms have changed.
         """
-        others = self._traffic.in_costmap if self._traffic is not None else ()
+        others = self.robots
         with self._lock:
             zones = self._phantoms[Layer.GLOBAL] + others
             if zones == self._planned:

@@ -154,6 +154,11 @@ class DiffDrive:
         return self._motion_left if self._phase in (Phase.SPINNING, Phase.STRAIGHT) else 0.0
 
     @property
+    def destination(self) -> Pose2D | None:
+        """The end of the path being followed, facing the goal yaw (None without a path)."""
+        return Pose2D(*self._path[-1], self._goal_yaw) if self._path else None
+
+    @property
     def succeeded(self) -> bool:
         """True once the goal has been reached within the tolerances."""
         return self._phase is Phase.ARRIVED
@@ -260,11 +265,13 @@ class DiffDrive:
 
     # ------------------------------------------------------------------ simulation
 
-    def step(self, dt: float) -> tuple[float, float]:
+    def step(self, dt: float, *, turn_only: bool = False) -> tuple[float, float]:
         """Advance the simulation by ``dt`` seconds.
 
         Args:
             dt: Time step, seconds (> 0).
+            turn_only: Apply the command's turn but no linear speed (a robot held by
+                another robot turns in place: its footprint does not move).
 
         Returns:
             The applied command ``(linear m/s, angular rad/s)``.
@@ -282,6 +289,7 @@ class DiffDrive:
             v, w = self._motion_command(dt)
         else:
             v, w = 0.0, 0.0
+        v = 0.0 if turn_only else v
         self._integrate(v, w, dt)
         return v, w
 

@@ -1,4 +1,4 @@
-"""Goal execution for the embedded Nav2 stand-in: plan once per goal, drive, finish.
+"""Goal execution for the embedded Nav2 stand-in: plan a goal, drive, finish.
 
 Plain Python (no ROS), thread-safe. The physics loop calls :meth:`Navigator.step`; the
 ``navigate_to_pose`` server calls :meth:`Navigator.start` / :meth:`Navigator.cancel` from
@@ -15,7 +15,9 @@ Outcomes follow Nav2's ``bt_navigator`` (Jazzy):
 - a cancelled goal stops the robot and ends CANCELED;
 - success needs the robot within the xy and yaw tolerances (the drive model's arrival);
 - plans use the global costmap's phantoms; a path through a local one fails at once with
-  NO_VALID_CONTROL (:mod:`.costmaps`); a stuck controller fails as :mod:`.progress_checker`.
+  NO_VALID_CONTROL (:mod:`.costmaps`); a stuck controller fails as :mod:`.progress_checker`;
+- a fleet's other robots: a goal one covers ends at NavFn's approach point, and a robot
+  another one holds replans at the global costmap's rate (:mod:`.detour`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import threading
 from collections.abc import Callable, Sequence
 
 from sar_framework.sim.costmaps import Costmaps
+from sar_framework.sim.detour import Detour, plan_legs
 from sar_framework.sim.drive import DiffDrive
 from sar_framework.sim.faults import Faults
 from sar_framework.sim.goals import (
@@ -72,8 +75,8 @@ class Navigator:
         traffic: Traffic | None = None,
     ) -> None:
         self._robot = robot
-        self._traffic = traffic
         self._costmaps = costmaps or Costmaps.over(planner)
+        self._detour = Detour(traffic, self._costmaps) if traffic is not None else None
         self._faults = faults or Faults()
         self._checker = ProgressChecker(self._faults.stuck_recoveries,
                                         self._faults.movement_time_allowance)
@@ -193,21 +196,8 @@ class Navigator:
 
     def plan_through(self, start: Pose2D, poses: Sequence[Pose2D]
                      ) -> list[list[tuple[float, float]]]:
-        """Plan from ``start`` through ``poses`` (thread-safe; the planner is read-only).
-
-        Returns:
-            One leg of waypoints per pose, each starting where the previous one ended.
-
-        Raises:
-            PlanningError: A leg cannot be planned.
-        """
-        legs = []
-        here = (start.x, start.y)
-        planner = self.planner
-        for pose in poses:
-            legs.append(planner.plan(here, (pose.x, pose.y)))
-            here = (pose.x, pose.y)
-        return legs
+        """:func:`~.detour.plan_legs` over the global costmap now (thread-safe)."""
+        return plan_legs(self.planner, self._costmaps.robots, start, poses)
 
     def start_path(self, path: Sequence[tuple[float, float]], target: Pose2D) -> Goal:
         """Follow ``path`` (no planning) and finish facing ``target.yaw``."""
@@ -310,12 +300,12 @@ class Navigator:
         with self._lock:
             goal = self._current
             stuck = self._checker.holds(goal)
-            held, failure = (False, None) if self._traffic is None or stuck else \
-                self._traffic.hold(goal, self._robot.pose, now_s, self._checker.allowance_s)
-            if stuck or held:
+            held, failure = (False, None) if self._detour is None or stuck else \
+                self._detour.hold(goal, self._robot, now_s, self._checker.allowance_s)
+            if stuck:
                 self._robot.stand_still()
             else:
-                self._robot.step(dt)
+                self._robot.step(dt, turn_only=held)
             self._now_s = now_s
             if goal is None or not goal.active:
                 return

@@ -24,13 +24,27 @@ from sar_framework.sim.faults import BlockedZone
 from sar_framework.sim.goals import FOLLOW_PATH_NO_PROGRESS, Goal, Kind
 from sar_framework.sim.world import Pose2D
 
-__all__ = ["CLEARANCE_M", "GLOBAL_UPDATE_S", "Traffic"]
+__all__ = ["CLEARANCE_M", "GLOBAL_UPDATE_S", "Traffic", "padding"]
 
 CLEARANCE_M = 0.05
 """Gap the controller keeps between two footprints, metres."""
 
 GLOBAL_UPDATE_S = 1.0
 """Simulated seconds between global costmap updates of the other robots (Nav2's 1 Hz)."""
+
+
+def padding(resolution: float) -> float:
+    """How much wider than its footprint another robot enters the global costmap, metres.
+
+    :data:`CLEARANCE_M` (the gap the controller keeps) plus 1.5 cell diagonals for the
+    raster, so the planner and the contact rule agree. A cell is free when its centre is
+    more than this robot's radius ``r`` from every occupied cell centre; the occupied cells
+    cover the padded circle ``R`` to within half a diagonal, so a free cell's centre is more
+    than ``R + r - diagonal`` from the other robot's centre, and a path through free cells
+    passes no closer than ``R + r - 1.5 diagonals``: with this padding, at least both radii
+    plus :data:`CLEARANCE_M`, where the controller would stop it.
+    """
+    return CLEARANCE_M + 1.5 * math.sqrt(2.0) * resolution
 
 
 class Traffic:

@@ -19,8 +19,8 @@ events file, which is followed as it grows; the table gives the wall seconds fro
 to its ``robot_lost`` line and to the ``award`` of the reopened zone to another robot (the
 coordinator's ``robot_timeout_wall_s``, 3 s by default, less the heartbeat's phase, plus
 the next round's bids), and what became of the zone. The killed robot's Nav2 stack lives on
-in the simulator and finishes the goal it was given: once its body stands on the zone, no
-other robot reaches it and the zone is abandoned (docs/fleet.md, "Known limit").
+in the simulator and finishes the goal it was given: once its body stands on the zone, the
+next robot searches from NavFn's approach point beside it (docs/fleet.md).
 """
 
 from __future__ import annotations

@@ -40,7 +40,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 TREE = "trees/fleet_search.yaml"
 
-from sar_framework.orchestrate.fleet_outcome import read_coordinator_events  # noqa: E402
+from sar_framework.events.jsonl import read_json_lines  # noqa: E402
 from sar_framework.sim.params import SPEED  # noqa: E402 - after the path is set
 
 
@@ -94,7 +94,7 @@ def lost_robot(speed: float, folder: Path) -> dict[str, Any]:
     deadline = time.monotonic() + 600
     while proc.poll() is None and time.monotonic() < deadline:
         now = time.monotonic()
-        for event in read_coordinator_events(events_path):
+        for event in read_json_lines(events_path):
             seen.setdefault(int(event.get("seq", 0)), now)
             kind, robot = event.get("kind"), event.get("robot")
             if killed_at is None and kind == "award" and robot == "robot2":
@@ -118,7 +118,7 @@ def lost_robot(speed: float, folder: Path) -> dict[str, Any]:
     result["searched"] = {zone: ",".join(z["searched_by"])
                           for zone, z in fleet.get("zones", {}).items()}
     result["fate"] = [f"{e.get('kind')}({e.get('robot') or ''})"
-                      for e in read_coordinator_events(events_path)
+                      for e in read_json_lines(events_path)
                       if claimed and (e.get("zone_id") == claimed
                                       or claimed in (e.get("zone_ids") or []))
                       and e.get("kind") != "bid"]

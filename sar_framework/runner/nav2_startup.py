@@ -225,13 +225,16 @@ def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
     def served(name: str) -> bool:  # a server, not BasicNavigator's own client
         return nav.count_services(f"{name}/get_state") > 0  # in its namespace
 
+    def service(name: str) -> str:  # its full name, in the robot's namespace
+        return nav.resolve_service_name(f"{name}/get_state")
+
     if not served(localizer):
-        return f"{localizer} never reported ACTIVE (/{localizer}/get_state never appeared)"
+        return f"{localizer} never reported ACTIVE ({service(localizer)} never appeared)"
     if not getattr(nav, "initial_pose_received", False):
         return (f"{localizer} never answered /initialpose on /amcl_pose (or never became "
                 "ACTIVE)")
     if not served(navigator):
-        return f"{navigator} never reported ACTIVE (/{navigator}/get_state never appeared)"
+        return f"{navigator} never reported ACTIVE ({service(navigator)} never appeared)"
     return f"{navigator} never reported ACTIVE"
 
 

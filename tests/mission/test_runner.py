@@ -327,15 +327,19 @@ def test_setup_timeout_exits_3(tmp_path):
 
 
 @ros
-def test_no_nav2_is_a_bounded_start_up_failure(tmp_path):
+@pytest.mark.parametrize("namespace", ["", "/robot1"], ids=["root", "fleet_robot"])
+def test_no_nav2_is_a_bounded_start_up_failure(tmp_path, namespace):
+    # In a namespace (a fleet's robot) the message names the service the runner waited for.
     tree = write_tree(tmp_path, OK_TREE)
     status = tmp_path / "status.json"
     args = [a if a != "seed_amcl:=false" else "seed_amcl:=true"
             for a in runner_args(tree, status, "nav2_timeout_wall_s:=2.0")]
+    if namespace:
+        args += ["-r", f"__ns:={namespace}"]
     code, output = run_to_end(args, tmp_path)
     assert code == 3, output
-    assert ("amcl never reported ACTIVE (/amcl/get_state never appeared) within 2 s: "
-            "is Nav2 (or the simulator) running?") in output
+    assert (f"amcl never reported ACTIVE ({namespace}/amcl/get_state never appeared) within "
+            "2 s: is Nav2 (or the simulator) running?") in output
     doc = json.loads(status.read_text())
     assert doc["error"]["step"] == "nav2"
     assert doc["error"]["message"].startswith("amcl never reported ACTIVE")

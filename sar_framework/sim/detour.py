@@ -111,8 +111,6 @@ class Detour:
         self._traffic = traffic
         self._costmaps = costmaps
         self._last_s = -math.inf
-        self.replans = 0
-        """How many detours were planned (a held robot given a new path)."""
 
     def hold(self, goal: Goal | None, robot: DiffDrive, now_s: float, allowance_s: float
              ) -> tuple[bool, tuple[int, str] | None]:
@@ -138,4 +136,3 @@ class Detour:
         except PlanningError:
             return  # no way around: stand and wait, as before
         robot.follow(path, end.yaw)
-        self.replans += 1

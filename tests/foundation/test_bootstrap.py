@@ -324,3 +324,42 @@ def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -
     done = subprocess.run([sys.executable, "-c", code], env=env, text=True,
                           capture_output=True, check=False)
     assert done.stdout.strip() == "over DDS", done.stderr
+
+
+def test_set_up_leaves_bytecode_for_what_every_mission_process_imports() -> None:
+    # make test ran the bootstrap just before pytest. Under PYTHONDONTWRITEBYTECODE no import
+    # writes a .pyc: without these, each process compiles the overlay and project again.
+    import py_trees_ros.trees
+
+    import sar_framework.runner.node
+    import sar_plugins.nav2
+    for module in (py_trees_ros.trees, sar_framework.runner.node, sar_plugins.nav2):
+        source = Path(module.__file__)
+        cached = Path(importlib.util.cache_from_source(str(source)))
+        assert cached.exists(), f"no {cached}"
+        assert cached.stat().st_mtime >= source.stat().st_mtime, f"{cached} is stale"
+
+
+def test_bytecode_is_written_even_when_imports_may_not_write_it(tmp_path: Path) -> None:
+    bootstrap = load_bootstrap()
+    venv = tmp_path / "venv"
+    site = venv / "lib" / "python3.11" / "site-packages" / "pkg"
+    site.mkdir(parents=True)
+    (site / "mod.py").write_text("X = 1\n")
+    (site / "broken.py").write_text("def (:\n")  # loses only its own cache
+    sources = tmp_path / "src"
+    sources.mkdir()
+    (sources / "own.py").write_text("Y = 2\n")
+    (venv / "bin").mkdir()
+    (venv / "bin" / "python").symlink_to(sys.executable)
+    stamps = bootstrap.Stamps(venv)
+    bootstrap.compile_bytecode(venv, stamps, [sources])
+    assert Path(importlib.util.cache_from_source(str(site / "mod.py"))).exists()
+    assert Path(importlib.util.cache_from_source(str(sources / "own.py"))).exists()
+    assert "bytecode" in stamps.data
+    # Stamped: site-packages are not walked again, the sources are.
+    (site / "late.py").write_text("Z = 3\n")
+    (sources / "new.py").write_text("W = 4\n")
+    bootstrap.compile_bytecode(venv, stamps, [sources])
+    assert not Path(importlib.util.cache_from_source(str(site / "late.py"))).exists()
+    assert Path(importlib.util.cache_from_source(str(sources / "new.py"))).exists()

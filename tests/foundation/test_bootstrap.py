@@ -330,9 +330,9 @@ def test_set_up_leaves_bytecode_for_what_every_mission_process_imports() -> None
     # make test ran the bootstrap just before pytest. Under PYTHONDONTWRITEBYTECODE no import
     # writes a .pyc: without these, each process compiles the overlay and project again.
     import py_trees_ros.trees
+    import sar_plugins.nav2
 
     import sar_framework.runner.node
-    import sar_plugins.nav2
     for module in (py_trees_ros.trees, sar_framework.runner.node, sar_plugins.nav2):
         source = Path(module.__file__)
         cached = Path(importlib.util.cache_from_source(str(source)))

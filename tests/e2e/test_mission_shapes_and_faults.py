@@ -66,11 +66,11 @@ def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_p
     on every tick is shown once, with a count.
     """
     report = tmp_path / "report"
-    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "8",
+    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "10",
                             "--sim-param", "blocked_zones:=['zone_b']"], report)
     assert code == 1, out
     assert "Mission TIMEOUT" in out
-    assert "timeout after 8 s" in out
+    assert "timeout after 10 s" in out
     assert "last failure: NavigateToZone [0.0.1]: goal to zone_b aborted" in out
     assert read_json(report / "mission.json")["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
     assert no_traceback(out)

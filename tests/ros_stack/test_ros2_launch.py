@@ -1,9 +1,9 @@
 """``ros2 launch sar_framework search_and_rescue.launch.py nav2:=embedded`` for real.
 
 The real-stack tier: upstream launch / launch_ros / ros2cli built by ``make setup``. Runs the
-reference mission to its end (recorded with ``record:=``), a failing start, and Ctrl-C in the
-middle of a mission (every node name unique in ``ros2 node list``; every process exits 0
-without a traceback).
+reference mission to its end twice (the first recorded with ``record:=``), a failing start,
+and Ctrl-C in the middle of a mission (every node name unique in ``ros2 node list``; every
+process exits 0 without a traceback).
 """
 
 from __future__ import annotations
@@ -48,27 +48,6 @@ def no_launch_outlives_its_test() -> Iterator[None]:
         kill_group(STARTED.pop())
 
 
-def test_the_reference_mission_completes_and_is_recorded_under_ros2_launch(tmp_path):
-    from mcap.reader import make_reader
-
-    record = tmp_path / "mission.mcap"
-    proc = launch(tmp_path, f"record:={record}")
-    output, _ = proc.communicate(timeout=240)
-    assert proc.returncode == 0, output
-    for line in SPEC_LINES:
-        assert line in output, line
-    assert "(py_trees_ros tree" in output
-    assert "Traceback" not in output
-    assert len(re.findall(r"process has finished cleanly", output)) == 5, output  # + recorder
-    with record.open("rb") as stream:  # closed with its summary when the launch shut down
-        summary = make_reader(stream).get_summary()
-    assert summary is not None
-    counts = {summary.channels[c].topic: n
-              for c, n in summary.statistics.channel_message_counts.items()}
-    for topic in ("/tf_static", "/sar_tree/status"):
-        assert counts.get(topic, 0) > 0, (topic, counts)
-
-
 def test_a_runner_that_fails_fails_the_launch(tmp_path):
     proc = launch(tmp_path, "tree:=no_such_tree")
     output, _ = proc.communicate(timeout=120)
@@ -106,21 +85,27 @@ def installed_scripts_run_this_checkout() -> bool:
 @pytest.mark.skipif(not installed_scripts_run_this_checkout(),
                     reason="the installed sar_framework scripts run another checkout")
 def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
-    """Regression: the second launch said '2 survivors already on record ... Repeated report'
+    """The reference mission to its end under ros2 launch, recorded, then again.
+
+    Regression: the second launch said '2 survivors already on record ... Repeated report'
     (every launch shared ~/.ros/sar_reports.jsonl), and redirected output carried
     ESC[0m ... ESC[0m\\r on most lines. This checkout's launch file, by path, with no
-    report_file: the default. The second launch runs the reference mission through Nav2's
-    navigator shape (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path): the
-    same spec lines and survivors. At ``speed:=40`` (the e2e tests' FAST; the default 20 is
-    the reference test's): the regression is about what the second launch finds, not speed."""
+    report_file: the default. The first launch runs the reference tree at the default speed
+    with ``record:=``; the second runs the reference mission through Nav2's navigator shape
+    (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path) at ``speed:=40`` (the
+    e2e tests' FAST): the same spec lines and survivors."""
+    from mcap.reader import make_reader
+
+    record = tmp_path / "mission.mcap"
     env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
                ROS_HOME=str(tmp_path / "ros_home"))
     env.pop("RCUTILS_COLORIZED_OUTPUT", None)
     outputs = []
-    for tree in ([], [f"tree:={REPO / 'trees' / 'examples' / 'search_and_rescue_nav2.yaml'}"]):
+    nav2_shape = REPO / "trees" / "examples" / "search_and_rescue_nav2.yaml"
+    for arguments in ([f"record:={record}"], ["speed:=40", f"tree:={nav2_shape}"]):
         proc = subprocess.Popen(
             [str(ROS2), "launch", str(REPO / "launch" / "search_and_rescue.launch.py"),
-             "nav2:=embedded", "speed:=40", *tree], stdout=subprocess.PIPE,
+             "nav2:=embedded", *arguments], stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
         STARTED.append(proc)
         output, _ = proc.communicate(timeout=240)
@@ -131,8 +116,17 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
         assert "(0 survivors already on record)" in output, output
         for line in SPEC_LINES:
             assert line in output, line
-        assert "Repeated report" not in output
+        assert "Repeated report" not in output and "Traceback" not in output
         assert "\x1b[" not in output and "\r" not in output
+    assert "(py_trees_ros tree" in outputs[0]
+    assert len(re.findall(r"process has finished cleanly", outputs[0])) == 5  # + recorder
+    with record.open("rb") as stream:  # closed with its summary when the launch shut down
+        summary = make_reader(stream).get_summary()
+    assert summary is not None
+    counts = {summary.channels[c].topic: n
+              for c, n in summary.statistics.channel_message_counts.items()}
+    for topic in ("/tf_static", "/sar_tree/status"):
+        assert counts.get(topic, 0) > 0, (topic, counts)
     runs = sorted((tmp_path / "ros_home" / "sar_runs").iterdir())
     assert len(runs) == 2
     for run in runs:

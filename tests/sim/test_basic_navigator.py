@@ -126,7 +126,10 @@ def test_basic_navigator_whole_api(navigator: Any) -> None:
     result, feedback, raw = send(nav, "followWaypoints",
                                  [pose(nav, 0.5, 0.0), pose(nav, 0.0, 0.0)])
     assert result == TaskResult.SUCCEEDED and list(raw.missed_waypoints) == []
-    assert {f.current_waypoint for f in feedback} == {0, 1}
+    # At 20x the first leg lasts ~50 ms of wall time: a loaded client may spin past its
+    # feedback. What is seen must count up to the last waypoint.
+    seen = [f.current_waypoint for f in feedback]
+    assert seen and seen == sorted(seen) and set(seen) <= {0, 1} and seen[-1] == 1, seen
 
     result, feedback, raw = send(nav, "spin", spin_dist=3.0)
     assert result == TaskResult.SUCCEEDED and raw.error_code == 0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import py_trees
@@ -33,3 +34,15 @@ class Walk(py_trees.behaviour.Behaviour):
         self.ports.set("count", self.count)
         self.feedback_message = f"{self.ports.get('label')}: step {self.count}"
         return Status.SUCCESS if self.count >= self.steps else Status.RUNNING
+
+
+@leaf(params=[Param("path", str, description="The file whose existence opens the gate.")])
+class WaitForFile(py_trees.behaviour.Behaviour):
+    """RUNNING until ``path`` exists, then SUCCESS: the test decides when the tree ends."""
+
+    def __init__(self, name: str, *, path: str) -> None:
+        super().__init__(name)
+        self.path = Path(path)
+
+    def update(self) -> Status:
+        return Status.SUCCESS if self.path.exists() else Status.RUNNING

@@ -208,7 +208,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         argv: The command line (``sys.argv`` when None), ROS arguments included.
     """
     import rclpy
-    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.experimental import EventsExecutor
     from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
@@ -244,7 +244,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         attach_run_files(writer, tree, params_file, plugin_paths)
         MissionRecorder(node, writer)
         node.get_logger().info(f"recording {len(RECORDED_TOPICS)} topics into {output}")
-        executor = SingleThreadedExecutor()
+        executor = EventsExecutor()  # see the runner's: /tf at the simulator's 100 Hz
         executor.add_node(node)
         while not stop:
             executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)

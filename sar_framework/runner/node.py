@@ -314,7 +314,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     """
     import rclpy
     import rclpy.logging
-    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.experimental import EventsExecutor
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework import load_tree
@@ -387,7 +387,9 @@ def run(argv: Sequence[str] | None = None) -> int:
             return fail(EXIT_STARTUP, "setup", str(err))
         if stop:
             return EXIT_STOPPED
-        executor = SingleThreadedExecutor()
+        # As serve.py's: /clock, /tf and feedback wake the runner at up to 100 Hz; 1.8 s of
+        # CPU per mission instead of 2.3 s with the SingleThreadedExecutor's wait sets.
+        executor = EventsExecutor()
         executor.add_node(node)
         try:
             return runner.run(executor)

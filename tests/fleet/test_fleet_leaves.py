@@ -7,6 +7,7 @@ or absent (no bid).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -64,7 +65,9 @@ def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
     claim = ClaimZone("ClaimZone", zone_manager=zones)
     tree = tree_on(node, claim)
     assert tick_until_done(executor, tree, 20.0) == Status.SUCCESS, claim.feedback_message
-    assert claim.feedback_message == "robot7 won zone_a in auction 1 (4.24 m)"
+    # a loaded machine may deliver the first round's bid after its window: the next round
+    assert re.fullmatch(r"robot7 won zone_a in auction \d+ \(4\.24 m\)",
+                        claim.feedback_message), claim.feedback_message
     assert zones.current_zone()["id"] == "zone_a"
     complete = CompleteZone("CompleteZone", zone_manager=zones)
     assert tick_until_done(executor, tree_on(node, complete), 20.0) == Status.SUCCESS

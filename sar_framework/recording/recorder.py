@@ -244,7 +244,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         attach_run_files(writer, tree, params_file, plugin_paths)
         MissionRecorder(node, writer)
         node.get_logger().info(f"recording {len(RECORDED_TOPICS)} topics into {output}")
-        executor = EventsExecutor()  # see the runner's: /tf at the simulator's 100 Hz
+        executor = EventsExecutor()  # as the runner's: /tf at the simulator's update rate
         executor.add_node(node)
         while not stop:
             executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)

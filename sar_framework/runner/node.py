@@ -387,8 +387,8 @@ def run(argv: Sequence[str] | None = None) -> int:
             return fail(EXIT_STARTUP, "setup", str(err))
         if stop:
             return EXIT_STOPPED
-        # As serve.py's: /clock, /tf and feedback wake the runner at up to 100 Hz; 1.8 s of
-        # CPU per mission instead of 2.3 s with the SingleThreadedExecutor's wait sets.
+        # As serve.py's: /clock, /tf and feedback wake the runner at the simulator's update
+        # rate; 1.8 s of CPU per mission instead of 2.3 s with SingleThreadedExecutor (100 Hz).
         executor = EventsExecutor()
         executor.add_node(node)
         try:

@@ -48,7 +48,8 @@ SIM_PARAMETERS: tuple[Param, ...] = (
     Param("world", str, str(DEFAULT_WORLD_PATH), "world file (spawn, footprint, markers)"),
     SPEED,
     _rate("physics_hz", 50.0, "physics steps per simulated second"),
-    _rate("max_update_hz", 100.0, "wall-clock cap on /clock, /tf and odometry updates"),
+    _rate("max_update_hz", 50.0, "wall-clock cap on /clock, /tf and odometry updates (at "
+          "20x, one /clock per 0.4 s simulated: each 2 Hz tick still has its own)"),
     _rate("publish_hz", 30.0, "odometry and /tf rate, per simulated second"),
     _rate("feedback_hz", 10.0, "action feedback rate, per simulated second"),
     _rate("max_linear", 0.5, "linear velocity limit", "m/s"),

@@ -15,9 +15,12 @@ import pytest
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import call_service, ros_node, spin_until
 
+from sar_framework.sim.params import SIM_PARAMETERS
+
 pytestmark = pytest.mark.ros
 DISCOVERY_S = 15.0
 SPEED = 20.0
+MAX_UPDATE_HZ = next(p.default for p in SIM_PARAMETERS if p.name == "max_update_hz")
 
 
 def sim_args(*params: str) -> list[str]:
@@ -81,9 +84,14 @@ class TestSimNode:
         end = samples[-1]
         rate = (end[1] - start[1]) / (end[0] - start[0])
         assert rate == pytest.approx(SPEED, rel=0.2)
-        # Updates are frequent enough for a 2 Hz (simulated) tree tick at this speed.
-        gaps = [b[1] - a[1] for a, b in zip(samples[-50:], samples[-49:], strict=False)]
-        assert max(gaps) < 0.5
+        # Updates are frequent enough for a 2 Hz (simulated) tree tick at this speed: one
+        # /clock per max_update_hz period; a loop the machine held up catches up by at most
+        # two periods' worth (the lag cap), never by a burst.
+        period = SPEED / MAX_UPDATE_HZ
+        assert period < 0.5
+        gaps = sorted(b[1] - a[1] for a, b in zip(samples[-50:], samples[-49:], strict=False))
+        assert gaps[len(gaps) // 2] < 0.5
+        assert gaps[-1] <= 2 * period + 0.021  # + one physics step (float rounding)
 
     @pytest.mark.parametrize("service", ["/amcl/get_state", "/bt_navigator/get_state"])
     def test_lifecycle_reports_active(self, client: tuple, service: str) -> None:

@@ -22,14 +22,10 @@ from sar_framework.mission.fleet_processes import (
     tree_uses_coordinator,
 )
 from sar_framework.mission.params_check import zone_positions
-from sar_framework.sim.params import SIM_PARAMETERS
+from sar_framework.sim.params import sim_default
 
 if TYPE_CHECKING:
     from sar_framework.orchestrate.options import RunConfig
-
-
-def _sim_default(name: str) -> Any:
-    return next(p.default for p in SIM_PARAMETERS if p.name == name)
 
 
 def coordinator_installed() -> bool:
@@ -47,7 +43,7 @@ def _robot_radius(sim_values: dict[str, Any]) -> float:
     if isinstance(radius, (int, float)) and not isinstance(radius, bool) and radius > 0:
         return float(radius)
     try:
-        return load_world(sim_values.get("world") or _sim_default("world")).robot.footprint_radius
+        return load_world(sim_values.get("world") or sim_default("world")).robot.footprint_radius
     except WorldError:
         return 0.22
 
@@ -61,7 +57,7 @@ def _generated(count: int, mission: dict[str, Any], sim_values: dict[str, Any],
         problems.append(f"--robots must be between 1 and {MAX_ROBOTS}, got {count}")
         return ()
     base = (float(mission.get("base_station.x", 0.0)), float(mission.get("base_station.y", 0.0)))
-    map_yaml = sim_values.get("map_yaml") or _sim_default("map_yaml")
+    map_yaml = sim_values.get("map_yaml") or sim_default("map_yaml")
     try:
         poses = spawn_poses(count, base, load_map(map_yaml), _robot_radius(sim_values),
                             zones=list(zone_positions(mission).values()))

@@ -29,7 +29,7 @@ from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
 from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
-from sar_framework.sim.params import SIM_PARAMETERS, SPEED
+from sar_framework.sim.params import SIM_PARAMETERS, SPEED, sim_default
 
 if TYPE_CHECKING:
     from sar_framework.orchestrate.options import RunConfig
@@ -119,7 +119,7 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
         return ()
     try:
         markers = {m.name: (m.x, m.y) for m in load_world(values.get("world") or
-                                                           _default_world()).markers}
+                                                           sim_default("world")).markers}
     except WorldError:
         markers = {}
     areas = []
@@ -133,10 +133,6 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
         else:
             areas.append((zone.x, zone.y, zone.radius))
     return tuple(areas)
-
-
-def _default_world() -> str:
-    return next(p.default for p in SIM_PARAMETERS if p.name == "world")
 
 
 def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:

@@ -8,6 +8,8 @@ speed's default from. Integers are accepted where a number is expected (``speed:
 
 from __future__ import annotations
 
+from typing import Any
+
 from sar_framework.engine.param import Param
 from sar_framework.mission.params_check import USE_SIM_TIME
 from sar_framework.sim.world import DEFAULT_WORLD_PATH
@@ -94,3 +96,8 @@ SIM_PARAMETERS: tuple[Param, ...] = (
 
 RUNTIME_NAMES = frozenset({SPEED.name, "blocked_zones", *(p.name for p in RUNTIME_FAULTS)})
 """The parameters that may change while the simulator runs (the others are fixed)."""
+
+
+def sim_default(name: str) -> Any:
+    """The default of the simulator parameter ``name`` (from :data:`SIM_PARAMETERS`)."""
+    return next(p.default for p in SIM_PARAMETERS if p.name == name)

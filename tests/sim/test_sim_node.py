@@ -15,12 +15,12 @@ import pytest
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import call_service, ros_node, spin_until
 
-from sar_framework.sim.params import SIM_PARAMETERS
+from sar_framework.sim.params import sim_default
 
 pytestmark = pytest.mark.ros
 DISCOVERY_S = 15.0
 SPEED = 20.0
-MAX_UPDATE_HZ = next(p.default for p in SIM_PARAMETERS if p.name == "max_update_hz")
+MAX_UPDATE_HZ = sim_default("max_update_hz")
 
 
 def sim_args(*params: str) -> list[str]:

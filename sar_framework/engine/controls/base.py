@@ -5,17 +5,23 @@ BehaviorTree.CPP and py_trees disagree on three things these base classes reconc
 - **SKIPPED.** A child's :class:`Outcome` is read from its py_trees status plus the
   SKIPPED mark of :mod:`sar_framework.engine.skipping`; a node of ours that returns
   SKIPPED sets ``Status.SUCCESS`` and the mark.
-- **Status as BT.CPP sees it.** Each node of ours keeps ``bt_status``: the status BT.CPP
-  would hold (``Status.INVALID`` stands for IDLE). A tick sets it to RUNNING first and
-  then to the result, except that a SKIPPED result leaves it unchanged, as BT.CPP's
-  ``executeTick`` does (a few BT.CPP nodes never set RUNNING first: ``marks_running``).
-  ``isStatusActive`` and "halt only a RUNNING child" read it.
+- **Status as BT.CPP sees it, IDLE included.** BT.CPP resets a finished child to IDLE;
+  py_trees keeps the status it returned (``tip()``, snapshots and every view read it).
+  So BT.CPP's status lives apart, in the attribute named by :data:`BT_STATUS`
+  (``bt_status``; ``Status.INVALID`` stands for IDLE), read with :func:`bt_status` and
+  set to IDLE with :func:`reset_status`. Each node of ours keeps it itself: a tick sets
+  it to RUNNING first and then to the result, except that a SKIPPED result leaves it
+  unchanged, as BT.CPP's ``executeTick`` does (a few BT.CPP nodes never set RUNNING
+  first: ``marks_running``). Any other child (a leaf, a py_trees node) gets it from
+  :func:`tick_child`: the status its tick returned. A node whose py_trees status is
+  INVALID (never ticked, or halted) is IDLE. ``isStatusActive`` and "halt only a RUNNING
+  child" read it; only ``stop(Status.INVALID)`` makes a py_trees status INVALID.
 - **Halting.** :func:`halt_child` is BT.CPP's ``haltChild``: a running child is halted
-  (py_trees ``stop(Status.INVALID)``), any other child only has its status reset to IDLE
-  (no ``terminate`` call, no recursion). A node of ours stopped with ``INVALID`` while
-  running runs its own :meth:`BtControl.halt` (BT.CPP's ``halt()``); stopped while not
-  running it only becomes IDLE. A root that completes becomes IDLE too, as BT.CPP's
-  ``Tree::tickRoot`` resets it.
+  (py_trees ``stop(Status.INVALID)``), any other child only becomes IDLE (its
+  ``bt_status``; no ``terminate`` call, no recursion, its py_trees status kept). A node
+  of ours stopped with ``INVALID`` while running runs its own :meth:`BtControl.halt`
+  (BT.CPP's ``halt()``); stopped while not running it only becomes IDLE. A root that
+  completes becomes IDLE too, as BT.CPP's ``Tree::tickRoot`` resets it.
 
 Subclasses write one generator, ``control()`` (composites) or ``decorate()``
 (decorators), that ticks children with ``yield from self.tick_child(child)`` and returns
@@ -38,7 +44,8 @@ Behaviour = py_trees.behaviour.Behaviour
 Clock = Callable[[], float]
 #: The generator a control or decorator writes: yields ticked behaviours, returns an outcome.
 Steps = Generator[Behaviour, None, "Outcome"]
-#: The attribute holding the status BT.CPP would show for one of our nodes.
+#: The attribute holding the status BT.CPP would show (``Status.INVALID``: IDLE), apart
+#: from py_trees' ``status``; on our nodes and on every child they tick.
 BT_STATUS = "bt_status"
 
 
@@ -79,15 +86,22 @@ def outcome(child: Behaviour) -> Outcome:
 
 
 def bt_status(node: Behaviour) -> Status:
-    """The status BT.CPP would show for ``node`` (INVALID is IDLE)."""
+    """The status BT.CPP would show for ``node`` (INVALID is IDLE).
+
+    A node that py_trees shows INVALID (never ticked, or halted) is IDLE; otherwise its
+    ``bt_status`` says, or, when it has none yet, its py_trees status.
+    """
+    if node.status == Status.INVALID:
+        return Status.INVALID
     return getattr(node, BT_STATUS, node.status)
 
 
 def reset_status(node: Behaviour) -> None:
-    """BT.CPP's ``resetStatus``: IDLE, without halting and without touching children."""
-    node.status = Status.INVALID
-    if hasattr(node, BT_STATUS):
-        node.bt_status = Status.INVALID
+    """BT.CPP's ``resetStatus``: IDLE, without halting and without touching children.
+
+    Only ``bt_status`` changes: py_trees' ``status`` keeps what the node returned.
+    """
+    setattr(node, BT_STATUS, Status.INVALID)
 
 
 def halt_child(child: Behaviour) -> None:
@@ -98,8 +112,14 @@ def halt_child(child: Behaviour) -> None:
 
 
 def tick_child(child: Behaviour) -> Steps:
-    """Tick ``child`` once (yielding what it ticks); return its outcome."""
+    """Tick ``child`` once (yielding what it ticks); return its outcome.
+
+    A child that is not a node of ours (which keep ``bt_status`` themselves) gets the
+    status it returned as its ``bt_status``.
+    """
     yield from child.tick()
+    if not isinstance(child, _BtNode):
+        setattr(child, BT_STATUS, child.status)
     return outcome(child)
 
 

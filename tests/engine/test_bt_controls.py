@@ -16,6 +16,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.clock_timeout import CLOCK_KEY
+from sar_framework.engine.controls.base import bt_status
 from sar_framework.engine.controls.conditionals import Switch, case_matches
 from sar_framework.engine.controls.leaves import SetBlackboard, Sleep, UnsetBlackboard
 from sar_framework.engine.controls.loops import RunOnce
@@ -45,7 +46,9 @@ def test_halting_a_running_sequence_halts_only_its_running_child() -> None:
     assert done.status == Status.SUCCESS
     node.stop(Status.INVALID)
     assert (running.halted, done.halted) == (1, 0)
-    assert node.status == done.status == running.status == Status.INVALID
+    assert node.status == running.status == Status.INVALID
+    assert done.status == Status.SUCCESS  # py_trees keeps what the finished child returned
+    assert bt_status(done) == bt_status(running) == Status.INVALID  # BT.CPP: both IDLE
     assert node.index == 0
 
 

@@ -211,6 +211,21 @@ class BtControl(_BtNode, py_trees.composites.Composite):
     def halt_child(self, index: int) -> None:
         """Halt (if running) and reset the child at ``index``."""
         halt_child(self.children[index])
+        self.forget_halted()
+
+    def reset_children(self) -> None:
+        """BT.CPP's ``resetChildren``: halt running children, reset all to IDLE."""
+        super().reset_children()
+        self.forget_halted()
+
+    def forget_halted(self) -> None:
+        """A current child just halted is current no more, as py_trees' ``stop`` has it.
+
+        Its py_trees status is INVALID, so ``tip()`` stops at this node instead of
+        returning None through it.
+        """
+        if self.current_child is not None and self.current_child.status == Status.INVALID:
+            self.current_child = None
 
     def halt(self) -> None:
         """Reset every child (BT.CPP ``ControlNode::halt``); subclasses reset their state."""

@@ -15,8 +15,9 @@ Definitions used here:
 
 - ``sim_*`` are readings of the runner node's ROS clock in seconds (``/clock`` time with
   ``use_sim_time``); ``wall_*`` are wall-clock seconds since the runner started.
-- ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status; ``running`` lists
-  the uids RUNNING after the last tick.
+- ``nodes`` maps each ``NodeSpec.uid`` to its last non-INVALID status, the ones it had
+  during a tick included (a leaf started and halted within one tick keeps RUNNING, as
+  its events say); ``running`` lists the uids RUNNING after the last tick.
 - The reasons (:attr:`StatusFileWriter.failures`) are the leaf FAILUREs that are failures
   rather than decisions: the leaf had been RUNNING before it failed (conditions never run,
   so a condition saying "no" is not listed), or its FAILURE came on the tick the root
@@ -198,6 +199,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
     def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
         """Record a leaf's verdict (py_trees calls this for each ticked behaviour)."""
         uid = self._uid_of.get(id(behaviour))
+        if uid is not None and not self.complete:
+            self._note(uid, behaviour.status)
         if uid in self._explaining:
             self._reasons.decorator_ticked(uid, self._running, self._stamp())
         if uid is None or uid not in self._leaves:
@@ -241,6 +244,12 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
                                             "kind": self._spec_of[uid].kind,
                                             "message": message, **self._stamp()})
 
+    def _note(self, uid: str, status: Status) -> None:
+        """Keep ``status`` as the node's last one in ``nodes``, unless it is INVALID."""
+        if status != Status.INVALID and self.nodes.get(uid) != status.name:
+            self.nodes[uid] = status.name
+            self._changed = True
+
     def _stamp(self) -> dict[str, float]:
         return {"sim_s": round(self._sim_now(), 3),
                 "wall_s": round(time.monotonic() - self._wall_start, 3)}
@@ -261,10 +270,7 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
             return False  # the mission's figures stay those of its completion
         self.ticks += 1
         for uid, behaviour in self._behaviours.items():
-            status = behaviour.status
-            if status != Status.INVALID and self.nodes.get(uid) != status.name:
-                self.nodes[uid] = status.name
-                self._changed = True
+            self._note(uid, behaviour.status)
         halted = sorted(u for u in self._running if self._behaviours[u].status == Status.INVALID)
         self._reasons.leaves_halted(halted, self._stamp())
         self._running = {u for u in self._running

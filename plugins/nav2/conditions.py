@@ -4,7 +4,8 @@ GoalUpdated, GlobalUpdatedGoal, GoalReached, IsStuck, TimeExpired, PathExpiringT
 WouldAControllerRecoveryHelp, WouldAPlannerRecoveryHelp.
 
 Nav2 Jazzy's semantics. "Active" is BT.CPP's ``isStatusActive``: the condition was ticked
-since its parent last reset it (py_trees: its status is not INVALID). Times are the ROS
+since its parent last reset it to IDLE (its
+:func:`~sar_framework.engine.controls.base.bt_status` is not INVALID). Times are the ROS
 node's clock (simulated with ``use_sim_time``); without a node, the monotonic clock.
 """
 
@@ -17,6 +18,7 @@ import py_trees
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
+from sar_framework.engine.controls.base import bt_status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 
@@ -52,7 +54,7 @@ class Nav2Condition(py_trees.behaviour.Behaviour):
 
     def initialise(self) -> None:
         """Note whether the previous tick left a status (BT.CPP: the node is active)."""
-        self.was_active = self.status != Status.INVALID
+        self.was_active = bt_status(self) != Status.INVALID
 
     def now(self) -> float:
         """Seconds on the node's clock."""

@@ -139,6 +139,20 @@ def test_goal_updated_compares_with_the_goal_of_its_active_period(tmp_path: Path
     assert tick(root) == Status.FAILURE
 
 
+def test_goal_updated_reset_by_a_btcpp_parent_starts_a_new_active_period(
+        tmp_path: Path) -> None:
+    root = leaf_of(tmp_path, "Sequence: {children: [GoalUpdated: {}]}",
+                   "blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n")
+    condition = root.children[0]
+    Blackboard.storage["/goal"] = pose(1.0, 1.0)
+    assert tick(root) == Status.FAILURE  # the Sequence fails and resets it to IDLE
+    assert condition.status == Status.FAILURE  # py_trees still shows what it returned
+    Blackboard.storage["/goal"] = pose(2.0, 1.0)
+    assert tick(root) == Status.FAILURE  # not active: the goal is only noted
+    Blackboard.storage["/goal"] = pose(3.0, 1.0)
+    assert tick(root) == Status.FAILURE
+
+
 def test_global_updated_goal_remembers_across_resets(tmp_path: Path) -> None:
     root = leaf_of(tmp_path, 'GlobalUpdatedGoal: {goal: "{goal}"}',
                    "blackboard:\n  goal: {type: geometry_msgs/msg/PoseStamped}\n")

@@ -18,7 +18,7 @@ from pathlib import Path
 import py_trees
 from py_trees.common import Status
 
-from sar_framework.engine.api import load_spec, load_tree
+from sar_framework.engine.api import LoadedTree, load_spec, load_tree
 from sar_framework.engine.clock_timeout import CLOCK_KEY
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry
@@ -92,6 +92,24 @@ class StepClock:
         self.now += self.step
 
 
+def load_scripted(tree: Path, registry: Registry, *, tick_seconds: float = 0.0,
+                  speed: float | None = None) -> tuple[LoadedTree, StepClock]:
+    """Load ``tree`` with ``registry`` on a cleared blackboard; return it and its clock.
+
+    With ``tick_seconds`` the tree's clock is the returned one; with ``speed`` (m/s) the
+    robot context has a robot moving along x at that speed on it (see :func:`run_py_trees`).
+    """
+    context: dict[str, object] = {key: None for plugin in registry for key in plugin.context}
+    clock = StepClock(tick_seconds)
+    if tick_seconds:
+        context[CLOCK_KEY] = clock
+    if speed is not None:
+        context[ROBOT_POSE_KEY] = lambda _frame, _base: (speed * clock.now, 0.0)
+        context[ROBOT_SPEED_KEY] = lambda: speed
+    py_trees.blackboard.Blackboard.clear()
+    return load_tree(tree, context, registry=registry), clock
+
+
 def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
                  *, all_ticks: bool = False, tick_seconds: float = 0.0,
                  halts: bool = False, speed: float | None = None,
@@ -107,15 +125,7 @@ def run_py_trees(tree: Path, registry: Registry, script: Script, max_ticks: int,
     Before each tick in ``goal_ticks``, the root entry ``goal`` is set to ``"goal N"``
     (the checker's ``goals=`` option).
     """
-    context: dict[str, object] = {key: None for plugin in registry for key in plugin.context}
-    clock = StepClock(tick_seconds)
-    if tick_seconds:
-        context[CLOCK_KEY] = clock
-    if speed is not None:
-        context[ROBOT_POSE_KEY] = lambda _frame, _base: (speed * clock.now, 0.0)
-        context[ROBOT_SPEED_KEY] = lambda: speed
-    py_trees.blackboard.Blackboard.clear()
-    loaded = load_tree(tree, context, registry=registry)
+    loaded, clock = load_scripted(tree, registry, tick_seconds=tick_seconds, speed=speed)
     state = ScriptedLeaf.state = ScriptState(script, halts=halts)
     try:
         for tick in range(1, max_ticks + 1):

@@ -28,7 +28,7 @@ GENERIC = REPO / "tests" / "engine" / "plugins_for_tests" / "generic"
 STEP = 0.3
 
 
-def _tree(tmp_path: Path, root: str) -> Path:
+def tree_file(tmp_path: Path, root: str) -> Path:
     """The tree file of a case: its root node, or its ``blackboard:`` then ``root:``."""
     path = tmp_path / "tree.yaml"
     text = textwrap.dedent(root).lstrip("\n")
@@ -458,7 +458,7 @@ def test_bt_cpp_kinds_tick_alike_in_btcpp(case: tuple[str, Script, int, float],
                                           btcpp_checker: Path, tmp_path: Path) -> None:
     root, script, ticks, step = case
     registry = discover([GENERIC], builtins=False, entry_points=False)
-    compare(_tree(tmp_path, root), registry, btcpp_checker, script, max_ticks=ticks,
+    compare(tree_file(tmp_path, root), registry, btcpp_checker, script, max_ticks=ticks,
             all_ticks=True, tick_seconds=step, halts=True)
 
 

@@ -3,5 +3,5 @@
 ``auction`` (the zone ledger and its sequential single-item auction), ``coordinator_node``
 (the ``zone_coordinator`` node), ``survivor_registry`` (fleet-wide survivor ids, who
 reports each) and ``survivor_service`` (the registry as the
-``/zone_coordinator/register_survivor`` service). See docs/how-to/run-a-fleet.md.
+``/zone_coordinator/register_survivor`` service). See docs/how-to/fleet.md.
 """

@@ -128,11 +128,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="show the tree live (sar-tree watch) instead of progress lines")
     parser.add_argument("--reload", action="store_true",
                         help="swap the tree in between ticks whenever its file or an include "
-                        "changes; an invalid edit is refused (docs/how-to/reload-a-running-tree.md)")
+                        "changes; an invalid edit is refused (docs/how-to/hot-reload.md)")
     parser.add_argument("--robots", type=int, metavar="N",
                         help="run a fleet: N robots near the base, each with its runner in "
                         "/robot1... and the zone coordinator when the tree bids for zones "
-                        "(docs/how-to/run-a-fleet.md)")
+                        "(docs/how-to/fleet.md)")
     parser.add_argument("--fleet", metavar="FILE",
                         help="run the fleet of this fleet file (names and spawn poses)")
 

@@ -91,8 +91,8 @@ def test_no_parameter_counts_wall_time_without_saying_so_in_its_name() -> None:
 
 
 def test_no_doc_says_a_ros_time_bound_counts_wall_time() -> None:
-    """Regression: tutorial 5 and docs/reference/btcpp-interop.md said Timeout counts wall-clock time,
-    docs/reference/rules.md and mission-contracts.md that the leaves' bounds were wall seconds."""
+    """Regression: tutorial 5 and the BT.CPP interop page said Timeout counts wall-clock time,
+    the rules and mission-contracts.md that the leaves' bounds were wall seconds."""
     ros_names = [n for n, (clock, _) in clock_table().items() if clock == "ROS time"
                  and n.endswith("_s")]
     for doc in DOCS:

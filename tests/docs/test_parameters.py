@@ -1,4 +1,4 @@
-"""docs/reference/parameters.md and the other places that show a node's parameters agree with its table."""
+"""docs/reference/parameters.md and the other places showing a node's parameters agree with it."""
 
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ A runner started with ``--ros-args -r __ns:=/robot1`` must reach ``/robot1/navig
 and the robot's other servers, as a namespaced Nav2 stack's nodes do. So no built-in leaf
 (our mission leaves and ``plugins/nav2``) may default to an absolute server, topic or action
 name, nor hard-code one (``SERVER``). The exceptions serve the whole fleet
-(docs/how-to/run-a-fleet.md): the base station's report service and the zone coordinator's survivor
+(docs/how-to/fleet.md): the base station's report service and the zone coordinator's survivor
 registry.
 """
 

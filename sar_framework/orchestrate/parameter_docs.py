@@ -23,10 +23,10 @@ Generated from each node's parameter table by
 `python -m sar_framework.orchestrate.parameter_docs > docs/reference/parameters.md`
 (a test fails when this file and the tables disagree). Each table is declared once, in a
 module without ROS, as `sar_framework.engine.param.Param` entries (the type leaf params are
-declared with too), and read by the node's ROS declarations (descriptors with ranges: `ros2 param describe`), by
-`sar-tree run`'s checks of the parameter file and of `--sim-param`, `--detect-param`,
-`--report-param`, `--runner-param`, by the launch file's defaults, by `sar-tree faults` and
-`sar-sim --help`. `*` in a name stands for one segment (a zone id). A number accepts an
+declared with too), and read by the node's ROS declarations (descriptors with ranges:
+`ros2 param describe`), by `sar-tree run`'s checks of the parameter file and of `--sim-param`,
+`--detect-param`, `--report-param`, `--runner-param`, by the launch file's defaults, by
+`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (a zone id). A number accepts an
 integer (`speed:=20`).
 """
 

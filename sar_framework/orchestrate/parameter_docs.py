@@ -26,8 +26,8 @@ module without ROS, as `sar_framework.engine.param.Param` entries (the type leaf
 declared with too), and read by the node's ROS declarations (descriptors with ranges:
 `ros2 param describe`), by `sar-tree run`'s checks of the parameter file and of `--sim-param`,
 `--detect-param`, `--report-param`, `--runner-param`, by the launch file's defaults, by
-`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (a zone id). A number accepts an
-integer (`speed:=20`).
+`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (a zone id).
+A number accepts an integer (`speed:=20`).
 """
 
 _TITLES = {

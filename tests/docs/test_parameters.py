@@ -33,8 +33,8 @@ def test_a_changed_table_shows_in_the_docs() -> None:
     assert markdown_table(sim) in DOC.read_text()
 
 
-def test_readme_launch_table_gives_the_tables_speed() -> None:
-    row = next(line for line in (REPO / "README.md").read_text().splitlines()
+def test_launch_arguments_table_gives_the_tables_speed() -> None:
+    row = next(line for line in (REPO / "docs" / "reference" / "cli.md").read_text().splitlines()
                if line.startswith("| `speed` |"))
     assert row.split("|")[2].strip() == f"`{SPEED.default!r}`"
 

@@ -1,4 +1,4 @@
-"""Every leaf finds its servers relative to the runner's namespace (issue 23, point 2).
+"""Every leaf finds its servers relative to the runner's namespace.
 
 A runner started with ``--ros-args -r __ns:=/robot1`` must reach ``/robot1/navigate_to_pose``
 and the robot's other servers, as a namespaced Nav2 stack's nodes do. So no built-in leaf

@@ -6,7 +6,7 @@ competes for the CPU):
 * ``sar-tree validate`` of trees/search_and_rescue.yaml, the whole process, against
   ``python -c "import yaml, jsonschema"`` (the two libraries validation needs), the
   commands alternating so that they share the machine's noise; the ratio is context, not a
-  goal (a validate of about 150 ms is not a cost a user feels; issue 19). Twice:
+  goal (a validate of about 150 ms is not a cost a user feels). Twice:
   without ``.pyc`` files for sources that have none (``PYTHONDONTWRITEBYTECODE=1`` and an
   editable install: ours are compiled on every run) and with them (as a regular install
   has). Beside it, for scale: the floor plus the built-in plugins (what validating must

@@ -20,7 +20,7 @@ to its ``robot_lost`` line and to the ``award`` of the reopened zone to another 
 coordinator's ``robot_timeout_wall_s``, 3 s by default, less the heartbeat's phase, plus
 the next round's bids), and what became of the zone. The killed robot's Nav2 stack lives on
 in the simulator and finishes the goal it was given: once its body stands on the zone, the
-next robot searches from NavFn's approach point beside it (docs/fleet.md).
+next robot searches from NavFn's approach point beside it (docs/how-to/fleet.md).
 """
 
 from __future__ import annotations

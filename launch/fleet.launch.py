@@ -52,7 +52,7 @@ ARGUMENTS = [
                           "fleet_file)."),
     DeclareLaunchArgument("fleet_file", default_value="",
                           description="A fleet file naming the robots and their spawn poses "
-                          "(docs/fleet.md); empty: robots:=N."),
+                          "(docs/how-to/fleet.md); empty: robots:=N."),
     DeclareLaunchArgument("tree", default_value="fleet_search.yaml",
                           description="Behaviour tree, the same for every robot: a path, or "
                           "a file in the package's trees/."),

@@ -11,7 +11,8 @@ package's simulator (``sar-sim``) instead, like Nav2's loopback simulation. The 
 when the runner ends: exit 0 when the mission succeeded, non-zero otherwise. ``record``
 adds the recorder (``sar-mission-recorder``), which writes the mission to a rosbag2-compatible
 MCAP file and closes it when the launch shuts down. ``reload:=true`` makes the runner swap the
-tree in between ticks whenever its file changes (``sar-tree run --reload``; docs/hot-reload.md).
+tree in between ticks whenever its file changes (``sar-tree run --reload``;
+docs/how-to/hot-reload.md).
 
 Like ``sar-tree run``, every launch writes its run's files (the report server's log of
 acknowledged survivors, the runner's status and events, the simulator's trace) into a
@@ -102,7 +103,7 @@ ARGUMENTS = [
                           description="Start RViz with Nav2's default view (bringup)."),
     DeclareLaunchArgument("reload", default_value="false",
                           description="Swap the tree in between ticks whenever its file or an "
-                          "include changes (the runner's watch_tree; docs/hot-reload.md)."),
+                          "include changes (the runner's watch_tree; docs/how-to/hot-reload.md)."),
     DeclareLaunchArgument("record", default_value="",
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),

@@ -1,4 +1,4 @@
-"""ClaimZone: win the robot's next zone in the fleet's auction (issue 23).
+"""ClaimZone: win the robot's next zone in the fleet's auction.
 
 The robot's side of the coordinator's protocol (:mod:`sar_framework.fleet.coordinator_node`):
 ask for work, bid the robot's own Nav2 path cost for every zone each round announces, and

@@ -4,7 +4,7 @@ Plain Python (no ROS). It reads what the mission's processes left in the report 
 
 - ``events.jsonl``: the runner's events (:mod:`sar_framework.events`): zones reached and
   not, the base reached, survivors broadcast, reported and refused, failures;
-- ``status.json``: the runner's status file (docs/mission-contracts.md): node statuses,
+- ``status.json``: the runner's status file (docs/reference/mission-contracts.md): node statuses,
   ticks, clock readings, the final blackboard entry values (copied as ``entries``);
 - ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any;
 - ``reports.jsonl``: the report server's acknowledged survivors;

@@ -47,7 +47,7 @@ class LoadedTree:
 
     @property
     def entries(self) -> dict[str, str]:
-        """The tree's blackboard entries: name (``goal``, ``Follow@0_2/path``) -> absolute key.
+        """Each blackboard entry of the tree by name (``goal``, ``Follow@0_2/path``) -> its key.
 
         The details (type, initial value, description) are in ``spec.entries``.
         """

@@ -7,5 +7,5 @@
   our YAML tree format, or a list of ``file:line:col`` problems.
 
 The mapping between the two formats is one table, :mod:`.mapping`, documented in
-``docs/btcpp-interop.md``. Nothing here imports ROS.
+``docs/reference/btcpp-interop.md``. Nothing here imports ROS.
 """

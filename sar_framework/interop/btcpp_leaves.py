@@ -89,7 +89,7 @@ class LeafImporter:
         if element.children or (model is not None and not model.is_leaf):
             what = f"a {model.category} node" if model is not None else "a node with children"
             self.refuse(element, f"<{tag}> is {what} this framework has no kind for; only "
-                        "unknown leaves can be scaffolded (see docs/btcpp-interop.md)")
+                        "unknown leaves can be scaffolded (see docs/reference/btcpp-interop.md)")
             return None
         draft = self.drafts.get(tag)
         if draft is None:

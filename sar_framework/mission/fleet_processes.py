@@ -6,7 +6,7 @@ builders, so ``sar-tree run --robots N``/``--fleet FILE`` and ``fleet.launch.py`
 the same thing (no ROS imported here). In start order:
 
 - the simulator (``sar-sim``) with ``fleet_file``: one process serves every robot, each
-  under ``/<name>`` (docs/fleet.md); its trace, one per robot, goes to ``RUN/<name>/``;
+  under ``/<name>`` (docs/how-to/fleet.md); its trace, one per robot, goes to ``RUN/<name>/``;
 - the base's report server, in the root namespace: one base serves the fleet;
 - the zone coordinator (``sar_framework.fleet.coordinator_node``, node ``zone_coordinator``,
   root namespace) with the mission parameter file and ``events_file`` in the run folder,

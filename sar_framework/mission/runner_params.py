@@ -3,7 +3,7 @@
 No ROS here: :data:`RUNNER_PARAMETERS` is read by the runner
 (:mod:`sar_framework.runner.settings`, :mod:`.params`), by ``sar-tree run``'s
 checks of the parameter file and of ``--runner-param``, and by the documentation
-(docs/parameters.md, checked by a test).
+(docs/reference/parameters.md, checked by a test).
 """
 
 from __future__ import annotations

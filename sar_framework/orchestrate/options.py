@@ -119,7 +119,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
         parser.add_argument(f"--{who}-param", dest=f"{who}_params", action="append",
                             default=[], metavar="NAME:=VALUE",
                             help=f"extra ROS parameter for the {who} (repeatable; "
-                            "docs/parameters.md lists each node's)")
+                            "docs/reference/parameters.md lists each node's)")
     parser.add_argument("--plugin-path", action="append", default=[], metavar="P",
                         help="extra plugin .py file, directory or module name (repeatable)")
     parser.add_argument("--record", metavar="FILE.mcap",
@@ -128,11 +128,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="show the tree live (sar-tree watch) instead of progress lines")
     parser.add_argument("--reload", action="store_true",
                         help="swap the tree in between ticks whenever its file or an include "
-                        "changes; an invalid edit is refused (docs/hot-reload.md)")
+                        "changes; an invalid edit is refused (docs/how-to/hot-reload.md)")
     parser.add_argument("--robots", type=int, metavar="N",
                         help="run a fleet: N robots near the base, each with its runner in "
                         "/robot1... and the zone coordinator when the tree bids for zones "
-                        "(docs/fleet.md)")
+                        "(docs/how-to/fleet.md)")
     parser.add_argument("--fleet", metavar="FILE",
                         help="run the fleet of this fleet file (names and spawn poses)")
 

@@ -1,7 +1,7 @@
-"""docs/parameters.md, generated from every node's parameter table.
+"""docs/reference/parameters.md, generated from every node's parameter table.
 
-``python -m sar_framework.orchestrate.parameter_docs > docs/parameters.md`` writes it; a test
-fails when the committed file and the tables disagree.
+``python -m sar_framework.orchestrate.parameter_docs > docs/reference/parameters.md`` writes it;
+a test fails when the committed file and the tables disagree.
 """
 
 from __future__ import annotations
@@ -20,14 +20,14 @@ INTRO = """\
 # Node parameters
 
 Generated from each node's parameter table by
-`python -m sar_framework.orchestrate.parameter_docs > docs/parameters.md` (a test fails when this
-file and the tables disagree). Each table is declared once, in a module without ROS, as
-`sar_framework.engine.param.Param` entries (the type leaf params are declared with too), and
-read by the node's ROS declarations (descriptors with ranges: `ros2 param describe`), by
-`sar-tree run`'s checks of the parameter file and of `--sim-param`, `--detect-param`,
-`--report-param`, `--runner-param`, by the launch file's defaults, by `sar-tree faults` and
-`sar-sim --help`. `*` in a name stands for one segment (a zone id). A number accepts an
-integer (`speed:=20`).
+`python -m sar_framework.orchestrate.parameter_docs > docs/reference/parameters.md`
+(a test fails when this file and the tables disagree). Each table is declared once, in a
+module without ROS, as `sar_framework.engine.param.Param` entries (the type leaf params are
+declared with too), and read by the node's ROS declarations (descriptors with ranges:
+`ros2 param describe`), by `sar-tree run`'s checks of the parameter file and of `--sim-param`,
+`--detect-param`, `--report-param`, `--runner-param`, by the launch file's defaults, by
+`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (a zone id).
+A number accepts an integer (`speed:=20`).
 """
 
 _TITLES = {
@@ -39,7 +39,7 @@ _TITLES = {
     "detect": ("the detect server", "sar_framework/servers/params.py", ""),
     "report": ("the report server", "sar_framework/servers/params.py", ""),
     "coordinator": ("the fleet's zone coordinator", "sar_framework/fleet/params.py",
-                    "a fleet's robots win their zones from it (docs/fleet.md); it reads the "
+                    "a fleet's robots win their zones from it (docs/how-to/fleet.md); it reads the "
                     "mission parameter file's `zone_order` and `zones`"),
     "recorder": ("the recorder", "sar_framework/recording/params.py",
                  "`sar-tree run --record FILE` and the launch's `record` set `output`"),
@@ -73,7 +73,7 @@ def markdown_table(table: tuple[Param, ...]) -> str:
 
 
 def document() -> str:
-    """The whole of docs/parameters.md."""
+    """The whole of docs/reference/parameters.md."""
     executables = {p.label: p.executable for p in mission_processes(
         MissionSettings(tree="t", params_file="p", record="r"))}
     executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's

@@ -3,7 +3,7 @@
 Names: a message keeps its type name; a service event ``pkg/srv/Name_Event`` and an
 action's ``pkg/action/Name_FeedbackMessage``, which ``mcap_ros2`` and ``rosbags`` refuse,
 are stored as ``pkg/msg/NameEvent`` and ``pkg/msg/NameFeedbackMessage`` (same fields, same
-bytes; docs/watch-and-record.md says why). Definitions: the installed interface files
+bytes; docs/how-to/watch-a-run.md says why). Definitions: the installed interface files
 (``share/<pkg>/msg/<Name>.msg``; the ``---``-separated parts of ``.srv`` and ``.action``
 files) go into a ``rosbags`` type store, which writes the ``ros2msg`` text.
 """

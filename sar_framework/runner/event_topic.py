@@ -1,7 +1,7 @@
 """The mission's event stream on ROS: ``sar_mission/events`` (``sar_interfaces/msg/MissionEvent``).
 
 The name is relative: ``/sar_mission/events`` in the root namespace, and
-``/robot1/sar_mission/events`` for a runner started in ``/robot1`` (a fleet, docs/fleet.md).
+``/robot1/sar_mission/events`` for a runner started in ``/robot1`` (a fleet, docs/how-to/fleet.md).
 
 QoS (:func:`event_qos`): RELIABLE, TRANSIENT_LOCAL, KEEP_LAST :data:`EVENT_HISTORY_DEPTH`.
 Reliable because a reader decides on every event (a lost ``completion`` is a lost

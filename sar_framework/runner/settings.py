@@ -1,7 +1,8 @@
 """The runner's own settings (besides the mission's), read from its parameter table.
 
 Every parameter, its type, default, unit and range is declared once, in
-:data:`sar_framework.mission.runner_params.RUNNER_PARAMETERS` (listed in docs/parameters.md);
+:data:`sar_framework.mission.runner_params.RUNNER_PARAMETERS` (listed in
+docs/reference/parameters.md);
 :func:`read_runner_settings` declares the table on the node and turns it into
 :class:`RunnerSettings`.
 

@@ -4,7 +4,7 @@ What *happened* goes out as events (:mod:`sar_framework.events`): :class:`Status
 emits a ``status`` event when a leaf starts (RUNNING) and when it ends SUCCESS or FAILURE
 (a leaf repeating the same verdict and message on consecutive ticks, a reactive root
 re-checking a condition while the tree idles, once), and collects the reasons
-(:mod:`.reasons`) the runner emits. The file holds what *is* (docs/mission-contracts.md,
+(:mod:`.reasons`) the runner emits. The file holds what *is* (docs/reference/mission-contracts.md,
 "Runner status file")::
 
     {"tree": "trees/search_and_rescue.yaml", "status": "SUCCESS", "ticks": 412,

@@ -37,5 +37,5 @@ ROS nodes (rclpy)::
     messages           message builders
     __main__           the ``sar-sim`` console script
 
-What it offers of Nav2's surface, and what not: docs/nav2-surface.md.
+What it offers of Nav2's surface, and what not: docs/reference/nav2-surface.md.
 """

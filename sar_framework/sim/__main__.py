@@ -27,7 +27,8 @@ def usage() -> str:
     lines = [
         "usage: sar-sim [--ros-args -p NAME:=VALUE ...]",
         "",
-        "Embedded Nav2 stand-in: Nav2's lifecycle nodes and actions (docs/nav2-surface.md),",
+        "Embedded Nav2 stand-in (docs/reference/nav2-surface.md): Nav2's lifecycle nodes and",
+        "actions,",
         "/clock, /tf, /odometry/filtered, /map, /amcl_pose, on simulated time. Parameters:",
         "",
     ]

@@ -74,7 +74,7 @@ SIM_PARAMETERS: tuple[Param, ...] = (
     Param("odom_frame", str, "odom", "odometry frame"),
     Param("base_frame", str, "base_link", "robot frame"),
     Param("fleet_file", str, "", "fleet file: robots (name, pose), each under its namespace "
-          "('' = one robot, no namespace; docs/fleet.md)"),
+          "('' = one robot, no namespace; docs/how-to/fleet.md)"),
     Param("trace_file", str, "", "JSON Lines trace of poses and goal events ('' = off); with "
           "a fleet_file, one per robot in a folder of its name beside it (DIR/robot1/NAME)"),
     _rate("trace_period_s", 0.2, "simulated seconds between trace pose lines", "s"),

@@ -3,7 +3,7 @@
 One process, one executor, the nodes of a Jazzy ``bringup_launch.py`` per robot (one
 :class:`~sar_framework.sim.robot_stack.RobotStack` each: one in the root namespace, or one
 per robot of the ``fleet_file`` in its namespace, sharing the world, ``/clock`` and the
-physics loop; docs/fleet.md):
+physics loop; docs/how-to/fleet.md):
 
 - ``sar_sim``: parameters (see :mod:`~sar_framework.sim.settings`), ``/clock``, ``/tf``
   (``map -> odom`` while AMCL is localised, ``odom -> base_link``), odometry on

@@ -3,7 +3,7 @@
 ``POST /api/reload`` (:mod:`.server`) calls :func:`apply_to_mission`: the editor's text is
 written to the tree file the running mission's runner ticks (the live studio's ``--tree`` or
 ``--run`` file, :class:`~sar_framework.studio.editor.TreeEditor`), then the runner is asked
-to read it again through its ``~/reload`` service (docs/hot-reload.md). Its answer goes back
+to read it again through its ``~/reload`` service (docs/how-to/hot-reload.md). Its answer goes back
 to the page as it is: the swap's summary, or the diagnostics of a refused tree (the running
 tree then goes on unchanged). Asking is a callable given by the live studio
 (:meth:`sar_framework.studio.ros_feed.LiveFeed.reload`), so this module has no ROS.

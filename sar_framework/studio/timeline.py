@@ -39,7 +39,7 @@ MARKS = {EventKind.FAILURE.value: "failure", EventKind.TIMEOUT.value: "failure",
          EventKind.COMPLETION.value: "end", EventKind.TREE_SWAPPED.value: "swap",
          EventKind.RELOAD_REFUSED.value: "refused"}
 #: Events the reasons feed lists: the reasons, and hot reload's swaps and refusals
-#: (docs/hot-reload.md).
+#: (docs/how-to/hot-reload.md).
 FEED_KINDS = REASON_KINDS | {EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED}
 _SURVIVOR_KINDS = frozenset({EventKind.SURVIVOR_BROADCAST, EventKind.DETECTION})
 

@@ -1,6 +1,6 @@
 """What the docs state that can be checked, checked: clocks, parameter names, node counts.
 
-- docs/mission-contracts.md's clock table names every duration a tree or leaf declares as
+- docs/reference/mission-contracts.md's clock table names every duration a tree or leaf declares as
   ROS time, and every wall-time one is named ``*_wall_s``;
 - no doc line says a ROS-time bound counts wall time;
 - every parameter-like name quoted in the docs (```..._s```, ```..._hz```) is a parameter of
@@ -21,9 +21,8 @@ from sar_framework.engine.registry import default_registry
 from sar_framework.orchestrate.inputs import NODE_PARAMETERS
 
 REPO = Path(__file__).resolve().parents[2]
-CONTRACTS = REPO / "docs" / "mission-contracts.md"
-DOCS = sorted([REPO / "README.md", *(REPO / "docs").glob("*.md"),
-               *(REPO / "docs" / "tutorials").glob("*.md")])
+CONTRACTS = REPO / "docs" / "reference" / "mission-contracts.md"
+DOCS = sorted([REPO / "README.md", *(REPO / "docs").rglob("*.md")])
 ROW = re.compile(r"^\| `([^`]+)`(?: `([^`]+)`)? \| (ROS time|wall) \| (.*) \|$")
 
 
@@ -92,8 +91,8 @@ def test_no_parameter_counts_wall_time_without_saying_so_in_its_name() -> None:
 
 
 def test_no_doc_says_a_ros_time_bound_counts_wall_time() -> None:
-    """Regression: tutorial 5 and docs/btcpp-interop.md said Timeout counts wall-clock time,
-    docs/rules.md and mission-contracts.md that the leaves' bounds were wall seconds."""
+    """Regression: tutorial 5 and the BT.CPP interop page said Timeout counts wall-clock time,
+    the rules and mission-contracts.md that the leaves' bounds were wall seconds."""
     ros_names = [n for n, (clock, _) in clock_table().items() if clock == "ROS time"
                  and n.endswith("_s")]
     for doc in DOCS:
@@ -141,7 +140,7 @@ def test_defaults_quoted_beside_a_parameter_are_its_defaults() -> None:
 OK_LINE = re.compile(r"(?:(\S+\.yaml): )?ok \((\d+) nodes")
 
 
-@pytest.mark.parametrize("doc", DOCS, ids=lambda p: p.name)
+@pytest.mark.parametrize("doc", DOCS, ids=lambda p: str(p.relative_to(REPO)))
 def test_node_counts_in_the_docs_are_what_validate_counts(doc: Path) -> None:
     """Regression: tutorial 8 cited 17 nodes where validate printed 15."""
     for number, line in enumerate(doc.read_text().splitlines(), 1):

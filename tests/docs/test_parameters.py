@@ -1,4 +1,4 @@
-"""docs/parameters.md and the other places that show a node's parameters agree with its table."""
+"""docs/reference/parameters.md and the other places showing a node's parameters agree with it."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from sar_framework.orchestrate.parameter_docs import default_text, document, mar
 from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]
-DOC = REPO / "docs" / "parameters.md"
+DOC = REPO / "docs" / "reference" / "parameters.md"
 TABLE_MODULES = ("sar_framework.mission.runner_params", "sar_framework.sim.params",
                  "sar_framework.servers.params", "sar_framework.recording.params",
                  "sar_framework.orchestrate.inputs", "sar_framework.orchestrate.parameter_docs")
@@ -20,8 +20,8 @@ TABLE_MODULES = ("sar_framework.mission.runner_params", "sar_framework.sim.param
 
 def test_docs_parameters_md_is_generated_from_the_tables() -> None:
     assert DOC.read_text() == document(), (
-        "docs/parameters.md is stale: python -m sar_framework.orchestrate.parameter_docs "
-        "> docs/parameters.md")
+        "docs/reference/parameters.md is stale: python -m sar_framework.orchestrate.parameter_docs "
+        "> docs/reference/parameters.md")
 
 
 def test_a_changed_table_shows_in_the_docs() -> None:
@@ -33,8 +33,8 @@ def test_a_changed_table_shows_in_the_docs() -> None:
     assert markdown_table(sim) in DOC.read_text()
 
 
-def test_readme_launch_table_gives_the_tables_speed() -> None:
-    row = next(line for line in (REPO / "README.md").read_text().splitlines()
+def test_launch_arguments_table_gives_the_tables_speed() -> None:
+    row = next(line for line in (REPO / "docs" / "reference" / "cli.md").read_text().splitlines()
                if line.startswith("| `speed` |"))
     assert row.split("|")[2].strip() == f"`{SPEED.default!r}`"
 

@@ -1,4 +1,4 @@
-"""docs/rules.md points at tests that exist (found with ast, not run)."""
+"""docs/reference/rules.md points at tests that exist (found with ast, not run)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from functools import cache
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-RULES = REPO / "docs" / "rules.md"
+RULES = REPO / "docs" / "reference" / "rules.md"
 REFERENCE = re.compile(r"`(tests/[\w/]+\.py)::(\w+)(?:\[([\w-]+)\])?`")
 RULE = re.compile(r"^### (R\d+)\. ", re.MULTILINE)
 

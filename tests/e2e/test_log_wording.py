@@ -6,7 +6,7 @@ a marker). Nothing that decides anything reads log text, so the exit code, the p
 lines, ``mission.json`` and the events in the recording are those of an ordinary run.
 
 The ordinary run (a module fixture) also serves the refusing report server's own test: one
-mission fewer (the suite's time budget, issue 19).
+mission fewer (the suite's time budget).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Cases marked "BT.CPP" restate BehaviorTree.CPP 4.7.3's own tests
 (tests/script_parser_test.cpp) in Python; the rest were checked against the 4.7.3
-library's ParseScriptAndExecute, except where docs/scripts.md lists a difference.
+library's ParseScriptAndExecute, except where docs/reference/scripts.md lists a difference.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""A zone one robot cannot reach goes to another, over real DDS (issue 23, points 3 and 5).
+"""A zone one robot cannot reach goes to another, over real DDS.
 
 The test runs the whole fleet (:mod:`fleet_mission`): the simulator, the coordinator, per
 robot a runner of trees/fleet_search.yaml. The verdict comes from the coordinator's events

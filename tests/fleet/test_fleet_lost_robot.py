@@ -1,6 +1,6 @@
 """A robot's runner SIGKILLed mid-mission: the coordinator notices, its zone is taken over.
 
-Three moments (issue 23, point 5): right after the robot won a zone (it holds a claim and
+Three moments: right after the robot won a zone (it holds a claim and
 has not arrived), while it searches its zone (the detect servers answer 1 s late), and
 right after it bid in a round not yet closed. The coordinator must report the robot lost
 within ``robot_timeout_wall_s`` plus :data:`MARGIN_S` (the heartbeat period, the coordinator's

@@ -1,6 +1,6 @@
 """Two robots in one simulator over real DDS: namespaced Nav2, shared world, two runners.
 
-One simulator for the module (issue 23, points 1-3): ``robot1`` stands in the hub's only
+One simulator for the module: ``robot1`` stands in the hub's only
 north-south doorway, ``robot2`` starts in the north-east room. The tests run in file order:
 the doorway first, then both robots drive at once, then a runner per namespace.
 """

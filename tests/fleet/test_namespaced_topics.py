@@ -2,7 +2,7 @@
 
 A single robot's runner (the root namespace) keeps ``/sar_mission/events`` and
 ``/sar_tree/status``, which every reader (sar-tree run's outcome, recording, watch, studio)
-reads; a fleet's runners each publish under their own namespace (docs/fleet.md).
+reads; a fleet's runners each publish under their own namespace (docs/how-to/fleet.md).
 """
 
 from __future__ import annotations

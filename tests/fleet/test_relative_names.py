@@ -1,10 +1,10 @@
-"""Every leaf finds its servers relative to the runner's namespace (issue 23, point 2).
+"""Every leaf finds its servers relative to the runner's namespace.
 
 A runner started with ``--ros-args -r __ns:=/robot1`` must reach ``/robot1/navigate_to_pose``
 and the robot's other servers, as a namespaced Nav2 stack's nodes do. So no built-in leaf
 (our mission leaves and ``plugins/nav2``) may default to an absolute server, topic or action
 name, nor hard-code one (``SERVER``). The exceptions serve the whole fleet
-(docs/fleet.md): the base station's report service and the zone coordinator's survivor
+(docs/how-to/fleet.md): the base station's report service and the zone coordinator's survivor
 registry.
 """
 

@@ -1,4 +1,4 @@
-"""Survivors counted once across a fleet (issue 23, point 4), over real DDS.
+"""Survivors counted once across a fleet, over real DDS.
 
 One rclpy context holds the coordinator's node (root namespace, hosting
 SurvivorRegistryService) and two robots' runner nodes (``/robot1``, ``/robot2``, with

@@ -5,7 +5,7 @@ variables earlier ones made), with the enums RED=1, BLUE=3, GREEN=5. Both sides 
 each script's outcome the same way: ``NUM <value>``, ``STR <text>``, ``PARSE_ERROR``
 (BT.CPP's ParseScript fails; our compile_script raises) or ``RUN_ERROR``. True and False
 are the numbers 1 and 0 (BT.CPP gives 1.0/0.0). ``DIFFERENT`` lists the cases
-docs/scripts.md names as deliberate differences, with each side's outcome.
+docs/reference/scripts.md names as deliberate differences, with each side's outcome.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ A := (B := 2) | B | A ? C := 7 : 2 | C | (A) := 1 | A | A == B == 2 | @r := 4 | 
 """
 
 DIFFERENT = [
-    # (scripts, BT.CPP 4.7.3's outcomes, ours): docs/scripts.md, "Differences from BT.CPP"
+    # (scripts, BT.CPP 4.7.3's outcomes, ours): docs/reference/scripts.md, "Differences from BT.CPP"
     ("5 - 2 + 1 | 10 - 3 - 2 | 12 / 3 * 2", "NUM 2 | NUM 9 | NUM 2", "NUM 4 | NUM 5 | NUM 8"),
     ("'n' .. (1 + 1) | x := -5; 'x' .. x", "STR n2.000000 | STR x-5.000000", "STR n2 | STR x-5"),
     ("b := true | b = 5", "NUM 1 | NUM 5", "NUM 1 | RUN_ERROR"),

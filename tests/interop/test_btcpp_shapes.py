@@ -232,7 +232,7 @@ def test_a_control_node_nobody_maps_is_refused_with_its_model_category(
     """, tmp_path)
     assert errors(result, tmp_path) == [
         "t.xml:1:38: error: <Mystery> is a node with children this framework has no kind for; "
-        "only unknown leaves can be scaffolded (see docs/btcpp-interop.md)"]
+        "only unknown leaves can be scaffolded (see docs/reference/btcpp-interop.md)"]
 
 
 def test_palette_models_carry_types_defaults_and_directions() -> None:

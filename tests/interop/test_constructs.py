@@ -1,5 +1,5 @@
 """Ten construct trees of our own (``fixtures/constructs/``) that together cover the tree
-language of issue 18, each end to end: it validates, renders (SVG, with data edges),
+language, each end to end: it validates, renders (SVG, with data edges),
 exports to BT.CPP XML, re-imports to the same tree, and ticks as BehaviorTree.CPP 4.7.3
 does with scripted leaves (the checker; transcripts of leaf visits, halts and root status
 per tick must be equal).

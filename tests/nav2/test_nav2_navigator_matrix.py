@@ -8,7 +8,7 @@ blackboard as bt_navigator's navigators do. One simulator serves the whole modul
 fault parameters are set anew. What ran is read from the runner's own records (the
 ``status`` events of leaf verdicts and the reason records), never from log text.
 
-The outcomes per tree (docs/nav2-surface.md, "Nav2's navigator trees against the
+The outcomes per tree (docs/reference/nav2-surface.md, "Nav2's navigator trees against the
 simulator"):
 
 - ``none``: SUCCESS, the robot at the goal by TF (follow_point: still RUNNING, the robot
@@ -52,7 +52,7 @@ pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
 #: reference): at 100x and 150x every run has the same status, recovery leaves, failures
 #: and error codes, and ends within 0.07 m of where 10x ends; at 200x a run reports SUCCESS
 #: 0.52 m from its goal (ticks too coarse for the simulated motion). 100x leaves margin
-#: for a loaded machine (docs/nav2-surface.md).
+#: for a loaded machine (docs/reference/nav2-surface.md).
 SPEED = 100.0
 TREES = navigator_trees()
 GOAL = (2.0, -1.5)  # the south-east room, ~2.5 m from the spawn

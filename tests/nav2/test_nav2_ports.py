@@ -18,7 +18,7 @@ from sar_framework.interop.btcpp_file import read_palette
 from sar_framework.interop.btcpp_models import literal_default
 
 OVERLAY = Path("/work/shared/ros-overlay/src")
-#: The leaves issue 21 asks for (the decorators are not leaves).
+#: Nav2's leaves (the decorators are not leaves).
 REQUIRED = {
     "ComputePathToPose", "ComputePathThroughPoses", "FollowPath", "Spin", "BackUp",
     "DriveOnHeading", "Wait", "ClearEntireCostmap", "ClearCostmapAroundRobot",

@@ -213,7 +213,7 @@ def test_distance_controller_replans_on_the_runners_robot_state(
     """Nav2's replanning-by-distance shape, on the runner's context sources (TF, odometry).
 
     FollowPath follows each replanned path: before the fix, the simulator's follower never
-    finished a path swapped in mid-drive that starts behind the robot (issue 21, point 3).
+    finished a path swapped in mid-drive that starts behind the robot.
     """
     from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
     from sar_framework.ros.robot_state import robot_context

@@ -9,7 +9,7 @@ column on a bad script); the :class:`CompiledScript` says which variables it rea
 writes, checks itself against declared types (:meth:`CompiledScript.check`) and runs
 against a :class:`~sar_framework.engine.variables.Variables` (:meth:`CompiledScript.run`).
 :func:`as_condition` judges a script's value the way BT.CPP's conditions do. The language
-and where it departs from BT.CPP 4.7.3 are described in ``docs/scripts.md``.
+and where it departs from BT.CPP 4.7.3 are described in ``docs/reference/scripts.md``.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ Any other value (a list, a ROS message) can be read, compared with nothing, and 
 into an entry of its own type. Every function here raises :class:`OperationError` with a
 message for the tree author; the evaluator adds the position.
 
-Where the two differ on purpose (see ``docs/scripts.md``): an operation on two integers
+Where the two differ on purpose (see ``docs/reference/scripts.md``): an operation on two integers
 (``+ - *``, prefix ``-``, bitwise) gives an integer where BT.CPP gives a ``double`` of the
 same value, and comparisons and logic give ``True``/``False`` where BT.CPP gives 1.0/0.0.
 """

@@ -15,22 +15,22 @@ import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.clock_timeout import CLOCK_KEY
-from sar_framework.engine.controls.conditionals import Switch, case_matches
-from sar_framework.engine.controls.leaves import SetBlackboard, Sleep, UnsetBlackboard
-from sar_framework.engine.controls.loops import RunOnce
-from sar_framework.engine.controls.queues import Loop
-from sar_framework.engine.controls.sequences import ReactiveSequence, Sequence
-from sar_framework.engine.controls.timing import Delay, Timeout
-from sar_framework.engine.controls.updated import (
+from sar_framework.engine.building.clock_timeout import CLOCK_KEY
+from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.nodes.controls.conditionals import Switch, case_matches
+from sar_framework.engine.nodes.controls.leaves import SetBlackboard, Sleep, UnsetBlackboard
+from sar_framework.engine.nodes.controls.sequences import ReactiveSequence, Sequence
+from sar_framework.engine.nodes.controls.values import DictVariables
+from sar_framework.engine.nodes.decorators.loops import RunOnce
+from sar_framework.engine.nodes.decorators.queues import Loop
+from sar_framework.engine.nodes.decorators.timing import Delay, Timeout
+from sar_framework.engine.nodes.decorators.updated import (
     SkipUnlessUpdated,
     WaitValueUpdate,
     WasEntryUpdated,
 )
-from sar_framework.engine.controls.values import DictVariables
-from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.skipping import was_skipped
 from sar_framework.engine.variables import BlackboardVariables
 
 from .conftest import load_problems

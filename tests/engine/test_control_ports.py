@@ -16,12 +16,12 @@ import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_spec, load_tree
-from sar_framework.engine.data_flow import data_edges
-from sar_framework.engine.node_kinds import KINDS
+from sar_framework.engine.checking.schema import tree_schema
+from sar_framework.engine.nodes.node_kinds import KINDS
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.ports import Direction, Naming
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.schema import tree_schema
-from sar_framework.engine.skipping import was_skipped
+from sar_framework.engine.rendering.data_flow import data_edges
 
 from .conftest import load_problems
 from .port_setup import (

@@ -1,4 +1,4 @@
-"""Hot swap (engine/hot_swap.py, engine/tree_diff.py) on real py_trees trees, mid-tick."""
+"""Hot swap (engine/reloading/) on real py_trees trees, mid-tick."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import LoadedTree, load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
-from sar_framework.engine.hot_swap import HotSwap, hot_swap, prepare_swap
 from sar_framework.engine.registry import Registry, discover
+from sar_framework.engine.reloading.hot_swap import HotSwap, hot_swap, prepare_swap
 
 from .conftest import HERE
 

@@ -14,8 +14,8 @@ from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.controls.nav2_controls import PipelineSequence
-from sar_framework.engine.controls.nav2_decorators import (
+from sar_framework.engine.nodes.controls.nav2_controls import PipelineSequence
+from sar_framework.engine.nodes.decorators.nav2_decorators import (
     GoalUpdatedController,
     PathLongerOnApproach,
     path_length,

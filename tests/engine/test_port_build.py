@@ -8,7 +8,7 @@ import py_trees
 import pytest
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.port_values import PortValues
+from sar_framework.engine.building.port_values import PortValues
 from sar_framework.engine.ports import InputPort, OutputPort, PortBinding
 from sar_framework.engine.registry import Registry
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from sar_framework.engine.checking.validate import ValidationResult
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import NodeSpec
-from sar_framework.engine.validate import ValidationResult
 
 from .conftest import Checker
 from .port_setup import (

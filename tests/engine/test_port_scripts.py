@@ -9,8 +9,8 @@ from pathlib import Path
 import py_trees
 
 from sar_framework.engine.api import load_tree
+from sar_framework.engine.checking.validate import ValidationResult
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.validate import ValidationResult
 
 from .conftest import Checker, write
 from .port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)

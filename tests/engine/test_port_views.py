@@ -6,10 +6,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-from sar_framework.engine.data_flow import data_edges
+from sar_framework.engine.checking.validate import validate_file
 from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.render import node_id, render_dot
-from sar_framework.engine.validate import validate_file
+from sar_framework.engine.rendering.data_flow import data_edges
+from sar_framework.engine.rendering.render import node_id, render_dot
 from sar_framework.plugin_catalogue import plugin_info, port_text
 
 from .conftest import GENERIC_PLUGINS, REPO, write
@@ -92,13 +92,13 @@ def test_data_edges_include_scripts(tmp_path: Path, registry: Registry) -> None:
     """), registry=registry).spec
     assert spec is not None
     assert data_edges(spec) == [("0.0", "0.1", "n"), ("0.1", "0.2", "m")]
-    from sar_framework.engine.render import render_text
+    from sar_framework.engine.rendering.render import render_text
 
     assert "Script" in render_text(spec) and "digraph" in render_dot(spec, data=True)
 
 
 def test_labels_show_port_bindings(tmp_path: Path, registry: Registry) -> None:
-    from sar_framework.engine.render import render_text
+    from sar_framework.engine.rendering.render import render_text
 
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
@@ -124,7 +124,7 @@ def test_labels_show_port_bindings(tmp_path: Path, registry: Registry) -> None:
 
 
 def test_labels_show_pre_and_post_conditions(tmp_path: Path, registry: Registry) -> None:
-    from sar_framework.engine.render import render_text
+    from sar_framework.engine.rendering.render import render_text
 
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1

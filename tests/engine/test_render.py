@@ -1,4 +1,4 @@
-"""Tests for sar_framework.engine.render: real Graphviz output, real files."""
+"""Tests for sar_framework.engine.rendering.render: real Graphviz output, real files."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from sar_framework.engine.diagnostics import SourceLocation
-from sar_framework.engine.render import (
+from sar_framework.engine.rendering.render import (
     STATUS_COLOURS,
     GraphvizNotFound,
     RenderError,

@@ -12,9 +12,9 @@ import pytest
 import yaml
 from hypothesis import HealthCheck, event, given, settings
 
+from sar_framework.engine.checking.schema import schema_text, tree_schema
+from sar_framework.engine.checking.validate import validate_file
 from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.schema import schema_text, tree_schema
-from sar_framework.engine.validate import validate_file
 
 from .conftest import FIXTURES, REPO, VENV_BIN, make_registry
 from .strategies import documents
@@ -97,7 +97,7 @@ def test_agreement_on_generated_documents(document: Any, tmp_path_factory: Any) 
 def test_the_schema_of_the_same_plugins_is_built_once_and_another_set_gets_its_own(
         registry: Registry) -> None:
     """validate() builds the tree schema once per set of plugins (it was half of its time)."""
-    from sar_framework.engine.structure import StructureCheck
+    from sar_framework.engine.checking.structure import StructureCheck
 
     first, again = StructureCheck(registry), StructureCheck(registry.copy())
     assert again.validator is first.validator  # same plugins: the same schema and validator

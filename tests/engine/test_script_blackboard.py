@@ -7,9 +7,14 @@ import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
-from sar_framework.engine.script_nodes import ElseStatus, Precondition, PrePostConditions, Script
+from sar_framework.engine.nodes.script_nodes import (
+    ElseStatus,
+    Precondition,
+    PrePostConditions,
+    Script,
+)
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.scripting import ScriptError, compile_script
-from sar_framework.engine.skipping import was_skipped
 from sar_framework.engine.variables import BlackboardVariables
 
 from .port_setup import clean_blackboard  # noqa: F401 (pytest fixture)

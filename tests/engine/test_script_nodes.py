@@ -2,7 +2,7 @@
 
 Cases marked "BT.CPP" restate BehaviorTree.CPP 4.7.3's tests (gtest_preconditions.cpp,
 gtest_postconditions.cpp) with py_trees composites standing in for BT.CPP's. SKIPPED is
-SUCCESS plus the skipped mark (engine/skipping.py).
+SUCCESS plus the skipped mark (engine/nodes/skipping.py).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import pytest
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-from sar_framework.engine.script_nodes import (
+from sar_framework.engine.nodes.script_nodes import (
     ATTRIBUTES,
     ElseStatus,
     Precondition,
@@ -20,8 +20,8 @@ from sar_framework.engine.script_nodes import (
     Script,
     ScriptCondition,
 )
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.scripting import ScriptError, compile_script
-from sar_framework.engine.skipping import was_skipped
 
 from .script_variables import DictVariables
 

@@ -89,7 +89,7 @@ def test_whitespace_newlines_and_escaped_newlines_are_blanks() -> None:
 
 
 def test_lark_is_imported_only_when_a_script_is_compiled() -> None:
-    code = ("import sys, sar_framework.engine.script_nodes; a = 'lark' in sys.modules; "
+    code = ("import sys, sar_framework.engine.nodes.script_nodes; a = 'lark' in sys.modules; "
             "from sar_framework.engine.scripting import compile_script; compile_script('1'); "
             "print(a, 'lark' in sys.modules)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

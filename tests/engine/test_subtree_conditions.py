@@ -14,8 +14,8 @@ from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.skipping import was_skipped
 
 from .conftest import write
 from .port_setup import clean_blackboard  # noqa: F401 (pytest fixture)

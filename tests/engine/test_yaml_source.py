@@ -9,8 +9,8 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from sar_framework.engine import yaml_source
 from sar_framework.engine.diagnostics import Diagnostic
+from sar_framework.engine.reading import yaml_source
 
 from .conftest import FIXTURES
 from .test_errors import CASES

@@ -33,8 +33,8 @@ from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.variables import BlackboardVariables
 
-from .conftest import load_problems
-from .scripted_leaves import Clock, Log, Scripted, tick
+from ..conftest import load_problems
+from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_halting_a_running_sequence_halts_only_its_running_child() -> None:

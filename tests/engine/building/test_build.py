@@ -15,7 +15,7 @@ from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS as KINDS
 from sar_framework.engine.nodes.node_kinds import UNSUPPORTED_DECORATORS
 from sar_framework.engine.registry import Registry
 
-from .conftest import Checker, write
+from ..conftest import Checker, write
 
 Status = py_trees.common.Status
 

@@ -8,8 +8,8 @@ from sar_framework.engine.checking.validate import ValidationResult
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import NodeSpec
 
-from .conftest import Checker
-from .port_setup import (
+from ..conftest import Checker
+from ..port_setup import (
     PLAN_AND_FOLLOW,
     port_registry,  # noqa: F401 (pytest fixture)
 )

@@ -12,8 +12,8 @@ from sar_framework.engine.api import load_tree
 from sar_framework.engine.checking.validate import ValidationResult
 from sar_framework.engine.registry import Registry
 
-from .conftest import Checker, write
-from .port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
+from ..conftest import Checker, write
+from ..port_setup import clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
 
 Blackboard = py_trees.blackboard.Blackboard
 Status = py_trees.common.Status

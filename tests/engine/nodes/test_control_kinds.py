@@ -23,8 +23,8 @@ from sar_framework.engine.ports import Direction, Naming
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.rendering.data_flow import data_edges
 
-from .conftest import load_problems
-from .port_setup import (
+from ..conftest import load_problems
+from ..port_setup import (
     clean_blackboard,  # noqa: F401 (pytest fixture)
     port_registry,  # noqa: F401 (pytest fixture)
     write_tree,

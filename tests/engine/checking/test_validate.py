@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from .conftest import Checker
+from ..conftest import Checker
 
 HEAD = "format: 1\nroot:\n"
 

@@ -23,7 +23,7 @@ from sar_framework.engine.nodes.script_nodes import (
 from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.scripting import ScriptError, compile_script
 
-from .script_variables import DictVariables
+from ..script_variables import DictVariables
 
 S = compile_script
 

@@ -16,7 +16,7 @@ from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.reloading.hot_swap import HotSwap, hot_swap, prepare_swap
 
-from .conftest import HERE
+from ..conftest import HERE
 
 SWAP_PLUGINS = HERE / "plugins_for_tests" / "swap"
 

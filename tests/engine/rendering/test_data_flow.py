@@ -12,8 +12,8 @@ from sar_framework.engine.rendering.data_flow import data_edges
 from sar_framework.engine.rendering.render import node_id, render_dot
 from sar_framework.plugin_catalogue import plugin_info, port_text
 
-from .conftest import GENERIC_PLUGINS, REPO, write
-from .port_setup import (
+from ..conftest import GENERIC_PLUGINS, REPO, write
+from ..port_setup import (
     PORT_PLUGINS,
     port_registry,  # noqa: F401 (pytest fixture)
 )

@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 from sar_framework.engine.diagnostics import Diagnostic
 from sar_framework.engine.reading import yaml_source
 
-from .conftest import FIXTURES
-from .test_errors import CASES
+from ..checking.test_validate import CASES
+from ..conftest import FIXTURES
 
 
 def fast_values(text: str) -> tuple[Any, list[Diagnostic]]:

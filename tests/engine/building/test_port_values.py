@@ -12,8 +12,8 @@ from sar_framework.engine.building.port_values import PortValues
 from sar_framework.engine.ports import InputPort, OutputPort, PortBinding
 from sar_framework.engine.registry import Registry
 
-from .conftest import write
-from .port_setup import PLAN_AND_FOLLOW, clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
+from ..conftest import write
+from ..port_setup import PLAN_AND_FOLLOW, clean_blackboard, port_registry  # noqa: F401 (pytest fixtures)
 
 Blackboard = py_trees.blackboard.Blackboard
 Status = py_trees.common.Status

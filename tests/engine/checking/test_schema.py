@@ -16,9 +16,9 @@ from sar_framework.engine.checking.schema import schema_text, tree_schema
 from sar_framework.engine.checking.validate import validate_file
 from sar_framework.engine.registry import Registry, discover
 
-from .conftest import FIXTURES, REPO, VENV_BIN, make_registry
-from .strategies import documents
-from .test_errors import CASES
+from ..checking.test_validate import CASES
+from ..conftest import FIXTURES, REPO, VENV_BIN, make_registry
+from ..strategies import documents
 
 COMMITTED = REPO / "sar_framework" / "schema" / "tree.schema.json"
 YAML_LEVEL = (

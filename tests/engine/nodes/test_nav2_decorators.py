@@ -22,8 +22,8 @@ from sar_framework.engine.nodes.decorators.nav2_decorators import (
 )
 from sar_framework.engine.registry import Registry
 
-from .script_variables import DictVariables
-from .scripted_leaves import Log, Scripted, tick
+from ..script_variables import DictVariables
+from ..scripted_leaves import Log, Scripted, tick
 
 
 def path(*points: tuple[float, float]) -> SimpleNamespace:

@@ -21,8 +21,8 @@ from sar_framework.engine.ports import Direction
 from sar_framework.engine.registry import Registry
 from sar_framework.interop.btcpp_export import export_btcpp
 
-from .conftest import load_problems
-from .port_setup import (
+from ..conftest import load_problems
+from ..port_setup import (
     clean_blackboard,  # noqa: F401 (pytest fixtures)
     write_tree,
 )

@@ -19,7 +19,7 @@ from sar_framework.engine.building.clock_timeout import CLOCK_KEY
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry, discover
 
-from .conftest import GENERIC_PLUGINS
+from ..conftest import GENERIC_PLUGINS
 
 Blackboard = py_trees.blackboard.Blackboard
 

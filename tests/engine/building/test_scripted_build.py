@@ -17,8 +17,8 @@ from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.registry import Registry
 
-from .conftest import write
-from .port_setup import clean_blackboard  # noqa: F401 (pytest fixture)
+from ..conftest import write
+from ..port_setup import clean_blackboard  # noqa: F401 (pytest fixture)
 
 Blackboard = py_trees.blackboard.Blackboard
 

@@ -29,8 +29,8 @@ from sar_framework.engine.nodes.robot_context import (
 )
 from sar_framework.engine.registry import Registry
 
-from .script_variables import DictVariables
-from .scripted_leaves import Clock, Log, Scripted, tick
+from ..script_variables import DictVariables
+from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 class Robot:

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from sar_framework.engine.scripting import ScriptError, compile_script
 
-from .script_variables import DictVariables
+from ..script_variables import DictVariables
 
 _SETTINGS = settings(max_examples=400, deadline=None,
                      suppress_health_check=[HealthCheck.too_slow])

@@ -13,7 +13,7 @@ import pytest
 
 from sar_framework.engine.scripting import ScriptError, compile_script
 
-from .script_variables import DictVariables
+from ..script_variables import DictVariables
 
 COLORS = {"RED": 1, "BLUE": 3, "GREEN": 5}
 

@@ -6,7 +6,7 @@ import pytest
 
 from sar_framework.engine.scripting import compile_script
 
-from .script_variables import DictVariables
+from ..script_variables import DictVariables
 
 TYPES = {
     "i": "int", "f": "float", "b": "bool", "s": "str", "o": "object", "l": "list",

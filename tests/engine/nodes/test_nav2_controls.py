@@ -26,7 +26,7 @@ from sar_framework.engine.nodes.controls.sequences import Sequence
 from sar_framework.engine.nodes.decorators.nav2_decorators import RateController, SingleTrigger
 from sar_framework.engine.registry import Registry
 
-from .scripted_leaves import Clock, Log, Scripted, tick
+from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_recovery_node_recovers_up_to_number_of_retries() -> None:

@@ -1,6 +1,6 @@
 """Blackboard entries, resolved statically: scopes, absolute keys and the checks on them.
 
-Every name a node uses (a port bound to ``{goal}``, later a script's variable) belongs to
+Every name a node uses (a port bound to ``{goal}``, a script's variable) belongs to
 a scope and resolves to an absolute py_trees key, as BT.CPP 4 resolves it at run time:
 
 - the main tree's scope is the root, ``/``: ``{goal}`` is ``/goal``;
@@ -15,7 +15,8 @@ a scope and resolves to an absolute py_trees key, as BT.CPP 4 resolves it at run
 
 :class:`Entries` collects every read, write and declaration while the semantic walk
 resolves bindings, then :meth:`Entries.check` reports, all at once: a read of an entry
-nothing writes, that has no initial value and is not declared; readers and writers (or
+nothing writes, that has no initial value and is not declared (with did-you-mean: an
+entry of its scope under a close name); readers and writers (or
 declarations) whose types disagree. Unknown names in a scope that declares its entries
 are reported while resolving, with a did-you-mean (with ``autoremap``, a name the
 subtree does not declare is checked against the parent's declarations).
@@ -156,10 +157,11 @@ class Entries:
             declared = self.declared.get(key, [])
             if not writes and key not in self.initial and not any(d.caller_sets
                                                                   for d in declared):
+                hint = self.similar(key) or (" (declare it under 'blackboard:' if the "
+                                             "caller sets it)")
                 for use in reads:
                     self.report(use.where, f"{use.who} reads '{key[1:]}', but nothing writes "
-                                "it and it has no initial value (declare it under "
-                                "'blackboard:' if the caller sets it)")
+                                f"it and it has no initial value{hint}")
             for use in reads:
                 self.check_read(use, writes, declared)
         for key, writes in self.writes.items():
@@ -169,6 +171,13 @@ class Entries:
                         self.report(use.where, f"{use.who} writes {use.type} to '{key[1:]}', "
                                     f"declared {decl.type}{_at(decl.where)}")
                         break
+
+    def similar(self, key: str) -> str:
+        """A did-you-mean for a read of ``key``: an entry of its scope written or set."""
+        scope, _, name = key.rpartition("/")
+        known = {*self.writes, *self.initial, *self.declared}
+        return did_you_mean(name, [k.rpartition("/")[2] for k in known
+                                   if k.rpartition("/")[0] == scope and k != key])
 
     def check_read(self, use: Use, writes: list[Use], declared: list[Declared]) -> None:
         """Report the first declaration or writer whose type ``use`` cannot read."""

@@ -176,3 +176,23 @@ def test_conditions_on_a_leaf_with_ports(tree_dir: Path, registry: Registry) -> 
     Blackboard.set("/skip", 0)
     tree.root.tick_once()
     assert Blackboard.get("/n") == 5 and Blackboard.get("/seen") == 5
+
+
+def test_a_script_reading_an_entry_nothing_writes(check: Checker) -> None:
+    # BT.CPP fails when the condition ticks; validation says so, at the script, with the
+    # entry the script probably meant.
+    assert check("""
+        format: 1
+        root:
+          sequence:
+            memory: false
+            children:
+              - Script: {code: "target_reached := true"}
+              - ScriptCondition: {code: "target_ready"}
+              - Tick: {_skipIf: "!target_ready"}
+    """) == [
+        "tree.yaml:7:33: error: script 'code' of ScriptCondition reads 'target_ready', but "
+        "nothing writes it and it has no initial value (did you mean 'target_reached'?)",
+        "tree.yaml:8:25: error: script '_skipIf' of Tick reads 'target_ready', but nothing "
+        "writes it and it has no initial value (did you mean 'target_reached'?)",
+    ]

@@ -69,19 +69,20 @@ class Scope:
         return names
 
 
-class Semantics(TreeFiles):
-    """One validation run over a tree file and its includes.
+class Semantics:
+    """One validation run over a tree file and its includes, once they are read.
 
     Args:
-        registry: The plugins known before the tree's own ``plugins:`` are imported.
+        registry: The plugins the tree is checked against (with its own ``plugins:``).
+        files: The files read; the walk's problems join their ``semantic`` list.
 
     Attributes:
         subtrees: The subtree definitions of every file, by name.
     """
 
-    def __init__(self, registry: Registry) -> None:
-        super().__init__()
-        self.registry = registry
+    def __init__(self, registry: Registry, files: TreeFiles) -> None:
+        self.files, self.structural, self.semantic = files.files, files.structural, files.semantic
+        self.error, self.registry = files.error, registry
         self.subtrees: dict[str, Subtree] = {}
         self.used_subtrees: set[str] = set()
         self.declarations: dict[str, Declaration | None] = {}

@@ -16,7 +16,7 @@ from sar_framework.engine.checking.semantics import TOO_DEEP, Semantics
 from sar_framework.engine.checking.structure import StructureCheck
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation
 from sar_framework.engine.nodes.node_kinds import FORMAT_VERSION, MAX_DEPTH, TOP_LEVEL_ATTRS
-from sar_framework.engine.reading.tree_files import normalise
+from sar_framework.engine.reading.tree_files import TreeFiles, normalise
 from sar_framework.engine.reading.yaml_source import location
 from sar_framework.engine.registry import Registry, default_registry, extend
 from sar_framework.engine.spec import TreeSpec
@@ -119,15 +119,14 @@ def validate_file(
     base = registry if registry is not None else default_registry()
     shown = str(path)
     main_path = main_file(path)
-    checker = Semantics(base)
-
     # 1. Read the main file and, transitively, its includes.
-    checker.visit(main_path, shown, ())
-    plugin_entries = checker.plugin_entries
+    files = TreeFiles()
+    files.visit(main_path, shown, ())
+    plugin_entries = files.plugin_entries
 
     # 2. The registry: built-ins and entry points, plus the local plugins named.
     reg = local_registry(base, plugin_paths, plugin_entries)
-    checker.registry = reg
+    checker = Semantics(reg, files)
 
     # 3. The structure of every file, by jsonschema on the schema of that registry.
     structure = StructureCheck(reg)

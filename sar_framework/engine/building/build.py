@@ -8,6 +8,10 @@ a reference param receives the referenced leaf's behaviour, which is built
 first (validation has ruled out reference cycles). A leaf that declares ports
 also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and entries with an
 initial value are written to py_trees' blackboard before the tree is returned.
+``Script``, ``ScriptCondition`` and ``Precondition`` become the behaviours of
+:mod:`..nodes.script_nodes`, and a node with pre/post-condition scripts (``_skipIf``...) is
+wrapped in a ``PrePostConditions``; the scripts of one node share one
+:class:`~..variables.BlackboardVariables` (the script language is imported only then).
 """
 
 from __future__ import annotations
@@ -21,13 +25,13 @@ from sar_framework.engine import compat
 from sar_framework.engine.building.clock_timeout import CLOCK_KEY, ClockTimeout
 from sar_framework.engine.building.control_build import CONTROL_BUILDERS
 from sar_framework.engine.building.port_values import PortValues, write_initial
-from sar_framework.engine.building.scripted_build import SCRIPTED, build_scripted, with_conditions
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.engine.variables import BlackboardVariables
 
 Behaviour = py_trees.behaviour.Behaviour
 _Builder = Callable[[NodeSpec, list[Behaviour]], Behaviour]
@@ -66,6 +70,38 @@ def _decorator(class_name: str, **convert: Callable[[Any], Any]) -> _Builder:
         return cls(name=node.name, child=children[0], **kwargs)
 
     return build
+
+
+#: The node kinds built from their scripts rather than by the plugin or py_trees builders.
+SCRIPTED = frozenset({"Script", "ScriptCondition", "Precondition"})
+
+
+def variables(node: NodeSpec) -> BlackboardVariables:
+    """The variables of a node's scripts, on py_trees' blackboard."""
+    writes = {name for script in node.scripts.values() for name in script.writes}
+    return BlackboardVariables(node.name, node.script_keys, writes)
+
+
+def build_scripted(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
+    """Build a ``Script``, ``ScriptCondition`` or ``Precondition`` node."""
+    from sar_framework.engine.nodes import script_nodes
+
+    if node.kind == "Precondition":
+        return script_nodes.Precondition(
+            node.name, children[0], node.scripts["if"], variables(node),
+            script_nodes.ElseStatus(node.attrs.get("else", "FAILURE")))
+    cls = script_nodes.Script if node.kind == "Script" else script_nodes.ScriptCondition
+    return cls(node.name, node.scripts["code"], variables(node))
+
+
+def with_conditions(node: NodeSpec, behaviour: Behaviour) -> Behaviour:
+    """Wrap ``behaviour`` in its pre/post-condition scripts (itself when it has none)."""
+    from sar_framework.engine.nodes.script_nodes import ATTRIBUTES, PrePostConditions
+
+    scripts = {ATTRIBUTES[a]: s for a, s in node.scripts.items() if a in ATTRIBUTES}
+    if not scripts:
+        return behaviour
+    return PrePostConditions(node.name, behaviour, variables(node), **scripts)
 
 
 _BUILDERS: dict[str, _Builder] = {

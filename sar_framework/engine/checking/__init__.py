@@ -3,7 +3,7 @@
 :mod:`.validate` runs the checks in order:
 
 1. :mod:`.structure`: the plain values against the JSON Schema of :mod:`.schema`
-   (node kinds + registered plugins); :mod:`.node_places` names a node in a message.
+   (node kinds + registered plugins), each error worded at its node.
 2. :mod:`.semantics`: the walk that makes the specs. It reads what a kind or plugin
    declares (:mod:`.declarations`), copies subtrees (:mod:`.subtree_defs`), points
    references at leaves (:mod:`.references`), resolves leaf and subtree ports

@@ -28,14 +28,7 @@ from sar_framework.engine.nodes.node_kinds import (
     NodeKind,
     leaf_attrs,
 )
-from sar_framework.engine.ports import (
-    BASIC_TYPES,
-    ENTRY_NAME,
-    NO_DEFAULT,
-    Direction,
-    Naming,
-    Port,
-)
+from sar_framework.engine.ports import BASIC_TYPES, ENTRY_NAME, NO_DEFAULT, Direction, Naming, Port
 from sar_framework.engine.registry import Registry
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"

@@ -20,10 +20,7 @@ from sar_framework.engine.checking.entries import DataScope, Entries
 from sar_framework.engine.checking.references import resolve_references
 from sar_framework.engine.checking.script_bindings import ScriptBindings
 from sar_framework.engine.checking.subtree_defs import Subtree, copy_spec, cycle_text, report_cycles
-from sar_framework.engine.diagnostics import (
-    SourceLocation,
-    did_you_mean,
-)
+from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
 from sar_framework.engine.nodes.control_kinds import threshold_problem
 from sar_framework.engine.nodes.node_kinds import KINDS, MAX_DEPTH, SUBTREE, Attr, AttrType
 from sar_framework.engine.ports import NO_DEFAULT

@@ -3,7 +3,8 @@
 Each error of the Draft 2020-12 validator over :func:`.schema.tree_schema` maps back to
 ``file:line:col`` through the YAML nodes a :class:`.document.Document` remembers.
 :class:`StructureCheck` words those errors for a user: the node kind and attribute they
-concern, what was expected, what was found, and a "did you mean" where one is close.
+concern, what was expected, what was found, and a "did you mean" where one is close; a
+node without a name is named by its place in the file (:func:`node_label`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,6 @@ from typing import Any
 
 import jsonschema
 
-from sar_framework.engine.checking.node_places import UNKNOWN_PLUGIN_HINT, node_label
 from sar_framework.engine.checking.schema import tree_schema
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, did_you_mean
 from sar_framework.engine.nodes.node_kinds import (
@@ -46,6 +46,47 @@ def suggest(word: str, names: list[str]) -> str:
     """Return a "did you mean", or the valid names when none is close (``_skipIf``... unlisted)."""
     listed = [name for name in names if not name.startswith("_")]
     return did_you_mean(word, names) or f" (expected one of: {', '.join(listed)})"
+
+
+#: What an unknown plugin name with nothing close to it is told: the two routes to a leaf.
+UNKNOWN_PLUGIN_HINT = (
+    " (if it is a leaf of your own: install its package (an entry point in group "
+    "'sar_framework.plugins'), or name its module, .py file or folder in the tree's "
+    "'plugins:' key or with --plugin-path; see docs/tutorials/02_writing_a_plugin.md)")
+
+
+def node_label(kind: str, path: DocPath, value: Any) -> str:
+    """Name the node at ``path`` (its attributes) for a message.
+
+    ``sequence 'Patrol'`` when it has a name; otherwise where it is: ``the root sequence``,
+    ``sequence (child 2 of selector 'Mission')``, ``sequence (the child of timeout)``.
+
+    Args:
+        kind: The node's kind.
+        path: The path of its attribute mapping in the document.
+        value: The document's value.
+    """
+    def at(where: DocPath) -> Any:
+        node = value
+        for key in where:
+            try:
+                node = node[key]
+            except (KeyError, IndexError, TypeError):
+                return None
+        return node
+
+    attrs = at(path)
+    if isinstance(attrs, dict) and isinstance(attrs.get("name"), str):
+        return f"{kind} '{attrs['name']}'"
+    above = path[:-1]  # the node's own mapping {kind: attrs}
+    if above and above[-1] == "root":
+        return f"the root {kind}"
+    if len(above) >= 3 and isinstance(above[-1], int) and above[-2] == "children":
+        parent = node_label(str(above[-3]), above[:-2], value)
+        return f"{kind} (child {above[-1] + 1} of {parent})"
+    if len(above) >= 2 and above[-1] == "child":
+        return f"{kind} (the child of {node_label(str(above[-2]), above[:-1], value)})"
+    return kind
 
 
 #: Schemas and validators by the registry's plugins (their specs live as long as their classes).

@@ -1,6 +1,6 @@
 """Rendering: a :class:`~..spec.TreeSpec` drawn, never built.
 
 :mod:`.render` writes dot/svg/png/pdf with graphviz, :mod:`.text_tree` ASCII or
-Unicode text; both word nodes through :mod:`.labels`; :mod:`.data_flow` gives the
-entry edges (writer -> reader).
+Unicode text; both word nodes, and the entry edges (writer -> reader), through
+:mod:`.labels`.
 """

@@ -1,6 +1,7 @@
-"""What a drawn node says: py_trees' kind symbol, settings, leaf params and ports, as text.
+"""What a drawn node says (kind symbol, settings, params, ports) and its data edges.
 
-Shared by the Graphviz diagram (:mod:`.render`) and the terminal tree (:mod:`.text_tree`).
+:func:`data_edges` links a node writing an entry to the nodes reading it. Shared by the
+Graphviz diagram (:mod:`.render`) and the terminal tree (:mod:`.text_tree`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from typing import Any
 
 from sar_framework.engine.nodes.control_kinds import SYMBOLS
 from sar_framework.engine.ports import NO_DEFAULT, entry_ref
-from sar_framework.engine.spec import Category, NodeSpec
+from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
 MAX_VALUE_CHARS = 40
 CONTROL_CHARS = re.compile(r"[\x00-\x1f\x7f]")
@@ -160,3 +161,35 @@ def info_and_params(node: NodeSpec, glyphs: Glyphs, all_params: bool, *, id_sep:
     if node.id is not None:
         info.append(f"id{id_sep}{node.id}")
     return info, leaf_params(node, glyphs, all_params)
+
+
+def data_edges(spec: TreeSpec) -> list[tuple[str, str, str]]:
+    """Return ``(writer uid, reader uid, entry)`` for every entry a node writes and one reads.
+
+    A node's ports and its scripts both count.
+
+    Args:
+        spec: The validated tree.
+
+    Returns:
+        One edge per writer, reader and entry (a node reading its own write is left out).
+    """
+    writers: dict[str, list[str]] = {}
+    readers: dict[str, list[str]] = {}
+    for node in spec.nodes():
+        reads: set[str] = set()
+        writes: set[str] = set()
+        for binding in node.bindings.values():
+            if binding.key is not None and binding.port.direction.writes:
+                writes.add(binding.key)
+            if binding.key is not None and binding.port.direction.reads:
+                reads.add(binding.key)
+        for script in node.scripts.values():
+            writes.update(node.script_keys[n] for n in script.writes if node.script_keys.get(n))
+            reads.update(node.script_keys[n] for n in script.reads if node.script_keys.get(n))
+        for key in sorted(writes):
+            writers.setdefault(key, []).append(node.uid)
+        for key in sorted(reads):
+            readers.setdefault(key, []).append(node.uid)
+    return [(w, r, key[1:]) for key, ws in writers.items() for w in ws
+            for r in readers.get(key, ()) if r != w]

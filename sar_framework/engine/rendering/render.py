@@ -34,8 +34,13 @@ from typing import Any
 
 import graphviz
 
-from sar_framework.engine.rendering.data_flow import data_edges
-from sar_framework.engine.rendering.labels import UNICODE, clean, info_and_params, symbol
+from sar_framework.engine.rendering.labels import (
+    UNICODE,
+    clean,
+    data_edges,
+    info_and_params,
+    symbol,
+)
 from sar_framework.engine.rendering.text_tree import render_text
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 

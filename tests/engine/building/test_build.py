@@ -9,7 +9,7 @@ import py_trees
 import pytest
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.building.scripted_build import SCRIPTED
+from sar_framework.engine.building.build import SCRIPTED
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS as KINDS
 from sar_framework.engine.nodes.node_kinds import UNSUPPORTED_DECORATORS

@@ -21,7 +21,7 @@ from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.ports import Direction, Naming
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.rendering.data_flow import data_edges
+from sar_framework.engine.rendering.labels import data_edges
 
 from ..conftest import load_problems
 from ..port_setup import (

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from sar_framework.engine.checking.validate import validate_file
 from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.rendering.data_flow import data_edges
+from sar_framework.engine.rendering.labels import data_edges
 from sar_framework.engine.rendering.render import node_id, render_dot
 from sar_framework.plugin_catalogue import plugin_info, port_text
 

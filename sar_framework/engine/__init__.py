@@ -10,7 +10,6 @@ The stages, in the order a file goes through them (docs/architecture.md draws it
                              reloading/ swaps a new file into a running tree
 
 What plugins use stays at this level: plugin.py (``@leaf``), param.py (``Param``),
-ports.py (``InputPort``/``OutputPort``), api.py (``load_tree``, ``TreeLoadError``);
-registry.py finds them. scripting/ is BT.CPP's script language, shared by checking and
-the scripted nodes.
+ports.py (``InputPort``...), api.py (``load_tree``, ``TreeLoadError``); registry.py finds
+them. scripting/ is BT.CPP's script language (checking and the scripted nodes use it).
 """

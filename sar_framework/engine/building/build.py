@@ -1,17 +1,14 @@
 """TreeSpec -> plain py_trees behaviours, plus a ``uid -> behaviour`` map.
 
-The builder creates exactly the objects a hand-written py_trees tree would
-hold: composites, decorators and the plugin classes themselves, with no
-wrapper behaviour in between, so a loaded tree ticks as fast as a hand-built
-one. A leaf is constructed as ``cls(name=..., **params, **context_objects)``;
-a reference param receives the referenced leaf's behaviour, which is built
-first (validation has ruled out reference cycles). A leaf that declares ports
-also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and entries with an
-initial value are written to py_trees' blackboard before the tree is returned.
-``Script``, ``ScriptCondition`` and ``Precondition`` become the behaviours of
-:mod:`..nodes.script_nodes`, and a node with pre/post-condition scripts (``_skipIf``...) is
-wrapped in a ``PrePostConditions``; the scripts of one node share one
-:class:`~..variables.BlackboardVariables` (the script language is imported only then).
+The builder creates exactly the objects a hand-written py_trees tree would hold:
+composites, decorators and the plugin classes themselves, with no wrapper behaviour in
+between, so a loaded tree ticks as fast as a hand-built one. A leaf is constructed as
+``cls(name=..., **params, **context_objects)``; a reference param receives the referenced
+leaf's behaviour, which is built first (validation has ruled out reference cycles). A leaf
+that declares ports also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and
+entries with an initial value are written to py_trees' blackboard before the tree is
+returned. Script nodes and the pre/post-condition wrapper (:mod:`..nodes.script_nodes`)
+share one :class:`~..variables.BlackboardVariables` per node.
 """
 
 from __future__ import annotations
@@ -22,8 +19,7 @@ from typing import Any, Protocol
 import py_trees
 
 from sar_framework.engine import compat
-from sar_framework.engine.building.clock_timeout import CLOCK_KEY, ClockTimeout
-from sar_framework.engine.building.control_build import CONTROL_BUILDERS
+from sar_framework.engine.building.control_build import CLOCK_KEY, CONTROL_BUILDERS, ClockTimeout
 from sar_framework.engine.building.port_values import PortValues, write_initial
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.nodes.node_kinds import KINDS

@@ -1,12 +1,12 @@
 """Build the behaviours of BT.CPP's and Nav2's node kinds (:mod:`.control_kinds`).
 
-One builder per kind, called as ``builder(node, children, context)``; the clock-driven
-ones read the build context's ``clock`` (:data:`.clock_timeout.CLOCK_KEY`, a callable
-returning seconds; default ``time.monotonic``). The blackboard nodes get a
-:class:`~.variables.Variables` over py_trees' blackboard in which each of their ports
-bound to an entry is a variable named like the port, leading to the absolute key that
-validation resolved in the node's scope (``node.bindings``, as for a leaf's ports); a
-Switch reads its variable and cases, literals or entries, through a
+One builder per kind, called as ``builder(node, children, context)``. The clock-driven
+ones, and every ``timeout`` (:class:`ClockTimeout`), read the build context's ``clock``
+(:data:`CLOCK_KEY`: seconds; default ``time.monotonic``): a runner on ROS time passes
+``context={CLOCK_KEY: now}``, so a tree behaves the same at any simulation speed. The
+blackboard nodes get a :class:`~..variables.Variables` in which each port bound to an
+entry is a variable named like the port, leading to the key validation resolved in the
+node's scope (``node.bindings``); a Switch reads its variable and cases through a
 :class:`~.port_values.PortValues`, as a leaf reads its ports.
 """
 
@@ -18,8 +18,8 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 import py_trees
+from py_trees.common import Status
 
-from sar_framework.engine.building.clock_timeout import CLOCK_KEY
 from sar_framework.engine.building.port_values import PortValues
 from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS, READ_PORTS, SWITCH_CASES
 from sar_framework.engine.nodes.controls import (
@@ -43,6 +43,48 @@ from sar_framework.engine.nodes.robot_context import pose_source, speed_source, 
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.variables import BlackboardVariables
+
+CLOCK_KEY = "clock"
+"""The build-context key of the clock (a callable returning seconds)."""
+
+
+class ClockTimeout(py_trees.decorators.Timeout):
+    """py_trees' ``Timeout``, with ``duration`` measured on ``clock``.
+
+    Args:
+        name: The behaviour's name.
+        child: The decorated behaviour.
+        duration: Seconds on ``clock``.
+        clock: Returns the current time in seconds.
+    """
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, duration: float,
+                 clock: Callable[[], float]) -> None:
+        super().__init__(name=name, child=child, duration=duration)
+        self.clock = clock
+        self.finish_time = 0.0
+
+    def initialise(self) -> None:
+        """Start the bound on this activation."""
+        self.finish_time = self.clock() + self.duration
+        self.feedback_message = ""
+
+    def update(self) -> Status:
+        """FAILURE (halting the child) once the bound passed while the child runs.
+
+        Returns:
+            FAILURE on timeout, else the child's status.
+        """
+        if self.decorated.status == Status.RUNNING and self.clock() > self.finish_time:
+            self.feedback_message = "timed out"
+            self.decorated.stop(Status.INVALID)
+            return Status.FAILURE
+        if self.decorated.status == Status.RUNNING:
+            self.feedback_message = f"{self.finish_time - self.clock():.2f} s left"
+        else:
+            self.feedback_message = "child finished before the timeout"
+        return self.decorated.status
+
 
 Behaviour = py_trees.behaviour.Behaviour
 ControlBuilder = Callable[[NodeSpec, list[Behaviour], Mapping[str, Any]], Behaviour]

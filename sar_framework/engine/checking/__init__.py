@@ -8,7 +8,6 @@
    declares (:mod:`.declarations`), copies subtrees (:mod:`.subtree_defs`), points
    references at leaves (:mod:`.references`), resolves leaf and subtree ports
    (:mod:`.bindings`) and scripts' variables (:mod:`.script_bindings`) per scope.
-3. :mod:`.entries`: the one place a port or an entry is checked, whoever reads it (a
-   leaf's port, a control's port, a script): scopes, keys, readers without a writer,
-   types that disagree, with did-you-mean.
+3. :mod:`.entries`: the one check of an entry, whoever reads it (a leaf's or a control's
+   port, a script): scopes, keys, readers without a writer, types, did-you-mean.
 """

@@ -175,9 +175,9 @@ class Entries:
     def similar(self, key: str) -> str:
         """A did-you-mean for a read of ``key``: an entry of its scope written or set."""
         scope, _, name = key.rpartition("/")
-        known = {*self.writes, *self.initial, *self.declared}
-        return did_you_mean(name, [k.rpartition("/")[2] for k in known
-                                   if k.rpartition("/")[0] == scope and k != key])
+        known = {*self.writes, *self.initial, *self.declared} - {key}
+        return did_you_mean(name, [k[len(scope) + 1:] for k in known
+                                   if k.rpartition("/")[0] == scope])
 
     def check_read(self, use: Use, writes: list[Use], declared: list[Declared]) -> None:
         """Report the first declaration or writer whose type ``use`` cannot read."""

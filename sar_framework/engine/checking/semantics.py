@@ -1,11 +1,10 @@
 """Semantics: what a schema cannot say, checked while the tree's specs are made.
 
-Subtree names and recursion (in used and unused definitions, :mod:`.subtree_defs`;
-includes: :mod:`.tree_files`), every node's ports and scripts resolved in its scope,
-unique ids per scope, references to other leaves (existence, plugin type, cycles),
-``selected`` children of a parallel, finite numbers and the nesting depth. The walk is
-tolerant: a value the schema check rejects is skipped here, so both layers report in the
-same pass.
+Subtree names and recursion (in used and unused definitions, :mod:`.subtree_defs`), every
+node's ports and scripts resolved in its scope, unique ids per scope, references to other
+leaves (existence, plugin type, cycles), ``selected`` children of a parallel, finite
+numbers and the nesting depth. The walk is tolerant: a value the schema check rejects is
+skipped here, so both layers report in the same pass.
 """
 
 from __future__ import annotations

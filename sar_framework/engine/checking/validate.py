@@ -1,8 +1,6 @@
-"""Tree file -> :class:`~.spec.TreeSpec`, or every problem found, in one pass.
+"""Tree file -> :class:`~..spec.TreeSpec`, or every problem found, in one pass.
 
-The data path: file -> YAML nodes (:mod:`.yaml_source`) -> plain values with their
-locations and the schema check by ``jsonschema`` (:mod:`.structure`) -> the semantic
-checks while the specs are made (:mod:`.semantics`) -> :class:`~.spec.TreeSpec`.
+The files are read (:mod:`..reading`), then checked: :mod:`.structure`, :mod:`.semantics`.
 Every layer collects all of its diagnostics; errors in an included file point into it.
 """
 

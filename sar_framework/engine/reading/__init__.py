@@ -3,6 +3,4 @@
 - :mod:`.yaml_source`: safe YAML composed into nodes with positions; YAML problems.
 - :mod:`.document`: those nodes as plain values, each path's YAML node kept.
 - :mod:`.tree_files`: the main file and, transitively, its includes; include cycles.
-
-Nothing is checked against node kinds here: that is :mod:`..checking`.
 """

@@ -15,7 +15,7 @@ import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.building.clock_timeout import CLOCK_KEY
+from sar_framework.engine.building.control_build import CLOCK_KEY
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.controls.conditionals import Switch, case_matches
 from sar_framework.engine.nodes.controls.leaves import SetBlackboard, Sleep, UnsetBlackboard

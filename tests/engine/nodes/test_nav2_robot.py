@@ -15,7 +15,7 @@ from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.building.clock_timeout import CLOCK_KEY
+from sar_framework.engine.building.control_build import CLOCK_KEY
 from sar_framework.engine.nodes.controls.nav2_controls import PipelineSequence
 from sar_framework.engine.nodes.decorators.nav2_robot import (
     DistanceController,

@@ -5,14 +5,11 @@ halting and resetting of children, SKIPPED handling: see :mod:`.base`), so a tre
 exported to BT.CPP behaves the same tick by tick (``tests/interop`` checks it against
 the real library). The decorators are in :mod:`..decorators`. One concept per module:
 
-- :mod:`.sequences`: Sequence, SequenceWithMemory, ReactiveSequence, Fallback,
-  ReactiveFallback.
+- :mod:`.sequences`: (Reactive)Sequence, SequenceWithMemory, (Reactive)Fallback.
 - :mod:`.parallels`: Parallel, ParallelAll.
 - :mod:`.conditionals`: IfThenElse, WhileDoElse, Switch2..Switch6.
 - :mod:`.leaves`: AlwaysSuccess, AlwaysFailure, Sleep, SetBlackboard, UnsetBlackboard.
 - :mod:`.nav2_controls`: RecoveryNode, PipelineSequence, RoundRobin.
 - :mod:`.read_ports`: the ports bound to entries (Timeout's ``msec: "{t}"``...), read by
   the node when BT.CPP reads them.
-
-No ROS is imported here.
 """

@@ -2,7 +2,7 @@
 
 BT.CPP runs a timer thread; here the clock is read when the node is ticked, so the
 behaviour is the same at each tick and can be driven by a simulated clock (the build
-context's ``clock``, see :mod:`sar_framework.engine.building.clock_timeout`; default
+context's ``clock``, see :mod:`sar_framework.engine.building.control_build`; default
 ``time.monotonic``).
 """
 

@@ -39,8 +39,8 @@ XDIST := -n $(PYTEST_WORKERS) --dist loadfile --no-loadscope-reorder
 # moments its workers wait, not a quarter of a minute after it. The compatibility venv differs
 # from .venv in py_trees only: the property tests that never touch py_trees (schema agreement,
 # script and YAML-position fuzzing) run once, in .venv.
-NO_PY_TREES := $(addprefix --ignore=tests/engine/,test_schema.py test_script_fuzz.py \
-                 test_yaml_source.py)
+NO_PY_TREES := $(addprefix --ignore=tests/engine/,checking/test_schema.py scripting/test_fuzz.py \
+                 reading/test_yaml_source.py)
 
 test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@log=$$(mktemp); nice -n 19 $(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider -n 2 \

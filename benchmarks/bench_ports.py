@@ -3,7 +3,7 @@
 Rows (median of the runs, minimum beside it):
 
 * one tick of a tree of producer/consumer pairs passing an int by ports (on py_trees'
-  blackboard, through :class:`~sar_framework.engine.port_values.PortValues`) against the
+  blackboard, through :class:`~sar_framework.engine.building.port_values.PortValues`) against the
   same tree passing it by references (the consumer reads the producer's attribute);
   goal: ratio <= 1.10 on minimums;
 * ``load_tree`` of that ports tree (read + validate + resolve + build), for scale;

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from sar_framework.engine.diagnostics import SourceLocation
-from sar_framework.engine.render import render_dot, render_text, render_to_file
+from sar_framework.engine.rendering.render import render_dot, render_text, render_to_file
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
 _DECORATORS: list[tuple[str, dict[str, object]]] = [

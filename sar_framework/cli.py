@@ -148,7 +148,7 @@ def _run_render(args: argparse.Namespace) -> int:
     if result.spec is None:
         _print_diagnostics(result.diagnostics)
         return EXIT_ERRORS
-    from sar_framework.engine import render  # lazy: graphviz only when rendering
+    from sar_framework.engine.rendering import render  # lazy: graphviz only when rendering
 
     if args.output is None:
         sys.stdout.write(render.render_text(
@@ -207,8 +207,8 @@ def _configure_schema(parser: argparse.ArgumentParser) -> None:
 
 
 def _run_schema(args: argparse.Namespace) -> int:
+    from sar_framework.engine.checking.schema import schema_text
     from sar_framework.engine.registry import default_registry, extend
-    from sar_framework.engine.schema import schema_text
 
     registry = extend(default_registry().copy(), args.plugin_path)
     if _print_diagnostics(registry.diagnostics):

@@ -14,7 +14,7 @@ draws the occupancy map (walls and debris), the planned zones (numbered in visit
 order, with arrival times), the base station, the survivors with their ids, blocked areas
 and the robot's path, with a title and a legend (:mod:`sar_framework.report_map`).
 ``tree.svg`` is the tree coloured by each node's last status
-(:func:`sar_framework.engine.render.render_to_file`).
+(:func:`sar_framework.engine.rendering.render.render_to_file`).
 """
 
 from __future__ import annotations
@@ -290,7 +290,7 @@ def write_report(inputs: MissionInputs) -> list[Path]:
     trace = read_json_lines(folder / "trace.jsonl")
     written.append(draw_map(summary, trace, folder / "mission.png", inputs.map_yaml))
     if inputs.spec is not None:
-        from sar_framework.engine.render import render_to_file
+        from sar_framework.engine.rendering.render import render_to_file
 
         statuses = summary.get("node_statuses") or {}
         written.append(render_to_file(inputs.spec, folder / "tree.svg", statuses=statuses))

@@ -18,7 +18,7 @@ whether the embedded simulator or a real Nav2 answers. Modules, by family:
   PathExpiringTimer, WouldAControllerRecoveryHelp, WouldAPlannerRecoveryHelp;
   ``path_valid``: IsPathValid.
 
-Nav2's decorators are node kinds of the engine (``engine/controls/nav2_decorators.py``,
+Nav2's decorators are node kinds of the engine (``engine/nodes/decorators/nav2_decorators.py``,
 ``nav2_robot.py``), not plugins: plugins are leaves.
 The registry finds the leaves through this package's names (it imports ``sar_plugins``'
 modules one level deep).

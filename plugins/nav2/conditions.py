@@ -18,7 +18,7 @@ import py_trees
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
-from sar_framework.engine.controls.base import bt_status
+from sar_framework.engine.nodes.controls.base import bt_status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 

@@ -17,11 +17,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_framework.engine.checking.validate import ValidationResult
+from sar_framework.engine.checking.validate import validate_file as validate
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, TreeLoadError
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import TreeSpec
-from sar_framework.engine.validate import ValidationResult
-from sar_framework.engine.validate import validate_file as validate
 
 if TYPE_CHECKING:
     import py_trees
@@ -117,7 +117,7 @@ def load_tree(
             object, a plugin constructor that raised).
     """
     spec, used = _validated(path, registry, plugin_paths)
-    from sar_framework.engine.build import build  # py_trees' composites: only to build
+    from sar_framework.engine.building.build import build  # py_trees' composites: only to build
 
     root, behaviours = build(spec, used, context)
     return LoadedTree(root, spec, behaviours, used)

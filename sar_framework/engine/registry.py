@@ -28,7 +28,7 @@ from types import ModuleType
 from typing import Any
 
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
-from sar_framework.engine.node_kinds import RESERVED_KINDS
+from sar_framework.engine.nodes.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
 from sar_framework.engine.plugin_import import (
     class_location,

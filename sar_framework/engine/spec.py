@@ -19,8 +19,51 @@ from enum import Enum
 from typing import Any
 
 from sar_framework.engine.diagnostics import SourceLocation
-from sar_framework.engine.entries import Declared, Entry
-from sar_framework.engine.ports import PortBinding
+from sar_framework.engine.ports import NO_DEFAULT, PortBinding
+
+
+@dataclass(frozen=True)
+class Declared:
+    """A declared entry: a ``blackboard:`` entry, or a subtree's port.
+
+    Attributes:
+        name: The entry's name in its scope.
+        type: Its type name.
+        initial: Its initial value (converted), or :data:`.ports.NO_DEFAULT`.
+        description: Free text.
+        where: Where it is declared.
+        caller_sets: Whether the caller may set it (a ``blackboard:`` entry): a read
+            needs no writer in the tree.
+    """
+
+    name: str
+    type: str
+    initial: Any = NO_DEFAULT
+    description: str = ""
+    where: SourceLocation | None = None
+    caller_sets: bool = True
+
+
+@dataclass
+class Entry:
+    """One entry of a loaded tree.
+
+    Attributes:
+        key: The absolute py_trees key (``/goal``, ``/Follow@0_2/path``).
+        type: Its type name (declared, else as first used), ``any`` when unknown.
+        initial: Written before the first tick; :data:`.ports.NO_DEFAULT` when none.
+        description: Free text from its declaration.
+    """
+
+    key: str
+    type: str = "any"
+    initial: Any = NO_DEFAULT
+    description: str = ""
+
+    @property
+    def name(self) -> str:
+        """The name shown to people: the key without its leading ``/``."""
+        return self.key[1:]
 
 
 class Category(str, Enum):

@@ -30,8 +30,8 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from typing import Any
 
-from sar_framework.engine.entries import Declared
 from sar_framework.engine.ports import NO_DEFAULT
+from sar_framework.engine.spec import Declared
 from sar_framework.interop.btcpp_models import convert_literal
 from sar_framework.interop.xml_source import Element
 

@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from sar_framework.engine.control_kinds import NAV2_KINDS
-from sar_framework.engine.node_kinds import KINDS
+from sar_framework.engine.nodes.control_kinds import NAV2_KINDS
+from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry

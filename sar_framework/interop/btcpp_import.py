@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from sar_framework.engine.control_kinds import ENTRY_PORTS
-from sar_framework.engine.node_kinds import KINDS, AttrType, NodeKind
+from sar_framework.engine.nodes.control_kinds import ENTRY_PORTS
+from sar_framework.engine.nodes.node_kinds import KINDS, AttrType, NodeKind
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category
 from sar_framework.interop.btcpp_blackboard import scope_section, unwrap_initial, with_private

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from sar_framework.engine.node_kinds import AttrType
+from sar_framework.engine.nodes.node_kinds import AttrType
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.registry import Registry
 from sar_framework.interop import mapping

@@ -4,10 +4,10 @@ BT.CPP 4 reads eight attributes on every node as scripts (``_failureIf _successI
 _while`` before it ticks, ``_onSuccess _onFailure _onHalted _post`` after; BT.CPP's
 ``PreCondNames``/``PostCondNames``), and ``Script``/``ScriptCondition``'s ``code`` and
 ``Precondition``'s ``if``. Our tree language has the same attributes with the same
-meaning (:data:`~sar_framework.engine.kind_model.CONDITION_ATTRS`, docs/reference/scripts.md), so
-import and export copy them as written. On import each script is compiled (a syntax
-error is reported with its column inside the script) and its variables become blackboard
-uses: what it reads, then what it assigns.
+meaning (:data:`~sar_framework.engine.nodes.kind_model.CONDITION_ATTRS`,
+docs/reference/scripts.md), so import and export copy them as written. On import each
+script is compiled (a syntax error is reported with its column inside the script) and its
+variables become blackboard uses: what it reads, then what it assigns.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from sar_framework.engine.kind_model import CONDITION_ATTRS
+from sar_framework.engine.nodes.kind_model import CONDITION_ATTRS
 from sar_framework.interop.btcpp_models import PortModel
 
 #: The pre/post-condition attributes, in BT.CPP's order.

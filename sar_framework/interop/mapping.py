@@ -1,6 +1,6 @@
 """The one table between our composites/decorators and BehaviorTree.CPP 4 nodes.
 
-The kinds of :mod:`~sar_framework.engine.control_kinds` are BT.CPP's (and Nav2's) own
+The kinds of :mod:`~sar_framework.engine.nodes.control_kinds` are BT.CPP's (and Nav2's) own
 nodes: each maps 1:1 to the ID it is named after, its attributes to the ports of the same
 names, both ways. Each py_trees kind (``sequence``, ``one_shot``...) maps either to a
 built-in BT.CPP node that ticks its children the same way (:data:`BUILTIN`; importing
@@ -15,9 +15,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sar_framework.engine.control_kinds import CONTROL_KINDS
-from sar_framework.engine.kind_model import Attr
-from sar_framework.engine.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
+from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
+from sar_framework.engine.nodes.kind_model import Attr
+from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
 CUSTOM_PREFIX = "Sar"

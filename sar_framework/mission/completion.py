@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from sar_framework.engine.node_kinds import TREE_COMPLETIONS
+from sar_framework.engine.nodes.node_kinds import TREE_COMPLETIONS
 
 COMPLETION_MODES = ("auto", *TREE_COMPLETIONS)
 """Every value of the ``completion`` parameter."""

@@ -165,7 +165,7 @@ class Orchestrator:
         if self.config.watch:
             self.watcher = start_watcher(env)
         # Import the report's libraries now, not after a Ctrl-C (numpy, Pillow, graphviz).
-        import sar_framework.engine.render
+        import sar_framework.engine.rendering.render
         import sar_framework.report
         import sar_framework.sim.occupancy  # noqa: F401
 

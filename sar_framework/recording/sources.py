@@ -21,7 +21,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
-from sar_framework.engine.tree_files import TreeFiles, normalise
+from sar_framework.engine.reading.tree_files import TreeFiles, normalise
 
 PREFIX = "files/"
 #: Metadata keys: the main tree's attachment, the ``--plugin-path`` entries (JSON list;

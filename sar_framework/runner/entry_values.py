@@ -28,7 +28,7 @@ DEPTH_MAX = 3
 ITEMS_MAX = 4
 #: The text of an entry not set yet.
 UNSET = "-"
-#: The name of the client that writes a tree's initial values (``engine/port_values.py``).
+#: The name of the client that writes a tree's initial values (``engine/building/port_values.py``).
 INITIAL_WRITER = "initial values"
 _SCALARS = (bool, int, float, str, bytes, type(None))
 

@@ -90,7 +90,7 @@ if TYPE_CHECKING:
     from rclpy.timer import Timer
 
     from sar_framework.engine.api import LoadedTree
-    from sar_framework.engine.hot_swap import HotSwap
+    from sar_framework.engine.reloading.hot_swap import HotSwap
 
 NODE_NAME = "sar_mission_runner"
 EXIT_SUCCESS = 0

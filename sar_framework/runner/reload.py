@@ -9,7 +9,7 @@ Two triggers, one path (:meth:`TreeReloader.reload`):
   poll (an editor's save is complete) reloads the tree once.
 
 The new file is validated and built, and its new behaviours set up, before anything of
-the running tree changes (:func:`sar_framework.engine.hot_swap.prepare_swap`); an
+the running tree changes (:func:`sar_framework.engine.reloading.hot_swap.prepare_swap`); an
 invalid file, a plugin that cannot be built or a ``setup`` that raises refuses the reload
 and the mission goes on as it was. The service and the watcher run on the runner's
 executor, as the tick does, so a swap always falls between two ticks. Each swap is a
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     import py_trees
     from rclpy.node import Node
 
-    from sar_framework.engine.hot_swap import HotSwap
+    from sar_framework.engine.reloading.hot_swap import HotSwap
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.runner.status_file import StatusFileWriter
     from sar_framework.runner.tree_status import TreeStatusPublisher
@@ -119,7 +119,7 @@ class TreeReloader:
             Whether the tree was swapped, and one line: the summary or the diagnostics.
         """
         from sar_framework.engine.diagnostics import TreeLoadError
-        from sar_framework.engine.hot_swap import prepare_swap
+        from sar_framework.engine.reloading.hot_swap import prepare_swap
 
         logger = self._node.get_logger()
         if self._complete():

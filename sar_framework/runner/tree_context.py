@@ -26,7 +26,7 @@ def tree_context(mission: MissionParams, node: Node) -> dict[str, Any]:
     Returns:
         The context, by the names plugins declare.
     """
-    from sar_framework.engine.clock_timeout import CLOCK_KEY
+    from sar_framework.engine.building.control_build import CLOCK_KEY
     from sar_framework.ros.robot_state import robot_context
 
     clock = node.get_clock()

@@ -24,7 +24,7 @@ from pathlib import Path
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation
-from sar_framework.engine.yaml_source import Reader, location, read
+from sar_framework.engine.reading.yaml_source import Reader, location, read
 from sar_framework.sim.world import Pose2D
 
 __all__ = ["FleetFileError", "FleetRobot", "crowded_spawns", "load_fleet"]

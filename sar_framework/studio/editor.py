@@ -62,8 +62,8 @@ class TreeEditor:
             ``{"top": [keys of a tree file], "kinds": {kind: {"description", "params":
             {name: description}}}}``.
         """
+        from sar_framework.engine.checking.schema import tree_schema
         from sar_framework.engine.registry import default_registry, extend
-        from sar_framework.engine.schema import tree_schema
 
         schema = tree_schema(extend(default_registry().copy(), self._plugin_paths))
         kinds = {}

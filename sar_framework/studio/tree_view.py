@@ -1,12 +1,12 @@
 """The tree as the studio draws it: an SVG whose nodes the page colours, and each node's facts.
 
 With a validated tree (:class:`~sar_framework.engine.spec.TreeSpec`) the SVG is the
-project's own diagram (:func:`~sar_framework.engine.render.render_dot`, drawn by Graphviz
+project's own diagram (:func:`~sar_framework.engine.rendering.render.render_dot`, drawn by Graphviz
 ``dot``) and each node carries its params, ports and source location. Without one (a live
 mission whose tree file the studio was not given) the diagram is drawn from the nodes a
 status message lists (uid, name, kind) and the facts are those three.
 
-Either way a node's Graphviz name is :func:`~sar_framework.engine.render.node_id` of its
+Either way a node's Graphviz name is :func:`~sar_framework.engine.rendering.render.node_id` of its
 uid (``n0_1_3``), the ``<title>`` of its SVG group, which is how the page finds it.
 """
 
@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import graphviz
 
-from sar_framework.engine.render import STATUS_COLOURS, node_id, render_dot
+from sar_framework.engine.rendering.render import STATUS_COLOURS, node_id, render_dot
 
 if TYPE_CHECKING:
     from sar_framework.engine.spec import NodeSpec, TreeSpec

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from sar_framework import load_spec
-from sar_framework.engine.node_kinds import KINDS
+from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.registry import default_registry
 from sar_framework.orchestrate.inputs import NODE_PARAMETERS
 

@@ -224,7 +224,7 @@ def test_tutorial_plugin_ticks_to_the_shown_statuses() -> None:
 def test_port_leaves_read_and_write_their_entries() -> None:
     from py_trees.blackboard import Blackboard
 
-    from sar_framework.engine.port_values import PortValues
+    from sar_framework.engine.building.port_values import PortValues
     from sar_framework.engine.ports import PortBinding
     from sar_framework.engine.registry import discover
 

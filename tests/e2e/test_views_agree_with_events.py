@@ -19,7 +19,7 @@ from typing import Any
 import pytest
 
 from sar_framework.engine.api import load_spec
-from sar_framework.engine.render import STATUS_COLOURS, node_id
+from sar_framework.engine.rendering.render import STATUS_COLOURS, node_id
 from sar_framework.engine.spec import Category
 
 from .helpers import DEFAULT_TREE, FAST, no_traceback, read_json, read_jsonl, run_to_end

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from sar_framework.engine.api import load_tree
+from sar_framework.engine.checking.validate import ValidationResult, validate_file
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry, discover
-from sar_framework.engine.validate import ValidationResult, validate_file
 
 HERE = Path(__file__).parent
 GENERIC_PLUGINS = HERE / "plugins_for_tests" / "generic"

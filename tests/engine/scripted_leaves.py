@@ -5,7 +5,7 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Status
 
-from sar_framework.engine.skipping import mark_skipped
+from sar_framework.engine.nodes.skipping import mark_skipped
 
 
 class Clock:

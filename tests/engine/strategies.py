@@ -6,7 +6,7 @@ from typing import Any
 
 from hypothesis import strategies as st
 
-from sar_framework.engine.node_kinds import KINDS, SUBTREE, Attr, AttrType, leaf_attrs
+from sar_framework.engine.nodes.node_kinds import KINDS, SUBTREE, Attr, AttrType, leaf_attrs
 from sar_framework.engine.registry import Registry
 
 _JUNK_KEYS = st.sampled_from(["bogus", "nmae", "memroy", "child", "children", "id", ""])

@@ -10,8 +10,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from sar_framework.engine.api import load_tree
+from sar_framework.engine.checking.validate import validate_file
 from sar_framework.engine.diagnostics import TreeLoadError
-from sar_framework.engine.validate import validate_file
 
 from .conftest import FIXTURES, make_registry
 from .strategies import documents, mutated_texts

@@ -10,8 +10,8 @@ from .conftest import FIXTURES, REPO
 SCRIPT = f"""
 import importlib, pkgutil, sys
 import sar_framework.engine as engine
-for info in pkgutil.iter_modules(engine.__path__):
-    importlib.import_module("sar_framework.engine." + info.name)
+for info in pkgutil.walk_packages(engine.__path__, "sar_framework.engine."):
+    importlib.import_module(info.name)
 from sar_framework import cli
 code = cli.main(["validate", "-q", {str(FIXTURES / "search_and_rescue.yaml")!r}])
 assert code == 0, code

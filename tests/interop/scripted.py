@@ -19,11 +19,11 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.api import LoadedTree, load_spec, load_tree
-from sar_framework.engine.clock_timeout import CLOCK_KEY
+from sar_framework.engine.building.control_build import CLOCK_KEY
+from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
-from sar_framework.engine.skipping import was_skipped
 from sar_framework.interop.btcpp_export import export_btcpp
 
 Script = dict[str, list[str]]

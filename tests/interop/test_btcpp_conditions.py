@@ -2,7 +2,7 @@
 
 ``_skipIf``, ``_failureIf`` and ``_onSuccess`` on a Fallback, a Parallel and a Switch2,
 whose scripts read an entry SetBlackboard writes (Nav2's RecoveryNode, which the checker
-does not have, is covered in tests/engine/test_control_ports.py). The exporter does not
+does not have, is covered in tests/engine/nodes/test_control_kinds.py). The exporter does not
 write the conditions yet, so they are added to its XML here, on the elements of the same
 names.
 """

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from interop.scripted import Script, compare
-from sar_framework.engine.control_kinds import CONTROL_KINDS, NAV2_KINDS
+from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS, NAV2_KINDS
 from sar_framework.engine.registry import discover
 
 pytestmark = pytest.mark.timeout(1200)

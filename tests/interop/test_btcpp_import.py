@@ -9,7 +9,7 @@ import pytest
 
 from sar_framework.cli import main
 from sar_framework.engine.api import load_spec
-from sar_framework.engine.node_kinds import PY_TREES_KINDS
+from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS
 from sar_framework.engine.registry import default_registry, extend
 from sar_framework.engine.spec import NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_import import import_btcpp

@@ -23,8 +23,8 @@ GoalUpdatedController and SpeedController re-plan then, and GoalUpdater, which n
 receives a goal on its topic here, passes each through; the checker has no
 ``nav_msgs/Path``, and no scripted leaf writes ``{path}``, so PathLongerOnApproach never
 ticks its child on either side. Goals received by GoalUpdater and paths becoming longer
-are checked only on our side (``tests/engine/test_nav2_goal_decorators.py``,
-``test_nav2_robot_decorators.py``).
+are checked only on our side (``tests/engine/nodes/test_nav2_decorators.py``,
+``test_nav2_robot.py``).
 Our own nodes are checked
 against transcripts traced by hand from Nav2's sources in ``test_constructs.py``
 (``test_nav2_construct_ticks_as_nav2_source_says``), so the stand-ins are not the only

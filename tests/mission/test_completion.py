@@ -16,7 +16,7 @@ from py_trees.common import Status
 from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_spec, load_tree
-from sar_framework.engine.clock_timeout import CLOCK_KEY
+from sar_framework.engine.building.control_build import CLOCK_KEY
 from sar_framework.mission.completion import (
     describe_completion,
     ending_one_shot,

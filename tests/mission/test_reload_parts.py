@@ -13,8 +13,8 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.hot_swap import HotSwap, hot_swap
 from sar_framework.engine.registry import discover
+from sar_framework.engine.reloading.hot_swap import HotSwap, hot_swap
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.mission.processes import mission_processes

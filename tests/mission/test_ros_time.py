@@ -10,7 +10,7 @@ from py_trees.common import Status
 from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_tree
-from sar_framework.engine.clock_timeout import CLOCK_KEY, ClockTimeout
+from sar_framework.engine.building.control_build import CLOCK_KEY, ClockTimeout
 
 TREE = """\
 format: 1

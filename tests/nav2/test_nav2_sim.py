@@ -215,7 +215,7 @@ def test_distance_controller_replans_on_the_runners_robot_state(
     FollowPath follows each replanned path: before the fix, the simulator's follower never
     finished a path swapped in mid-drive that starts behind the robot.
     """
-    from sar_framework.engine.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+    from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
     from sar_framework.ros.robot_state import robot_context
 
     node, executor = ros
@@ -267,7 +267,7 @@ root:
 
 def test_through_poses_smoothed_and_followed_with_the_selected_controller(
         ros: tuple[Any, Any], trees: TreeMaker, tmp_path: Path) -> None:
-    from sar_framework.engine.robot_context import ROBOT_POSE_KEY
+    from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY
     from sar_framework.ros.robot_state import robot_context
 
     node, executor = ros

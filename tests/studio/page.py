@@ -6,7 +6,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from sar_framework.engine.render import STATUS_COLOURS
+from sar_framework.engine.rendering.render import STATUS_COLOURS
 from sar_framework.testing.browser import colour_share, hex_rgb
 
 STATE = """

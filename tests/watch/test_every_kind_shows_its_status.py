@@ -44,9 +44,9 @@ from py_trees.common import Status
 
 from sar_framework.cli import main
 from sar_framework.engine.api import load_spec
-from sar_framework.engine.control_kinds import CONTROL_KINDS
-from sar_framework.engine.controls.base import BtControl, BtDecorator
-from sar_framework.engine.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS
+from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
+from sar_framework.engine.nodes.controls.base import BtControl, BtDecorator
+from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS
 from sar_framework.engine.registry import Registry, discover
 from sar_framework.engine.spec import Category
 from sar_framework.events.emitter import EventEmitter

@@ -41,7 +41,7 @@ from sar_framework.engine.api import LoadedTree
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.ports import convert, is_message
 from sar_framework.engine.scripting import ScriptError
-from sar_framework.engine.skipping import was_skipped
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.spec import Category
 from sar_framework.mission.zone_manager import ZoneManager
 

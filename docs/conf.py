@@ -37,7 +37,7 @@ nitpick_ignore_regex = [
     # the public API only (reference/api.md), not every module behind it.
     (r"py:.*", r"(ports|trees|assertions|ros_env|spin|ros_harness|processes|mission_stack|"
                r"nav2_navigators)(\..*)?"),
-    (r"py:.*", r"sar_framework\.(engine\.(ports|registry|diagnostics|spec|validate)|"
+    (r"py:.*", r"sar_framework\.(engine\.(ports|registry|diagnostics|spec|checking\.validate)|"
                r"testing\.mission_stack)\..*"),
     (r"py:.*", r"(sar_framework\.engine\.plugin\._T|LIST_TYPES|REQUIRED|TreeSpec|Registry)"),
 ]

@@ -53,6 +53,7 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
 from launch import LaunchContext, LaunchDescription
+from sar_framework.app import tree_apps
 from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
     RUN_FILES,
@@ -75,8 +76,10 @@ ARGUMENTS = [
     DeclareLaunchArgument("tree", default_value="search_and_rescue.yaml",
                           description="Behaviour tree: a path, or a file in the package's "
                           "trees/."),
-    DeclareLaunchArgument("params_file", default_value="config/mission_params.yaml",
-                          description="Mission parameters (zones, base station, tick rate)."),
+    DeclareLaunchArgument("params_file", default_value="",
+                          description="Mission parameters (tick rate; the search-and-rescue "
+                          "app's zones, base station); empty: the tree's app's file, none for "
+                          "a tree that uses no app."),
     DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
                           description="Survivor table the detect server answers from."),
     DeclareLaunchArgument("report_dir", default_value="",
@@ -138,9 +141,13 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     files = {name: str(folder / file) for name, file in RUN_FILES.items()}
     if arg("report_file"):
         files["report_file"] = str(Path(arg("report_file")).expanduser().absolute())
+    tree = package_file(arg("tree"), "trees")
+    apps = tree_apps(tree)
+    params = arg("params_file") or next((f for f in (a.default_params_file() for a in apps)
+                                         if f), "")
     return MissionSettings(
-        tree=package_file(arg("tree"), "trees"),
-        params_file=package_file(arg("params_file")),
+        tree=tree,
+        params_file=package_file(params) if params else "",
         use_sim_time=arg("use_sim_time").lower() in ("true", "1", "yes"),
         simulator=embedded,
         speed=float(arg("speed")),
@@ -180,7 +187,7 @@ def launch_setup(context: LaunchContext) -> list:
             arguments=["-d", str(bringup / "rviz" / "nav2_default_view.rviz")],
             parameters=[{"use_sim_time": settings.use_sim_time}],
             condition=IfCondition(LaunchConfiguration("rviz")), output="screen"))
-    for process in mission_processes(settings):
+    for process in mission_processes(settings, tree_apps(settings.tree)):
         node = process_node(process)
         actions.append(node)
         if process.label == "runner":

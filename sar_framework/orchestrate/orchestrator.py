@@ -146,7 +146,8 @@ class Orchestrator:
         """Start every child (the reader threads after all forks)."""
         env = ros_environment(log_dir=self.report_dir / "ros_log")
         self.say(
-            f"sar-tree run: {self.config.tree} with {self.config.params}; "
+            f"sar-tree run: {self.config.tree}"
+            + (f" with {self.config.params}; " if self.config.params else "; ")
             + (f"embedded simulator at {self.config.speed:g}x real time"
                if self.config.sim else "real Nav2 (no simulator)")
             + f"; ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}; logs in {self.report_dir}/"
@@ -171,7 +172,8 @@ class Orchestrator:
 
     def child_specs(self) -> list[ChildSpec]:
         """The processes to start, in order."""
-        return child_specs(self.config, self.report_dir, self.inputs.zones)
+        return child_specs(self.config, self.report_dir, self.inputs.zones,
+                           apps=self.inputs.apps)
 
     def child(self, label: str) -> ChildProcess | None:
         """The child called ``label``, if it was started."""

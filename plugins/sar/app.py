@@ -14,6 +14,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_plugins.sar.figure import mission_figure
+from sar_plugins.sar.report import SAR_KINDS, mission_report, summary_parts
+
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
 from sar_framework.events.event import EventKind
@@ -88,5 +91,9 @@ APP = App(
     check=mission_problems,
     start=_start,
     processes=_processes,
+    event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
+    summary=summary_parts,
+    report=mission_report,
+    figure=mission_figure,
 )
 """The search-and-rescue app."""

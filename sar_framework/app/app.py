@@ -54,9 +54,13 @@ class App:
         processes: The processes it needs beside the runner, in start order.
         event_kinds: Its event kinds, each with what it means.
         progress: One progress line for one of its events, or None (``sar-tree run``).
-        summary: Its words for the run's summary line, from the events.
-        report: Its part of mission.json, from the events.
-        figure: Draws its part of mission.png: ``figure(axes, events, to_pixels)``.
+        summary: Its words in ``sar-tree run``'s summary line, from ``mission.json``
+            (an app's words replace the core's list of goals).
+        report: Its keys of ``mission.json``: ``report(inputs, events, document) -> dict``
+            ({} when the run has nothing of the app).
+        figure: Draws its part of ``mission.png``: ``figure(canvas, document)`` returns a
+            :class:`~sar_framework.report_map.MapLayer` (its title, legend and lines), or
+            None when ``mission.json`` has nothing of it.
     """
 
     name: str
@@ -69,9 +73,10 @@ class App:
     processes: Callable[[MissionSettings], list[Process]] | None = None
     event_kinds: Mapping[str, str] = field(default_factory=dict)
     progress: Callable[[MissionEvent], str | None] | None = None
-    summary: Callable[[Sequence[MissionEvent]], list[str]] | None = None
-    report: Callable[[Sequence[MissionEvent]], dict[str, Any]] | None = None
-    figure: Callable[..., None] | None = None
+    summary: Callable[[Mapping[str, Any]], list[str]] | None = None
+    report: Callable[[Any, Sequence[MissionEvent], dict[str, Any]],
+                     dict[str, Any]] | None = None
+    figure: Callable[[Any, dict[str, Any]], Any] | None = None
 
     def default_params_file(self) -> str:
         """Its parameter file when none is named, or "" (it then needs none)."""

@@ -288,7 +288,8 @@ class Orchestrator:
             written: The report files written.
         """
         summarise(self.say, self.report_dir, outcome, written, self.stop_s,
-                  recording=Path(self.config.record) if self.config.record else None)
+                  recording=Path(self.config.record) if self.config.record else None,
+                  apps=self.inputs.apps)
         return outcome.exit_code
 
     def write_report(self, outcome: Outcome) -> list[Path]:
@@ -305,7 +306,7 @@ class Orchestrator:
             wall_duration_s=(self.completion_wall_s
                              if self.config.keep_alive and self.completion_wall_s is not None
                              else time.monotonic() - self.started),
-            blocked_areas=self.inputs.blocked_areas,
+            blocked_areas=self.inputs.blocked_areas, apps=self.inputs.apps,
         )
         try:
             return write_report(inputs)

@@ -80,9 +80,10 @@ def document() -> str:
         MissionSettings(tree="t", params_file="p", record="r"), apps)}
     executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's
     parts = [INTRO]
-    for label, table in NODE_PARAMETERS.items():
-        if label == "runner":  # with the installed apps' (a tree that uses one reads them)
-            table = (*(p for app in apps for p in app.parameters), *table)
+    for label, own in NODE_PARAMETERS.items():
+        # the runner's with the installed apps' (a tree that uses one reads them)
+        table = (*(p for app in apps for p in app.parameters), *own) if label == "runner" \
+            else own
         title, module, note = _TITLES[label]
         lead = f"`{executables[label]}`, {title}; declared in `{module}`."
         parts.append(f"\n## {label}\n\n{lead}" + (f" {note[0].upper()}{note[1:]}." if note

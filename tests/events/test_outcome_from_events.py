@@ -59,9 +59,10 @@ def test_a_timeout_names_the_last_failure_event() -> None:
 
 
 def test_progress_lines_are_the_events_that_tell_the_mission() -> None:
-    shown = MissionEvent(EventKind.ZONE_REACHED, zone_id="zone_a", message="Reached zone_a.")
+    shown = MissionEvent(EventKind.ZONE_REACHED, fields={"zone_id": "zone_a"},
+                         message="Reached zone_a.")
     assert progress_line(shown) == "Reached zone_a."
-    refused = MissionEvent(EventKind.SURVIVOR_REFUSED, survivor_id="survivor_2",
+    refused = MissionEvent(EventKind.SURVIVOR_REFUSED, fields={"survivor_id": "survivor_2"},
                            message="refuse_all is set")
     assert progress_line(refused) == "Report for survivor_2 refused by base: refuse_all is set"
     for quiet in (STARTED, FAILED, MissionEvent(EventKind.STATUS, message="RUNNING"),

@@ -262,9 +262,10 @@ def test_a_missing_executable_link_is_made_again(tmp_path: Path) -> None:
 
 def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
         tmp_path: Path) -> None:
+    from sar_plugins.sar.app import APP
+
     from sar_framework.mission.fleet_processes import FleetMember, FleetSettings, fleet_processes
     from sar_framework.mission.processes import MissionSettings, mission_processes
-    from sar_plugins.sar.app import APP
 
     mission = MissionSettings(tree="t.yaml", params_file="p.yaml",
                               record=str(tmp_path / "r.mcap"))

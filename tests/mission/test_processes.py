@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import tomllib
+from sar_plugins.sar.app import APP as SAR
 
 from sar_framework.mission.processes import (
     MissionSettings,
@@ -24,7 +25,6 @@ from sar_framework.mission.processes import (
 )
 from sar_framework.orchestrate.config import check_config, child_specs, mission_settings
 from sar_framework.orchestrate.options import RunConfig
-from sar_plugins.sar.app import APP as SAR
 
 REPO = Path(__file__).resolve().parents[2]
 TREE = REPO / "trees" / "search_and_rescue.yaml"

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from sar_framework.app import App, AppError, apps_for
+from sar_framework.app import App, AppError, apps_for, discover_apps
 from sar_framework.engine.param import Param
 from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
@@ -175,7 +175,9 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
         problems += [str(d) for d in result.diagnostics if d.severity == "error"]
         spec = result.spec
         try:
-            apps = apps_for(spec, result.registry) if spec is not None else []
+            # A tree with errors starts nothing; its parameters are checked against every
+            # installed app's, so each mistake is still reported at once.
+            apps = apps_for(spec, result.registry) if spec is not None else discover_apps()
         except AppError as err:
             problems.append(f"{config.tree}: {err}")
     file = params_file(config, apps)

@@ -7,13 +7,13 @@ import sys
 from pathlib import Path
 
 import pytest
+from sar_plugins.sar.app import APP as SAR
 
 from sar_framework.app import App, AppError, apps_for, discover_apps, tree_apps
 from sar_framework.engine.api import validate
 from sar_framework.mission.processes import MissionSettings, mission_processes
 from sar_framework.orchestrate.config import check_config
 from sar_framework.orchestrate.options import RunConfig, RunUsageError
-from sar_plugins.sar.app import APP as SAR
 
 REPO = Path(__file__).resolve().parents[2]
 SAR_TREE = REPO / "trees" / "search_and_rescue.yaml"

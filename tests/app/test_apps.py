@@ -82,7 +82,7 @@ def test_two_apps_providing_one_object_are_refused(tmp_path: Path,
     twin = App(name="twin", provides=("zone_manager",))
     monkeypatch.setattr("sar_framework.app.discovery._installed", [SAR, twin])
     result = validate(SAR_TREE)
-    with pytest.raises(AppError, match="zone_manager.*search_and_rescue, twin"):
+    with pytest.raises(AppError, match=r"zone_manager.*search_and_rescue, twin"):
         apps_for(result.spec, result.registry)
 
 

@@ -26,6 +26,10 @@ from sar_framework.runner.entry_values import apply_entries
 if TYPE_CHECKING:
     from sar_framework.recording.readback import Recording
 
+#: The core's fields of a tree status; a frame carries the others as they are (an app's:
+#: the search-and-rescue app's current zone, in the studio's header).
+CORE_STATUS_KEYS = frozenset({"format", "tree", "tick", "sim_s", "sim_start_s", "status",
+                              "complete", "nodes", "blackboard", "entries", "entries_full"})
 #: Reasons a frame carries (the latest).
 REASONS_SHOWN = 40
 #: The path keeps a pose only this far (metres) from the previous one kept.
@@ -170,7 +174,8 @@ class Timeline:
         reasons = self._reasons[:bisect.bisect_left(self._reasons, j)][-REASONS_SHOWN:]
         return {
             "t": t, "tick": status.get("tick", 0), "status": status.get("status", "INVALID"),
-            "complete": bool(status.get("complete")), "zone": status.get("zone"),
+            "complete": bool(status.get("complete")),
+            **{key: value for key, value in status.items() if key not in CORE_STATUS_KEYS},
             "nodes": {n["uid"]: [n["status"], n["message"], n["visited"]]
                       for n in status.get("nodes", [])},
             "blackboard": status.get("blackboard", {}),

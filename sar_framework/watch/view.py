@@ -53,15 +53,21 @@ def tree_view(nodes: Sequence[dict[str, Any]], title: Text) -> Tree:
 
 
 def header(document: dict[str, Any], ticks_per_s: float | None) -> Text:
-    """The line above the tree: name, tick, rate, simulated time, zone, root status."""
-    zone = document.get("zone")
-    zone_text = (f"{zone['id']} ({zone['index'] + 1}/{zone['total']})" if zone
-                 else "none left")
+    """The line above the tree: name, tick, rate, simulated time, root status.
+
+    An app's status field is shown too: the search-and-rescue app's zone (for a tree that
+    uses it).
+    """
+    zone_text = ""
+    if "zone" in document:
+        zone = document["zone"]
+        zone_text = "zone " + (f"{zone['id']} ({zone['index'] + 1}/{zone['total']})" if zone
+                               else "none left") + "  "
     rate = f"{ticks_per_s:.1f}" if ticks_per_s is not None else "-"
     status = str(document.get("status", "INVALID"))
     text = Text(f"{document.get('tree', '?')}", style="bold")
     text.append(f"  tick {document.get('tick', 0)}  {rate} ticks/s  "
-                f"sim {float(document.get('sim_s') or 0.0):.1f} s  zone {zone_text}  root ")
+                f"sim {float(document.get('sim_s') or 0.0):.1f} s  {zone_text}root ")
     text.append(status, style=STATUS_STYLES.get(status, ""))
     return text
 

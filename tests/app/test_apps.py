@@ -129,3 +129,13 @@ def test_the_app_less_checks_import_no_ros() -> None:
                           check=False, timeout=60)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+def test_the_watch_header_shows_the_zone_only_for_a_tree_that_has_one() -> None:
+    from sar_framework.watch.view import header
+
+    app_less = {"tree": "patrol", "tick": 3, "sim_s": 1.5, "status": "RUNNING"}
+    assert "zone" not in header(app_less, 2.0).plain
+    with_zone = {**app_less, "zone": {"id": "zone_b", "index": 1, "total": 4}}
+    assert "zone zone_b (2/4)" in header(with_zone, 2.0).plain
+    assert "zone none left" in header({**app_less, "zone": None}, 2.0).plain

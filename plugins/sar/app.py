@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_plugins.sar.figure import mission_figure
-from sar_plugins.sar.report import SAR_KINDS, mission_report, summary_parts
+from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
 
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
@@ -92,6 +92,7 @@ APP = App(
     start=_start,
     processes=_processes,
     event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
+    progress=progress_line,
     summary=summary_parts,
     report=mission_report,
     figure=mission_figure,

@@ -118,6 +118,15 @@ def mission_report(inputs: Any, events: Sequence[MissionEvent],
     }
 
 
+def progress_line(event: MissionEvent) -> str | None:
+    """The console line of one of the app's events (``sar-tree run``), or None."""
+    if event.kind not in SAR_KINDS:
+        return None
+    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
+        return f"Report for {event.value('survivor_id')} refused by base: {event.message}"
+    return event.message
+
+
 def summary_parts(document: dict[str, Any]) -> list[str]:
     """The app's words in ``sar-tree run``'s summary line, from ``mission.json``."""
     if "zones_planned" not in document:

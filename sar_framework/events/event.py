@@ -76,8 +76,8 @@ APP_KIND = re.compile(r"[a-z][a-z0-9_]*")
 
 
 def kind_name(kind: EventKind | str) -> str:
-    """The name of a kind, the core's or an app's (``goal_reached``)."""
-    return kind.value if isinstance(kind, EventKind) else str(kind)
+    """The name of a kind, the core's or an app's (``goal_reached``; an app's enum's value)."""
+    return str(getattr(kind, "value", kind))
 
 
 def event_kind(name: str) -> EventKind | str:

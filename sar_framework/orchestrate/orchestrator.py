@@ -115,7 +115,7 @@ class Orchestrator:
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
                 self.completion_wall_s = time.monotonic() - self.started
-            line = progress_line(event)
+            line = progress_line(event, self.inputs.apps)
             if line is not None and self.watcher is None:
                 self.show(time.monotonic() - self.started, "runner", line)
 

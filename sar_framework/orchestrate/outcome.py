@@ -27,21 +27,26 @@ EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 
 PROGRESS_KINDS = frozenset({
-    EventKind.NAVIGATION, EventKind.GOAL_REACHED, EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
-    EventKind.BASE_REACHED, EventKind.DETECTION, EventKind.SURVIVOR_BROADCAST,
-    EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.NOTE,
-    EventKind.COMPLETION, EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED,
+    EventKind.NAVIGATION, EventKind.GOAL_REACHED, EventKind.NOTE, EventKind.COMPLETION,
+    EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED,
 })
-"""The events shown on the console as the mission goes (:func:`progress_line`)."""
+"""The core's events shown on the console as the mission goes (:func:`progress_line`)."""
 
 
-def progress_line(event: MissionEvent) -> str | None:
-    """The console line of an event, or None when it is not a progress event."""
-    if event.kind not in PROGRESS_KINDS:
-        return None
-    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
-        return f"Report for {event.value('survivor_id')} refused by base: {event.message}"
-    return event.message
+def progress_line(event: MissionEvent, apps: Sequence[App] = ()) -> str | None:
+    """The console line of an event, or None when it is not a progress event.
+
+    Args:
+        event: An event of the runner.
+        apps: The tree's apps: each says which of its own events are progress, and how.
+    """
+    if event.kind in PROGRESS_KINDS:
+        return event.message
+    for app in apps:
+        line = app.progress(event) if app.progress is not None else None
+        if line is not None:
+            return line
+    return None
 
 
 @dataclass

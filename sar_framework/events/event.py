@@ -71,7 +71,7 @@ class EventKind(str, enum.Enum):
     RELOAD_REFUSED = "reload_refused"
 
 
-#: An app's own event kind: a lower-case name (``zone_reached``).
+#: An app's own event kind: a lower-case name (``shelf_scanned``).
 APP_KIND = re.compile(r"[a-z][a-z0-9_]*")
 
 

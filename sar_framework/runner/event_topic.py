@@ -7,7 +7,7 @@ QoS (:func:`event_qos`): RELIABLE, TRANSIENT_LOCAL, KEEP_LAST :data:`EVENT_HISTO
 Reliable because a reader decides on every event (a lost ``completion`` is a lost
 verdict); transient-local with a deep history so a reader that joins late (``sar-tree
 watch``, the recorder started after the runner, a studio) still receives the mission's
-events so far: a mission emits tens of events per zone, so 1000 hold a long mission
+events so far: a mission emits tens of events per goal, so 1000 hold a long mission
 whole. A subscriber must ask for the same profile to get the past.
 
 :func:`to_message` and :func:`from_message` convert between the ROS message and the

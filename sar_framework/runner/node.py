@@ -371,7 +371,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         source = files[0] if files else "parameters"
         try:
             node = create_runner_node()
-        except ValueError as err:  # e.g. -p zone_order:=[] (an untyped empty list)
+        except ValueError as err:  # e.g. -p NAME:=[] (an untyped empty list)
             return fail(EXIT_CONFIG, "parameters", f"{source}: {err}")
         try:
             # A runner setting missing from the files came from a -p override or a default.

@@ -1,7 +1,7 @@
 """One frame of ``sar-tree watch``: a tree status document drawn with rich (no ROS).
 
-The frame shows a header line (tree, tick, ticks per second, simulated time, current
-zone, root status), the tree with each node's status symbol and name in the status's
+The frame shows a header line (tree, tick, ticks per second, simulated time, an app's
+field, root status), the tree with each node's status symbol and name in the status's
 colour (the py_trees symbols, so it reads like ``py-trees-tree-watcher``), the running
 branch in bold, feedback messages dimmed beside their node, the blackboard keys the
 leaves write and, for a tree with blackboard entries, an entries panel (value, type and

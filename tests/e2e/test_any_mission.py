@@ -103,9 +103,9 @@ def ros_env(log_dir: Path) -> dict[str, str]:
 def by_sar_tree_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Path]:
     folder = patrol_folder(tmp_path_factory.mktemp("run"))
     done = subprocess.run([sys.executable, "-m", "sar_framework", "run", "patrol.yaml",
-                           "--report-dir", "out"], cwd=folder, capture_output=True, text=True,
-                          env=ros_env(folder.parent / "ros_log"), timeout=RUN_BOUND_S,
-                          check=False)
+                           "--report-dir", "out", "--record", "out/patrol.mcap"], cwd=folder,
+                          capture_output=True, text=True, env=ros_env(folder.parent / "ros_log"),
+                          timeout=RUN_BOUND_S, check=False)
     assert done.returncode == 0, done.stdout + done.stderr
     return done.stdout, folder / "out"
 
@@ -162,6 +162,16 @@ def test_sar_tree_run_runs_a_tree_without_an_app_from_its_own_folder(by_sar_tree
     assert not (out / "detect.log").exists() and not (out / "report.log").exists()
     assert_the_report_says_what_the_patrol_did(out)
     assert sorted(p.name for p in out.parent.iterdir()) == ["out", "patrol.yaml", "waypoint.py"]
+
+
+def test_its_recording_replays_to_the_same_report(by_sar_tree_run, tmp_path: Path) -> None:
+    out = by_sar_tree_run[1]
+    done = subprocess.run([sys.executable, "-m", "sar_framework", "replay",
+                           str(out / "patrol.mcap"), "--report-dir", str(tmp_path / "again")],
+                          capture_output=True, text=True, timeout=RUN_BOUND_S, check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    replayed, ran = mission(tmp_path / "again"), mission(out)
+    assert replayed["goals"] == ran["goals"] and replayed["failures"] == ran["failures"]
 
 
 def test_ros2_launch_writes_the_same_report(by_ros2_launch, by_sar_tree_run) -> None:

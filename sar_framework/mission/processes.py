@@ -31,12 +31,9 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import yaml
-
-if TYPE_CHECKING:
-    from sar_framework.app import App
 
 ParamValue = bool | int | float | str | list[bool] | list[int] | list[float] | list[str]
 """A ROS parameter value as both ``--ros-args -p`` and launch_ros take it."""
@@ -219,12 +216,19 @@ def runner(settings: MissionSettings) -> Process | None:
                    parameters)
 
 
+class ProcessSource(Protocol):
+    """What starts processes beside the runner: an app (:class:`sar_framework.app.App`)."""
+
+    processes: Callable[[MissionSettings], list[Process]] | None
+
+
 BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (recorder, simulator)
 """The core's processes before the apps' and the runner, in start order; each returns None
 when it does not start."""
 
 
-def mission_processes(settings: MissionSettings, apps: Sequence[App] = ()) -> list[Process]:
+def mission_processes(settings: MissionSettings,
+                      apps: Sequence[ProcessSource] = ()) -> list[Process]:
     """The mission's processes in start order (the runner last), each with its parameters.
 
     Args:

@@ -35,6 +35,8 @@ launch does (nav2_bringup, RViz, ending with the runner).
 
 from __future__ import annotations
 
+import functools
+import time
 from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
@@ -54,6 +56,7 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
 from launch import LaunchContext, LaunchDescription
+from sar_framework.app import tree_apps
 from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
     RUN_FILES,
@@ -61,6 +64,7 @@ from sar_framework.mission.processes import (
     mission_processes,
     new_run_folder,
 )
+from sar_framework.orchestrate.launch_report import write_launch_report
 from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import SPEED
@@ -76,8 +80,10 @@ ARGUMENTS = [
     DeclareLaunchArgument("tree", default_value="search_and_rescue.yaml",
                           description="Behaviour tree: a path, or a file in the package's "
                           "trees/."),
-    DeclareLaunchArgument("params_file", default_value="config/mission_params.yaml",
-                          description="Mission parameters (zones, base station, tick rate)."),
+    DeclareLaunchArgument("params_file", default_value="",
+                          description="Mission parameters (tick rate; the search-and-rescue "
+                          "app's zones, base station); empty: the tree's app's file, none for "
+                          "a tree that uses no app."),
     DeclareLaunchArgument("survivors_file", default_value="config/survivors.yaml",
                           description="Survivor table the detect server answers from."),
     DeclareLaunchArgument("report_dir", default_value="",
@@ -110,20 +116,26 @@ ARGUMENTS = [
 ]
 
 
-def end_with_runner(event: object, context: LaunchContext) -> list | None:
-    """Shut the launch down when the runner exits; fail it when the mission failed.
+def end_with_runner(event: object, context: LaunchContext, *, settings: MissionSettings,
+                    apps: list, started: float) -> list | None:
+    """Write the run's report, then shut the launch down; fail it when the mission failed.
 
-    ``ros2 launch`` exits 1 when a launch action raises, so a runner exit code other than 0
-    becomes the launch's failure, with the reason in its log. A runner stopped by the
-    launch's own shutdown (Ctrl-C) is not a failure.
+    The report (mission.json, mission.png, tree.svg in the run's folder) is the one
+    ``sar-tree run`` writes. ``ros2 launch`` exits 1 when a launch action raises, so a
+    runner exit code other than 0 becomes the launch's failure, with the reason in its log.
+    A runner stopped by the launch's own shutdown (Ctrl-C) is not a failure.
     """
     code = event.returncode
     if context.is_shutdown:
         return None
+    written = write_launch_report(settings, apps, code, started)
+    said = LogInfo(msg=f"sar_framework: report in {Path(settings.status_file).parent}/ "
+                       f"({', '.join(p.name for p in written)})")
     if code != 0:
+        said.execute(context)  # before the failure ends the launch
         raise RuntimeError(f"sar-mission-runner exited with code {code}: the mission did "
                            "not succeed")
-    return [EmitEvent(event=Shutdown(reason="the mission is complete"))]
+    return [said, EmitEvent(event=Shutdown(reason="the mission is complete"))]
 
 
 def mission_settings(context: LaunchContext) -> MissionSettings:
@@ -139,9 +151,13 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     files = {name: str(folder / file) for name, file in RUN_FILES.items()}
     if arg("report_file"):
         files["report_file"] = str(Path(arg("report_file")).expanduser().absolute())
+    tree = package_file(arg("tree"), "trees")
+    apps = tree_apps(tree)
+    params = arg("params_file") or next((f for f in (a.default_params_file() for a in apps)
+                                         if f), "")
     return MissionSettings(
-        tree=package_file(arg("tree"), "trees"),
-        params_file=package_file(arg("params_file")),
+        tree=tree,
+        params_file=package_file(params) if params else "",
         use_sim_time=arg("use_sim_time").lower() in ("true", "1", "yes"),
         simulator=embedded,
         speed=float(arg("speed")),
@@ -160,7 +176,9 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
 
 def launch_setup(context: LaunchContext) -> list:
     """Build the actions once the arguments are known: Nav2's side, then the processes."""
+    started = time.monotonic()
     settings = mission_settings(context)
+    apps = tree_apps(settings.tree)
     actions: list = [LogInfo(msg=f"sar_framework: this run's files are in "
                                  f"{Path(settings.status_file).parent}/ (survivors reported: "
                                  f"{settings.report_file})")]
@@ -181,12 +199,13 @@ def launch_setup(context: LaunchContext) -> list:
             arguments=["-d", str(bringup / "rviz" / "nav2_default_view.rviz")],
             parameters=[{"use_sim_time": settings.use_sim_time}],
             condition=IfCondition(LaunchConfiguration("rviz")), output="screen"))
-    for process in mission_processes(settings):
+    for process in mission_processes(settings, apps):
         node = process_node(process)
         actions.append(node)
         if process.label == "runner":
-            actions.append(RegisterEventHandler(
-                OnProcessExit(target_action=node, on_exit=end_with_runner)))
+            actions.append(RegisterEventHandler(OnProcessExit(
+                target_action=node, on_exit=functools.partial(
+                    end_with_runner, settings=settings, apps=apps, started=started))))
     return actions
 
 

@@ -1,27 +1,26 @@
 """The mission report: ``mission.json``, ``mission.png`` and ``tree.svg`` in the report folder.
 
-Plain Python (no ROS). It reads what the mission's processes left in the report folder:
+Plain Python (no ROS), for any tree. It reads what the mission's processes left in the
+report folder:
 
-- ``events.jsonl``: the runner's events (:mod:`sar_framework.events`): zones reached and
-  not, the base reached, survivors broadcast, reported and refused, failures;
+- ``events.jsonl``: the runner's events (:mod:`sar_framework.events`): navigation goals
+  sent, reached or failed (with their poses), failures and their reasons, reloads;
 - ``status.json``: the runner's status file (docs/reference/mission-contracts.md): node statuses,
   ticks, clock readings, the final blackboard entry values (copied as ``entries``);
-- ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any;
-- ``reports.jsonl``: the report server's acknowledged survivors;
+- ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any.
 
-plus the mission parameter file (zones, base station) and the course map. ``mission.png``
-draws the occupancy map (walls and debris), the planned zones (numbered in visiting
-order, with arrival times), the base station, the survivors with their ids, blocked areas
-and the robot's path, with a title and a legend (:mod:`sar_framework.report_map`).
-``tree.svg`` is the tree coloured by each node's last status
-(:func:`sar_framework.engine.rendering.render.render_to_file`).
+Every simulated time counts from one origin, the first tick (``sim_start_s``). Each app the
+tree uses adds its own keys (:attr:`sar_framework.app.App.report`; the search-and-rescue
+app: zones, base station, survivors). ``mission.png`` draws the occupancy map, the goals,
+blocked areas and the robot's path, and what the apps' keys show
+(:mod:`sar_framework.report_map`). ``tree.svg`` is the tree coloured by each node's last
+status (:func:`sar_framework.engine.rendering.render.render_to_file`).
 """
 
 from __future__ import annotations
 
 import json
 import math
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,12 +28,13 @@ from typing import Any
 
 import yaml
 
-from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
+from sar_framework.app import App
+from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent, kind_name
 from sar_framework.events.jsonl import EVENTS_FILE, read_events, read_json_lines
 from sar_framework.report_map import MAP_YAML, draw_map
 
-AT_BASE_M = 0.5
-"""A robot ending this close to the base station (metres) is at base."""
+AT_GOAL_M = 0.5
+"""A robot ending this close to its last navigation goal (metres) is at it."""
 
 
 @dataclass(frozen=True)
@@ -53,6 +53,8 @@ class MissionInputs:
         blocked_areas: Injected obstacles as ``(x, y, radius)`` metres, drawn on the map.
         base: ``{x, y, yaw}`` of this robot's base over the parameter file's (a fleet's
             robot goes home to its own spawn place).
+        apps: The apps whose parts the report adds; None: every installed app, each
+            adding only what the run's files show of it (a replay, a test).
     """
 
     report_dir: Path
@@ -65,6 +67,7 @@ class MissionInputs:
     map_yaml: Path = MAP_YAML
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
     base: dict[str, float] | None = None
+    apps: Sequence[App] | None = None
 
 
 # -- reading ------------------------------------------------------------------------------
@@ -115,16 +118,12 @@ def _numbers(pose: dict[str, Any]) -> dict[str, float]:
             if isinstance(v, (int, float)) and not isinstance(v, bool)}
 
 
-def _final_position(trace: Sequence[dict[str, Any]], base: dict[str, float]
-                    ) -> tuple[dict[str, float] | None, bool | None]:
-    """The robot's last traced position and whether it is within :data:`AT_BASE_M` of base."""
+def _final_position(trace: Sequence[dict[str, Any]]) -> dict[str, float] | None:
+    """The robot's last traced position, or None."""
     poses = [r for r in trace if "x" in r and "y" in r and r.get("event") in (None, "start")]
     if not poses:
-        return None, None
-    x, y = float(poses[-1]["x"]), float(poses[-1]["y"])
-    at_base = (math.hypot(x - base["x"], y - base["y"]) <= AT_BASE_M
-               if "x" in base and "y" in base else None)
-    return {"x": round(x, 3), "y": round(y, 3)}, at_base
+        return None
+    return {"x": round(float(poses[-1]["x"]), 3), "y": round(float(poses[-1]["y"]), 3)}
 
 
 def _last_goal(trace: Sequence[dict[str, Any]], final: dict[str, float] | None
@@ -134,53 +133,54 @@ def _last_goal(trace: Sequence[dict[str, Any]], final: dict[str, float] | None
     if not goals:
         return None, None
     x, y = float(goals[-1]["x"]), float(goals[-1]["y"])
-    at_goal = (math.hypot(x - final["x"], y - final["y"]) <= AT_BASE_M
+    at_goal = (math.hypot(x - final["x"], y - final["y"]) <= AT_GOAL_M
                if final is not None else None)
     return {"x": round(x, 3), "y": round(y, 3)}, at_goal
 
 
-def _survivors(report_dir: Path, events: Sequence[MissionEvent]) -> list[dict[str, Any]]:
-    """Survivors broadcast, acknowledged (events, report file) or refused (events)."""
-    found: dict[str, dict[str, Any]] = {}
+def since_start(sim_s: float, origin: Any) -> float:
+    """A ROS time as the report counts it: seconds since the first tick (``origin``).
 
-    def entry(event: MissionEvent) -> dict[str, Any]:
-        x, y, _ = event.position or (None, None, None)
-        return found.setdefault(event.survivor_id, {
-            "id": event.survivor_id, "x": x, "y": y, "frame": "map", "found_sim_s": None,
-            "acknowledged": False})
+    Args:
+        sim_s: An event's ROS time, seconds.
+        origin: ``sim_start_s``, the ROS time of the first tick (None when unknown: the
+            time is kept as it is).
+    """
+    if isinstance(origin, (int, float)) and not isinstance(origin, bool):
+        return round(sim_s - origin, 3)
+    return sim_s
 
+
+def _goals(events: Sequence[MissionEvent], origin: Any) -> list[dict[str, Any]]:
+    """Every navigation goal the tree sent: where, by which node, and how it ended."""
+    goals: list[dict[str, Any]] = []
+    open_goals: dict[str, dict[str, Any]] = {}  # node uid -> its goal in flight
     for event in events:
-        if event.kind == EventKind.SURVIVOR_BROADCAST:
-            survivor = entry(event)
-            if survivor["found_sim_s"] is None:
-                survivor["found_sim_s"] = event.sim_s
-        elif event.kind == EventKind.SURVIVOR_REPORTED:
-            survivor = entry(event)
-            survivor.pop("refused", None)
-            survivor["acknowledged"] = True
-        elif event.kind == EventKind.SURVIVOR_REFUSED:
-            survivor = entry(event)
-            if not survivor["acknowledged"]:
-                survivor["refused"] = event.message
-    for record in read_json_lines(report_dir / "reports.jsonl"):
-        sid = str(record.get("survivor_id", ""))
-        survivor = found.setdefault(sid, {"id": sid, "found_sim_s": None})
-        survivor.pop("refused", None)
-        survivor.update({"x": record.get("x"), "y": record.get("y"),
-                         "frame": record.get("frame_id", "map"), "acknowledged": True})
-    return sorted(found.values(), key=lambda s: _natural_key(s["id"]))
+        if event.position is None:
+            continue
+        x, y = round(event.position[0], 3), round(event.position[1], 3)
+        if event.kind == EventKind.NAVIGATION:
+            goal = {"node": event.node_name, "uid": event.node_uid, "kind": event.node_kind,
+                    "x": x, "y": y, "sent_sim_s": since_start(event.sim_s, origin),
+                    "result": None, "ended_sim_s": None, "reason": ""}
+            goals.append(goal)
+            open_goals[event.node_uid] = goal
+        elif event.kind in (EventKind.GOAL_REACHED, EventKind.GOAL_FAILED):
+            goal = open_goals.pop(event.node_uid, None)
+            if goal is None:
+                continue
+            reached = event.kind == EventKind.GOAL_REACHED
+            goal.update(result="reached" if reached else "failed",
+                        ended_sim_s=since_start(event.sim_s, origin),
+                        reason="" if reached else event.message)
+    return goals
 
 
-def _reason_record(event: MissionEvent) -> dict[str, Any]:
+def _reason_record(event: MissionEvent, origin: Any) -> dict[str, Any]:
     """A reason event as ``mission.json`` lists it (``what``, ``uid``, ``name``...)."""
-    return {"what": event.kind.value, "uid": event.node_uid, "name": event.node_name,
-            "kind": event.node_kind, "message": event.message, "sim_s": event.sim_s,
-            "wall_s": event.wall_s}
-
-
-def _natural_key(text: str) -> tuple[str, int]:
-    match = re.match(r"^(.*?)(\d+)$", text)
-    return (match.group(1), int(match.group(2))) if match else (text, 0)
+    return {"what": kind_name(event.kind), "uid": event.node_uid, "name": event.node_name,
+            "kind": event.node_kind, "message": event.message,
+            "sim_s": since_start(event.sim_s, origin), "wall_s": event.wall_s}
 
 
 def _startup_failure(status: dict[str, Any]) -> list[dict[str, Any]]:
@@ -193,7 +193,10 @@ def _startup_failure(status: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def summarise(inputs: MissionInputs) -> dict[str, Any]:
-    """Build the ``mission.json`` document from the run's files.
+    """Build the ``mission.json`` document from the run's files, then add the apps' keys.
+
+    Every simulated time in it counts from one origin, the first tick (``sim_start_s``,
+    the ROS time it had).
 
     Args:
         inputs: Where everything is.
@@ -204,25 +207,7 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     status = _read_json(inputs.report_dir / "status.json")
     trace = read_json_lines(inputs.report_dir / "trace.jsonl")
     events = read_events(inputs.report_dir / EVENTS_FILE)
-    zones, base = read_mission_layout(inputs.params_file)
-    base = dict(inputs.base) if inputs.base is not None else base
-    visited: list[dict[str, Any]] = []
-    base_reached: dict[str, Any] | None = None
-    planned = {z["id"]: z for z in zones}
     sim_start, sim_end = status.get("sim_start_s"), status.get("sim_end_s")
-    for event in events:
-        if event.kind not in (EventKind.ZONE_REACHED, EventKind.BASE_REACHED):
-            continue
-        # Simulated times from the mission's start, like sim_duration_s (ROS time is not 0
-        # at the first tick).
-        arrival: float | None = event.sim_s
-        if isinstance(sim_start, (int, float)):
-            arrival = round(event.sim_s - sim_start, 3)
-        times = {"arrival_sim_s": arrival, "arrival_wall_s": event.wall_s}
-        if event.kind == EventKind.BASE_REACHED:
-            base_reached = {**base, **times}
-        else:
-            visited.append({**planned.get(event.zone_id, {"id": event.zone_id}), **times})
     sim_duration = (sim_end - sim_start) if isinstance(sim_start, (int, float)) and \
         isinstance(sim_end, (int, float)) else None
     runner_wall = status.get("wall_duration_s")
@@ -230,9 +215,10 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
     ticking_wall = (runner_wall - first_tick) if isinstance(runner_wall, (int, float)) and \
         isinstance(first_tick, (int, float)) else None
     path_m = max((float(r["path_m"]) for r in trace if "path_m" in r), default=0.0)
-    goals = [r for r in trace if r.get("event") == "accepted"]
+    accepted = [r for r in trace if r.get("event") == "accepted"]
+    goals = _goals(events, sim_start)
     ticks = int(status.get("ticks") or 0)
-    final_position, at_base = _final_position(trace, base)
+    final_position = _final_position(trace)
     last_goal, at_last_goal = _last_goal(trace, final_position)
     summary = {
         "tree": inputs.tree,
@@ -240,19 +226,14 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "outcome": inputs.outcome,
         "reason": inputs.reason,
         "root_status": status.get("status"),
-        "zones_planned": zones,
-        "zones_visited": visited,
-        "zones_skipped": [z["id"] for z in zones if z["id"] not in {v["id"] for v in visited}],
-        "base_station": base,
-        "base_reached": base_reached,
+        "sim_start_s": sim_start,
+        "goals": goals,
         "final_position": final_position,
-        "at_base": at_base,
         "last_goal": last_goal,
         "at_last_goal": at_last_goal,
         "blocked_areas": [{"x": x, "y": y, "radius": r} for x, y, r in inputs.blocked_areas],
-        "survivors": _survivors(inputs.report_dir, events),
         "path_length_m": round(path_m, 3),
-        "navigation_goals": len(goals),
+        "navigation_goals": len(accepted) if trace else len(goals),
         "sim_duration_s": round(sim_duration, 3) if sim_duration is not None else None,
         "wall_duration_s": round(inputs.wall_duration_s, 3),
         "runner_wall_duration_s": runner_wall,
@@ -261,16 +242,30 @@ def summarise(inputs: MissionInputs) -> dict[str, Any]:
         "ticks_per_wall_s": round(ticks / ticking_wall, 2) if ticking_wall else None,
         "real_time_factor": round(sim_duration / ticking_wall, 2)
         if sim_duration is not None and ticking_wall else None,
-        "failures": [_reason_record(e) for e in events if e.kind in REASON_KINDS]
+        "failures": [_reason_record(e, sim_start) for e in events if e.kind in REASON_KINDS]
         or _startup_failure(status),
         "node_statuses": status.get("nodes", {}),
-        "reloads": [{"what": e.kind.value, "message": e.message, "sim_s": e.sim_s,
-                     "wall_s": e.wall_s} for e in events
+        "reloads": [{"what": kind_name(e.kind), "message": e.message,
+                     "sim_s": since_start(e.sim_s, sim_start), "wall_s": e.wall_s}
+                    for e in events
                     if e.kind in (EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED)],
     }
     if status.get("entries"):
         summary["entries"] = status["entries"]  # the final blackboard entry values
+    for app in report_apps(inputs):
+        if app.report is not None:
+            summary.update(app.report(inputs, events, summary))
     return summary
+
+
+def report_apps(inputs: MissionInputs) -> Sequence[App]:
+    """The apps whose parts the report adds.
+
+    The run's, else every installed one (each adds only what the run's files show of it).
+    """
+    from sar_framework.app import discover_apps
+
+    return inputs.apps if inputs.apps is not None else discover_apps()
 
 
 def write_report(inputs: MissionInputs) -> list[Path]:
@@ -288,7 +283,8 @@ def write_report(inputs: MissionInputs) -> list[Path]:
     written = [folder / "mission.json"]
     written[0].write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     trace = read_json_lines(folder / "trace.jsonl")
-    written.append(draw_map(summary, trace, folder / "mission.png", inputs.map_yaml))
+    written.append(draw_map(summary, trace, folder / "mission.png", inputs.map_yaml,
+                            report_apps(inputs)))
     if inputs.spec is not None:
         from sar_framework.engine.rendering.render import render_to_file
 

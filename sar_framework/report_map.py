@@ -1,17 +1,18 @@
-"""``mission.png``: the course map with zones, base, survivors, blocked areas and the path.
+"""``mission.png``: the course map with the robot's path, its goals and blocked areas.
 
 Plain Python (numpy, Pillow; no ROS). :func:`draw_map` draws a ``mission.json`` document
 (:func:`sar_framework.report.summarise`) and the simulator's trace: the occupancy map
-(walls and debris), the planned zones (numbered in visiting order, with arrival times),
-the base station, the survivors with their ids, injected blocked areas and the robot's
-path, with a title (the tree path cut at the left when long) and a legend.
+(walls and debris), injected blocked areas and the robot's path, then what each app draws
+(:class:`MapLayer`; the search-and-rescue app: zones, base station, survivors), or the
+navigation goals when no app drew, with a title (the tree path cut at the left when long)
+and a legend.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -24,16 +25,15 @@ _MARGIN_TOP = 44
 _LEGEND_W = 250
 _COLOURS = {
     "free": (250, 250, 247), "occupied": (55, 60, 68), "unknown": (205, 205, 205),
-    "path": (30, 110, 220), "start": (30, 110, 220), "zone_visited": (46, 160, 67),
-    "zone_skipped": (220, 60, 50), "base": (120, 70, 200), "survivor": (230, 120, 0),
+    "path": (30, 110, 220), "start": (30, 110, 220),
     "text": (25, 25, 25), "panel": (255, 255, 255), "grid": (232, 232, 228),
-    "blocked": (150, 20, 120),
+    "blocked": (150, 20, 120), "goal_reached": (46, 160, 67), "goal_missed": (220, 60, 50),
 }
 BLOCKED_COLOUR = _COLOURS["blocked"]
 """The colour of injected blocked areas on ``mission.png``."""
 
 
-def _star(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
+def star(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
     """The ten corners of a five-pointed star centred on ``(cx, cy)``."""
     return [(cx + radius * (1 if i % 2 == 0 else 0.45) * math.cos(math.pi / 2 + i * math.pi / 5),
              cy - radius * (1 if i % 2 == 0 else 0.45) * math.sin(math.pi / 2 + i * math.pi / 5))
@@ -165,24 +165,76 @@ def map_canvas(map_yaml: Path = MAP_YAML, legend_w: int = _LEGEND_W) -> MapCanva
     return MapCanvas(img, draw, map_img, px_per_m, to_px)
 
 
+@dataclass
+class MapLayer:
+    """What an app drew on ``mission.png`` and adds to its title and legend.
+
+    Attributes:
+        title: Its facts in the title (``4/4 zones, 2 survivors reported``).
+        legend: ``(text, icon)`` rows; ``icon(draw, x, y)`` draws a row's symbol.
+        lines: Its lines in the panel, after the run's numbers.
+    """
+
+    title: str = ""
+    legend: list[tuple[str, Callable[[Any, int, int], Any]]] = field(default_factory=list)
+    lines: list[str] = field(default_factory=list)
+
+
+def _goal_layer(canvas: MapCanvas, summary: dict[str, Any]) -> MapLayer:
+    """The navigation goals: a green diamond where one was reached, a red cross elsewhere."""
+    draw, to_px, small = canvas.draw, canvas.to_px, _font(13)
+    goals = summary.get("goals", [])
+    for goal in goals:
+        gx, gy = to_px(goal["x"], goal["y"])
+        if goal.get("result") == "reached":
+            colour = _COLOURS["goal_reached"]
+            draw.polygon(diamond(gx, gy, 9), outline=colour, width=3)
+        else:
+            colour = _COLOURS["goal_missed"]
+            draw.line((gx - 8, gy - 8, gx + 8, gy + 8), fill=colour, width=3)
+            draw.line((gx - 8, gy + 8, gx + 8, gy - 8), fill=colour, width=3)
+        _label(draw, (gx + 11, gy + 4), goal.get("node") or "goal", colour, small,
+               limit=canvas.map_img.width)
+    reached = sum(1 for g in goals if g.get("result") == "reached")
+    return MapLayer(
+        title=f"{reached}/{len(goals)} goals reached",
+        legend=[("goal reached", lambda d, x, y: d.polygon(
+                    diamond(x + 8, y + 7, 7), outline=_COLOURS["goal_reached"], width=3)),
+                ("goal not reached", lambda d, x, y: (
+                    d.line((x + 2, y + 1, x + 14, y + 13), fill=_COLOURS["goal_missed"], width=3),
+                    d.line((x + 2, y + 13, x + 14, y + 1), fill=_COLOURS["goal_missed"],
+                           width=3)))])
+
+
+def diamond(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
+    """The four corners of a diamond centred on ``(cx, cy)``."""
+    return [(cx, cy - radius), (cx + radius, cy), (cx, cy + radius), (cx - radius, cy)]
+
+
 def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path,
-             map_yaml: Path = MAP_YAML) -> Path:
-    """Draw ``mission.png``: map, zones, base, survivors, path, title and legend.
+             map_yaml: Path = MAP_YAML, apps: Sequence[Any] | None = None) -> Path:
+    """Draw ``mission.png``: map, path, blocked areas, what the apps show, title and legend.
+
+    Each app with a ``figure`` hook draws its part (the search-and-rescue app: zones, base,
+    survivors); when none drew anything, the navigation goals are drawn.
 
     Args:
         summary: The ``mission.json`` document.
         trace: The simulator's trace records (poses are drawn as the path).
         out: The PNG file to write.
         map_yaml: The occupancy map.
+        apps: The apps whose parts to draw; None: every installed app (each draws only
+            what ``summary`` holds of it).
 
     Returns:
         ``out``.
     """
+    from sar_framework.app import discover_apps
+
     canvas = map_canvas(map_yaml)
     img, draw, to_px, px_per_m = canvas.img, canvas.draw, canvas.to_px, canvas.px_per_m
-    map_img = canvas.map_img
     width = img.width
-    small, normal, big = _font(13), _font(15), _font(18)
+    normal, big, small = _font(15), _font(18), _font(13)
 
     poses = [to_px(float(r["x"]), float(r["y"])) for r in trace
              if "event" not in r and "x" in r and "y" in r]
@@ -204,51 +256,26 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
         draw.line((ax - r * 0.7, ay - r * 0.7, ax + r * 0.7, ay + r * 0.7),
                   fill=_COLOURS["blocked"], width=3)
 
-    base = summary.get("base_station") or {}
-    if "x" in base and "y" in base:
-        bx, by = to_px(base["x"], base["y"])
-        draw.rectangle((bx - 11, by - 11, bx + 11, by + 11), outline=_COLOURS["base"], width=3)
-        _label(draw, (bx + 14, by + 4), "base", _COLOURS["base"], normal, limit=map_img.width)
-
-    visited = {v["id"]: v for v in summary.get("zones_visited", [])}
-    for number, zone in enumerate(summary.get("zones_planned", []), 1):
-        zx, zy = to_px(zone["x"], zone["y"])
-        reached = visited.get(zone["id"])
-        colour = _COLOURS["zone_visited"] if reached else _COLOURS["zone_skipped"]
-        r = 0.3 * px_per_m
-        draw.ellipse((zx - r, zy - r, zx + r, zy + r), outline=colour, width=3)
-        draw.text((zx, zy), str(number), fill=colour, font=normal, anchor="mm")
-        label = zone["id"]
-        label += (f"  t={reached['arrival_sim_s']:.0f}s"
-                  if reached and isinstance(reached.get("arrival_sim_s"), (int, float))
-                  else ("" if reached else "  (not reached)"))
-        _label(draw, (zx - r, zy + r + 3), label, colour, small, limit=map_img.width)
-
-    for survivor in summary.get("survivors", []):
-        if not isinstance(survivor.get("x"), (int, float)):
-            continue
-        sx, sy = to_px(survivor["x"], survivor["y"])
-        colour = _COLOURS["survivor"]
-        draw.polygon(_star(sx, sy, 10), fill=colour if survivor.get("acknowledged") else None,
-                     outline=colour)
-        tag = survivor["id"] + ("" if survivor.get("acknowledged") else " (not ack.)")
-        _label(draw, (sx + 12, sy - 18), tag, colour, small, limit=map_img.width)
-
-    facts = (f": {summary.get('outcome', '')}  |  "
-             f"{len(visited)}/{len(summary.get('zones_planned', []))} zones, "
-             f"{sum(1 for s in summary.get('survivors', []) if s.get('acknowledged'))} "
-             f"survivors reported, path {summary.get('path_length_m', 0):.1f} m")
+    layers = [layer for app in (discover_apps() if apps is None else apps)
+              if getattr(app, "figure", None) is not None
+              for layer in [app.figure(canvas, summary)] if layer is not None]
+    if not layers:
+        layers = [_goal_layer(canvas, summary)]
+    titles = ", ".join(layer.title for layer in layers if layer.title)
+    facts = (f": {summary.get('outcome', '')}  |  {titles + ', ' if titles else ''}"
+             f"path {summary.get('path_length_m', 0):.1f} m")
     tree = fit_left(str(summary.get("tree", "")), width - 20 - draw.textlength(facts, font=big),
                     lambda text: draw.textlength(text, font=big))
     draw.text((10, 12), tree + facts, fill=_COLOURS["text"], font=big)
-    _legend(draw, map_img.width + 14, _MARGIN_TOP + 6, summary, font=normal, small=small)
+    _legend(draw, canvas.map_img.width + 14, _MARGIN_TOP + 6, summary, layers, font=normal,
+            small=small)
     out.parent.mkdir(parents=True, exist_ok=True)
     img.save(out, "PNG")
     return out
 
 
-def _legend(draw: Any, x: int, y: int, summary: dict[str, Any], *, font: Any,
-            small: Any) -> None:
+def _legend(draw: Any, x: int, y: int, summary: dict[str, Any], layers: Sequence[MapLayer],
+            *, font: Any, small: Any) -> None:
     """Draw the legend and the mission's numbers in the right-hand panel."""
     c = _COLOURS
     draw.text((x, y), "Legend", fill=c["text"], font=font)
@@ -261,16 +288,9 @@ def _legend(draw: Any, x: int, y: int, summary: dict[str, Any], *, font: Any,
         ("start (hollow), end", lambda yy: (
             draw.ellipse((x, yy + 1, x + 10, yy + 11), outline=c["start"], width=2),
             draw.ellipse((x + 12, yy + 2, x + 20, yy + 10), fill=c["path"]))),
-        ("zone reached (n = order)", lambda yy: draw.ellipse((x, yy, x + 14, yy + 14),
-                                                            outline=c["zone_visited"],
-                                                            width=3)),
-        ("zone not reached", lambda yy: draw.ellipse((x, yy, x + 14, yy + 14),
-                                                    outline=c["zone_skipped"], width=3)),
-        ("base station", lambda yy: draw.rectangle((x, yy, x + 14, yy + 14),
-                                                  outline=c["base"], width=3)),
-        ("survivor (filled: ack.)", lambda yy: draw.polygon(
-            _star(x + 8, yy + 7, 8), fill=c["survivor"])),
     ]
+    for layer in layers:
+        rows += [(text, lambda yy, icon=icon: icon(draw, x, yy)) for text, icon in layer.legend]
     if summary.get("blocked_areas"):
         rows.append(("blocked area (fault)", lambda yy: draw.ellipse(
             (x, yy, x + 14, yy + 14), outline=c["blocked"], width=3)))
@@ -290,11 +310,12 @@ def _legend(draw: Any, x: int, y: int, summary: dict[str, Any], *, font: Any,
     ]
     final = summary.get("final_position")
     if final:
-        where = "at base" if summary.get("at_base") else "not at base"
-        lines.append(f"end: ({final['x']:.2f}, {final['y']:.2f}), {where}")
-    for survivor in summary.get("survivors", []):
-        if isinstance(survivor.get("x"), (int, float)):
-            lines.append(f"{survivor['id']}: ({survivor['x']:.2f}, {survivor['y']:.2f})")
+        where = ""
+        if "at_base" in summary:
+            where = ", at base" if summary["at_base"] else ", not at base"
+        lines.append(f"end: ({final['x']:.2f}, {final['y']:.2f}){where}")
+    for layer in layers:
+        lines += layer.lines
     for line in lines:
         draw.text((x, y), line, fill=c["text"], font=small)
         y += 19

@@ -17,6 +17,9 @@ Nav2's bounds, without blocking:
 
 While the goal runs, :meth:`on_wait_for_result` sees each new feedback and may ask for the
 goal to be sent again (``self.goal_updated = True``), as FollowPath does for a new path.
+
+A goal with a pose (NavigateToPose's) is told to the mission's events: ``navigation`` when
+sent, ``goal_reached`` or ``goal_failed`` (with why) when it ends, each at the goal's pose.
 """
 
 from __future__ import annotations
@@ -26,6 +29,8 @@ import time
 from typing import Any
 
 from py_trees.common import Status
+
+from sar_framework.events.event import EventKind
 
 from .._ros_leaf import RosLeaf
 from ._common import optional_input, server_missing, server_timeout_s
@@ -146,12 +151,12 @@ class Nav2ActionLeaf(RosLeaf):
                 if now - self._sent < server_timeout_s(self._node, self.ports):
                     return Status.RUNNING
                 self._abandon()
-                return self._latch(False, "Timed out while waiting for action server to "
-                                          f"acknowledge goal request for {self.server_name}")
+                return self._goal_failed("Timed out while waiting for action server to "
+                                         f"acknowledge goal request for {self.server_name}")
             future, self._send_future = self._send_future, None
             handle = future.result() if future.exception() is None else None
             if handle is None or not handle.accepted:
-                return self._latch(False, f"goal rejected by {self.server_name}")
+                return self._goal_failed(f"goal rejected by {self.server_name}")
             self._handle = handle
             self._result_future = handle.get_result_async()
         feedback, self._feedback = self._feedback, None
@@ -187,6 +192,7 @@ class Nav2ActionLeaf(RosLeaf):
                                                          feedback_callback=self._on_feedback)
         self._sent = time.monotonic()
         self.feedback_message = f"goal sent to {self.server_name}"
+        self._goal_event(EventKind.NAVIGATION, f"sent to {self.server_name}")
 
     def _on_feedback(self, message: Any) -> None:
         self._feedback = message.feedback
@@ -208,10 +214,31 @@ class Nav2ActionLeaf(RosLeaf):
             verdict, text = Status.FAILURE, f"ended with status {status}"
         message = getattr(getattr(wrapped, "result", None), "error_msg", "")
         detail = f": {message}" if message else ""
+        reached = status == GoalStatus.STATUS_SUCCEEDED
+        if reached:
+            self._goal_event(EventKind.GOAL_REACHED, "reached", "SUCCEEDED")
+        else:
+            self._goal_event(EventKind.GOAL_FAILED,
+                             f"not reached: {self.server_name} {text}{detail}", "FAILED")
         # a success is not logged, as Nav2's BtActionNode says nothing then (rclpy's logger
         # finds its caller's source file on every call: milliseconds inside the 10 ms tick)
         return self._latch(verdict == Status.SUCCESS, f"{self.server_name} {text}{detail}",
                            log=verdict != Status.SUCCESS)
+
+    def _goal_failed(self, reason: str) -> Status:
+        """Fail with ``reason``, told as the goal's ``goal_failed`` event too."""
+        self._goal_event(EventKind.GOAL_FAILED, f"not reached: {reason}", "FAILED")
+        return self._latch(False, reason)
+
+    def _goal_event(self, kind: EventKind, what: str, status: str = "") -> None:
+        """Emit ``kind`` at the goal's pose, if the goal has one: "goal (x, y) <what>"."""
+        position = getattr(getattr(getattr(self.goal, "pose", None), "pose", None),
+                           "position", None)
+        if position is None:
+            return
+        self.events.emit(kind, source=self, status=status,
+                         message=f"goal ({position.x:.2f}, {position.y:.2f}) {what}",
+                         position=(position.x, position.y))
 
     def _abandon(self) -> None:
         """Cancel the goal in flight, now or once it is accepted; forget the futures."""

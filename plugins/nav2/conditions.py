@@ -5,7 +5,7 @@ WouldAControllerRecoveryHelp, WouldAPlannerRecoveryHelp.
 
 Nav2 Jazzy's semantics. "Active" is BT.CPP's ``isStatusActive``: the condition was ticked
 since its parent last reset it to IDLE (its
-:func:`~sar_framework.engine.controls.base.bt_status` is not INVALID). Times are the ROS
+:func:`~sar_framework.engine.nodes.controls.base.bt_status` is not INVALID). Times are the ROS
 node's clock (simulated with ``use_sim_time``); without a node, the monotonic clock.
 """
 

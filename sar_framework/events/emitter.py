@@ -7,8 +7,8 @@ events=emitter)``. A leaf keeps it with :func:`events_from` and says what happen
     def setup(self, **kwargs):
         self.events = events_from(kwargs)
     ...
-    self.events.emit(EventKind.DETECTION, source=self, zone_id="zone_a", status="NONE",
-                     message="zone_a: no survivor")
+    self.events.emit(EventKind.NOTE, source=self, message="shelf scanned")
+    self.events.emit("shelf_scanned", source=self, shelf="nw", items="12")  # an app's kind
 
 The emitter fills in the stamp, the sequence number and the node's name, uid and kind
 (``source``). A tree ticked outside the runner gets :data:`NO_EVENTS`, which drops them.
@@ -60,19 +60,18 @@ class EventEmitter:
         """Send the events emitted from now on to ``sink`` too."""
         self._sinks.append(sink)
 
-    def emit(self, kind: EventKind, *, source: Any = None, status: str = "", message: str = "",
-             zone_id: str = "", survivor_id: str = "",
-             position: Iterable[float] | None = None) -> MissionEvent:
+    def emit(self, kind: EventKind | str, *, source: Any = None, status: str = "",
+             message: str = "", position: Iterable[float] | None = None,
+             **fields: str) -> MissionEvent:
         """Emit one event now; return it as sent.
 
         Args:
-            kind: What happened.
+            kind: What happened: an :class:`EventKind`, or an app's kind by name.
             source: The behaviour it concerns (its name, uid and kind are filled in).
             status: A status word (``SUCCESS``, ``FOUND``...).
             message: One line for humans.
-            zone_id: The zone it concerns.
-            survivor_id: The survivor it concerns.
             position: ``(x, y)`` or ``(x, y, z)`` metres in the map frame.
+            **fields: An app's fields (text); empty values are left out.
         """
         uid, node_kind = self._nodes.get(id(source), ("", "")) if source is not None \
             else ("", "")
@@ -87,7 +86,7 @@ class EventEmitter:
                 wall_s=round(time.monotonic() - self._wall_start, 3),
                 node_name=str(getattr(source, "name", "")) if source is not None else "",
                 node_uid=uid, node_kind=node_kind, status=status, message=message,
-                zone_id=zone_id, survivor_id=survivor_id, position=point)
+                position=point, fields={k: str(v) for k, v in fields.items() if v != ""})
             self.emitted.append(event)
             for sink in self._sinks:
                 sink(event)
@@ -97,7 +96,7 @@ class EventEmitter:
 class _NoEvents(EventEmitter):
     """An emitter that keeps and sends nothing (a tree ticked outside the runner)."""
 
-    def emit(self, kind: EventKind, **_fields: Any) -> MissionEvent:
+    def emit(self, kind: EventKind | str, **_fields: Any) -> MissionEvent:
         """Drop the event; return it unstamped."""
         return MissionEvent(kind=kind)
 

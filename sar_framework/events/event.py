@@ -1,12 +1,14 @@
 """One mission event: its kinds, its fields and its JSON encoding (no ROS).
 
-The ROS twin is ``sar_interfaces/msg/MissionEvent`` (the same fields; the kind names are
-its ``KIND_*`` constants); :mod:`sar_framework.runner.event_topic` converts between them. A
-JSON line holds every field, for example::
+The ROS twin is ``sar_interfaces/msg/MissionEvent`` (the same fields; the core's kind names
+are its ``KIND_*`` constants); :mod:`sar_framework.runner.event_topic` converts between them.
+An app's events carry kinds of the app's own and its fields as key/value pairs
+(``fields``, a ``diagnostic_msgs/KeyValue[]`` on the topic), so a new app needs no new
+message. A JSON line holds every field, for example::
 
-    {"seq": 7, "kind": "zone_reached", "sim_s": 21.4, "wall_s": 2.1, "node_name": "",
-     "node_uid": "", "node_kind": "", "status": "", "message": "Reached zone_a.",
-     "zone_id": "zone_a", "survivor_id": "", "position": [-3.0, 3.0, 0.0]}
+    {"seq": 7, "kind": "goal_reached", "sim_s": 21.4, "wall_s": 2.1, "node_name": "GoHome",
+     "node_uid": "0.5", "node_kind": "NavigateToPose", "status": "SUCCEEDED",
+     "message": "navigate_to_pose succeeded", "position": [0.0, 0.0, 0.0], "fields": {}}
 """
 
 from __future__ import annotations
@@ -14,7 +16,9 @@ from __future__ import annotations
 import enum
 import json
 import math
-from dataclasses import asdict, dataclass, fields, replace
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 EVENT_TOPIC_NAME = "sar_mission/events"
@@ -51,6 +55,8 @@ class EventKind(str, enum.Enum):
     RETRY = "retry"
     SKIP = "skip"
     NAVIGATION = "navigation"
+    GOAL_REACHED = "goal_reached"
+    GOAL_FAILED = "goal_failed"
     ZONE_REACHED = "zone_reached"
     ZONE_UNREACHED = "zone_unreached"
     BASE_REACHED = "base_reached"
@@ -63,6 +69,29 @@ class EventKind(str, enum.Enum):
     VERDICT = "verdict"
     TREE_SWAPPED = "tree_swapped"
     RELOAD_REFUSED = "reload_refused"
+
+
+#: An app's own event kind: a lower-case name (``shelf_scanned``).
+APP_KIND = re.compile(r"[a-z][a-z0-9_]*")
+
+
+def kind_name(kind: EventKind | str) -> str:
+    """The name of a kind, the core's or an app's (``goal_reached``; an app's enum's value)."""
+    return str(getattr(kind, "value", kind))
+
+
+def event_kind(name: str) -> EventKind | str:
+    """The core's :class:`EventKind` called ``name``, else ``name`` as an app's kind.
+
+    Raises:
+        EventFormatError: ``name`` is not a kind name.
+    """
+    try:
+        return EventKind(name)
+    except ValueError:
+        if isinstance(name, str) and APP_KIND.fullmatch(name):
+            return name
+        raise EventFormatError(f"unknown kind {name!r}") from None
 
 
 #: The reasons the runner records for a failing or halted part of the tree.
@@ -81,7 +110,7 @@ class MissionEvent:
     """One event of the stream.
 
     Attributes:
-        kind: What happened.
+        kind: What happened: an :class:`EventKind`, or an app's kind by name.
         seq: 1, 2, 3... in emission order (0 before the emitter numbered it).
         sim_s: The runner's ROS clock in seconds (simulated time with ``use_sim_time``).
         wall_s: Wall seconds since the runner started.
@@ -90,12 +119,11 @@ class MissionEvent:
         node_kind: That node's kind.
         status: ``SUCCESS``, ``FAILURE``, ``RUNNING``, ``FOUND``, ``NONE``... or "".
         message: One line for humans (never parsed).
-        zone_id: The zone it concerns, or "".
-        survivor_id: The survivor it concerns, or "".
         position: ``(x, y, z)`` metres in the map frame, or None.
+        fields: An app's fields, key -> value (text), as ``diagnostic_msgs/KeyValue``.
     """
 
-    kind: EventKind
+    kind: EventKind | str
     seq: int = 0
     sim_s: float = 0.0
     wall_s: float = 0.0
@@ -104,9 +132,12 @@ class MissionEvent:
     node_kind: str = ""
     status: str = ""
     message: str = ""
-    zone_id: str = ""
-    survivor_id: str = ""
     position: tuple[float, float, float] | None = None
+    fields: Mapping[str, str] = field(default_factory=dict)
+
+    def value(self, key: str) -> str:
+        """The app field ``key``, or "" when the event has none."""
+        return self.fields.get(key, "")
 
     def numbered(self, seq: int) -> MissionEvent:
         """This event with sequence number ``seq``."""
@@ -114,9 +145,10 @@ class MissionEvent:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON-ready mapping (``kind`` as its name, ``position`` a list or None)."""
-        document = asdict(self)
-        document["kind"] = self.kind.value
+        document = {f.name: getattr(self, f.name) for f in fields(self)}
+        document["kind"] = kind_name(self.kind)
         document["position"] = list(self.position) if self.position is not None else None
+        document["fields"] = dict(self.fields)
         return document
 
     def to_json(self) -> str:
@@ -124,8 +156,7 @@ class MissionEvent:
         return json.dumps(self.to_dict(), separators=(",", ":"), allow_nan=False)
 
 
-_TEXT_FIELDS = ("node_name", "node_uid", "node_kind", "status", "message", "zone_id",
-                "survivor_id")
+_TEXT_FIELDS = ("node_name", "node_uid", "node_kind", "status", "message")
 
 
 def _number(document: dict[str, Any], key: str) -> float:
@@ -153,10 +184,7 @@ def event_from_dict(document: Any) -> MissionEvent:
     unknown = set(document) - {f.name for f in fields(MissionEvent)}
     if unknown:
         raise EventFormatError(f"unknown field(s): {', '.join(sorted(unknown))}")
-    try:
-        kind = EventKind(document.get("kind"))
-    except ValueError:
-        raise EventFormatError(f"unknown kind {document.get('kind')!r}") from None
+    kind = event_kind(document.get("kind"))
     seq = document.get("seq", 0)
     if isinstance(seq, bool) or not isinstance(seq, int) or seq < 0:
         raise EventFormatError(f"seq must be a natural number, got {seq!r}")
@@ -169,8 +197,13 @@ def event_from_dict(document: Any) -> MissionEvent:
         if not isinstance(position, list) or len(position) != 3:
             raise EventFormatError(f"position must be [x, y, z] or null, got {position!r}")
         position = tuple(_number({"position": v}, "position") for v in position)
+    app_fields = document.get("fields", {})
+    if not isinstance(app_fields, dict) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in app_fields.items()):
+        raise EventFormatError(f"fields must map names to strings, got {app_fields!r}")
     return MissionEvent(kind=kind, seq=seq, sim_s=_number(document, "sim_s"),
-                        wall_s=_number(document, "wall_s"), position=position, **texts)
+                        wall_s=_number(document, "wall_s"), position=position,
+                        fields=app_fields, **texts)
 
 
 def event_from_json(line: str) -> MissionEvent:

@@ -1,7 +1,7 @@
 """The zone coordinator's parameters (``zone_coordinator``): one table, no ROS.
 
 It reads the mission parameter file the runners read (``zone_order``, ``zones.*``: the same
-entries as the runner's table, :data:`~sar_framework.mission.runner_params.RUNNER_PARAMETERS`)
+entries as the app's table, :data:`~sar_framework.mission.runner_params.MISSION_PARAMETERS`)
 and its own settings below.
 """
 
@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from sar_framework.engine.param import Param
 from sar_framework.mission.params_check import USE_SIM_TIME
-from sar_framework.mission.runner_params import RUNNER_PARAMETERS
+from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
-_MISSION = tuple(p for p in RUNNER_PARAMETERS
+_MISSION = tuple(p for p in MISSION_PARAMETERS
                  if p.name == "zone_order" or p.name.startswith("zones."))
 
 ROBOT_TIMEOUT = Param("robot_timeout_wall_s", float, 3.0, "a robot silent on "

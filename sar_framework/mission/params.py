@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from sar_framework.mission.params_file import KeyLocation, ParamsError
-from sar_framework.mission.runner_params import RUNNER_PARAMETERS, TICK_RATE_HZ
+from sar_framework.mission.runner_params import MISSION_PARAMETERS, TICK_RATE_HZ
 from sar_framework.mission.zone_manager import ZoneManager
 
 if TYPE_CHECKING:
@@ -201,7 +201,7 @@ def read_mission_params(node: Node, *, source: str = "mission parameters",
         ParamsError: The first problem found, naming the file and key.
     """
     reader = _Reader(node, source, locations or {})
-    for param in RUNNER_PARAMETERS:  # the mission's defaults, from the runner's table
+    for param in (TICK_RATE_HZ, *MISSION_PARAMETERS):  # the defaults, from the tables
         if param.name == TICK_RATE_HZ.name or param.name.startswith("base_station."):
             declare_default(node, param.name, param.default)
 

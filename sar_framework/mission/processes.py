@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from pathlib import Path
+from typing import Protocol
 
 import yaml
 
@@ -82,14 +83,15 @@ class MissionSettings:
 
     Attributes:
         tree: The tree file (runner, recorder).
-        params_file: The mission parameter file (the runner's params file; the recorder's).
+        params_file: The mission parameter file (the runner's params file; the recorder's),
+            or "" for none (a tree that uses no app needs none).
         use_sim_time: The servers and the runner follow ``/clock``.
         simulator: Start the embedded simulator (``sar-sim``).
         speed: The simulator's speed factor (None: the simulator's default).
         trace_file: The simulator's JSON Lines trace.
-        detect_server: Start the detect server.
+        detect_server: Start the detect server (when the tree's app has one).
         survivors_file: The detect server's survivor table.
-        report_server: Start the report server.
+        report_server: Start the report server (when the tree's app has one).
         report_file: The report server's JSON Lines file of acknowledged reports.
         exit_on_completion: The runner ends when the mission is complete.
         watch_tree: The runner reloads the tree when its file changes.
@@ -102,7 +104,7 @@ class MissionSettings:
     """
 
     tree: str
-    params_file: str
+    params_file: str = ""
     use_sim_time: bool = True
     simulator: bool = True
     speed: float | None = None
@@ -209,25 +211,38 @@ def runner(settings: MissionSettings) -> Process | None:
     _set(parameters, "nav2_timeout_wall_s", settings.nav2_timeout_wall_s)
     _set(parameters, "tick_rate_hz", settings.tick_rate_hz)
     _set(parameters, "plugin_path", os.pathsep.join(settings.plugin_paths))
-    return Process("runner", "sar-mission-runner", "sar_framework.runner.node",
-                   (settings.params_file,), parameters)
+    files = (settings.params_file,) if settings.params_file else ()
+    return Process("runner", "sar-mission-runner", "sar_framework.runner.node", files,
+                   parameters)
 
 
-BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (
-    recorder, simulator, detect_server, report_server, runner)
-"""One function per process, in start order; each returns None when it does not start."""
+class ProcessSource(Protocol):
+    """What starts processes beside the runner: an app (:class:`sar_framework.app.App`)."""
+
+    processes: Callable[[MissionSettings], list[Process]] | None
 
 
-def mission_processes(settings: MissionSettings) -> list[Process]:
+BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (recorder, simulator)
+"""The core's processes before the apps' and the runner, in start order; each returns None
+when it does not start."""
+
+
+def mission_processes(settings: MissionSettings,
+                      apps: Sequence[ProcessSource] = ()) -> list[Process]:
     """The mission's processes in start order (the runner last), each with its parameters.
 
     Args:
         settings: What the mission starts.
+        apps: The tree's apps: their processes start after the core's, before the runner.
 
     Returns:
         One description per process; ``settings.extra`` is applied last.
     """
-    built = (build(settings) for build in BUILDERS)
+    built = [build(settings) for build in BUILDERS]
+    for app in apps:
+        if app.processes is not None:
+            built += app.processes(settings)
+    built.append(runner(settings))
     return [with_extra(p, settings) for p in built if p is not None]
 
 

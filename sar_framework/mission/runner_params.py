@@ -1,4 +1,4 @@
-"""The tree runner's parameters (``sar_mission_runner``): the mission's and its own, once.
+"""The tree runner's parameters (``sar_mission_runner``): its own, and the mission's, once.
 
 No ROS here: :data:`RUNNER_PARAMETERS` is read by the runner
 (:mod:`sar_framework.runner.settings`, :mod:`.params`), by ``sar-tree run``'s
@@ -25,10 +25,14 @@ def _pose(prefix: str, what: str, default: object) -> tuple[Param, ...]:
 TICK_RATE_HZ = Param("tick_rate_hz", float, 2.0, "tree ticks per second (ROS time)",
                      exclusive_minimum=0.0, unit="Hz")
 
-RUNNER_PARAMETERS: tuple[Param, ...] = (
+MISSION_PARAMETERS: tuple[Param, ...] = (
     Param("zone_order", list[str], REQUIRED, "the zone ids to visit, in order"),
     *_pose("zones.*", "a zone", REQUIRED),
     *_pose("base_station", "base station", 0.0),
+)
+"""The search-and-rescue app's parameters, read by the runner for a tree that uses it."""
+
+RUNNER_PARAMETERS: tuple[Param, ...] = (
     TICK_RATE_HZ,
     Param("completion", str, DEFAULT_COMPLETION, "how the mission ends: end, once, rest, "
           "forever, or auto (the tree file's completion key, else end)",
@@ -51,4 +55,4 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     *_pose("initial_pose", "AMCL seed (spawn pose)", 0.0),
     USE_SIM_TIME,
 )
-"""Every parameter ``sar_mission_runner`` reads (mission and runner settings)."""
+"""The runner's own parameters (an app's are its own: :attr:`~sar_framework.app.App.parameters`)."""

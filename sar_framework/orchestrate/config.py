@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from sar_framework.app import App
 from sar_framework.mission.fleet_processes import (
     FLEET_FILE,
     FleetMember,
@@ -54,7 +55,8 @@ def check_config(config: RunConfig) -> CheckedInputs:
         config: The configuration.
 
     Returns:
-        What the checks found (the tree's spec, the runner's parameters, the zones).
+        What the checks found (the tree's spec, its apps, the runner's parameters, the
+        zones); ``config.params`` is set to the parameter file used ("" for none).
 
     Raises:
         RunUsageError: One problem or more; the message holds every one, a line each.
@@ -62,6 +64,7 @@ def check_config(config: RunConfig) -> CheckedInputs:
     inputs, problems = check_inputs(config)
     if inputs is None:
         raise RunUsageError("\n".join(problems) or f"cannot use {config.tree}")
+    config.params = inputs.params_file
     return inputs
 
 
@@ -145,7 +148,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
         zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
     """
     return MissionSettings(
-        tree=config.tree, params_file=config.params, use_sim_time=config.sim,
+        tree=config.tree, params_file=config.params or "", use_sim_time=config.sim,
         simulator=config.sim, speed=config.speed, trace_file=str(report_dir / "trace.jsonl"),
         detect_server=config.detect_server, survivors_file=config.survivors or "",
         report_server=config.report_server, report_file=str(report_dir / "reports.jsonl"),
@@ -179,7 +182,7 @@ def write_fleet_file(config: RunConfig, report_dir: Path,
 def child_specs(config: RunConfig, report_dir: Path,
                 zones: dict[str, tuple[float, float]] | None = None, *,
                 fleet: Sequence[FleetMember] = (), coordinator: bool = False,
-                zone_order: Sequence[str] = ()) -> list[ChildSpec]:
+                zone_order: Sequence[str] = (), apps: Sequence[App] = ()) -> list[ChildSpec]:
     """The processes of a mission, in start order (the runner last), as command lines.
 
     Args:
@@ -191,6 +194,7 @@ def child_specs(config: RunConfig, report_dir: Path,
         coordinator: A fleet's zone coordinator starts.
         zone_order: The mission's zone order (a fleet's robots without the coordinator
             each start at a different zone).
+        apps: The tree's apps (their processes start before the runner).
 
     Returns:
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
@@ -202,6 +206,6 @@ def child_specs(config: RunConfig, report_dir: Path,
             settings, str(fleet_file(config, report_dir)), tuple(fleet), str(report_dir),
             coordinator, tuple(zone_order)))
     else:
-        processes = mission_processes(settings)
+        processes = mission_processes(settings, apps)
     return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)
             for p in processes]

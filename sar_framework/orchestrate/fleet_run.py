@@ -102,7 +102,7 @@ class FleetOrchestrator(Orchestrator):
             for event in follower.poll():
                 self.robot_events[name].append(event)
                 self.events.append(event)
-                line = progress_line(event)
+                line = progress_line(event, self.inputs.apps)
                 if line is not None:
                     self.show(time.monotonic() - self.started, name, line)
 

@@ -1,8 +1,10 @@
 """Every input of ``sar-tree run`` checked before anything starts, all problems at once.
 
 Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule) and ``--timeout``;
-the tree (every diagnostic); the mission parameter file (rcl's structure, then each key's
-name, type and value against the runner's table, then the zones); the survivor table; and
+the tree (every diagnostic) and the apps it uses (:mod:`sar_framework.app`); the mission
+parameter file, the apps' default when none is named (rcl's structure, then each key's
+name, type and value against the runner's table and its apps', then each app's own
+checks); the survivor table; and
 each ``--sim-param``/``--detect-param``/``--report-param``/``--runner-param NAME:=VALUE``
 (known name, did-you-mean, type and range, from each node's table in
 :data:`NODE_PARAMETERS`; ``blocked_zones`` entries parsed, with the mission's zone names
@@ -15,16 +17,18 @@ even where rclpy or a message package cannot be imported.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from sar_framework.app import App, AppError, apps_for, discover_apps
 from sar_framework.engine.param import Param
 from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
-from sar_framework.mission.params_check import check_values, mission_problems, zone_positions
+from sar_framework.mission.params_check import check_values, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
@@ -72,6 +76,9 @@ class CheckedInputs:
         blocked_areas: The ``blocked_zones`` fault as ``(x, y, radius)`` circles, metres.
         fleet: The fleet's robots (``--robots``/``--fleet``); empty for one robot.
         coordinator: The zone coordinator starts (a fleet whose tree bids for zones).
+        apps: The apps the tree uses.
+        params_file: The mission parameter file used: ``--params``, else the apps'
+            default, else "" (none).
     """
 
     spec: Any
@@ -80,12 +87,20 @@ class CheckedInputs:
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
     fleet: tuple[FleetMember, ...] = ()
     coordinator: bool = False
+    apps: tuple[App, ...] = ()
+    params_file: str = ""
+
+
+def params_file(config: RunConfig, apps: Sequence[App]) -> str:
+    """The parameter file a run uses: ``--params``, else its apps' default, else ""."""
+    if config.params is not None:
+        return config.params
+    return next((f for f in (app.default_params_file() for app in apps) if f), "")
 
 
 def _option_problems(config: RunConfig) -> list[str]:
     problems = []
-    for label, path in (("tree", config.tree), ("parameter file", config.params),
-                        ("survivor table", config.survivors)):
+    for label, path in (("tree", config.tree), ("survivor table", config.survivors)):
         if path is not None and not Path(path).is_file():
             problems.append(f"{label} not found: '{path}'")
     speed = SPEED.problem(config.speed)
@@ -150,24 +165,40 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
 
     problems = _option_problems(config)
     overrides = {who: _entries(config, who, problems) for who in CHILDREN}
-    for who in CHILDREN:
+    for who in CHILDREN[:-1]:  # the runner's after the tree: its apps add parameters
         problems += [str(err) for err in check_values(overrides[who], child_parameters(who),
                                                       {}, f"--{who}-param")]
     spec = None
+    apps: list[App] = []
     if Path(config.tree).is_file():
         result = validate(config.tree, plugin_paths=config.plugin_paths)
         problems += [str(d) for d in result.diagnostics if d.severity == "error"]
         spec = result.spec
-    values: dict[str, Any] = {}
-    if Path(config.params).is_file():
-        contents = read_params_file(config.params)
+        try:
+            # A tree with errors starts nothing; its parameters are checked against every
+            # installed app's, so each mistake is still reported at once.
+            apps = apps_for(spec, result.registry) if spec is not None else discover_apps()
+        except AppError as err:
+            problems.append(f"{config.tree}: {err}")
+    file = params_file(config, apps)
+    table = (*RUNNER_PARAMETERS, *(p for app in apps for p in app.parameters))
+    problems += [str(err) for err in check_values(overrides["runner"], table, {},
+                                                  "--runner-param")]
+    values: dict[str, Any] = dict(overrides["runner"])
+    if file and not Path(file).is_file():
+        problems.append(f"parameter file not found: '{file}'")
+    elif file:
+        contents = read_params_file(file)
         problems += [str(p) for p in contents.problems]
-        problems += [str(p) for p in check_values(contents.values, RUNNER_PARAMETERS,
-                                                  contents.locations, config.params)]
+        problems += [str(p) for p in check_values(contents.values, table,
+                                                  contents.locations, file)]
         values = {**contents.values, **overrides["runner"]}
         if not contents.problems:
-            problems += [str(p) for p in mission_problems(values, contents.locations,
-                                                          config.params)]
+            problems += [str(p) for app in apps if app.check is not None
+                         for p in app.check(values, contents.locations, file)]
+    elif apps:
+        problems += [str(p) for app in apps if app.check is not None
+                     for p in app.check(values, {}, "--runner-param")]
     zones = zone_positions(values)
     blocked = _blocked_areas(overrides["sim"], zones, problems)
     _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
@@ -181,4 +212,5 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     problems += fleet_issues
     if problems or spec is None:
         return None, problems
-    return CheckedInputs(spec, values, zones, blocked, fleet, coordinator), problems
+    return CheckedInputs(spec, values, zones, blocked, fleet, coordinator, tuple(apps),
+                         file), problems

@@ -14,7 +14,6 @@ from sar_framework.sim.params import SPEED
 DEFAULT_DOMAIN_ID = 42
 """``ROS_DOMAIN_ID`` when the environment sets none (the Makefile's value too)."""
 DEFAULT_TIMEOUT_S = 300.0
-DEFAULT_PARAMS = "config/mission_params.yaml"
 DEFAULT_REPORT_DIR = "reports/latest"
 
 
@@ -28,7 +27,8 @@ class RunConfig:
 
     Attributes:
         tree: The tree file.
-        params: The mission parameter file.
+        params: The mission parameter file; None: the tree's app's default (none for a tree
+            that uses no app), set by :func:`~sar_framework.orchestrate.config.check_config`.
         survivors: The detect server's survivor table, or None for its default.
         sim: Start the embedded simulator (else real Nav2 must be running).
         speed: The simulator's speed factor.
@@ -51,7 +51,7 @@ class RunConfig:
     """
 
     tree: str
-    params: str = DEFAULT_PARAMS
+    params: str | None = None
     survivors: str | None = None
     sim: bool = True
     speed: float = SPEED.default
@@ -90,8 +90,10 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.epilog = (COMPLETION_HELP + " Faults to inject (--sim-param, --detect-param, "
                      "--report-param NAME:=VALUE): see `sar-tree faults`.")
     parser.add_argument("tree", metavar="TREE", help="the tree file")
-    parser.add_argument("--params", default=DEFAULT_PARAMS, metavar="FILE",
-                        help=f"mission parameter file (default: {DEFAULT_PARAMS})")
+    parser.add_argument("--params", metavar="FILE",
+                        help="mission parameter file (default: the tree's app's, e.g. "
+                        "config/mission_params.yaml for search and rescue; none for a tree "
+                        "that uses no app)")
     parser.add_argument("--survivors", metavar="FILE",
                         help="survivor table for the detect server "
                         "(default: config/survivors.yaml)")
@@ -112,7 +114,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="print every log line of every process")
     parser.add_argument("--no-detect-server", dest="detect_server", action="store_false",
-                        help="do not start the detect server (fault injection)")
+                        help="do not start the search-and-rescue detect server (fault "
+                        "injection)")
     parser.add_argument("--no-report-server", dest="report_server", action="store_false",
                         help="do not start the report server (fault injection)")
     for who in ("sim", "detect", "report", "runner"):

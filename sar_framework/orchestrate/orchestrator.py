@@ -115,7 +115,7 @@ class Orchestrator:
             if event.kind == EventKind.COMPLETION and self.completion is None:
                 self.completion = event
                 self.completion_wall_s = time.monotonic() - self.started
-            line = progress_line(event)
+            line = progress_line(event, self.inputs.apps)
             if line is not None and self.watcher is None:
                 self.show(time.monotonic() - self.started, "runner", line)
 
@@ -146,7 +146,8 @@ class Orchestrator:
         """Start every child (the reader threads after all forks)."""
         env = ros_environment(log_dir=self.report_dir / "ros_log")
         self.say(
-            f"sar-tree run: {self.config.tree} with {self.config.params}; "
+            f"sar-tree run: {self.config.tree}"
+            + (f" with {self.config.params}; " if self.config.params else "; ")
             + (f"embedded simulator at {self.config.speed:g}x real time"
                if self.config.sim else "real Nav2 (no simulator)")
             + f"; ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}; logs in {self.report_dir}/"
@@ -171,7 +172,8 @@ class Orchestrator:
 
     def child_specs(self) -> list[ChildSpec]:
         """The processes to start, in order."""
-        return child_specs(self.config, self.report_dir, self.inputs.zones)
+        return child_specs(self.config, self.report_dir, self.inputs.zones,
+                           apps=self.inputs.apps)
 
     def child(self, label: str) -> ChildProcess | None:
         """The child called ``label``, if it was started."""
@@ -286,7 +288,8 @@ class Orchestrator:
             written: The report files written.
         """
         summarise(self.say, self.report_dir, outcome, written, self.stop_s,
-                  recording=Path(self.config.record) if self.config.record else None)
+                  recording=Path(self.config.record) if self.config.record else None,
+                  apps=self.inputs.apps)
         return outcome.exit_code
 
     def write_report(self, outcome: Outcome) -> list[Path]:
@@ -303,7 +306,7 @@ class Orchestrator:
             wall_duration_s=(self.completion_wall_s
                              if self.config.keep_alive and self.completion_wall_s is not None
                              else time.monotonic() - self.started),
-            blocked_areas=self.inputs.blocked_areas,
+            blocked_areas=self.inputs.blocked_areas, apps=self.inputs.apps,
         )
         try:
             return write_report(inputs)

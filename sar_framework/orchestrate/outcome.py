@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sar_framework.app import App
 from sar_framework.events.event import CAUSE_KINDS, REASON_KINDS, EventKind, MissionEvent
 
 EXIT_OK = 0
@@ -26,21 +27,26 @@ EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 
 PROGRESS_KINDS = frozenset({
-    EventKind.NAVIGATION, EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
-    EventKind.BASE_REACHED, EventKind.DETECTION, EventKind.SURVIVOR_BROADCAST,
-    EventKind.SURVIVOR_REPORTED, EventKind.SURVIVOR_REFUSED, EventKind.NOTE,
-    EventKind.COMPLETION, EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED,
+    EventKind.NAVIGATION, EventKind.GOAL_REACHED, EventKind.NOTE, EventKind.COMPLETION,
+    EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED,
 })
-"""The events shown on the console as the mission goes (:func:`progress_line`)."""
+"""The core's events shown on the console as the mission goes (:func:`progress_line`)."""
 
 
-def progress_line(event: MissionEvent) -> str | None:
-    """The console line of an event, or None when it is not a progress event."""
-    if event.kind not in PROGRESS_KINDS:
-        return None
-    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
-        return f"Report for {event.survivor_id} refused by base: {event.message}"
-    return event.message
+def progress_line(event: MissionEvent, apps: Sequence[App] = ()) -> str | None:
+    """The console line of an event, or None when it is not a progress event.
+
+    Args:
+        event: An event of the runner.
+        apps: The tree's apps: each says which of its own events are progress, and how.
+    """
+    if event.kind in PROGRESS_KINDS:
+        return event.message
+    for app in apps:
+        line = app.progress(event) if app.progress is not None else None
+        if line is not None:
+            return line
+    return None
 
 
 @dataclass
@@ -164,12 +170,31 @@ def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any,
 
 
 def _where_it_ended(summary: dict[str, Any]) -> str:
-    """``final position (0.02, -0.01), at base`` from a ``mission.json`` document."""
+    """``final position (0.02, -0.01)`` from a ``mission.json`` document.
+
+    With a base station (an app's ``at_base``), whether the robot ended there:
+    ``final position (0.02, -0.01), at base``.
+    """
     final = summary.get("final_position")
     if not final:
         return "final position unknown"
-    where = {True: "at base", False: "NOT at base", None: "base unknown"}[summary.get("at_base")]
-    return f"final position ({final['x']:.2f}, {final['y']:.2f}), {where}"
+    where = ""
+    if "at_base" in summary:
+        where = ", " + {True: "at base", False: "NOT at base",
+                        None: "base unknown"}[summary["at_base"]]
+    return f"final position ({final['x']:.2f}, {final['y']:.2f}){where}"
+
+
+def goal_parts(summary: dict[str, Any]) -> list[str]:
+    """``goals reached: 2 of 3; goals not reached: GoShelf (0.00, 3.00)`` from mission.json."""
+    goals = summary.get("goals", [])
+    reached = [g for g in goals if g.get("result") == "reached"]
+    parts = [f"goals reached: {len(reached)} of {len(goals)}"]
+    missed = [f"{g['node']} ({g['x']:.2f}, {g['y']:.2f})" for g in goals
+              if g.get("result") != "reached"]
+    if missed:
+        parts.append(f"goals not reached: {', '.join(missed)}")
+    return parts
 
 
 def away_from_goal_warning(summary: dict[str, Any]) -> str | None:
@@ -184,7 +209,7 @@ def away_from_goal_warning(summary: dict[str, Any]) -> str | None:
 
 def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
               written: Sequence[Path], stop_s: float | None, *,
-              recording: Path | None = None) -> None:
+              recording: Path | None = None, apps: Sequence[App] = ()) -> None:
     """Print the final lines: verdict, numbers, failures, where the report is.
 
     Args:
@@ -194,22 +219,20 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
         written: The report files written (mission.json among them, when it was).
         stop_s: Wall seconds the stop took, when known.
         recording: The ``--record`` file, when the mission was recorded.
+        apps: The tree's apps: their words replace the list of goals.
     """
     summary: dict[str, Any] = {}
     mission_json = report_dir / "mission.json"
     if mission_json in written:
         summary = json.loads(mission_json.read_text(encoding="utf-8"))
-    zones = list(dict.fromkeys(z["id"] for z in summary.get("zones_visited", [])))
-    survivors = [s["id"] for s in summary.get("survivors", []) if s.get("acknowledged")]
     parts = [f"Mission {outcome.status}"]
     if summary:
         parts.append(f"{summary.get('wall_duration_s', 0):.1f} s wall, "
                      f"{summary.get('sim_duration_s') or 0:.1f} s simulated, "
                      f"{summary.get('ticks', 0)} ticks")
-        parts.append(f"zones visited: {', '.join(zones) or 'none'}")
-        if summary.get("zones_skipped"):
-            parts.append(f"zones not reached: {', '.join(summary['zones_skipped'])}")
-        parts.append(f"survivors reported: {', '.join(survivors) or 'none'}")
+        own = [part for app in apps if app.summary is not None
+               for part in app.summary(summary)]
+        parts += own or goal_parts(summary)
         parts.append(_where_it_ended(summary))
     say("sar-tree run: " + "; ".join(parts))
     if outcome.reason:

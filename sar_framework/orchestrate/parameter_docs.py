@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from sar_framework.app import discover_apps
 from sar_framework.engine.param import REQUIRED, Param, type_name
 from sar_framework.mission.processes import MissionSettings, mission_processes
 from sar_framework.orchestrate.inputs import NODE_PARAMETERS
@@ -74,11 +75,15 @@ def markdown_table(table: tuple[Param, ...]) -> str:
 
 def document() -> str:
     """The whole of docs/reference/parameters.md."""
+    apps = discover_apps()
     executables = {p.label: p.executable for p in mission_processes(
-        MissionSettings(tree="t", params_file="p", record="r"))}
+        MissionSettings(tree="t", params_file="p", record="r"), apps)}
     executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's
     parts = [INTRO]
-    for label, table in NODE_PARAMETERS.items():
+    for label, own in NODE_PARAMETERS.items():
+        # the runner's with the installed apps' (a tree that uses one reads them)
+        table = (*(p for app in apps for p in app.parameters), *own) if label == "runner" \
+            else own
         title, module, note = _TITLES[label]
         lead = f"`{executables[label]}`, {title}; declared in `{module}`."
         parts.append(f"\n## {label}\n\n{lead}" + (f" {note[0].upper()}{note[1:]}." if note

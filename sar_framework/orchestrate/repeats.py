@@ -1,16 +1,15 @@
 """Repeated console lines, collapsed with a count (``sar-tree run``'s progress).
 
-A tree can take the same decision on every tick: the reference tree with a blocked zone
-alternates its zone goal and its base goal (the course's design), and each goal says
-"Returning to base with 3 zone(s) unvisited." once. Shown as it comes, that is a line a
-tick. :class:`RepeatCollapser` shows a line once while it keeps coming back among the
-last few lines shown, and says how often it came back when something new is said (or at
-the end)::
+A tree can take the same decision on every tick: a reactive tree whose first goal is
+blocked alternates that goal and its fallback, and each goal is told once. Shown as it
+comes, that is a line a tick. :class:`RepeatCollapser` shows a line once while it keeps
+coming back among the last few lines shown, and says how often it came back when
+something new is said (or at the end)::
 
-    Returning to base with 3 zone(s) unvisited.
-    --- Zone 2/4: zone_b (3.00, 3.00) ---
-    (repeated: 'Returning to base with 3 zone(s) unvisited.' 312 more times;
-     '--- Zone 2/4: zone_b (3.00, 3.00) ---' 311 more times)
+    goal (0.00, 0.00) sent to navigate_to_pose
+    goal (3.00, 3.00) sent to navigate_to_pose
+    (repeated: 'goal (0.00, 0.00) sent to navigate_to_pose' 312 more times;
+     'goal (3.00, 3.00) sent to navigate_to_pose' 311 more times)
 """
 
 from __future__ import annotations

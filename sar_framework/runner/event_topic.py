@@ -7,7 +7,7 @@ QoS (:func:`event_qos`): RELIABLE, TRANSIENT_LOCAL, KEEP_LAST :data:`EVENT_HISTO
 Reliable because a reader decides on every event (a lost ``completion`` is a lost
 verdict); transient-local with a deep history so a reader that joins late (``sar-tree
 watch``, the recorder started after the runner, a studio) still receives the mission's
-events so far: a mission emits tens of events per zone, so 1000 hold a long mission
+events so far: a mission emits tens of events per goal, so 1000 hold a long mission
 whole. A subscriber must ask for the same profile to get the past.
 
 :func:`to_message` and :func:`from_message` convert between the ROS message and the
@@ -18,7 +18,13 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.events.event import EVENT_TOPIC, EVENT_TOPIC_NAME, EventKind, MissionEvent
+from sar_framework.events.event import (
+    EVENT_TOPIC,
+    EVENT_TOPIC_NAME,
+    MissionEvent,
+    event_kind,
+    kind_name,
+)
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -41,6 +47,7 @@ def event_qos() -> QoSProfile:
 
 def to_message(event: MissionEvent) -> Any:
     """The ``sar_interfaces/msg/MissionEvent`` of ``event``."""
+    from diagnostic_msgs.msg import KeyValue
     from sar_interfaces.msg import MissionEvent as EventMsg
 
     message = EventMsg()
@@ -48,14 +55,13 @@ def to_message(event: MissionEvent) -> Any:
     message.stamp.sec, message.stamp.nanosec = divmod(stamp_ns, _NS)
     message.wall_s = float(event.wall_s)
     message.seq = event.seq
-    message.kind = event.kind.value
+    message.kind = kind_name(event.kind)
     message.node_name = event.node_name
     message.node_uid = event.node_uid
     message.node_kind = event.node_kind
     message.status = event.status
     message.message = event.message
-    message.zone_id = event.zone_id
-    message.survivor_id = event.survivor_id
+    message.fields = [KeyValue(key=key, value=value) for key, value in event.fields.items()]
     message.has_position = event.position is not None
     if event.position is not None:
         message.position.x, message.position.y, message.position.z = event.position
@@ -66,16 +72,17 @@ def from_message(message: Any) -> MissionEvent:
     """The event a ``sar_interfaces/msg/MissionEvent`` carries.
 
     Raises:
-        ValueError: Its ``kind`` is not one this version knows.
+        ValueError: Its ``kind`` is not a kind name.
     """
     point = message.position
     return MissionEvent(
-        kind=EventKind(message.kind), seq=int(message.seq),
+        kind=event_kind(message.kind), seq=int(message.seq),
         sim_s=round(message.stamp.sec + message.stamp.nanosec / _NS, 9),
         wall_s=float(message.wall_s), node_name=message.node_name,
         node_uid=message.node_uid, node_kind=message.node_kind, status=message.status,
-        message=message.message, zone_id=message.zone_id, survivor_id=message.survivor_id,
+        message=message.message,
         position=(point.x, point.y, point.z) if message.has_position else None,
+        fields={pair.key: pair.value for pair in message.fields},
     )
 
 

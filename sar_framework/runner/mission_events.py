@@ -1,24 +1,24 @@
-"""The runner's event emitter: wired to the topic, ``events.jsonl`` and the zone manager."""
+"""The runner's event emitter: wired to the topic, ``events.jsonl`` and the apps."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from sar_framework.events.emitter import EventEmitter
-from sar_framework.events.event import EventKind
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 
 if TYPE_CHECKING:
     from rclpy.node import Node
 
+    from sar_framework.app import AppRun
     from sar_framework.engine.api import LoadedTree
-    from sar_framework.mission.params import MissionParams
     from sar_framework.runner.settings import RunnerSettings
 
 
 def mission_events(node: Node, settings: RunnerSettings, loaded: LoadedTree,
-                   mission: MissionParams, wall_start: float,
+                   apps: Sequence[AppRun], wall_start: float,
                    ) -> tuple[EventEmitter, EventFileWriter | None]:
     """The mission's event emitter: to the topic, to ``events.jsonl`` beside the status file.
 
@@ -26,7 +26,7 @@ def mission_events(node: Node, settings: RunnerSettings, loaded: LoadedTree,
         node: The runner's node (its clock stamps the events; it publishes them).
         settings: The runner's parameters (``status_file`` places the JSON-lines file).
         loaded: The tree (an event's node is named by its uid and kind).
-        mission: The mission (its zone manager's reached/unreached zones become events).
+        apps: The tree's apps (each wires its own events to the emitter).
         wall_start: ``time.monotonic()`` when the runner started.
 
     Returns:
@@ -45,11 +45,7 @@ def mission_events(node: Node, settings: RunnerSettings, loaded: LoadedTree,
         writer = EventFileWriter(Path(settings.status_file).with_name(EVENTS_FILE))
         emitter.add_sink(writer)
 
-    def zone_event(kind: EventKind, zone: dict[str, Any]) -> None:
-        said = (f"Reached {zone['id']}." if kind == EventKind.ZONE_REACHED
-                else f"{zone['id']} not reached; the mission moves on.")
-        position = (zone["x"], zone["y"]) if "x" in zone else None
-        emitter.emit(kind, zone_id=zone["id"], message=said, position=position)
-
-    mission.zone_manager.observe(zone_event)
+    for app in apps:
+        if app.observe is not None:
+            app.observe(emitter)
     return emitter, writer

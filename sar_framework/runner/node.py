@@ -10,8 +10,9 @@ Start-up, in order; each step is bounded and fails with one clear message:
 1. every ``--params-file`` is checked in pure Python (file:line:col messages) before rcl
    parses it (:mod:`sar_framework.mission.params_file`);
 2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
-   parameters (:mod:`.settings`) and the mission's (zones, ``tick_rate_hz``) are read;
-3. the tree is loaded with ``load_tree(tree, context={"zone_manager": ...})``;
+   parameters (:mod:`.settings`) are read;
+3. the tree is checked, and each app it uses (:mod:`sar_framework.app`) reads its own
+   parameters and gives its context objects; the tree is loaded with them;
    (``~/reload`` and ``watch_tree`` swap a new one in between ticks: :mod:`.reload`)
 4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
 5. the tree is set up with ``node=`` (bounded by ``setup_timeout_wall_s``) and ticked at
@@ -56,12 +57,7 @@ from py_trees.common import Status
 
 from sar_framework.events.event import EVENT_TOPIC_NAME, EventKind, in_namespace
 from sar_framework.mission.completion import ending_one_shot, resolve_completion
-from sar_framework.mission.params import (
-    MissionParams,
-    ParamsError,
-    create_params_node,
-    read_mission_params,
-)
+from sar_framework.mission.params import ParamsError, create_params_node
 from sar_framework.mission.params_file import (
     KeyLocation,
     check_params_file,
@@ -89,6 +85,7 @@ if TYPE_CHECKING:
     from rclpy.node import Node
     from rclpy.timer import Timer
 
+    from sar_framework.app import App, AppRun
     from sar_framework.engine.api import LoadedTree
     from sar_framework.engine.reloading.hot_swap import HotSwap
 
@@ -114,21 +111,21 @@ class MissionRunner:
     Args:
         node: The runner node (also given to every behaviour's ``setup``).
         settings: The runner's parameters.
-        mission: The mission parameters (tick rate).
+        apps: The tree's apps, started (their events and status fields).
         loaded: The loaded tree.
         stop: The stop flag set by signals.
         wall_start: ``time.monotonic()`` when the process started.
         context: The shared objects the tree was built with (a reload builds with them).
     """
 
-    def __init__(self, node: Node, settings: RunnerSettings, mission: MissionParams,
+    def __init__(self, node: Node, settings: RunnerSettings, apps: Sequence[AppRun],
                  loaded: LoadedTree, *, stop: StopSignals, wall_start: float,
                  context: Mapping[str, Any] | None = None) -> None:
         from sar_framework.runner.tree_ticker import create_behaviour_tree
 
         self.node = node
         self.settings = settings
-        self.mission = mission
+        self.apps = tuple(apps)
         self.loaded = loaded
         self.stop = stop
         self.logger = node.get_logger()
@@ -138,7 +135,7 @@ class MissionRunner:
         self.completion, self.completion_why = resolve_completion(settings.completion,
                                                                   loaded.spec)
         self.tree = create_behaviour_tree(loaded.root)
-        self.events, self._events_file = mission_events(node, settings, loaded, mission,
+        self.events, self._events_file = mission_events(node, settings, loaded, self.apps,
                                                         wall_start)
         entries = EntryTracker(loaded.entries, writers_of(loaded.entries.values()))
         self.status_writer = StatusFileWriter(
@@ -151,12 +148,20 @@ class MissionRunner:
         self.tree.visitors.append(self.status_writer)
         self.tree.add_post_tick_handler(self._after_tick)
         self.status_publisher = TreeStatusPublisher(
-            node, loaded.spec, loaded.behaviours, zone_manager=mission.zone_manager,
+            node, loaded.spec, loaded.behaviours, extra=self._app_status,
             complete=lambda: self.status_writer.complete, entries=entries).attach(self.tree)
         self.reloader = TreeReloader(  # the ~/reload service; watch_tree: the file watched
             node, settings.tree, settings.plugin_paths, context or {}, self.events,
             current=lambda: self.loaded, complete=lambda: self.status_writer.complete,
             adopt=self._adopt, watch=settings.watch_tree)
+
+    def _app_status(self) -> dict[str, Any]:
+        """The apps' fields of the tree status, as they are now."""
+        fields: dict[str, Any] = {}
+        for app in self.apps:
+            if app.status is not None:
+                fields.update(app.status())
+        return fields
 
     def _adopt(self, swap: HotSwap) -> None:
         """Tick a swapped tree from the next tick on (see :mod:`.reload`)."""
@@ -187,9 +192,9 @@ class MissionRunner:
         """
         from sar_framework.runner.tree_ticker import implementation_name
 
-        period_ms = 1000.0 / self.mission.tick_rate_hz
+        period_ms = 1000.0 / self.settings.tick_rate_hz
         self.tree.tick_tock(period_ms=period_ms)
-        ticking = (f"Ticking {self.settings.tree} at {self.mission.tick_rate_hz:g} Hz "
+        ticking = (f"Ticking {self.settings.tree} at {self.settings.tick_rate_hz:g} Hz "
                    f"({implementation_name(self.tree)} tree, {len(self.loaded.behaviours)} "
                    f"nodes); completion: {self.completion} ({self.completion_why})")
         self.events.emit(EventKind.STARTED, message=ticking)
@@ -303,6 +308,19 @@ def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLo
     return files, locations
 
 
+def start_apps(node: Node, apps: Sequence[App], source: str,
+               locations: Mapping[str, KeyLocation]) -> list[AppRun]:
+    """Start the tree's apps on the runner's node: each reads its parameters.
+
+    Raises:
+        ParamsError: An app's parameter is missing or wrong.
+    """
+    from sar_framework.app import AppRun
+
+    return [app.start(node, source, locations) if app.start is not None else AppRun()
+            for app in apps]
+
+
 def run(argv: Sequence[str] | None = None) -> int:
     """Run the mission runner.
 
@@ -318,6 +336,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework import load_tree
+    from sar_framework.app import AppError, tree_apps
     from sar_framework.engine.diagnostics import TreeLoadError
     from sar_framework.runner.nav2_startup import (
         Nav2StartupError,
@@ -349,24 +368,22 @@ def run(argv: Sequence[str] | None = None) -> int:
         return code
 
     try:
-        # Name the mission's file in messages (launch adds temporary files of its own).
-        mission_file = locations.get("zone_order")
-        source = mission_file.file if mission_file else (files[0] if files else "parameters")
+        source = files[0] if files else "parameters"
         try:
             node = create_runner_node()
-        except ValueError as err:  # e.g. -p zone_order:=[] (an untyped empty list)
+        except ValueError as err:  # e.g. -p NAME:=[] (an untyped empty list)
             return fail(EXIT_CONFIG, "parameters", f"{source}: {err}")
         try:
             # A runner setting missing from the files came from a -p override or a default.
             settings = read_runner_settings(node, source="parameters", locations=locations)
-            mission = read_mission_params(node, source=source, locations=locations)
+            apps = start_apps(node, tree_apps(settings.tree, settings.plugin_paths), source,
+                              locations)
         except ParamsError as err:
             return fail(EXIT_CONFIG, "parameters", str(err))
+        except AppError as err:
+            return fail(EXIT_CONFIG, "tree", str(err))
         logger = node.get_logger()
-        for zone_id in mission.unused_zones:
-            logger.warning(f"{source}: zones.{zone_id} is defined but not in zone_order "
-                           "(it will not be visited)")
-        context = tree_context(mission, node)
+        context = tree_context(node, apps)
         try:
             loaded = load_tree(settings.tree, context=context, plugin_paths=settings.plugin_paths)
         except TreeLoadError as err:
@@ -379,7 +396,7 @@ def run(argv: Sequence[str] | None = None) -> int:
             seed_amcl_and_wait_for_nav2(
                 pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
                 use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
-        runner = MissionRunner(node, settings, mission, loaded, stop=stop,
+        runner = MissionRunner(node, settings, apps, loaded, stop=stop,
                                wall_start=wall_start, context=context)
         try:
             runner.setup()

@@ -4,8 +4,8 @@
 did and keeps one record per event worth telling a user::
 
     {"what": "timeout", "uid": "0.0.1.0", "name": "VisitWithin180s", "kind": "timeout",
-     "message": "timed out after 180 s; NavigateToZone: navigation to zone_a interrupted; "
-                "goal cancelled", "sim_s": 201.5, "wall_s": 11.2}
+     "message": "timed out after 180 s; GoShelf: navigate_to_pose cancelled",
+     "sim_s": 201.5, "wall_s": 11.2}
 
 ``what`` is ``failure`` (a leaf that had been RUNNING failed), ``timeout`` (a ``timeout``
 decorator failed its child), ``cancel`` (a RUNNING leaf was halted by its parent, e.g. a
@@ -15,8 +15,8 @@ or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). 
 ``retry`` too (``NavigateRecovery [0.1] retry: recovery 1/6 done (ClearEntireCostmap
 ClearLocalCostmap-Subtree) after FollowPath: ...; trying again``), and one that fails
 after recoveries says it gives up. Each
-record's :func:`reason_line` is what the runner logs: ``NavigateToZone [0.0.1]: goal to
-zone_b aborted: no path``.
+record's :func:`reason_line` is what the runner logs: ``GoShelf [0.0.1]: navigate_to_pose
+aborted (error code 206): goal (0.00, 3.00) is inside an obstacle``.
 """
 
 from __future__ import annotations

@@ -77,7 +77,7 @@ class TreeReloader:
         node: The runner node (service, timer, behaviours' ``setup``).
         tree_file: The tree file.
         plugin_paths: Extra plugin locations.
-        context: The shared objects the tree was built with (the ZoneManager...).
+        context: The shared objects the tree was built with (the apps' objects...).
         events: The mission's event emitter.
         current: Returns the tree ticking now.
         complete: Whether the mission is complete (then nothing is reloaded).

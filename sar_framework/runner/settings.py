@@ -49,6 +49,7 @@ class RunnerSettings:
         setup_timeout_wall_s: Bound of the tree's setup, seconds.
         initial_pose: The AMCL seed.
         use_sim_time: Whether the node follows ``/clock``.
+        tick_rate_hz: How often the tree ticks (ROS time).
     """
 
     tree: str
@@ -63,6 +64,7 @@ class RunnerSettings:
     setup_timeout_wall_s: float
     initial_pose: InitialPose
     use_sim_time: bool
+    tick_rate_hz: float
 
 
 def default_tree() -> str:
@@ -112,4 +114,5 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
         initial_pose=InitialPose(*(float(values[f"initial_pose.{k}"])
                                    for k in ("x", "y", "yaw"))),
         use_sim_time=bool(values["use_sim_time"]),
+        tick_rate_hz=float(values["tick_rate_hz"]),
     )

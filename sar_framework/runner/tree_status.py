@@ -13,8 +13,9 @@ One ``std_msgs/msg/String`` per tick whose ``data`` is a JSON document::
 ``sim_s`` is the runner's ROS clock after the tick (``/clock`` time with ``use_sim_time``),
 ``sim_start_s`` the same on the first tick. ``nodes`` lists every node depth first as ``[uid,
 name, kind, status, feedback message, visited this tick]`` (a uid's depth is its number of
-dots). ``zone`` is the zone the mission is at (None when every zone is done or no zone
-manager is known), ``blackboard`` the keys the leaves write, with their values as text.
+dots). An app adds fields of its own (the search-and-rescue app's ``zone``: the zone the
+mission is at, None once every zone is done); ``blackboard`` holds the keys the leaves
+write, with their values as text.
 ``complete`` turns true once the mission is over (the runner's own verdict).
 ``entries`` (only for a tree with blackboard entries, :mod:`.entry_values`) lists the
 entries whose value changed since the previous message as ``[name, key, value text, type,
@@ -28,7 +29,7 @@ view) without an interface package of ours; :func:`decode_status` reads it back.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
 import py_trees
@@ -39,7 +40,6 @@ if TYPE_CHECKING:
     from rclpy.node import Node
 
     from sar_framework.engine.spec import TreeSpec
-    from sar_framework.mission.zone_manager import ZoneManager
 
 STATUS_TOPIC_NAME = "sar_tree/status"
 """Relative: a runner in ``/robot1`` publishes ``/robot1/sar_tree/status``."""
@@ -48,18 +48,6 @@ STATUS_TOPIC = "/" + STATUS_TOPIC_NAME
 STATUS_TYPE = "std_msgs/msg/String"
 FORMAT = 1
 _BLACKBOARD_TEXT_MAX = 120
-
-
-def zone_of(zone_manager: ZoneManager | None) -> dict[str, Any] | None:
-    """The zone the mission is at, as ``{"id", "index", "total"}``, or None.
-
-    Args:
-        zone_manager: The mission's zone manager, if any.
-    """
-    if zone_manager is None or not zone_manager.has_remaining():
-        return None
-    return {"id": zone_manager.current_zone()["id"], "index": zone_manager.current_index(),
-            "total": zone_manager.total_zones()}
 
 
 def written_blackboard(behaviours: dict[str, py_trees.behaviour.Behaviour]) -> dict[str, str]:
@@ -95,14 +83,14 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         node: The node to publish from (the runner's).
         spec: The validated tree.
         behaviours: ``uid -> behaviour`` from ``load_tree``.
-        zone_manager: The mission's zone manager, for the current zone.
+        extra: The apps' fields of the document, as they are now.
         complete: Returns whether the mission is over (the runner's verdict).
         entries: The tree's entries; none by default.
     """
 
     def __init__(self, node: Node, spec: TreeSpec,
                  behaviours: dict[str, py_trees.behaviour.Behaviour], *,
-                 zone_manager: ZoneManager | None = None,
+                 extra: Callable[[], Mapping[str, Any]] | None = None,
                  complete: Callable[[], bool] | None = None,
                  entries: EntryTracker | None = None) -> None:
         from std_msgs.msg import String
@@ -114,7 +102,7 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
         self._name = spec.name
         self._order = [(n.uid, n.name, n.kind) for n in spec.nodes()]
         self._behaviours = behaviours
-        self._zone_manager = zone_manager
+        self._extra = extra or dict
         self._complete = complete or (lambda: False)
         self._visited: set[int] = set()
         self._message_type = String
@@ -166,7 +154,7 @@ class TreeStatusPublisher(py_trees.visitors.VisitorBase):
             "format": FORMAT, "tree": self._name, "tick": self.tick,
             "sim_s": sim_s, "sim_start_s": self.sim_start_s,
             "status": tree.root.status.name, "complete": bool(self._complete()),
-            "zone": zone_of(self._zone_manager), "nodes": nodes,
+            **self._extra(), "nodes": nodes,
             "blackboard": written_blackboard(self._behaviours),
         }
         if self._entries is not None:

@@ -39,7 +39,6 @@ if TYPE_CHECKING:
 EXIT_OK = 0
 EXIT_USAGE = 2
 REPO = Path(__file__).resolve().parents[2]
-DEFAULT_PARAMS = "config/mission_params.yaml"
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -59,8 +58,9 @@ def configure(parser: argparse.ArgumentParser) -> None:
                            "--speed and --plugin-path (stopped with the studio)")
     live.add_argument("--speed", type=float, metavar="X",
                       help="with --run: the simulator's speed factor")
-    live.add_argument("--params", default=DEFAULT_PARAMS, metavar="FILE",
-                      help=f"mission parameter file: zones, base (default: {DEFAULT_PARAMS})")
+    live.add_argument("--params", metavar="FILE",
+                      help="mission parameter file (default: the tree's app's, e.g. the "
+                      "search-and-rescue zones and base; none for a tree without an app)")
     replay = modes.add_parser("replay", help="scrub through a recording (.mcap)",
                               description="Open a recording of sar-tree run --record.")
     replay.add_argument("recording", metavar="FILE.mcap")
@@ -120,12 +120,31 @@ def _start_mission(args: argparse.Namespace) -> ChildProcess:
     """``sar-tree run`` of ``--run``, its output on this terminal."""
     from sar_framework.child_process import ChildProcess
 
-    argv = [sys.executable, "-m", "sar_framework", "run", args.run, "--params", args.params]
+    argv = [sys.executable, "-m", "sar_framework", "run", args.run]
+    if args.params:
+        argv += ["--params", args.params]
     if args.speed is not None:
         argv += ["--speed", f"{args.speed:g}"]
     for folder in args.plugin_path:
         argv += ["--plugin-path", folder]
     return ChildProcess(argv, "mission", die_with_parent=True).start()
+
+
+def _params_file(args: argparse.Namespace) -> str:
+    """``--params``, else the default of the tree's apps, else "".
+
+    Every installed app's default serves while the tree is not known yet.
+    """
+    from sar_framework.app import AppError, discover_apps, tree_apps
+
+    if args.params:
+        return args.params
+    tree = args.tree or args.run
+    try:
+        apps = tree_apps(tree, args.plugin_path) if tree else discover_apps()
+    except AppError:
+        apps = []
+    return next((f for f in (app.default_params_file() for app in apps) if f), "")
 
 
 def _editor(args: argparse.Namespace) -> TreeEditor | int:
@@ -165,8 +184,9 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
         tree = _live_tree(args)
         if isinstance(tree, int):
             return tree
-        params = Path(args.params) if Path(args.params).is_file() else None
-        session = Session(LIVE, tree, world_view(params), "live")
+        params = _params_file(args)
+        session = Session(LIVE, tree, world_view(params if Path(params).is_file() else None),
+                          "live")
         if args.tree or args.run:
             edit_live(session, args.tree or args.run, args.plugin_path)
         else:  # the file the runner says it ticks, once it runs

@@ -6,7 +6,7 @@ what the mission publishes on the same ROS domain:
 - ``/sar_tree/status`` (:mod:`sar_framework.runner.tree_status`): the tree's statuses,
   blackboard and entries, every tick;
 - ``/sar_mission/events`` (:mod:`sar_framework.runner.event_topic`): the typed events
-  (reasons, zones, survivors, completion);
+  (reasons, goals, an app's events, completion);
 - ``/tf`` and ``/tf_static``: the robot's pose in ``map``
   (:class:`~sar_framework.recording.readback.PoseTracker`, as replay reads them);
 - ``/map``: the occupancy grid the map server latches (injected obstacles included).

@@ -20,12 +20,16 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent
+from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent, kind_name
 from sar_framework.runner.entry_values import apply_entries
 
 if TYPE_CHECKING:
     from sar_framework.recording.readback import Recording
 
+#: The core's fields of a tree status; a frame carries the others as they are (an app's:
+#: the search-and-rescue app's current zone, in the studio's header).
+CORE_STATUS_KEYS = frozenset({"format", "tree", "tick", "sim_s", "sim_start_s", "status",
+                              "complete", "nodes", "blackboard", "entries", "entries_full"})
 #: Reasons a frame carries (the latest).
 REASONS_SHOWN = 40
 #: The path keeps a pose only this far (metres) from the previous one kept.
@@ -132,9 +136,9 @@ class Timeline:
 
     def marks(self) -> list[dict[str, Any]]:
         """The timeline's marks: failures, survivors, zone arrivals, reloads and the end."""
-        return [{"t": self._event_times[i], "kind": MARKS[e.kind.value], "seq": e.seq,
+        return [{"t": self._event_times[i], "kind": MARKS[kind_name(e.kind)], "seq": e.seq,
                  "label": _event_label(e)}
-                for i, e in enumerate(self.events) if e.kind.value in MARKS]
+                for i, e in enumerate(self.events) if kind_name(e.kind) in MARKS]
 
     def event_rows(self) -> list[dict[str, Any]]:
         """Every event in order, for the replay's event list, each with the instant it links to.
@@ -147,8 +151,9 @@ class Timeline:
         """
         start = self.start_s
         return [{"i": i, "t": max(t, start), "sim_s": e.sim_s, "seq": e.seq,
-                 "kind": e.kind.value, "node": e.node_name, "uid": e.node_uid,
-                 "status": e.status, "zone": e.zone_id, "survivor": e.survivor_id,
+                 "kind": kind_name(e.kind), "node": e.node_name, "uid": e.node_uid,
+                 "status": e.status, "zone": e.value("zone_id"),
+                 "survivor": e.value("survivor_id"),
                  "message": e.message}
                 for i, (e, t) in enumerate(zip(self.events, self._event_times, strict=True))]
 
@@ -169,7 +174,8 @@ class Timeline:
         reasons = self._reasons[:bisect.bisect_left(self._reasons, j)][-REASONS_SHOWN:]
         return {
             "t": t, "tick": status.get("tick", 0), "status": status.get("status", "INVALID"),
-            "complete": bool(status.get("complete")), "zone": status.get("zone"),
+            "complete": bool(status.get("complete")),
+            **{key: value for key, value in status.items() if key not in CORE_STATUS_KEYS},
             "nodes": {n["uid"]: [n["status"], n["message"], n["visited"]]
                       for n in status.get("nodes", [])},
             "blackboard": status.get("blackboard", {}),
@@ -178,7 +184,7 @@ class Timeline:
             "robot": list(self.poses[k][1:]) if k >= 0 else None,
             "path": self._path[:p],
             "survivors": _survivors(self.events[:j]),
-            "zones_reached": [e.zone_id for e in self.events[:j]
+            "zones_reached": [e.value("zone_id") for e in self.events[:j]
                               if e.kind == EventKind.ZONE_REACHED],
             "reasons": [self._reason(n) for n in reversed(reasons)],
         }
@@ -204,7 +210,7 @@ class Timeline:
 
     def _reason(self, n: int) -> dict[str, Any]:
         event = self.events[n]
-        return {"t": self._event_times[n], "seq": event.seq, "kind": event.kind.value,
+        return {"t": self._event_times[n], "seq": event.seq, "kind": kind_name(event.kind),
                 "node": event.node_name, "uid": event.node_uid, "message": event.message}
 
 
@@ -214,13 +220,13 @@ def _survivors(events: list[MissionEvent]) -> list[dict[str, Any]]:
     for event in events:
         if event.kind in _SURVIVOR_KINDS and event.position is not None:
             key = tuple(round(v, 2) for v in event.position)
-            found[key] = event.survivor_id or found.get(key, "")
+            found[key] = event.value("survivor_id") or found.get(key, "")
     return [{"id": name, "position": list(key)} for key, name in found.items()]
 
 
 def _event_label(event: MissionEvent) -> str:
-    subject = event.zone_id or event.survivor_id or event.node_name
-    return f"{event.kind.value} {subject}".strip()
+    subject = event.value("zone_id") or event.value("survivor_id") or event.node_name
+    return f"{kind_name(event.kind)} {subject}".strip()
 
 
 def timeline_of(recording: Recording) -> Timeline:

@@ -13,7 +13,8 @@ wall second) and the servers follow it (``use_sim_time``).
 
 Their command lines come from :mod:`sar_framework.mission.processes`, the one description
 of the mission's processes that ``sar-tree run`` and the launch file start from too: the
-stack is that mission without its runner.
+stack is that mission without its runner, with the processes of every installed app (the
+search-and-rescue app's servers).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from sar_framework.app import discover_apps
 from sar_framework.mission.processes import MissionSettings, mission_processes, ros_arguments
 from sar_framework.testing.processes import NodeProcess
 
@@ -50,7 +52,8 @@ class MissionStack:
         self.processes = [
             NodeProcess(["-m", process.module, "--ros-args", *ros_arguments(process)],
                         process.label, log_dir=self.log_dir)
-            for process in mission_processes(settings) if process.label != "runner"]
+            for process in mission_processes(settings, discover_apps())
+            if process.label != "runner"]
 
     def start(self) -> MissionStack:
         """Start all three and wait until each has logged ``ready``."""

@@ -7,7 +7,7 @@ a stream there as ``py-trees-tree-watcher`` does (one snapshot per tick, with th
 blackboard variables on the visited path; the activity stream is not asked for, the view
 does not show it), and :meth:`SnapshotFeed.merged` puts the snapshot's node statuses,
 messages and blackboard values into the status document of the same tick, so the view
-shows what ``py-trees-tree-watcher`` shows. Zone, tick rate and completion stay those of
+shows what ``py-trees-tree-watcher`` shows. Apps' fields, tick rate and completion stay those of
 ``/sar_tree/status``. Without py_trees_ros (:func:`snapshots_available`) the watcher
 uses ``/sar_tree/status`` alone.
 """

@@ -1,7 +1,7 @@
 """One frame of ``sar-tree watch``: a tree status document drawn with rich (no ROS).
 
-The frame shows a header line (tree, tick, ticks per second, simulated time, current
-zone, root status), the tree with each node's status symbol and name in the status's
+The frame shows a header line (tree, tick, ticks per second, simulated time, an app's
+field, root status), the tree with each node's status symbol and name in the status's
 colour (the py_trees symbols, so it reads like ``py-trees-tree-watcher``), the running
 branch in bold, feedback messages dimmed beside their node, the blackboard keys the
 leaves write and, for a tree with blackboard entries, an entries panel (value, type and
@@ -53,15 +53,21 @@ def tree_view(nodes: Sequence[dict[str, Any]], title: Text) -> Tree:
 
 
 def header(document: dict[str, Any], ticks_per_s: float | None) -> Text:
-    """The line above the tree: name, tick, rate, simulated time, zone, root status."""
-    zone = document.get("zone")
-    zone_text = (f"{zone['id']} ({zone['index'] + 1}/{zone['total']})" if zone
-                 else "none left")
+    """The line above the tree: name, tick, rate, simulated time, root status.
+
+    An app's status field is shown too: the search-and-rescue app's zone (for a tree that
+    uses it).
+    """
+    zone_text = ""
+    if "zone" in document:
+        zone = document["zone"]
+        zone_text = "zone " + (f"{zone['id']} ({zone['index'] + 1}/{zone['total']})" if zone
+                               else "none left") + "  "
     rate = f"{ticks_per_s:.1f}" if ticks_per_s is not None else "-"
     status = str(document.get("status", "INVALID"))
     text = Text(f"{document.get('tree', '?')}", style="bold")
     text.append(f"  tick {document.get('tick', 0)}  {rate} ticks/s  "
-                f"sim {float(document.get('sim_s') or 0.0):.1f} s  zone {zone_text}  root ")
+                f"sim {float(document.get('sim_s') or 0.0):.1f} s  {zone_text}root ")
     text.append(status, style=STATUS_STYLES.get(status, ""))
     return text
 

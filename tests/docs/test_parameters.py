@@ -59,7 +59,9 @@ def test_sar_sim_help_lists_every_simulator_parameter() -> None:
 
 
 def test_defaults_as_the_docs_show_them() -> None:
-    by_name = {p.name: p for p in NODE_PARAMETERS["runner"]}
+    from sar_framework.mission.runner_params import MISSION_PARAMETERS
+
+    by_name = {p.name: p for p in (*MISSION_PARAMETERS, *NODE_PARAMETERS["runner"])}
     assert [default_text(by_name[n]) for n in ("zone_order", "seed_amcl", "tree",
                                                 "tick_rate_hz")] == [
         "(required)", "`true`", "`'trees/search_and_rescue.yaml'`", "`2.0`"]

@@ -105,7 +105,7 @@ def _recorded(record: Path) -> tuple[list[tuple[Any, ...]], dict[str, Any]]:
     from sar_framework.report import MissionInputs, summarise
 
     recording = read_recording(record)
-    told = [(e.kind, e.node_uid, e.node_name, e.status, e.zone_id, e.survivor_id,
+    told = [(e.kind, e.node_uid, e.node_name, e.status, e.value("zone_id"), e.value("survivor_id"),
              e.position, e.message) for e in recording.events if e.kind != EventKind.STATUS]
     folder = record.with_suffix("")
     files = write_report_inputs(recording, folder)

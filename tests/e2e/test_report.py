@@ -25,14 +25,14 @@ def _events(folder: Path, *events: MissionEvent) -> None:
 def _files(folder: Path) -> None:
     _events(
         folder,
-        MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, wall_s=1.0, zone_id="zone_a",
+        MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, wall_s=1.0, fields={"zone_id": "zone_a"},
                      message="whatever words", position=(-3.0, 3.0, 0.0)),
         MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=20.0, wall_s=1.1,
-                     survivor_id="survivor_1", position=(-2.5, 3.2, 0.0)),
+                     fields={"survivor_id": "survivor_1"}, position=(-2.5, 3.2, 0.0)),
         MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=30.0, wall_s=1.5,
-                     survivor_id="survivor_2", position=(4.1, -2.5, 0.0)),
+                     fields={"survivor_id": "survivor_2"}, position=(4.1, -2.5, 0.0)),
         MissionEvent(EventKind.SURVIVOR_REFUSED, sim_s=30.5, wall_s=1.6,
-                     survivor_id="survivor_2", message="refuse_all is set",
+                     fields={"survivor_id": "survivor_2"}, message="refuse_all is set",
                      position=(4.1, -2.5, 0.0)),
         MissionEvent(EventKind.BASE_REACHED, sim_s=40.0, wall_s=2.0, node_uid="0.1.0",
                      node_name="NavigateToBase", position=(0.0, 0.0, 0.0)),
@@ -83,13 +83,31 @@ def test_summary_and_files(tmp_path: Path) -> None:
     assert (tmp_path / "mission.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_every_simulated_time_counts_from_the_first_tick(tmp_path: Path) -> None:
+    """Regression: a failure 10 s after an arrival read 97.8 s later (two zero points)."""
+    _files(tmp_path)
+    _events(tmp_path,
+            MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, fields={"zone_id": "zone_a"}),
+            MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=20.0,
+                         fields={"survivor_id": "survivor_1"}, position=(-2.5, 3.2, 0.0)),
+            MissionEvent(EventKind.FAILURE, sim_s=29.0, node_name="DetectSurvivor",
+                         message="no answer"))
+    summary = summarise(MissionInputs(tmp_path, str(DEFAULT_TREE), str(PARAMS), None,
+                                      "FAILURE"))
+    assert summary["sim_start_s"] == 1.0
+    arrival = summary["zones_visited"][0]["arrival_sim_s"]
+    assert (arrival, summary["survivors"][0]["found_sim_s"],
+            summary["failures"][0]["sim_s"]) == (18.0, 19.0, 28.0)
+
+
 def test_report_without_any_run_files(tmp_path: Path) -> None:
     inputs = MissionInputs(tmp_path, "t.yaml", str(tmp_path / "none.yaml"), None, "ERROR",
                            reason="the runner exited (3)")
     written = write_report(inputs)
     assert [p.name for p in written] == ["mission.json", "mission.png"]
     summary = json.loads((tmp_path / "mission.json").read_text())
-    assert summary["zones_visited"] == [] and summary["sim_duration_s"] is None
+    assert summary["goals"] == [] and summary["sim_duration_s"] is None
+    assert "zones_visited" not in summary  # no zones, no event of the app: nothing of it
 
 
 def test_a_label_near_the_map_edge_stays_out_of_the_legend() -> None:

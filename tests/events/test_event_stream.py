@@ -30,7 +30,8 @@ MSG = REPO / "interfaces" / "sar_interfaces" / "msg" / "MissionEvent.msg"
 FULL = MissionEvent(EventKind.SURVIVOR_BROADCAST, seq=7, sim_s=21.4, wall_s=2.125,
                     node_name="BroadcastSurvivorTF", node_uid="0.0.3.0.1",
                     node_kind="BroadcastSurvivorTF", status="", message="é ünïcode, \"quoted\"",
-                    zone_id="zone_a", survivor_id="survivor_1", position=(-2.5, 3.2, 0.0))
+                    position=(-2.5, 3.2, 0.0),
+                    fields={"zone_id": "zone_a", "survivor_id": "survivor_1"})
 
 
 @pytest.mark.parametrize("kind", list(EventKind))
@@ -59,7 +60,10 @@ def test_the_python_kinds_are_the_message_constants() -> None:
 
 @pytest.mark.parametrize(("document", "words"), [
     ([1, 2], "JSON object"),
-    ({"kind": "teleported"}, "unknown kind"),
+    ({"kind": "Teleported!"}, "unknown kind"),
+    ({"kind": 3}, "unknown kind"),
+    ({"kind": "status", "fields": {"zone_id": 3}}, "fields"),
+    ({"kind": "status", "fields": ["zone_id"]}, "fields"),
     ({"kind": "status", "seq": -1}, "seq"),
     ({"kind": "status", "seq": True}, "seq"),
     ({"kind": "status", "sim_s": "soon"}, "sim_s"),
@@ -71,6 +75,24 @@ def test_the_python_kinds_are_the_message_constants() -> None:
 def test_bad_documents_are_refused_with_the_field_named(document: object, words: str) -> None:
     with pytest.raises(EventFormatError, match=words):
         event_from_dict(document)
+
+
+def test_an_apps_kind_and_fields_need_no_change_of_the_event() -> None:
+    event = MissionEvent("shelf_scanned", seq=4, sim_s=3.5, fields={"shelf": "nw", "items": "12"})
+    assert event_from_json(event.to_json()) == event
+    assert event.value("shelf") == "nw" and event.value("zone_id") == ""
+    assert json.loads(event.to_json())["kind"] == "shelf_scanned"
+
+
+@pytest.mark.ros
+def test_an_apps_kind_and_fields_travel_in_the_message_as_key_value_pairs() -> None:
+    from sar_framework.runner.event_topic import from_message, to_message
+
+    event = MissionEvent("shelf_scanned", seq=4, sim_s=3.5, fields={"shelf": "nw", "items": "12"})
+    message = to_message(event)
+    assert [(pair.key, pair.value) for pair in message.fields] == [("shelf", "nw"),
+                                                                   ("items", "12")]
+    assert from_message(message) == event
 
 
 def test_not_json_is_refused() -> None:
@@ -105,7 +127,7 @@ def test_the_follower_reads_only_complete_lines_and_skips_bad_ones(tmp_path: Pat
         handle.write(line[:20])
         handle.flush()
         assert follower.poll() == []  # half a line is not an event
-        handle.write(line[20:] + "\nnot json\n" + '{"kind": "warp"}\n')
+        handle.write(line[20:] + "\nnot json\n" + '{"kind": "Warp!"}\n')
         handle.flush()
         assert follower.poll() == [FULL]
         assert follower.rejected == 2
@@ -176,8 +198,8 @@ def test_the_ros_message_carries_every_field() -> None:
     bare = MissionEvent(EventKind.COMPLETION, seq=9, sim_s=0.001, status="FAILURE")
     assert not to_message(bare).has_position
     assert from_message(to_message(bare)) == bare
-    message.kind = "teleported"
-    with pytest.raises(ValueError, match="teleported"):
+    message.kind = "Teleported!"
+    with pytest.raises(ValueError, match="Teleported!"):
         from_message(message)
     from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 

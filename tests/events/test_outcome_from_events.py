@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from sar_plugins.sar.app import APP as SAR
+
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.orchestrate.outcome import (
     EXIT_FAILURE,
@@ -59,11 +61,16 @@ def test_a_timeout_names_the_last_failure_event() -> None:
 
 
 def test_progress_lines_are_the_events_that_tell_the_mission() -> None:
-    shown = MissionEvent(EventKind.ZONE_REACHED, zone_id="zone_a", message="Reached zone_a.")
-    assert progress_line(shown) == "Reached zone_a."
-    refused = MissionEvent(EventKind.SURVIVOR_REFUSED, survivor_id="survivor_2",
+    shown = MissionEvent(EventKind.ZONE_REACHED, fields={"zone_id": "zone_a"},
+                         message="Reached zone_a.")
+    assert progress_line(shown, [SAR]) == "Reached zone_a."
+    assert progress_line(shown) is None  # a tree without the app emits none of them
+    refused = MissionEvent(EventKind.SURVIVOR_REFUSED, fields={"survivor_id": "survivor_2"},
                            message="refuse_all is set")
-    assert progress_line(refused) == "Report for survivor_2 refused by base: refuse_all is set"
+    assert progress_line(refused, [SAR]) == \
+        "Report for survivor_2 refused by base: refuse_all is set"
+    goal = MissionEvent(EventKind.GOAL_REACHED, message="goal (1.00, 2.00) reached")
+    assert progress_line(goal) == "goal (1.00, 2.00) reached"
     for quiet in (STARTED, FAILED, MissionEvent(EventKind.STATUS, message="RUNNING"),
                   MissionEvent(EventKind.VERDICT, message="Mission SUCCESS")):
-        assert progress_line(quiet) is None
+        assert progress_line(quiet, [SAR]) is None

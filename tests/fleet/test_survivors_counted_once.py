@@ -159,9 +159,9 @@ def test_the_same_survivor_from_two_robots_gets_one_id_one_frame_one_report(
     # the duplicate was noted once (by RegisterSurvivor), and never read as "no survivor"
     assert notes(fleet, other) == [register.feedback_message]
     assert not any("No survivor found" in n for robot in ROBOTS for n in notes(fleet, robot))
-    broadcasts = {robot: [e.survivor_id for e in fleet.events[robot].emitted
+    broadcasts = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
                           if e.kind == EventKind.SURVIVOR_BROADCAST] for robot in ROBOTS}
-    reported = {robot: [e.survivor_id for e in fleet.events[robot].emitted
+    reported = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
                         if e.kind == EventKind.SURVIVOR_REPORTED] for robot in ROBOTS}
     assert broadcasts == {reporter: ["survivor_1"], other: []}
     assert reported == {reporter: ["survivor_1"], other: []}

@@ -262,6 +262,8 @@ def test_a_missing_executable_link_is_made_again(tmp_path: Path) -> None:
 
 def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
         tmp_path: Path) -> None:
+    from sar_plugins.sar.app import APP
+
     from sar_framework.mission.fleet_processes import FleetMember, FleetSettings, fleet_processes
     from sar_framework.mission.processes import MissionSettings, mission_processes
 
@@ -269,7 +271,7 @@ def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
                               record=str(tmp_path / "r.mcap"))
     fleet = FleetSettings(mission, fleet_file="f.yaml", robots=(FleetMember("r1", 0, 0, 0),),
                           run_dir=str(tmp_path), coordinator=True)
-    started = {p.executable for p in [*mission_processes(mission), *fleet_processes(fleet)]}
+    started = {p.executable for p in [*mission_processes(mission, [APP]), *fleet_processes(fleet)]}
     assert "sar-zone-coordinator" in started
     assert started <= set(load_bootstrap().EXECUTABLES)
 

@@ -19,7 +19,7 @@ import yaml
 from sar_framework.mission import processes
 from sar_framework.mission.params_file import check_params_file
 from sar_framework.orchestrate.config import check_config, child_specs
-from sar_framework.orchestrate.options import DEFAULT_PARAMS, RunConfig
+from sar_framework.orchestrate.options import RunConfig
 from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]
@@ -77,10 +77,10 @@ def test_declared_arguments_and_their_defaults():
     assert declared["reload"] == "false"  # the tree file is not watched unless asked
     assert declared["report_dir"] == ""  # a new folder per run
     assert (REPO / "trees" / declared["tree"]).is_file()
-    for key in ("params_file", "map", "nav2_params_file", "survivors_file"):
+    for key in ("map", "nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
-    # The same defaults as sar-tree run's options.
-    assert declared["params_file"] == DEFAULT_PARAMS
+    # As sar-tree run's --params: none named, the tree's app's (none for a tree without one).
+    assert declared["params_file"] == ""
     # The nodes' tables, not copies.
     assert declared["speed"] == "str(SPEED.default)"
     assert declared["report_file"] == "REPORT_FILE.default"
@@ -284,8 +284,9 @@ def launched(report_dir: Path, **arguments: str) -> list[tuple[str, dict]]:
 def run_children(report_dir: Path, **options: object) -> list[tuple[str, dict]]:
     """The processes ``sar-tree run`` starts: executable, parameters of its command line."""
     config = RunConfig(tree=str(TREE), params=str(MISSION), **options)
+    inputs = check_config(config)
     return [(spec.executable, parameters(list(spec.ros_args)))
-            for spec in child_specs(config, report_dir, check_config(config).zones)]
+            for spec in child_specs(config, report_dir, inputs.zones, apps=inputs.apps)]
 
 
 def assert_same_but(launch: list, run: list, *, run_only: dict[str, dict],

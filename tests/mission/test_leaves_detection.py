@@ -74,6 +74,6 @@ def test_success_with_and_without_a_survivor(ros: tuple, detect_server: NodeProc
     assert leaf.feedback_message == "zone_b: no survivor"
     detect_server.wait_for_output("asked about zone_b")
     assert detect_server.output.count("asked about") == 2
-    told = [(e.kind, e.node_uid, e.zone_id, e.status, e.position) for e in events.emitted]
+    told = [(e.kind, e.node_uid, e.value("zone_id"), e.status, e.position) for e in events.emitted]
     assert told == [(EventKind.DETECTION, "0", "zone_a", "FOUND", (1.5, -2.0, 0.0)),
                     (EventKind.DETECTION, "0", "zone_b", "NONE", None)]

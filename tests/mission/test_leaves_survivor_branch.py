@@ -221,7 +221,7 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
         node.destroy_service(service)
     logged = capfd.readouterr().err
     assert "Report for survivor_1 refused by base: the base is full" in logged
-    told = [(e.kind, e.survivor_id, e.message) for e in events.emitted
+    told = [(e.kind, e.value("survivor_id"), e.message) for e in events.emitted
             if e.kind != EventKind.DETECTION]
     assert told == [
         (EventKind.SURVIVOR_BROADCAST, "survivor_1",

@@ -71,7 +71,7 @@ def test_announces_the_zone_and_marks_it_reached(tmp_path: Path) -> None:
     loaded.root.tick_once()
     assert loaded.root.status == Status.SUCCESS
     assert told == [(EventKind.ZONE_REACHED, "zone_a")]
-    navigation = [(e.kind, e.zone_id, e.message, e.position) for e in events.emitted]
+    navigation = [(e.kind, e.value("zone_id"), e.message, e.position) for e in events.emitted]
     assert navigation == [(EventKind.NAVIGATION, "zone_a", "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
                            (-3.0, 3.0, 0.0))]
     mark = next(b for b in loaded.root.iterate() if type(b).__name__ == "MarkZoneReached")

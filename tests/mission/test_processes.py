@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import tomllib
+from sar_plugins.sar.app import APP as SAR
 
 from sar_framework.mission.processes import (
     MissionSettings,
@@ -43,14 +44,21 @@ def test_the_description_imports_neither_ros_nor_launch() -> None:
 
 
 def test_processes_start_in_order_and_only_when_asked() -> None:
-    assert [p.label for p in mission_processes(EVERYTHING)] == [
+    assert [p.label for p in mission_processes(EVERYTHING, [SAR])] == [
         "recorder", "sim", "detect", "report", "runner"]
     assert [p.label for p in mission_processes(replace(
-        EVERYTHING, record="", simulator=False, detect_server=False, report_server=False))] \
-        == ["runner"]
+        EVERYTHING, record="", simulator=False, detect_server=False, report_server=False),
+        [SAR])] == ["runner"]
 
 
-@pytest.mark.parametrize("process", mission_processes(EVERYTHING), ids=lambda p: p.label)
+def test_a_tree_without_an_app_starts_no_servers_and_needs_no_parameter_file() -> None:
+    settings = replace(EVERYTHING, params_file="")
+    assert [p.label for p in mission_processes(settings)] == ["recorder", "sim", "runner"]
+    assert mission_processes(settings)[-1].params_files == ()
+
+
+@pytest.mark.parametrize("process", mission_processes(EVERYTHING, [SAR]),
+                         ids=lambda p: p.label)
 def test_each_executable_is_the_console_script_of_its_module(process) -> None:
     # What `ros2 launch` starts (lib/sar_framework/<executable>) and what sar-tree run starts
     # (python -m <module>) must be the same program.
@@ -63,7 +71,7 @@ def test_each_executable_is_the_console_script_of_its_module(process) -> None:
 
 
 def test_unset_settings_leave_the_processes_their_own_defaults() -> None:
-    by_label = {p.label: p for p in mission_processes(EVERYTHING)}
+    by_label = {p.label: p for p in mission_processes(EVERYTHING, [SAR])}
     assert by_label["sim"].parameters == {}  # speed: the simulator's own default
     assert by_label["detect"].parameters == {"use_sim_time": True}
     assert by_label["report"].parameters == {"use_sim_time": True}
@@ -130,9 +138,9 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
     assert settings.exit_on_completion is False  # --keep-alive
     assert settings.survivors_file == "" and settings.nav2_timeout_wall_s is None
     assert settings.extra["sim"] == {"blocked_zones": ["3.5:3:0.8"]}  # the zone's position
-    specs = child_specs(config, tmp_path, inputs.zones)
+    specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps)
     assert [(s.label, s.executable) for s in specs] == [
-        (p.label, p.executable) for p in mission_processes(settings)]
+        (p.label, p.executable) for p in mission_processes(settings, [SAR])]
     runner = specs[-1]
     assert runner.module == "sar_framework.runner.node"
     assert runner.ros_args == ("--params-file", str(PARAMS), "-p", f"tree:={TREE}",

@@ -496,7 +496,8 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     assert [e.message for e in verdicts(status) if e.node_name == "LogNoDetection"] == [
         "No survivor found at zone_b.", "No survivor found at zone_d."]
     assert reasons(status) == []
-    told = [(e.kind, e.zone_id, e.survivor_id) for e in read_events(status.with_name(EVENTS_FILE))
+    told = [(e.kind, e.value("zone_id"), e.value("survivor_id"))
+            for e in read_events(status.with_name(EVENTS_FILE))
             if e.kind in (EventKind.ZONE_REACHED, EventKind.SURVIVOR_REPORTED,
                           EventKind.BASE_REACHED)]
     assert told == [

@@ -64,9 +64,9 @@ def test_a_replay_hello_lists_every_event_and_a_live_one_does_not() -> None:
         session.timeline.add_status(status(1, 1.0, "RUNNING"), 0.0)
         session.timeline.add_event(MissionEvent(EventKind.NAVIGATION, seq=1, sim_s=1.5,
                                                 node_name="Leaf", node_uid="0.0",
-                                                zone_id="z", message="to z"))
+                                                fields={"zone_id": "z"}, message="to z"))
         session.timeline.add_event(MissionEvent(EventKind.DETECTION, seq=2, sim_s=2.0,
-                                                zone_id="z", status="FOUND"))
+                                                fields={"zone_id": "z"}, status="FOUND"))
         session.adopt_status_tree(session.timeline.statuses[0])
         with testclient.TestClient(make_app(session, TOKEN)) as client:
             timeline = client.get("/api/hello").json()["timeline"]

@@ -30,8 +30,9 @@ def timeline() -> Timeline:
     timeline.add_status(status(3, 12.0, {"0": "SUCCESS", "0.0": "SUCCESS"},
                                entries=[["goal", "/goal", "2", "int", "A"]]), 101.0)
     timeline.add_event(MissionEvent(EventKind.SURVIVOR_BROADCAST, seq=3, sim_s=12.0,
-                                    survivor_id="s1", position=(1.0, 2.0, 0.0)))
-    timeline.add_event(MissionEvent(EventKind.ZONE_REACHED, seq=4, sim_s=12.0, zone_id="z"))
+                                    fields={"survivor_id": "s1"}, position=(1.0, 2.0, 0.0)))
+    timeline.add_event(MissionEvent(EventKind.ZONE_REACHED, seq=4, sim_s=12.0,
+                                    fields={"zone_id": "z"}))
     return timeline
 
 
@@ -100,8 +101,9 @@ def test_the_event_list_has_every_event_in_order_with_the_instant_it_links_to() 
     for n, kind in enumerate(kinds):
         timeline.add_event(MissionEvent(kind, seq=n + 2, sim_s=10.0 + n / 2,
                                         node_name=f"N{n}", node_uid=f"0.{n}",
-                                        zone_id="z" if kind == EventKind.NAVIGATION else "",
-                                        survivor_id="s" if kind == EventKind.DETECTION else "",
+                                        fields={"zone_id": "z"} if kind == EventKind.NAVIGATION
+                                        else {"survivor_id": "s"}
+                                        if kind == EventKind.DETECTION else {},
                                         message=f"m{n}"))
     timeline.add_event(MissionEvent(EventKind.NOTE, seq=99, sim_s=11.0, message="late"))
     rows = timeline.event_rows()

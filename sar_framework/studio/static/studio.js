@@ -150,6 +150,8 @@ function onFrame(frame) {
   const status = $("mission-status");
   status.textContent = frame.complete ? `${frame.status} (over)` : frame.status;
   status.className = `pill ${frame.status}`;
+  // An app's field (search and rescue's zone): shown only for a tree that uses the app.
+  $("zone-part").hidden = frame.zone === undefined;
   $("zone").textContent = frame.zone ? `${frame.zone.id} (${frame.zone.index + 1}/${frame.zone.total})` : "-";
   paintTree(frame);
   paintWorld(frame);

@@ -1,0 +1,100 @@
+"""The search-and-rescue :class:`~sar_framework.app.App`: what it adds to the core.
+
+- context: the mission's ``zone_manager``, read from ``zone_order``, ``zones.*`` and
+  ``base_station.*`` (so every tree with a zone leaf uses this app);
+- parameters: those, checked whole (:func:`~sar_framework.mission.params_check.mission_problems`),
+  from ``config/mission_params.yaml`` when ``sar-tree run`` names no file;
+- processes: the detect and report servers, started before the runner;
+- events: the zone and survivor kinds, and the status's current zone.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from sar_plugins.sar.figure import mission_figure
+from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
+
+from sar_framework.app import App, AppRun
+from sar_framework.app.app import checkout_file
+from sar_framework.events.event import EventKind
+from sar_framework.mission.params_check import mission_problems
+from sar_framework.mission.processes import MissionSettings, Process, detect_server, report_server
+from sar_framework.mission.runner_params import MISSION_PARAMETERS
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+    from sar_framework.events.emitter import EventEmitter
+    from sar_framework.mission.params_file import KeyLocation
+    from sar_framework.mission.zone_manager import ZoneManager
+
+PARAMS_FILE = "config/mission_params.yaml"
+"""The mission parameter file when none is named (the checkout's when the folder has none)."""
+_CHECKOUT = Path(__file__).resolve().parents[2]
+
+
+def _params_file() -> str:
+    return checkout_file(PARAMS_FILE, _CHECKOUT)
+
+
+def zone_of(zone_manager: ZoneManager) -> dict[str, Any] | None:
+    """The zone the mission is at, as ``{"id", "index", "total"}`` (the status's ``zone``).
+
+    Args:
+        zone_manager: The mission's zone manager.
+
+    Returns:
+        The zone, or None once every zone is done.
+    """
+    if not zone_manager.has_remaining():
+        return None
+    return {"id": zone_manager.current_zone()["id"], "index": zone_manager.current_index(),
+            "total": zone_manager.total_zones()}
+
+
+def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> AppRun:
+    """Read the zones from the runner's node: the ZoneManager, its events, its status."""
+    from sar_framework.mission.params import read_mission_params
+
+    mission_file = locations.get("zone_order")
+    source = mission_file.file if mission_file else source
+    mission = read_mission_params(node, source=source, locations=locations)
+    for zone_id in mission.unused_zones:
+        node.get_logger().warning(f"{source}: zones.{zone_id} is defined but not in "
+                                  "zone_order (it will not be visited)")
+    manager = mission.zone_manager
+
+    def observe(emitter: EventEmitter) -> None:
+        def zone_event(kind: EventKind, zone: dict[str, Any]) -> None:
+            said = (f"Reached {zone['id']}." if kind == EventKind.ZONE_REACHED
+                    else f"{zone['id']} not reached; the mission moves on.")
+            position = (zone["x"], zone["y"]) if "x" in zone else None
+            emitter.emit(kind, zone_id=zone["id"], message=said, position=position)
+
+        manager.observe(zone_event)
+
+    return AppRun({"zone_manager": manager}, observe, lambda: {"zone": zone_of(manager)})
+
+
+def _processes(settings: MissionSettings) -> list[Process]:
+    return [p for p in (detect_server(settings), report_server(settings)) if p is not None]
+
+
+APP = App(
+    name="search_and_rescue",
+    provides=("zone_manager",),
+    parameters=MISSION_PARAMETERS,
+    params_file=_params_file,
+    check=mission_problems,
+    start=_start,
+    processes=_processes,
+    event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
+    progress=progress_line,
+    summary=summary_parts,
+    report=mission_report,
+    figure=mission_figure,
+)
+"""The search-and-rescue app."""

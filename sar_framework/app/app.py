@@ -1,0 +1,98 @@
+"""The :class:`App` contract: one mission's additions to the core, as plain callables.
+
+Every hook is optional; an app that leaves one out adds nothing there. No ROS is imported
+here: the runner-side hook receives the runner's node, the others plain data.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+    from sar_framework.engine.param import Param
+    from sar_framework.events.emitter import EventEmitter
+    from sar_framework.events.event import MissionEvent
+    from sar_framework.mission.params_file import KeyLocation, ParamsError
+    from sar_framework.mission.processes import MissionSettings, Process
+
+
+@dataclass
+class AppRun:
+    """What an app gives the runner once its parameters are read.
+
+    Attributes:
+        context: Context objects by the names leaves declare (``load_tree(context=...)``).
+        observe: Wires the app's own events to the runner's emitter (called once).
+        status: The app's fields of the tree status, as they are now (JSON-ready).
+    """
+
+    context: dict[str, Any] = field(default_factory=dict)
+    observe: Callable[[EventEmitter], None] | None = None
+    status: Callable[[], Mapping[str, Any]] | None = None
+
+
+@dataclass(frozen=True)
+class App:
+    """One mission's additions to the core, registered like plugins.
+
+    Attributes:
+        name: Short name (``sar``), used in messages.
+        provides: The context objects it provides; a tree uses the app when one of its
+            leaves needs one of them.
+        parameters: The runner parameters it reads (checked with the runner's own).
+        params_file: The mission parameter file to use when ``sar-tree run`` names none
+            (a callable: it may depend on the working folder).
+        check: Whole-file checks of the runner's parameter values (beyond each value's
+            type): ``check(values, locations, file) -> errors``.
+        start: Runner side: reads its parameters from the runner's node and returns its
+            context objects: ``start(node, source, locations) -> AppRun``.
+        processes: The processes it needs beside the runner, in start order.
+        event_kinds: Its event kinds, each with what it means.
+        progress: One progress line for one of its events, or None (``sar-tree run``).
+        summary: Its words in ``sar-tree run``'s summary line, from ``mission.json``
+            (an app's words replace the core's list of goals).
+        report: Its keys of ``mission.json``: ``report(inputs, events, document) -> dict``
+            ({} when the run has nothing of the app).
+        figure: Draws its part of ``mission.png``: ``figure(canvas, document)`` returns a
+            :class:`~sar_framework.report_map.MapLayer` (its title, legend and lines), or
+            None when ``mission.json`` has nothing of it.
+    """
+
+    name: str
+    provides: tuple[str, ...] = ()
+    parameters: tuple[Param, ...] = ()
+    params_file: Callable[[], str] | None = None
+    check: Callable[[Mapping[str, Any], Mapping[str, KeyLocation], str],
+                    list[ParamsError]] | None = None
+    start: Callable[[Node, str, Mapping[str, KeyLocation]], AppRun] | None = None
+    processes: Callable[[MissionSettings], list[Process]] | None = None
+    event_kinds: Mapping[str, str] = field(default_factory=dict)
+    progress: Callable[[MissionEvent], str | None] | None = None
+    summary: Callable[[Mapping[str, Any]], list[str]] | None = None
+    report: Callable[[Any, Sequence[MissionEvent], dict[str, Any]],
+                     dict[str, Any]] | None = None
+    figure: Callable[[Any, dict[str, Any]], Any] | None = None
+
+    def default_params_file(self) -> str:
+        """Its parameter file when none is named, or "" (it then needs none)."""
+        return self.params_file() if self.params_file is not None else ""
+
+
+def checkout_file(relative: str, anchor: Path) -> str:
+    """``relative`` as given when the working folder has it, else the checkout's copy.
+
+    Args:
+        relative: A path relative to the checkout (``config/mission_params.yaml``).
+        anchor: The checkout's root.
+
+    Returns:
+        The path to use (``relative`` itself when neither exists).
+    """
+    if not Path(relative).exists() and (anchor / relative).exists():
+        return str(anchor / relative)
+    return relative

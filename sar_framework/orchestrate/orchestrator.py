@@ -42,6 +42,7 @@ from sar_framework.orchestrate.outcome import (
 from sar_framework.orchestrate.repeats import RepeatCollapser, numbers_as_one
 from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
 from sar_framework.recording.recorder import wait_until_recording
+from sar_framework.run_clock import RUN_STARTED_ENV, process_started
 from sar_framework.stop_signals import stop_on_signals
 from sar_framework.watch.child import start_watcher, stop_watcher
 
@@ -67,7 +68,7 @@ class Orchestrator:
         self.out = out if out is not None else sys.stdout
         self.report_dir = Path(config.report_dir)
         self.children: list[ChildProcess] = []
-        self.started = time.monotonic()
+        self.started = process_started()  # every wall_s of the run counts from here
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
         self.completion_wall_s: float | None = None  # when it came (--keep-alive's figures)
@@ -145,6 +146,7 @@ class Orchestrator:
     def start(self) -> None:
         """Start every child (the reader threads after all forks)."""
         env = ros_environment(log_dir=self.report_dir / "ros_log")
+        env[RUN_STARTED_ENV] = repr(self.started)  # the runner's events count from it too
         self.say(
             f"sar-tree run: {self.config.tree} with {self.config.params}; "
             + (f"embedded simulator at {self.config.speed:g}x real time"

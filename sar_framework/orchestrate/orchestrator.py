@@ -80,6 +80,7 @@ class Orchestrator:
         self._child_errors: dict[str, list[str]] = {}
         self.exited: dict[str, int | None] = {}  # children that ended mid-mission
         self.watcher: ChildProcess | None = None  # sar-tree run --watch
+        self._report_imported = False
 
     # progress -----------------------------------------------------------------------------
     def say(self, text: str) -> None:
@@ -119,6 +120,8 @@ class Orchestrator:
             line = progress_line(event)
             if line is not None and self.watcher is None:
                 self.show(time.monotonic() - self.started, "runner", line)
+        if self.events:
+            self.import_report_libraries()
 
     def flush_repeats(self) -> None:
         """Print the count of the lines held back, if any."""
@@ -166,7 +169,16 @@ class Orchestrator:
             child.start_reading()
         if self.config.watch:
             self.watcher = start_watcher(env)
-        # Import the report's libraries now, not after a Ctrl-C (numpy, Pillow, graphviz).
+
+    def import_report_libraries(self) -> None:
+        """Import what the report needs (numpy, Pillow, graphviz) at the runner's first event.
+
+        Not at start-up, where it would take a core from the children starting; before the
+        mission is under way, so a Ctrl-C mid-mission is not slowed by it.
+        """
+        if self._report_imported:
+            return
+        self._report_imported = True
         import sar_framework.engine.render
         import sar_framework.report
         import sar_framework.sim.occupancy  # noqa: F401

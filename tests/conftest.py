@@ -66,15 +66,11 @@ def pytest_report_header(config: pytest.Config) -> str:
 def slow_first(items: list[pytest.Item]) -> None:
     """Put the files holding ``slow`` tests first, each file's tests kept together, in order.
 
-    Files that need the BehaviorTree.CPP checker count as slow: its first build takes
-    minutes.
-
     Under ``-n 2 --dist loadfile --no-loadscope-reorder`` the workers take files in this
     order: the long end-to-end files start at once and the many quick files fill the gaps,
     instead of two long files left for the end.
     """
-    slow_files = {item.path for item in items if "slow" in item.keywords
-                  or "btcpp_checker" in getattr(item, "fixturenames", ())}  # a C++ build
+    slow_files = {item.path for item in items if "slow" in item.keywords}
     items.sort(key=lambda item: item.path not in slow_files)  # stable: file order kept
 
 

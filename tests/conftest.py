@@ -24,6 +24,7 @@ import pytest
 from hypothesis import HealthCheck, settings
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
 from sar_testing.shm_zombies import remove_unused_fastdds_files
+from sar_testing.temp_dirs import launch_tmpdir  # noqa: F401 - a fixture for every test
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 # Two test workers (and other work) share the cores: a property test's examples are the same,

@@ -10,6 +10,12 @@ Before anything starts, the run removes Fast DDS shared-memory files no live pro
 (sar_testing.shm_zombies): a half-made one left by a killed process hangs the next ROS
 process given its port.
 
+A run leaves nothing behind: every process it starts gets a temp folder of the run's own
+(``TMPDIR``) and a marker, and after the last test the run fails, naming each file, when
+that folder is not empty or a Fast DDS file one of its processes used is left in /dev/shm
+(sar_testing.leftovers; the leftovers are removed). The ROS domain locks stay machine-wide
+(``SAR_ROS_DOMAIN_LOCKS``).
+
 Tests marked ``soak`` (long repetitions under load) run only when asked for by name:
 ``-m soak``.
 """
@@ -17,14 +23,20 @@ Tests marked ``soak`` (long repetitions under load) run only when asked for by n
 from __future__ import annotations
 
 import importlib.util
+import os
+import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, settings
+from sar_testing.leftovers import SessionLeftovers
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
 from sar_testing.shm_zombies import remove_unused_fastdds_files
 from sar_testing.temp_dirs import launch_tmpdir  # noqa: F401 - a fixture for every test
+
+from sar_framework.testing.ros_env import LOCKS_ENV, lock_folder
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 # Two test workers (and other work) share the cores: a property test's examples are the same,
@@ -33,6 +45,7 @@ settings.register_profile("shared_cores", deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("shared_cores")
 _lease: DomainLease | None = None
+_leftovers: SessionLeftovers | None = None
 
 
 def is_xdist_controller(config: pytest.Config) -> bool:
@@ -42,13 +55,35 @@ def is_xdist_controller(config: pytest.Config) -> bool:
 
 def pytest_configure(config: pytest.Config) -> None:
     """Lease a domain id and set the ROS environment for this test process."""
-    global _lease  # noqa: PLW0603 - one lease per test process
+    global _lease, _leftovers  # noqa: PLW0603 - one lease per test process, one run
     if not hasattr(config, "workerinput"):  # once per run, before any ROS process starts
         remove_unused_fastdds_files()
+        os.environ.setdefault(LOCKS_ENV, str(lock_folder()))
+        tempfile.gettempdir()  # this process (pytest's own tmp_path) keeps the usual one
+        _leftovers = SessionLeftovers()
+        _leftovers.start()
     if is_xdist_controller(config):
         return
     _lease = lease_domain_id()
     apply_local_ros_env(_lease.domain_id)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_sessionfinish(session: pytest.Session) -> Iterator[None]:
+    """After the last test (and the workers' end): fail the run if it left anything."""
+    yield
+    if _leftovers is None:
+        return
+    left = _leftovers.finish()
+    if left:
+        reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+        lines = [f"the run left {len(left)} file(s) behind (now removed):", *left]
+        for line in lines:
+            if reporter is not None:
+                reporter.write_line(line, red=True)
+            else:
+                sys.stderr.write(line + "\n")
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:

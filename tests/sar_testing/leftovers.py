@@ -1,0 +1,90 @@
+"""What a test session leaves behind: files in its temp folder, Fast DDS files in /dev/shm.
+
+The session (the xdist controller, or the only pytest process) gives every process started
+after it, its workers and everything they start, a temp folder of the session's own
+(``TMPDIR``) and a marker in the environment (:data:`MARKER`). Whatever is in that folder at
+the end, this run made and did not remove. A sampler thread notes the Fast DDS
+shared-memory files that marked processes map or hold open (``/proc/PID/maps``, ``fd``); at
+the end, those that still exist while no live process uses them were left by this run's
+processes (killed before Fast DDS could clean up). Another run's files are never counted nor
+touched: they are not in the folder, and its processes do not carry the marker.
+
+Each leftover is removed once reported, so the next run starts clean. Without workers
+(no ``-n``) the pytest process keeps the usual temp dir for its own files (pytest's
+``tmp_path`` lives there): then only what its children write is in the folder.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import threading
+from pathlib import Path
+
+from sar_testing.shm_zombies import PATTERNS, SHM, _in_use
+
+MARKER = "SAR_TEST_SESSION"
+"""The environment variable every process of the session carries (its value: the folder)."""
+SAMPLE_PERIOD_S = 0.5
+
+
+class SessionLeftovers:
+    """The session's temp folder and its sampler of Fast DDS files.
+
+    Args:
+        shm: The shared-memory folder.
+    """
+
+    def __init__(self, shm: Path = SHM) -> None:
+        self.folder = Path(tempfile.mkdtemp(prefix="sar_tests_"))
+        self._shm = shm
+        self._tag = f"{MARKER}={self.folder}".encode()
+        self._seen: set[str] = set()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._sample_until_stopped, daemon=True,
+                                        name="session-leftovers")
+
+    def start(self, environ: dict[str, str] | os._Environ[str] = os.environ) -> None:
+        """Mark ``environ`` (inherited by every process started from now on); start sampling."""
+        environ["TMPDIR"] = str(self.folder)
+        environ[MARKER] = str(self.folder)
+        self._thread.start()
+
+    def _sample_until_stopped(self) -> None:
+        while not self._stop.wait(SAMPLE_PERIOD_S):
+            self._seen |= self._fastdds_files_of_marked_processes()
+
+    def _fastdds_files_of_marked_processes(self) -> set[str]:
+        prefix = f"{self._shm}/"
+        found: set[str] = set()
+        for proc in Path("/proc").iterdir():
+            if not proc.name.isdigit() or int(proc.name) == os.getpid():
+                continue
+            try:
+                if self._tag not in (proc / "environ").read_bytes().split(b"\0"):
+                    continue
+                paths = [line.split(maxsplit=5)[-1] for line in
+                         (proc / "maps").read_text(errors="replace").splitlines()
+                         if line.count(" ") >= 5]
+                paths += [os.readlink(fd) for fd in (proc / "fd").iterdir()]
+            except OSError:  # ended meanwhile, or not ours to read
+                continue
+            found |= {p[len(prefix):].removesuffix(" (deleted)") for p in paths
+                      if p.startswith(prefix)
+                      and any(Path(p).match(pattern) for pattern in PATTERNS)}
+        return found
+
+    def finish(self) -> list[str]:
+        """Stop sampling; remove and return what the session left (paths, sorted)."""
+        self._stop.set()
+        self._thread.join(timeout=5.0)
+        left = [str(path) for path in sorted(self.folder.iterdir())]
+        shutil.rmtree(self.folder, ignore_errors=True)
+        used = _in_use(self._shm)
+        for name in sorted(self._seen - used):
+            path = self._shm / name
+            if path.exists():
+                left.append(str(path))
+                path.unlink(missing_ok=True)
+        return left

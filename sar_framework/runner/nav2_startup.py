@@ -175,6 +175,11 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
+    from sar_framework.runner.basic_navigator import (
+        join_after_shutdown,
+        stuck_step,
+        wait_quietly,
+    )
     from sar_framework.runner.lifecycle_probe import LifecycleProbe
 
     started = time.monotonic()
@@ -198,7 +203,7 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
                  "BasicNavigator; waiting for Nav2 to become ACTIVE")
     nav.setInitialPose(seed)
     failure: list[BaseException] = []
-    waiter = threading.Thread(target=_wait_quietly, daemon=True, name="nav2-startup",
+    waiter = threading.Thread(target=wait_quietly, daemon=True, name="nav2-startup",
                               args=(nav, navigator, localizer, failure))
     waiter.start()
     asked = time.monotonic()
@@ -210,7 +215,7 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
                 raise StartupInterrupted("stopped while waiting for Nav2")
             now = time.monotonic()
             if now > started + timeout_s:
-                raise Nav2StartupError(f"{_stuck_step(nav, localizer, navigator)} within "
+                raise Nav2StartupError(f"{stuck_step(nav, localizer, navigator)} within "
                                        f"{timeout_s:g} s: {_HINT}")
             if probe is None and now > asked + PROBE_AFTER_S \
                     and getattr(nav, "initial_pose_received", False):
@@ -227,12 +232,12 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
             probe.close()
         failed = list(failure)  # what the waiter met before we stopped listening
         # Destroyed even while the waiter still waits for a reply DDS dropped: its loop can
-        # then only end in InvalidHandle (caught in _wait_quietly). Left alive, it asked
+        # then only end in InvalidHandle (caught in wait_quietly). Left alive, it asked
         # rclpy for a new global executor after the context's shutdown, which rclpy cannot
         # build any more ("Exception ignored in: Executor.__del__" and a traceback).
         nav.destroy_node()
         if waiter.is_alive():  # inside the global executor's wait until the shutdown
-            atexit.register(_join_after_shutdown, waiter)
+            atexit.register(join_after_shutdown, waiter)
     if failed:
         raise Nav2StartupError(f"BasicNavigator.waitUntilNav2Active failed: {failed[0]}")
     on_step("amcl_seeded")
@@ -269,46 +274,6 @@ def _wait_until_active(nav: Any, names: tuple[str, ...], *, deadline: float, tim
     if not discovered:
         on_step("nav2_discovered")
     on_step("nav2_active")
-
-
-def _wait_quietly(nav: Any, navigator: str, localizer: str,
-                  failure: list[BaseException]) -> None:
-    """Run ``waitUntilNav2Active``; keep its error unless the context was shut down."""
-    try:
-        nav.waitUntilNav2Active(navigator=navigator, localizer=localizer)
-    except Exception as err:
-        if nav.context.ok():
-            failure.append(err)
-
-
-def _join_after_shutdown(waiter: threading.Thread) -> None:
-    """At exit: shut the context down (its executor then stops) and join the thread.
-
-    A thread still inside rcl's wait when the interpreter finalises aborts the process
-    ("terminate called without an active exception").
-    """
-    import rclpy
-
-    rclpy.try_shutdown()
-    waiter.join(timeout=2.0)
-
-
-def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
-    """Name the step BasicNavigator is stuck in, worded as the rclpy path words it."""
-    def served(name: str) -> bool:  # a server, not BasicNavigator's own client
-        return nav.count_services(f"{name}/get_state") > 0  # in its namespace
-
-    def service(name: str) -> str:  # its full name, in the robot's namespace
-        return nav.resolve_service_name(f"{name}/get_state")
-
-    if not served(localizer):
-        return f"{localizer} never reported ACTIVE ({service(localizer)} never appeared)"
-    if not getattr(nav, "initial_pose_received", False):
-        return (f"{localizer} never answered /initialpose on /amcl_pose (or never became "
-                "ACTIVE)")
-    if not served(navigator):
-        return f"{navigator} never reported ACTIVE ({service(navigator)} never appeared)"
-    return f"{navigator} never reported ACTIVE"
 
 
 class _Nav2Waiter:

@@ -11,10 +11,10 @@ Before anything starts, the run removes Fast DDS shared-memory files no live pro
 process given its port.
 
 A run leaves nothing behind: every process it starts gets a temp folder of the run's own
-(``TMPDIR``) and a marker, and after the last test the run fails, naming each file, when
-that folder is not empty or a Fast DDS file one of its processes used is left in /dev/shm
-(sar_testing.leftovers; the leftovers are removed). The ROS domain locks stay machine-wide
-(``SAR_ROS_DOMAIN_LOCKS``).
+(``TMPDIR``) and a marker. After the last test the run fails, naming each file, when that
+folder is not empty (a test did not remove what it made), and it removes the Fast DDS files
+its processes left in /dev/shm, saying how many (sar_testing.leftovers). The ROS domain
+locks stay machine-wide (``SAR_ROS_DOMAIN_LOCKS``).
 
 Tests marked ``soak`` (long repetitions under load) run only when asked for by name:
 ``-m soak``.
@@ -74,15 +74,20 @@ def pytest_sessionfinish(session: pytest.Session) -> Iterator[None]:
     yield
     if _leftovers is None:
         return
-    left = _leftovers.finish()
+    left, removed = _leftovers.finish()
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+
+    def say(line: str, **markup: bool) -> None:
+        if reporter is not None:
+            reporter.write_line(line, **markup)
+        else:
+            sys.stderr.write(line + "\n")
+
+    if removed:
+        say(f"removed {len(removed)} Fast DDS file(s) the run's processes left in /dev/shm")
     if left:
-        reporter = session.config.pluginmanager.get_plugin("terminalreporter")
-        lines = [f"the run left {len(left)} file(s) behind (now removed):", *left]
-        for line in lines:
-            if reporter is not None:
-                reporter.write_line(line, red=True)
-            else:
-                sys.stderr.write(line + "\n")
+        for line in ["the tests left these in their temp folder (now removed):", *left]:
+            say(line, red=True)
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 

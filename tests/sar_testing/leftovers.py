@@ -6,11 +6,14 @@ after it, its workers and everything they start, a temp folder of the session's 
 the end, this run made and did not remove. A sampler thread notes the Fast DDS
 shared-memory files that marked processes map or hold open (``/proc/PID/maps``, ``fd``); at
 the end, those that still exist while no live process uses them were left by this run's
-processes (killed before Fast DDS could clean up). Another run's files are never counted nor
-touched: they are not in the folder, and its processes do not carry the marker.
+processes: by one killed before Fast DDS could clean up, and by clean exits too (Fast DDS
+keeps a port's segment, ``fastrtps_portN``, after its last listener closed). Another run's
+files are never counted nor touched: they are not in the folder, and its processes do not
+carry the marker.
 
-Each leftover is removed once reported, so the next run starts clean. Without workers
-(no ``-n``) the pytest process keeps the usual temp dir for its own files (pytest's
+Leftovers are removed once found, so the next run starts clean: the temp folder's are the
+tests' fault (each test removes what it made); the Fast DDS files are the middleware's way.
+Without workers (no ``-n``) the pytest process keeps the usual temp dir for its own files (pytest's
 ``tmp_path`` lives there): then only what its children write is in the folder.
 """
 
@@ -75,16 +78,22 @@ class SessionLeftovers:
                       and any(Path(p).match(pattern) for pattern in PATTERNS)}
         return found
 
-    def finish(self) -> list[str]:
-        """Stop sampling; remove and return what the session left (paths, sorted)."""
+    def finish(self) -> tuple[list[str], list[str]]:
+        """Stop sampling; remove what the session left.
+
+        Returns:
+            What was left in the temp folder, and the Fast DDS files of the session's
+            processes that were left in /dev/shm (paths, sorted; both removed).
+        """
         self._stop.set()
         self._thread.join(timeout=5.0)
         left = [str(path) for path in sorted(self.folder.iterdir())]
         shutil.rmtree(self.folder, ignore_errors=True)
         used = _in_use(self._shm)
+        removed = []
         for name in sorted(self._seen - used):
             path = self._shm / name
             if path.exists():
-                left.append(str(path))
                 path.unlink(missing_ok=True)
-        return left
+                removed.append(str(path))
+        return left, removed

@@ -7,6 +7,7 @@ and their warnings shown, for humans only.
 
 from __future__ import annotations
 
+import signal
 import sys
 import threading
 import time
@@ -81,6 +82,8 @@ class Orchestrator:
         self.exited: dict[str, int | None] = {}  # children that ended mid-mission
         self.watcher: ChildProcess | None = None  # sar-tree run --watch
         self._report_imported = False
+        self._in_flight = 0  # goals in flight, once the trace is followed (at completion)
+        self._stopped_early = False  # the children but the runner signalled at completion
 
     # progress -----------------------------------------------------------------------------
     def say(self, text: str) -> None:
@@ -129,6 +132,30 @@ class Orchestrator:
             held = self._repeats.flush()
         for line in held:
             self.say(f"[{time.monotonic() - self.started:6.2f}s] {line}")
+
+    def _goals_in_flight(self) -> int:
+        """Goals the simulator's trace shows accepted and not yet ended (read on from here)."""
+        for record in self._trace.poll():
+            if isinstance(record, dict) and record.get("event") == "accepted":
+                self._in_flight += 1
+            elif isinstance(record, dict) and record.get("event") in GOAL_ENDS:
+                self._in_flight = max(0, self._in_flight - 1)
+        return self._in_flight
+
+    def stop_early_after_completion(self) -> None:
+        """The mission is complete and the runner ends by itself: stop the others meanwhile.
+
+        Every child but the runner and the recorder (which records the runner's last
+        events) gets SIGINT now, not after the runner's exit, unless a goal is still in
+        flight (the simulator must then answer the runner's cancel). :meth:`stop` still
+        waits for all of them, and for the runner's exit code.
+        """
+        if self._stopped_early or self._goals_in_flight() > 0:
+            return
+        self._stopped_early = True
+        for child in self.children:
+            if child.label not in ("runner", "recorder") and child.poll() is None:
+                child.signal(signal.SIGINT)
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""
@@ -217,7 +244,8 @@ class Orchestrator:
                 return runner_exit_outcome(code, self.events, read_status(self.report_dir),
                                            self.last_error("runner"))
             for child in self.children:
-                if child is runner or child.label in self.exited or child.poll() is None:
+                if (child is runner or child.label in self.exited or child.poll() is None
+                        or self._stopped_early):  # then they end because we asked
                     continue
                 child.finish_reading()
                 self.exited[child.label] = child.poll()
@@ -226,6 +254,8 @@ class Orchestrator:
                                               self.last_error(child.label))
                 self.say(f"sar-tree run: the {child.label} process {exit_words(child.poll())} "
                          "mid-mission; the tree goes on without its service")
+            if self.completion is not None and not self.config.keep_alive:
+                self.stop_early_after_completion()
             if self.completion is not None and self.config.keep_alive and not announced:
                 announced = True
                 self.write_report(completion_outcome(self.completion, self.events))

@@ -78,6 +78,10 @@ class SessionLeftovers:
                       and any(Path(p).match(pattern) for pattern in PATTERNS)}
         return found
 
+    def noted(self) -> set[str]:
+        """The Fast DDS file names seen used by the session's processes so far."""
+        return set(self._seen)
+
     def finish(self) -> tuple[list[str], list[str]]:
         """Stop sampling; remove what the session left.
 

@@ -53,7 +53,7 @@ from __future__ import annotations
 import functools
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import py_trees
@@ -359,6 +359,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     node: Node | None = None
     runner: MissionRunner | None = None
     settings: RunnerSettings | None = None
+    build: Callable[[], None] | None = None  # the tree's build, once the node is made
 
     def fail(code: int, step: str, message: str) -> int:
         (node.get_logger() if node is not None else early_logger).error(message)
@@ -395,10 +396,10 @@ def run(argv: Sequence[str] | None = None) -> int:
             except TreeLoadError as err:
                 lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
                 raise _StartupError(EXIT_CONFIG, "tree",
-                                      f"cannot load {settings.tree}:\n{lines}") from err
+                                    f"cannot load {settings.tree}:\n{lines}") from err
             except Exception as err:  # a plugin that raised outside the loader's wrapping
                 raise _StartupError(EXIT_CONFIG, "tree", f"cannot build {settings.tree}: "
-                                      f"{type(err).__name__}: {err}") from err
+                                    f"{type(err).__name__}: {err}") from err
             runner = MissionRunner(node, settings, mission, loaded, stop=stop,
                                    wall_start=wall_start, context=context)
             runner.status_writer.startup = startup
@@ -430,6 +431,11 @@ def run(argv: Sequence[str] | None = None) -> int:
     except _StartupError as err:
         return fail(err.code, err.step, err.message)
     except Nav2StartupError as err:
+        if runner is None and build is not None:  # a bad tree says so, whatever Nav2 does
+            try:
+                build()
+            except _StartupError as tree_err:
+                return fail(tree_err.code, tree_err.step, tree_err.message)
         return fail(EXIT_STARTUP, "nav2", str(err))
     except StartupInterrupted:
         (node.get_logger() if node is not None else early_logger).info(

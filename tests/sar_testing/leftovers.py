@@ -91,7 +91,10 @@ class SessionLeftovers:
         """
         self._stop.set()
         self._thread.join(timeout=5.0)
-        left = [str(path) for path in sorted(self.folder.iterdir())]
+        # A nested pytest's basetemp (pytest-of-USER) is kept by pytest's own retention
+        # policy, not a test's leftover; it goes with the folder like the rest.
+        left = [str(path) for path in sorted(self.folder.iterdir())
+                if not path.name.startswith("pytest-of-")]
         shutil.rmtree(self.folder, ignore_errors=True)
         used = _in_use(self._shm)
         removed = []

@@ -255,11 +255,20 @@ def _wait_until_active(nav: Any, names: tuple[str, ...], *, deadline: float, tim
     probe = LifecycleProbe(names, resend_s=ASK_FIRST_RESEND_S, namespace=nav.get_namespace(),
                            context=nav.context)
     discovered = False
+    silent_since: float | None = None  # since when a served node never answered
     try:
         while not probe.all_active():
             if not discovered and all(probe.served(name) for name in names):
                 discovered = True
                 on_step("nav2_discovered")
+            silent = [n for n in names if probe.served(n) and not probe.last_state(n)]
+            silent_since = (silent_since or time.monotonic()) if silent else None
+            if silent_since is not None and time.monotonic() > silent_since + PROBE_AFTER_S:
+                # Asked again and again, never answered: ask on a context of its own, as
+                # the fallback below does (new endpoints, a new DDS participant).
+                probe.close()
+                probe = LifecycleProbe(names, resend_s=RESEND_S, namespace=nav.get_namespace())
+                silent_since = None
             if should_stop():
                 raise StartupInterrupted("stopped while waiting for Nav2")
             if time.monotonic() > deadline:

@@ -42,7 +42,6 @@ from sar_framework.orchestrate.outcome import (
 )
 from sar_framework.orchestrate.repeats import RepeatCollapser, numbers_as_one
 from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
-from sar_framework.recording.recorder import wait_until_recording
 from sar_framework.run_clock import RUN_STARTED_ENV, process_started
 from sar_framework.stop_signals import stop_on_signals
 from sar_framework.watch.child import start_watcher, stop_watcher
@@ -189,6 +188,8 @@ class Orchestrator:
             self.children.append(start_child(spec, env, self.report_dir / f"{spec.label}.log",
                                              self._on_line, self.started))
             if spec.label == "recorder" and self.config.record:
+                from sar_framework.recording.recorder import wait_until_recording  # mcap: slow
+
                 recorder = self.children[-1]
                 wait_until_recording(Path(self.config.record),
                                      lambda child=recorder: child.poll() is None)

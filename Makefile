@@ -10,7 +10,7 @@ export ROS_DOMAIN_ID ?= 42
 # worker rewrote and compiled every test module again (7 s of CPU instead of 2 s).
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: setup run launch test test-fast lint bench render clean help
+.PHONY: setup run launch test test-setup test-fast lint bench render clean help
 
 help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -42,7 +42,14 @@ XDIST := -n $(PYTEST_WORKERS) --dist loadfile --no-loadscope-reorder
 NO_PY_TREES := $(addprefix --ignore=tests/engine/,checking/test_schema.py scripting/test_fuzz.py \
                  reading/test_yaml_source.py)
 
-test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
+# The tests' own set-up, not make run's: BehaviorTree.CPP and the interop tests' checker,
+# built from the ROS overlay's sources once per machine (cached in ~/.cache/sar_framework;
+# minutes the first time, a second after). No test builds it; without cmake or g++ this
+# says so and the tests that need it skip, with that reason.
+test-setup: setup  ## what the tests need besides .venv: the BehaviorTree.CPP checker
+	@$(BIN)/python tests/interop/btcpp_build.py
+
+test: setup lint test-setup  ## ruff + the whole test suite (+ engine tests on py_trees 2.2.3)
 	@log=$$(mktemp); nice -n 19 $(COMPAT_BIN)/python -m pytest -q -p no:cacheprovider -n 2 \
 	  tests/engine $(NO_PY_TREES) > $$log 2>&1 & compat=$$!; \
 	  trap 'rm -f $$log' EXIT; trap 'kill $$compat 2>/dev/null; exit 130' INT TERM; \
@@ -53,7 +60,7 @@ test: setup lint  ## ruff + the whole test suite (+ engine tests on py_trees 2.2
 	  cat $$log; [ $$compat_rc -ne 5 ] || echo "make test: no engine tests collected" >&2; \
 	  [ $$rc -ne 0 ] && exit $$rc; exit $$compat_rc
 
-test-fast: setup  ## tests without the slow end-to-end runs
+test-fast: setup test-setup  ## tests without the slow end-to-end runs
 	@$(BIN)/python -m pytest -q -p no:cacheprovider $(XDIST) -m "not slow"
 
 lint: setup  ## ruff check

@@ -10,6 +10,12 @@ Before anything starts, the run removes Fast DDS shared-memory files no live pro
 (sar_testing.shm_zombies): a half-made one left by a killed process hangs the next ROS
 process given its port.
 
+A run leaves nothing behind: every process it starts gets a temp folder of the run's own
+(``TMPDIR``) and a marker. After the last test the run fails, naming each file, when that
+folder is not empty (a test did not remove what it made), and it removes the Fast DDS files
+its processes left in /dev/shm, saying how many (sar_testing.leftovers). The ROS domain
+locks stay machine-wide (``SAR_ROS_DOMAIN_LOCKS``).
+
 Tests marked ``soak`` (long repetitions under load) run only when asked for by name:
 ``-m soak``.
 """
@@ -17,13 +23,20 @@ Tests marked ``soak`` (long repetitions under load) run only when asked for by n
 from __future__ import annotations
 
 import importlib.util
+import os
+import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, settings
+from sar_testing.leftovers import SessionLeftovers
 from sar_testing.ros_env import DomainLease, apply_local_ros_env, lease_domain_id
 from sar_testing.shm_zombies import remove_unused_fastdds_files
+from sar_testing.temp_dirs import launch_tmpdir  # noqa: F401 - a fixture for every test
+
+from sar_framework.testing.ros_env import LOCKS_ENV, lock_folder
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 # Two test workers (and other work) share the cores: a property test's examples are the same,
@@ -32,6 +45,7 @@ settings.register_profile("shared_cores", deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("shared_cores")
 _lease: DomainLease | None = None
+_leftovers: SessionLeftovers | None = None
 
 
 def is_xdist_controller(config: pytest.Config) -> bool:
@@ -41,13 +55,40 @@ def is_xdist_controller(config: pytest.Config) -> bool:
 
 def pytest_configure(config: pytest.Config) -> None:
     """Lease a domain id and set the ROS environment for this test process."""
-    global _lease  # noqa: PLW0603 - one lease per test process
+    global _lease, _leftovers  # noqa: PLW0603 - one lease per test process, one run
     if not hasattr(config, "workerinput"):  # once per run, before any ROS process starts
         remove_unused_fastdds_files()
+        os.environ.setdefault(LOCKS_ENV, str(lock_folder()))
+        tempfile.gettempdir()  # this process (pytest's own tmp_path) keeps the usual one
+        _leftovers = SessionLeftovers()
+        _leftovers.start()
     if is_xdist_controller(config):
         return
     _lease = lease_domain_id()
     apply_local_ros_env(_lease.domain_id)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_sessionfinish(session: pytest.Session) -> Iterator[None]:
+    """After the last test (and the workers' end): fail the run if it left anything."""
+    yield
+    if _leftovers is None:
+        return
+    left, removed = _leftovers.finish()
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+
+    def say(line: str, **markup: bool) -> None:
+        if reporter is not None:
+            reporter.write_line(line, **markup)
+        else:
+            sys.stderr.write(line + "\n")
+
+    if removed:
+        say(f"removed {len(removed)} Fast DDS file(s) the run's processes left in /dev/shm")
+    if left:
+        for line in ["the tests left these in their temp folder (now removed):", *left]:
+            say(line, red=True)
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:
@@ -66,15 +107,11 @@ def pytest_report_header(config: pytest.Config) -> str:
 def slow_first(items: list[pytest.Item]) -> None:
     """Put the files holding ``slow`` tests first, each file's tests kept together, in order.
 
-    Files that need the BehaviorTree.CPP checker count as slow: its first build takes
-    minutes.
-
     Under ``-n 2 --dist loadfile --no-loadscope-reorder`` the workers take files in this
     order: the long end-to-end files start at once and the many quick files fill the gaps,
     instead of two long files left for the end.
     """
-    slow_files = {item.path for item in items if "slow" in item.keywords
-                  or "btcpp_checker" in getattr(item, "fixturenames", ())}  # a C++ build
+    slow_files = {item.path for item in items if "slow" in item.keywords}
     items.sort(key=lambda item: item.path not in slow_files)  # stable: file order kept
 
 

@@ -105,6 +105,8 @@ class FleetOrchestrator(Orchestrator):
                 line = progress_line(event, self.inputs.apps)
                 if line is not None:
                     self.show(time.monotonic() - self.started, name, line)
+        if self.events:
+            self.import_report_libraries()
 
     def wait(self, interrupt: threading.Event) -> Outcome:
         """Wait until every runner ended, the simulator ends, the timeout, or Ctrl-C.

@@ -7,6 +7,7 @@ and their warnings shown, for humans only.
 
 from __future__ import annotations
 
+import signal
 import sys
 import threading
 import time
@@ -41,7 +42,7 @@ from sar_framework.orchestrate.outcome import (
 )
 from sar_framework.orchestrate.repeats import RepeatCollapser, numbers_as_one
 from sar_framework.orchestrate.supervise import LogLine, start_child, stop_children
-from sar_framework.recording.recorder import wait_until_recording
+from sar_framework.run_clock import RUN_STARTED_ENV, process_started
 from sar_framework.stop_signals import stop_on_signals
 from sar_framework.watch.child import start_watcher, stop_watcher
 
@@ -67,7 +68,7 @@ class Orchestrator:
         self.out = out if out is not None else sys.stdout
         self.report_dir = Path(config.report_dir)
         self.children: list[ChildProcess] = []
-        self.started = time.monotonic()
+        self.started = process_started()  # every wall_s of the run counts from here
         self.events: list[MissionEvent] = []
         self.completion: MissionEvent | None = None  # the runner's verdict
         self.completion_wall_s: float | None = None  # when it came (--keep-alive's figures)
@@ -79,6 +80,9 @@ class Orchestrator:
         self._child_errors: dict[str, list[str]] = {}
         self.exited: dict[str, int | None] = {}  # children that ended mid-mission
         self.watcher: ChildProcess | None = None  # sar-tree run --watch
+        self._report_imported = False
+        self._in_flight = 0  # goals in flight, once the trace is followed (at completion)
+        self._stopped_early = False  # the children but the runner signalled at completion
 
     # progress -----------------------------------------------------------------------------
     def say(self, text: str) -> None:
@@ -118,6 +122,8 @@ class Orchestrator:
             line = progress_line(event, self.inputs.apps)
             if line is not None and self.watcher is None:
                 self.show(time.monotonic() - self.started, "runner", line)
+        if self.events:
+            self.import_report_libraries()
 
     def flush_repeats(self) -> None:
         """Print the count of the lines held back, if any."""
@@ -125,6 +131,30 @@ class Orchestrator:
             held = self._repeats.flush()
         for line in held:
             self.say(f"[{time.monotonic() - self.started:6.2f}s] {line}")
+
+    def _goals_in_flight(self) -> int:
+        """Goals the simulator's trace shows accepted and not yet ended (read on from here)."""
+        for record in self._trace.poll():
+            if isinstance(record, dict) and record.get("event") == "accepted":
+                self._in_flight += 1
+            elif isinstance(record, dict) and record.get("event") in GOAL_ENDS:
+                self._in_flight = max(0, self._in_flight - 1)
+        return self._in_flight
+
+    def stop_early_after_completion(self) -> None:
+        """The mission is complete and the runner ends by itself: stop the others meanwhile.
+
+        Every child but the runner and the recorder (which records the runner's last
+        events) gets SIGINT now, not after the runner's exit, unless a goal is still in
+        flight (the simulator must then answer the runner's cancel). :meth:`stop` still
+        waits for all of them, and for the runner's exit code.
+        """
+        if self._stopped_early or self._goals_in_flight() > 0:
+            return
+        self._stopped_early = True
+        for child in self.children:
+            if child.label not in ("runner", "recorder") and child.poll() is None:
+                child.signal(signal.SIGINT)
 
     def _goal_ended(self) -> bool:
         """Whether the simulator's trace says a goal ended since the last call."""
@@ -145,6 +175,7 @@ class Orchestrator:
     def start(self) -> None:
         """Start every child (the reader threads after all forks)."""
         env = ros_environment(log_dir=self.report_dir / "ros_log")
+        env[RUN_STARTED_ENV] = repr(self.started)  # the runner's events count from it too
         self.say(
             f"sar-tree run: {self.config.tree}"
             + (f" with {self.config.params}; " if self.config.params else "; ")
@@ -158,6 +189,8 @@ class Orchestrator:
             self.children.append(start_child(spec, env, self.report_dir / f"{spec.label}.log",
                                              self._on_line, self.started))
             if spec.label == "recorder" and self.config.record:
+                from sar_framework.recording.recorder import wait_until_recording  # mcap: slow
+
                 recorder = self.children[-1]
                 wait_until_recording(Path(self.config.record),
                                      lambda child=recorder: child.poll() is None)
@@ -165,7 +198,16 @@ class Orchestrator:
             child.start_reading()
         if self.config.watch:
             self.watcher = start_watcher(env)
-        # Import the report's libraries now, not after a Ctrl-C (numpy, Pillow, graphviz).
+
+    def import_report_libraries(self) -> None:
+        """Import what the report needs (numpy, Pillow, graphviz) at the runner's first event.
+
+        Not at start-up, where it would take a core from the children starting; before the
+        mission is under way, so a Ctrl-C mid-mission is not slowed by it.
+        """
+        if self._report_imported:
+            return
+        self._report_imported = True
         import sar_framework.engine.rendering.render
         import sar_framework.report
         import sar_framework.sim.occupancy  # noqa: F401
@@ -205,7 +247,8 @@ class Orchestrator:
                 return runner_exit_outcome(code, self.events, read_status(self.report_dir),
                                            self.last_error("runner"))
             for child in self.children:
-                if child is runner or child.label in self.exited or child.poll() is None:
+                if (child is runner or child.label in self.exited or child.poll() is None
+                        or self._stopped_early):  # then they end because we asked
                     continue
                 child.finish_reading()
                 self.exited[child.label] = child.poll()
@@ -214,6 +257,8 @@ class Orchestrator:
                                               self.last_error(child.label))
                 self.say(f"sar-tree run: the {child.label} process {exit_words(child.poll())} "
                          "mid-mission; the tree goes on without its service")
+            if self.completion is not None and not self.config.keep_alive:
+                self.stop_early_after_completion()
             if self.completion is not None and self.config.keep_alive and not announced:
                 announced = True
                 self.write_report(completion_outcome(self.completion, self.events))

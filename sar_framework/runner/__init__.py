@@ -2,7 +2,8 @@
 
 - :mod:`.node`: the node, its start-up order, its stop and exit codes (``main``);
 - :mod:`.settings`: its parameters read from its table (:mod:`sar_framework.mission.runner_params`);
-- :mod:`.nav2_startup`, :mod:`.lifecycle_probe`: AMCL seeded, Nav2 awaited;
+- :mod:`.nav2_startup`, :mod:`.lifecycle_probe`, :mod:`.basic_navigator`: AMCL seeded, Nav2
+  awaited;
 - :mod:`.tree_ticker`: py_trees_ros' ``BehaviourTree`` when importable, else the fallback;
 - :mod:`.status_file`, :mod:`.reasons`: the JSON status file and its failure reasons;
 - what it publishes, read by ``sar-tree run``, ``watch`` and the recorder:

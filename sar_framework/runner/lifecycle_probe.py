@@ -1,14 +1,18 @@
-"""Ask lifecycle nodes whether they are ACTIVE, on a context of its own.
+"""Ask lifecycle nodes whether they are ACTIVE, re-sending unanswered asks, never blocking.
 
-Used by the Nav2 start-up when BasicNavigator's own wait may be stuck on a lost reply: a
-fresh client re-sends an unanswered ``get_state`` (DDS can drop the reply to a request sent
-just after discovery) and never blocks.
+The Nav2 start-up uses it twice: before BasicNavigator asks (on the runner's context, so
+the discovery it waits for is the one BasicNavigator then uses), and when BasicNavigator's
+own wait may be stuck on a lost reply (on a context of its own): an unanswered
+``get_state`` is sent again (DDS can drop the reply to a request sent just after discovery).
 """
 
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rclpy.context import Context
 
 #: ``lifecycle_msgs/msg/State.PRIMARY_STATE_ACTIVE``.
 ACTIVE_STATE_ID = 3
@@ -17,23 +21,28 @@ SPIN_STEP_S = 0.05
 
 
 class LifecycleProbe:
-    """Ask lifecycle nodes for their state on a context of its own, re-sending unanswered asks.
+    """Ask lifecycle nodes for their state, re-sending unanswered asks.
 
     Args:
         names: The lifecycle nodes (``amcl``, ``bt_navigator``).
         resend_s: Seconds after which an unanswered request is sent again.
         namespace: The robot's namespace the names are in (the runner's; ``/`` alone).
+        context: The rclpy context to ask on; None: a context of its own, shut down by
+            :meth:`close`.
     """
 
     def __init__(self, names: tuple[str, ...], *, resend_s: float = 1.0,
-                 namespace: str = "/") -> None:
+                 namespace: str = "/", context: Context | None = None) -> None:
         from lifecycle_msgs.srv import GetState
         from rclpy.context import Context
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.node import Node
 
-        self._context = Context()
-        self._context.init()
+        self._own_context = context is None
+        if context is None:
+            context = Context()
+            context.init()
+        self._context = context
         self._node = Node("sar_nav2_probe", namespace=namespace, context=self._context)
         self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(self._node)
@@ -41,6 +50,7 @@ class LifecycleProbe:
                          for n in names}
         self._asks: dict[str, tuple[float, list[Any]]] = {}
         self._active: set[str] = set()
+        self._states: dict[str, str] = {}  # the last state label each node answered
         self._resend_s = resend_s
 
     def all_active(self) -> bool:
@@ -54,14 +64,29 @@ class LifecycleProbe:
                 continue
             sent, futures = self._asks.get(name, (0.0, []))
             answers = [f.result() for f in futures if f.done() and f.result() is not None]
+            if answers:
+                self._states[name] = answers[-1].current_state.label
             if any(a.current_state.id == ACTIVE_STATE_ID for a in answers):
                 self._active.add(name)
             elif now - sent > self._resend_s and client.service_is_ready():
                 self._asks[name] = (now, [*futures, client.call_async(GetState.Request())])
         return len(self._active) == len(self._clients)
 
+    def served(self, name: str) -> bool:
+        """Whether ``name``'s ``get_state`` service has been discovered."""
+        return self._clients[name].service_is_ready()
+
+    def not_active(self) -> list[str]:
+        """The nodes not yet seen ACTIVE, in the order given."""
+        return [name for name in self._clients if name not in self._active]
+
+    def last_state(self, name: str) -> str:
+        """The state ``name`` last answered (``inactive``...), or "" before any answer."""
+        return self._states.get(name, "")
+
     def close(self) -> None:
-        """Destroy the node and shut the probe's context down."""
+        """Destroy the node (and shut the probe's own context down)."""
         self._executor.shutdown(timeout_sec=0.0)
         self._node.destroy_node()
-        self._context.try_shutdown()
+        if self._own_context:
+            self._context.try_shutdown()

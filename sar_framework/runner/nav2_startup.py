@@ -9,7 +9,11 @@ start-up, so it may block, but always within a wall-clock bound::
 
 With ``nav2_simple_commander`` importable (a real ROS install) it is the course's recipe:
 ``BasicNavigator.setInitialPose`` + ``waitUntilNav2Active``, run in a helper thread so the
-bound holds. ``waitUntilNav2Active`` waits for each ``get_state`` reply without a bound and
+bound holds. ``waitUntilNav2Active`` sleeps 2 s after every ``get_state`` answer, ACTIVE or
+not; so first a :class:`~.lifecycle_probe.LifecycleProbe` on the same context asks the
+localizer and the navigator itself (no sleeps) until both are ACTIVE: BasicNavigator then
+asks each once, on a discovery already done, and its sleeps are paid once (4 s in all).
+``waitUntilNav2Active`` waits for each ``get_state`` reply without a bound and
 never asks again, and DDS can drop the reply to a request sent just after discovery: when
 it is still waiting after :data:`PROBE_AFTER_S` while AMCL has answered the seed, a probe
 asks both nodes itself (re-sending) and, once both are ACTIVE, the start-up goes on. A
@@ -51,6 +55,10 @@ _SPIN_STEP_S = 0.05
 PROBE_AFTER_S = 6.0
 #: A get_state request without an answer after this long is sent again.
 RESEND_S = 1.0
+#: Before BasicNavigator: how often a node not yet ACTIVE (or silent) is asked again.
+ASK_FIRST_RESEND_S = 0.25
+#: The start-up's steps, in order, as ``on_step`` receives them.
+STEPS = ("nav2_discovered", "nav2_active", "amcl_seeded")
 
 
 class Nav2StartupError(RuntimeError):
@@ -82,6 +90,14 @@ def _never() -> bool:
     return False
 
 
+def _no_step(_step: str) -> None:
+    return None
+
+
+def _nothing() -> None:
+    return None
+
+
 def _log(logger: Any, message: str) -> None:
     if logger is not None:
         logger.info(message)
@@ -107,6 +123,9 @@ def seed_amcl_and_wait_for_nav2(
     should_stop: Callable[[], bool] = _never,
     logger: Any = None,
     prefer_basic_navigator: bool = True,
+    ask_first: bool = True,
+    on_step: Callable[[str], None] = _no_step,
+    meanwhile: Callable[[], None] = _nothing,
 ) -> None:
     """Seed AMCL and block (bounded) until the localizer and navigator are ACTIVE.
 
@@ -121,6 +140,13 @@ def seed_amcl_and_wait_for_nav2(
         should_stop: Polled while waiting; True raises :class:`StartupInterrupted`.
         logger: An rclpy logger for progress lines (optional).
         prefer_basic_navigator: Use BasicNavigator when it is importable.
+        ask_first: Before BasicNavigator asks, wait (without its sleeps) until both nodes
+            answer ACTIVE.
+        on_step: Called with each of :data:`STEPS` as it is done (the Nav2 services
+            discovered, both nodes ACTIVE, the seed and wait done).
+        meanwhile: Called once, in the calling thread, while the wait goes on (with
+            BasicNavigator: while it sleeps, both nodes ACTIVE); what it raises ends the
+            wait and propagates.
 
     Raises:
         Nav2StartupError: A step did not complete within ``timeout_s``.
@@ -131,24 +157,42 @@ def seed_amcl_and_wait_for_nav2(
     if navigator_cls is not None and context is None:
         _with_basic_navigator(navigator_cls, pose=pose, timeout_s=timeout_s,
                               use_sim_time=use_sim_time, localizer=localizer,
-                              navigator=navigator, should_stop=should_stop, logger=logger)
+                              navigator=navigator, should_stop=should_stop, logger=logger,
+                              ask_first=ask_first, on_step=on_step, meanwhile=meanwhile)
     else:
+        meanwhile()
         waiter = _Nav2Waiter(pose=pose, timeout_s=timeout_s, use_sim_time=use_sim_time,
                              context=context, should_stop=should_stop, logger=logger)
         waiter.run(localizer, navigator)
+        on_step("amcl_seeded")
 
 
 def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: float,
                           use_sim_time: bool, localizer: str, navigator: str,
-                          should_stop: Callable[[], bool], logger: Any) -> None:
+                          should_stop: Callable[[], bool], logger: Any, ask_first: bool,
+                          on_step: Callable[[str], None], meanwhile: Callable[[], None]) -> None:
     """The guide's recipe, with the blocking wait in a thread so the bound holds."""
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
+    from sar_framework.runner.basic_navigator import (
+        join_after_shutdown,
+        stuck_step,
+        wait_quietly,
+    )
     from sar_framework.runner.lifecycle_probe import LifecycleProbe
 
+    started = time.monotonic()
     nav = navigator_cls(node_name="sar_nav2_startup")
     nav.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
+    if ask_first:
+        try:
+            _wait_until_active(nav, (localizer, navigator), deadline=started + timeout_s,
+                               timeout_s=timeout_s, should_stop=should_stop,
+                               on_step=on_step, logger=logger)
+        except BaseException:
+            nav.destroy_node()
+            raise
     seed = PoseStamped()
     seed.header.frame_id = pose.frame_id
     seed.header.stamp = nav.get_clock().now().to_msg()
@@ -159,20 +203,21 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
                  "BasicNavigator; waiting for Nav2 to become ACTIVE")
     nav.setInitialPose(seed)
     failure: list[BaseException] = []
-    waiter = threading.Thread(target=_wait_quietly, daemon=True, name="nav2-startup",
+    waiter = threading.Thread(target=wait_quietly, daemon=True, name="nav2-startup",
                               args=(nav, navigator, localizer, failure))
     waiter.start()
-    started = time.monotonic()
+    asked = time.monotonic()
     probe: LifecycleProbe | None = None
     try:
+        meanwhile()
         while waiter.is_alive():
             if should_stop():
                 raise StartupInterrupted("stopped while waiting for Nav2")
             now = time.monotonic()
             if now > started + timeout_s:
-                raise Nav2StartupError(f"{_stuck_step(nav, localizer, navigator)} within "
+                raise Nav2StartupError(f"{stuck_step(nav, localizer, navigator)} within "
                                        f"{timeout_s:g} s: {_HINT}")
-            if probe is None and now > started + PROBE_AFTER_S \
+            if probe is None and now > asked + PROBE_AFTER_S \
                     and getattr(nav, "initial_pose_received", False):
                 probe = LifecycleProbe((localizer, navigator), resend_s=RESEND_S,
                                        namespace=nav.get_namespace())
@@ -187,55 +232,57 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
             probe.close()
         failed = list(failure)  # what the waiter met before we stopped listening
         # Destroyed even while the waiter still waits for a reply DDS dropped: its loop can
-        # then only end in InvalidHandle (caught in _wait_quietly). Left alive, it asked
+        # then only end in InvalidHandle (caught in wait_quietly). Left alive, it asked
         # rclpy for a new global executor after the context's shutdown, which rclpy cannot
         # build any more ("Exception ignored in: Executor.__del__" and a traceback).
         nav.destroy_node()
         if waiter.is_alive():  # inside the global executor's wait until the shutdown
-            atexit.register(_join_after_shutdown, waiter)
+            atexit.register(join_after_shutdown, waiter)
     if failed:
         raise Nav2StartupError(f"BasicNavigator.waitUntilNav2Active failed: {failed[0]}")
+    on_step("amcl_seeded")
     _log(logger, "Nav2 is ACTIVE and AMCL has its initial pose")
 
 
-def _wait_quietly(nav: Any, navigator: str, localizer: str,
-                  failure: list[BaseException]) -> None:
-    """Run ``waitUntilNav2Active``; keep its error unless the context was shut down."""
+def _wait_until_active(nav: Any, names: tuple[str, ...], *, deadline: float, timeout_s: float,
+                       should_stop: Callable[[], bool], on_step: Callable[[str], None],
+                       logger: Any) -> None:
+    """Ask ``names`` (re-sending, no sleeps) until every one answers ACTIVE, or raise."""
+    from sar_framework.runner.lifecycle_probe import LifecycleProbe
+
+    _log(logger, f"Waiting for {' and '.join(names)} to become ACTIVE before BasicNavigator "
+                 "asks (it sleeps 2 s after every answer)")
+    probe = LifecycleProbe(names, resend_s=ASK_FIRST_RESEND_S, namespace=nav.get_namespace(),
+                           context=nav.context)
+    discovered = False
+    silent_since: float | None = None  # since when a served node never answered
     try:
-        nav.waitUntilNav2Active(navigator=navigator, localizer=localizer)
-    except Exception as err:
-        if nav.context.ok():
-            failure.append(err)
-
-
-def _join_after_shutdown(waiter: threading.Thread) -> None:
-    """At exit: shut the context down (its executor then stops) and join the thread.
-
-    A thread still inside rcl's wait when the interpreter finalises aborts the process
-    ("terminate called without an active exception").
-    """
-    import rclpy
-
-    rclpy.try_shutdown()
-    waiter.join(timeout=2.0)
-
-
-def _stuck_step(nav: Any, localizer: str, navigator: str) -> str:
-    """Name the step BasicNavigator is stuck in, worded as the rclpy path words it."""
-    def served(name: str) -> bool:  # a server, not BasicNavigator's own client
-        return nav.count_services(f"{name}/get_state") > 0  # in its namespace
-
-    def service(name: str) -> str:  # its full name, in the robot's namespace
-        return nav.resolve_service_name(f"{name}/get_state")
-
-    if not served(localizer):
-        return f"{localizer} never reported ACTIVE ({service(localizer)} never appeared)"
-    if not getattr(nav, "initial_pose_received", False):
-        return (f"{localizer} never answered /initialpose on /amcl_pose (or never became "
-                "ACTIVE)")
-    if not served(navigator):
-        return f"{navigator} never reported ACTIVE ({service(navigator)} never appeared)"
-    return f"{navigator} never reported ACTIVE"
+        while not probe.all_active():
+            if not discovered and all(probe.served(name) for name in names):
+                discovered = True
+                on_step("nav2_discovered")
+            silent = [n for n in names if probe.served(n) and not probe.last_state(n)]
+            silent_since = (silent_since or time.monotonic()) if silent else None
+            if silent_since is not None and time.monotonic() > silent_since + PROBE_AFTER_S:
+                # Asked again and again, never answered: ask on a context of its own, as
+                # the fallback below does (new endpoints, a new DDS participant).
+                probe.close()
+                probe = LifecycleProbe(names, resend_s=RESEND_S, namespace=nav.get_namespace())
+                silent_since = None
+            if should_stop():
+                raise StartupInterrupted("stopped while waiting for Nav2")
+            if time.monotonic() > deadline:
+                name = probe.not_active()[0]
+                service = nav.resolve_service_name(f"{name}/get_state")
+                why = (f"{service} never appeared" if not probe.served(name)
+                       else f"last state: {probe.last_state(name) or 'no response'}")
+                raise Nav2StartupError(f"{name} never reported ACTIVE ({why}) within "
+                                       f"{timeout_s:g} s: {_HINT}")
+    finally:
+        probe.close()
+    if not discovered:
+        on_step("nav2_discovered")
+    on_step("nav2_active")
 
 
 class _Nav2Waiter:

@@ -12,11 +12,17 @@ Start-up, in order; each step is bounded and fails with one clear message:
 2. the node ``sar_mission_runner`` is created with auto-declared overrides; the runner's
    parameters (:mod:`.settings`) are read;
 3. the tree is checked, and each app it uses (:mod:`sar_framework.app`) reads its own
-   parameters and gives its context objects; the tree is loaded with them;
+   parameters and gives its context objects;
+4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`); meanwhile, while
+   BasicNavigator sleeps, the tree is loaded with the apps' context objects and set up
+   with ``node=`` (bounded by ``setup_timeout_wall_s``);
    (``~/reload`` and ``watch_tree`` swap a new one in between ticks: :mod:`.reload`)
-4. AMCL is seeded and Nav2 awaited (``seed_amcl``; :mod:`.nav2_startup`);
-5. the tree is set up with ``node=`` (bounded by ``setup_timeout_wall_s``) and ticked at
-   ``tick_rate_hz`` on a timer of the node (ROS time, so it follows ``/clock``).
+5. the tree is ticked at ``tick_rate_hz`` on a timer of the node (ROS time, so it follows
+   ``/clock``).
+
+The status file's ``startup`` lists when each start-up step was done, in wall seconds of
+the run (:mod:`sar_framework.run_clock`): ``runner_started_s``, ``tree_ready_s`` and the
+Nav2 steps (:data:`.nav2_startup.STEPS`, ``_s`` appended).
 
 When the mission is *complete* follows the ``completion`` parameter or the tree file's
 ``completion`` key (:mod:`sar_framework.mission.completion`): ``end`` (the default) when
@@ -49,7 +55,7 @@ from __future__ import annotations
 import functools
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import py_trees
@@ -65,6 +71,7 @@ from sar_framework.mission.params_file import (
 )
 from sar_framework.ros.delivery import deliver
 from sar_framework.ros.tf_topics import TF_REMAP_ARGS
+from sar_framework.run_clock import run_started
 from sar_framework.runner.entry_values import EntryTracker, writers_of
 from sar_framework.runner.mission_events import mission_events
 from sar_framework.runner.reasons import reason_line
@@ -299,6 +306,14 @@ def create_runner_node(**kwargs: Any) -> Node:
     return create_params_node(NODE_NAME, cli_args=TF_REMAP_ARGS, **kwargs)
 
 
+class _StartupError(Exception):
+    """The runner cannot start: its exit code, the step that failed and why."""
+
+    def __init__(self, code: int, step: str, message: str) -> None:
+        super().__init__(message)
+        self.code, self.step, self.message = code, step, message
+
+
 def _check_params_files(argv: Sequence[str]) -> tuple[list[str], dict[str, KeyLocation]]:
     """Check every ``--params-file`` in pure Python; merge where keys are set."""
     files = params_files_from_args(argv)
@@ -344,7 +359,12 @@ def run(argv: Sequence[str] | None = None) -> int:
         seed_amcl_and_wait_for_nav2,
     )
 
-    wall_start = time.monotonic()
+    wall_start = run_started()  # sar-tree run's start when it started us, else now
+    startup = {"runner_started_s": round(time.monotonic() - wall_start, 3)}
+
+    def done(step: str) -> None:  # a start-up step, for the status file
+        startup[f"{step}_s"] = round(time.monotonic() - wall_start, 3)
+
     args = list(sys.argv if argv is None else argv)
     early_logger = rclpy.logging.get_logger(NODE_NAME)
     try:
@@ -359,6 +379,7 @@ def run(argv: Sequence[str] | None = None) -> int:
     node: Node | None = None
     runner: MissionRunner | None = None
     settings: RunnerSettings | None = None
+    build: Callable[[], None] | None = None  # the tree's build, once the node is made
 
     def fail(code: int, step: str, message: str) -> int:
         (node.get_logger() if node is not None else early_logger).error(message)
@@ -384,24 +405,36 @@ def run(argv: Sequence[str] | None = None) -> int:
             return fail(EXIT_CONFIG, "tree", str(err))
         logger = node.get_logger()
         context = tree_context(node, apps)
-        try:
-            loaded = load_tree(settings.tree, context=context, plugin_paths=settings.plugin_paths)
-        except TreeLoadError as err:
-            lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
-            return fail(EXIT_CONFIG, "tree", f"cannot load {settings.tree}:\n{lines}")
-        except Exception as err:  # a plugin that raised outside the loader's wrapping
-            return fail(EXIT_CONFIG, "tree",
-                        f"cannot build {settings.tree}: {type(err).__name__}: {err}")
-        if settings.seed_amcl:
+
+        def build() -> None:  # the tree, loaded and set up
+            nonlocal runner
+            try:
+                loaded = load_tree(settings.tree, context=context,
+                                   plugin_paths=settings.plugin_paths)
+            except TreeLoadError as err:
+                lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
+                raise _StartupError(EXIT_CONFIG, "tree",
+                                    f"cannot load {settings.tree}:\n{lines}") from err
+            except Exception as err:  # a plugin that raised outside the loader's wrapping
+                raise _StartupError(EXIT_CONFIG, "tree", f"cannot build {settings.tree}: "
+                                    f"{type(err).__name__}: {err}") from err
+            runner = MissionRunner(node, settings, apps, loaded, stop=stop,
+                                   wall_start=wall_start, context=context)
+            runner.status_writer.startup = startup
+            try:
+                runner.setup()
+            except RuntimeError as err:
+                raise _StartupError(EXIT_STARTUP, "setup", str(err)) from err
+            done("tree_ready")
+
+        if settings.seed_amcl:  # the tree is built while BasicNavigator sleeps
             seed_amcl_and_wait_for_nav2(
                 pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
-                use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger)
-        runner = MissionRunner(node, settings, apps, loaded, stop=stop,
-                               wall_start=wall_start, context=context)
-        try:
-            runner.setup()
-        except RuntimeError as err:
-            return fail(EXIT_STARTUP, "setup", str(err))
+                use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger,
+                on_step=done, meanwhile=build)
+        else:
+            build()
+        assert runner is not None
         if stop:
             return EXIT_STOPPED
         # As serve.py's: /clock, /tf and feedback wake the runner at the simulator's update
@@ -413,7 +446,14 @@ def run(argv: Sequence[str] | None = None) -> int:
         finally:
             executor.remove_node(node)
             executor.shutdown(timeout_sec=0.0)
+    except _StartupError as err:
+        return fail(err.code, err.step, err.message)
     except Nav2StartupError as err:
+        if runner is None and build is not None:  # a bad tree says so, whatever Nav2 does
+            try:
+                build()
+            except _StartupError as tree_err:
+                return fail(tree_err.code, tree_err.step, tree_err.message)
         return fail(EXIT_STARTUP, "nav2", str(err))
     except StartupInterrupted:
         (node.get_logger() if node is not None else early_logger).info(

@@ -160,6 +160,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self._changed = False
         self._snapshot: tuple[Status, ...] = ()
         self.complete = False
+        #: When each start-up step was done (wall seconds), listed as ``startup``.
+        self.startup: dict[str, float] = {}
 
     def retarget(self, spec: TreeSpec, behaviours: dict[str, py_trees.behaviour.Behaviour],
                  end_uid: str | None, entries: EntryTracker | None = None) -> None:
@@ -337,6 +339,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         }
         if self._entries is not None and len(self._entries):
             document["entries"] = self._entries.final()
+        if self.startup:
+            document["startup"] = dict(self.startup)
         return document
 
     def write(self) -> None:

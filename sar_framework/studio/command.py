@@ -15,7 +15,9 @@ does. It serves until Ctrl-C.
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
+import shutil
 import socket
 import sys
 import tempfile
@@ -176,8 +178,10 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
         path = Path(args.recording).resolve()  # named here: its directory is given
         if not path.is_file():
             return _fail(f"recording not found: '{args.recording}'")
+        folder = Path(tempfile.mkdtemp(prefix="sar_studio_"))
+        atexit.register(shutil.rmtree, folder, ignore_errors=True)  # the replay's files
         try:
-            session = replay_session(path, Path(tempfile.mkdtemp(prefix="sar_studio_")))
+            session = replay_session(path, folder)
         except RecordingError as err:
             return _fail(str(err))
     else:

@@ -17,6 +17,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -57,17 +58,21 @@ def headless_chromium(width: int = 1400, height: int = 900) -> Iterator[Any]:
     from selenium.webdriver.chrome.service import Service
 
     os.environ.setdefault("SE_OFFLINE", "true")  # selenium manager: never download
-    options = webdriver.ChromeOptions()
-    options.binary_location = _chromium() or CHROMIUM_NAMES[0]
-    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
-                     "--disable-dev-shm-usage", "--force-device-scale-factor=1",
-                     f"--window-size={width},{height}"):
-        options.add_argument(argument)
-    driver = webdriver.Chrome(service=Service(str(CHROMEDRIVER)), options=options)
-    try:
-        yield driver
-    finally:
-        driver.quit()
+    # Its profile and temporary files in a folder removed after it quit (chromium leaves an
+    # org.chromium.Chromium.* folder in the temp dir otherwise).
+    with tempfile.TemporaryDirectory(prefix="chromium_") as folder:
+        options = webdriver.ChromeOptions()
+        options.binary_location = _chromium() or CHROMIUM_NAMES[0]
+        for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
+                         "--disable-dev-shm-usage", "--force-device-scale-factor=1",
+                         f"--window-size={width},{height}", f"--user-data-dir={folder}/profile"):
+            options.add_argument(argument)
+        service = Service(str(CHROMEDRIVER), env={**os.environ, "TMPDIR": folder})
+        driver = webdriver.Chrome(service=service, options=options)
+        try:
+            yield driver
+        finally:
+            driver.quit()
 
 
 def record_mission(path: Path, sim_param: str, speed: float = 20.0,

@@ -59,6 +59,20 @@ def domains_in_use() -> set[int]:
     return used
 
 
+LOCKS_ENV = "SAR_ROS_DOMAIN_LOCKS"
+"""Where the lock files are, when set: one folder for the machine, whatever ``TMPDIR`` a
+test session gives its processes."""
+
+
+def lock_folder() -> Path:
+    """The machine-wide folder of the domain locks.
+
+    ``$SAR_ROS_DOMAIN_LOCKS``, else the temp dir's ``sar_framework_ros_domains``.
+    """
+    return Path(os.environ.get(LOCKS_ENV)
+                or Path(tempfile.gettempdir()) / "sar_framework_ros_domains")
+
+
 def lease_domain_id() -> DomainLease:
     """Claim a free ROS domain id for this process: unleased, and no participant on it.
 
@@ -68,7 +82,7 @@ def lease_domain_id() -> DomainLease:
     Raises:
         RuntimeError: Every id in the range is held by another run.
     """
-    folder = Path(tempfile.gettempdir()) / "sar_framework_ros_domains"
+    folder = lock_folder()
     folder.mkdir(exist_ok=True)
     start = os.getpid() % len(_DOMAIN_RANGE)  # spread concurrent runs over the range
     ids = list(_DOMAIN_RANGE)

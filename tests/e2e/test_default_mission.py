@@ -189,3 +189,26 @@ def test_keep_alive_freezes_the_mission_s_figures_at_completion(default_run: dic
     assert mission["sim_duration_s"] == pytest.approx(status["sim_end_s"] - status["sim_start_s"],
                                                       abs=0.01)
     assert mission["ticks"] == status["ticks"] < 400
+
+
+def test_the_start_up_steps_come_in_order_on_the_run_s_clock(default_run: dict) -> None:
+    """status.json's start-up steps, in seconds of the run, in the order they must happen:
+    BasicNavigator asks only once both nodes are ACTIVE, the tree ticks after its seed; the
+    runner's events count from sar-tree run's start, as the verdict does."""
+    from sar_framework.events.event import EventKind
+    from sar_framework.events.jsonl import EVENTS_FILE, read_events
+    from sar_framework.runner.nav2_startup import basic_navigator_class
+
+    if basic_navigator_class() is None:
+        pytest.skip("the fallback tier seeds AMCL without BasicNavigator, in another order")
+    status = read_json(default_run["report"] / "status.json")
+    steps = status["startup"]
+    order = ["runner_started_s", "nav2_discovered_s", "nav2_active_s", "amcl_seeded_s"]
+    assert [steps[key] for key in order] == sorted(steps[key] for key in order), steps
+    assert steps["runner_started_s"] > 0, steps  # the runner starts after sar-tree run
+    assert steps["nav2_active_s"] <= steps["tree_ready_s"] <= status["wall_first_tick_s"], steps
+    assert steps["amcl_seeded_s"] <= status["wall_first_tick_s"], steps
+    events = read_events(default_run["report"] / EVENTS_FILE)
+    started = next(e for e in events if e.kind == EventKind.STARTED)
+    verdict = next(e for e in events if e.kind == EventKind.VERDICT)
+    assert steps["amcl_seeded_s"] <= started.wall_s <= verdict.wall_s, (steps, started, verdict)

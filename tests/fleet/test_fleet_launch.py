@@ -24,8 +24,11 @@ TREE = REPO / "trees" / "fleet_search.yaml"
 MISSION = REPO / "config" / "mission_params.yaml"
 SURVIVORS = REPO / "config" / "survivors.yaml"
 
-pytestmark = pytest.mark.skipif(
-    importlib.util.find_spec("launch_ros") is None, reason="launch_ros is not built")
+pytestmark = [
+    pytest.mark.skipif(importlib.util.find_spec("launch_ros") is None,
+                       reason="launch_ros is not built"),
+    pytest.mark.usefixtures("launch_tmpdir"),  # launch's launch_params_* files in tmp_path
+]
 
 
 def _parameters(arguments: list[str]) -> dict:

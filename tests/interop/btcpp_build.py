@@ -6,6 +6,11 @@ the ~2 min build happens once per machine; the small checker program is keyed by
 sources and the library's key. An exclusive ``flock`` keeps concurrent runs from building
 the same thing twice. Nothing is ever written next to the sources.
 
+Building is set-up work of the test run, never done by a test: ``make test`` runs this
+file first (``make test-setup``: ``python tests/interop/btcpp_build.py``), and the tests
+only look the programs up (``build=False``), failing with that command when they are
+missing. Where no toolchain exists the script says so and the tests skip, with the reason.
+
 Cache folder: ``$SAR_BTCPP_CACHE``, else ``$XDG_CACHE_HOME/sar_framework/btcpp``, else
 ``~/.cache/sar_framework/btcpp``.
 """
@@ -73,10 +78,23 @@ def _cmake_project(source: Path, target: Path, options: list[str], log: Path) ->
                 raise RuntimeError(f"{' '.join(argv)} failed ({done.returncode}); see {log}")
 
 
-def _cached(key: str, source: Path, options: list[str]) -> Path:
+SETUP_COMMAND = "make test-setup"
+"""What builds the programs (``python tests/interop/btcpp_build.py`` does the same)."""
+
+
+class NotBuiltError(RuntimeError):
+    """A program is not in the cache: the test run's set-up did not build it."""
+
+
+def _cached(key: str, source: Path, options: list[str], *, build: bool) -> Path:
     root = cache_root()
-    root.mkdir(parents=True, exist_ok=True)
     target = root / key
+    if not build:
+        if not (target / "done").exists():
+            raise NotBuiltError(f"{source.name} is not built for these sources (no "
+                                f"{target}): run `{SETUP_COMMAND}` first")
+        return target / "install"
+    root.mkdir(parents=True, exist_ok=True)
     with (root / f"{key}.lock").open("w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not (target / "done").exists():
@@ -87,28 +105,56 @@ def _cached(key: str, source: Path, options: list[str]) -> Path:
     return target / "install"
 
 
-def _build_program(source: Path, name: str, key_prefix: str, *options: str) -> Path:
-    """Build (or reuse) BT.CPP and the program in ``source``; return its executable's path."""
+def _build_program(source: Path, name: str, key_prefix: str, *options: str,
+                   build: bool) -> Path:
+    """BT.CPP and the program in ``source``, built (or reused, or only looked up when
+    ``build`` is false); return its executable's path."""
     library_key = "lib-" + tree_digest(BTCPP_SOURCE / "src", *BTCPP_OPTIONS,
                                        (BTCPP_SOURCE / "CMakeLists.txt").read_text(),
                                        tree_digest(BTCPP_SOURCE / "include"))
-    library = _cached(library_key, BTCPP_SOURCE, list(BTCPP_OPTIONS))
+    library = _cached(library_key, BTCPP_SOURCE, list(BTCPP_OPTIONS), build=build)
     key = key_prefix + tree_digest(source, library_key)
     installed = _cached(key, source, [f"-DCMAKE_PREFIX_PATH={library}",
-                                      "-DCMAKE_BUILD_TYPE=Release", *options])
+                                      "-DCMAKE_BUILD_TYPE=Release", *options], build=build)
     return installed / "bin" / name
 
 
-def build_checker() -> Path:
-    """Build (or reuse) BT.CPP and the checker; return the checker executable's path."""
+def build_checker(*, build: bool = True) -> Path:
+    """BT.CPP and the checker, built or reused; the checker executable's path.
+
+    Args:
+        build: False only looks the checker up.
+
+    Raises:
+        NotBuiltError: ``build`` is false and the checker is not in the cache.
+    """
     return _build_program(CHECKER_SOURCE, "btcpp_checker", "checker-",
-                          f"-DBTCPP_SOURCE_DIR={BTCPP_SOURCE}")
+                          f"-DBTCPP_SOURCE_DIR={BTCPP_SOURCE}", build=build)
 
 
-def build_script_oracle() -> Path:
-    """Build (or reuse) BT.CPP and the script oracle; return its executable's path."""
-    return _build_program(SCRIPT_ORACLE_SOURCE, "btcpp_script_oracle", "script-oracle-")
+def build_script_oracle(*, build: bool = True) -> Path:
+    """BT.CPP and the script oracle, built or reused; its executable's path.
+
+    Args:
+        build: False only looks it up.
+
+    Raises:
+        NotBuiltError: ``build`` is false and the oracle is not in the cache.
+    """
+    return _build_program(SCRIPT_ORACLE_SOURCE, "btcpp_script_oracle", "script-oracle-",
+                          build=build)
+
+
+def main() -> int:
+    """Build both programs (the test run's set-up); say why not where no toolchain exists."""
+    reason = missing_toolchain()
+    if reason is not None:
+        print(f"btcpp_build: not built ({reason}); the interop tests that need it will skip")
+        return 0
+    for program in (build_checker(), build_script_oracle()):
+        print(f"btcpp_build: {program}")
+    return 0
 
 
 if __name__ == "__main__":
-    print(build_checker())
+    raise SystemExit(main())

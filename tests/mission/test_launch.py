@@ -39,8 +39,9 @@ NAV2_NODES = {"map_server", "amcl", "controller_server", "smoother_server", "pla
 
 
 @pytest.fixture(autouse=True)
-def _ros_home(tmp_path, monkeypatch):
-    """A launch without report_dir makes a run folder under $ROS_HOME: keep it in tmp."""
+def _ros_home(tmp_path, monkeypatch, launch_tmpdir):
+    """A launch without report_dir makes a run folder under $ROS_HOME: keep it in tmp (and
+    launch's launch_params_* files: ``launch_tmpdir``)."""
     monkeypatch.setenv("ROS_HOME", str(tmp_path / "ros_home"))
 
 

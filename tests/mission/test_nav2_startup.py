@@ -104,15 +104,38 @@ def test_a_get_state_reply_lost_by_dds_is_asked_again(ros, tmp_path):
 
 
 BASIC_NAVIGATOR_SCRIPT = """
+import sys
+
 import rclpy
-from sar_framework.runner.nav2_startup import seed_amcl_and_wait_for_nav2
+from sar_framework.runner import nav2_startup
 
 class Printer:
     info = staticmethod(print)
 
+navigator_class = nav2_startup.basic_navigator_class()
+
+asked = []  # (service, future) of every request BasicNavigator sent
+
+class Spy(navigator_class):
+    def create_client(self, srv_type, srv_name, **kwargs):
+        client = super().create_client(srv_type, srv_name, **kwargs)
+        send = client.call_async
+
+        def call_async(request):
+            asked.append((srv_name, send(request)))
+            return asked[-1][1]
+
+        client.call_async = call_async
+        return client
+
+nav2_startup.basic_navigator_class = lambda: Spy
 rclpy.init()
-seed_amcl_and_wait_for_nav2(timeout_s=25.0, logger=Printer())
+nav2_startup.seed_amcl_and_wait_for_nav2(timeout_s=25.0, logger=Printer(),
+                                         ask_first=sys.argv[1] == "ask-first")
 print("STARTED", flush=True)
+for service, future in asked:  # ANSWER <service> <label>, or "none" while unanswered
+    answer = future.result() if future.done() else None
+    print("ANSWER", service, answer.current_state.label if answer else "none", flush=True)
 """
 
 
@@ -139,7 +162,9 @@ def test_basic_navigator_stuck_on_a_lost_reply_does_not_stall_the_start(tmp_path
     with NodeProcess([FAKE, "--bt-drop-first", "1"], "nav2", log_dir=tmp_path) as fake:
         fake.wait_for_output("ready")
         started = time.monotonic()
-        done = subprocess.run([sys.executable, "-c", BASIC_NAVIGATOR_SCRIPT + end],
+        # BasicNavigator asks first: its request is the one left unanswered.
+        done = subprocess.run([sys.executable, "-c", BASIC_NAVIGATOR_SCRIPT + end,
+                               "basic-navigator-first"],
                               capture_output=True, text=True, timeout=60, check=False)
         took = time.monotonic() - started
         fake.wait_for_output("get_state request 1 left unanswered")
@@ -148,3 +173,30 @@ def test_basic_navigator_stuck_on_a_lost_reply_does_not_stall_the_start(tmp_path
     assert "STARTED" in out and "going on" in out, out
     assert "terminate called" not in out and "Traceback" not in out, out
     assert took < 20.0, out
+
+
+def _answers(out: str) -> list[str]:
+    """The get_state answers BasicNavigator received, ``<service> <label>`` each."""
+    return [line.split(" ", 1)[1] for line in out.splitlines() if line.startswith("ANSWER ")]
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(basic_navigator_class() is None,
+                    reason="real-stack tier: nav2_simple_commander is not installed")
+@pytest.mark.parametrize("fake_args", [["--bt-active-after", "3"], ["--bt-drop-first", "1"]],
+                         ids=["navigator-inactive-at-first", "first-reply-lost"])
+def test_basic_navigator_asks_each_node_once_when_it_is_already_active(tmp_path, fake_args):
+    """Asked first (re-sending, without sleeps), both nodes are ACTIVE when BasicNavigator
+    asks: one answer each, ``active``, so each of its 2 s sleeps is paid once; a reply lost
+    before (the navigator's first) is asked again by the start-up, not by BasicNavigator."""
+    import subprocess
+    import sys
+
+    with NodeProcess([FAKE, *fake_args], "nav2", log_dir=tmp_path) as fake:
+        fake.wait_for_output("ready")
+        done = subprocess.run([sys.executable, "-c", BASIC_NAVIGATOR_SCRIPT, "ask-first"],
+                              capture_output=True, text=True, timeout=60, check=False)
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out
+    assert "STARTED" in out and "going on" not in out, out
+    assert _answers(out) == ["amcl/get_state active", "bt_navigator/get_state active"], out

@@ -345,6 +345,19 @@ def test_no_nav2_is_a_bounded_start_up_failure(tmp_path, namespace):
     assert doc["error"]["message"].startswith("amcl never reported ACTIVE")
 
 
+@ros
+def test_a_bad_tree_is_named_even_when_nav2_never_comes(tmp_path):
+    """The tree is built while Nav2 is awaited: without Nav2, its error still comes first."""
+    tree = write_tree(tmp_path, "format: 1\nname: bad\nroot:\n  NoSuchLeaf: {}\n")
+    status = tmp_path / "status.json"
+    args = [a if a != "seed_amcl:=false" else "seed_amcl:=true"
+            for a in runner_args(tree, status, "nav2_timeout_wall_s:=1.0")]
+    code, output = run_to_end(args, tmp_path)
+    assert code == 2, output
+    assert f"cannot load {tree}" in output and "unknown plugin 'NoSuchLeaf'" in output
+    assert json.loads(status.read_text())["error"]["step"] == "tree"
+
+
 # --- the status file writer alone (no ROS) -----------------------------------------------
 
 def test_status_writer_suppresses_idle_repeats_but_keeps_new_executions():

@@ -8,7 +8,6 @@ process exits 0 without a traceback).
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
 import sys
@@ -18,6 +17,7 @@ from pathlib import Path
 import pytest
 from sar_testing import launch_ctrl_c
 from sar_testing.launch_ctrl_c import ROS2, ctrl_c_mid_mission, kill_group
+from sar_testing.temp_dirs import launch_env
 
 pytestmark = [
     pytest.mark.ros, pytest.mark.slow,
@@ -97,8 +97,8 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     from mcap.reader import make_reader
 
     record = tmp_path / "mission.mcap"
-    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
-               ROS_HOME=str(tmp_path / "ros_home"))
+    env = launch_env(tmp_path, ROS_LOG_DIR=str(tmp_path / "ros-log"), PYTHONUNBUFFERED="1",
+                     ROS_HOME=str(tmp_path / "ros_home"))
     env.pop("RCUTILS_COLORIZED_OUTPUT", None)
     outputs = []
     nav2_shape = REPO / "trees" / "examples" / "search_and_rescue_nav2.yaml"
@@ -139,8 +139,8 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
 def test_the_fleet_launch_runs_two_robots_to_the_end(tmp_path):
     import json
 
-    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), RCUTILS_COLORIZED_OUTPUT="0",
-               PYTHONUNBUFFERED="1")
+    env = launch_env(tmp_path, ROS_LOG_DIR=str(tmp_path / "ros-log"),
+                     RCUTILS_COLORIZED_OUTPUT="0", PYTHONUNBUFFERED="1")
     proc = subprocess.Popen(
         [str(ROS2), "launch", "sar_framework", "fleet.launch.py", "robots:=2", "speed:=30.0",
          f"report_dir:={tmp_path}"], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,

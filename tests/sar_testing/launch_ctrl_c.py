@@ -19,6 +19,8 @@ import sys
 import time
 from pathlib import Path
 
+from sar_testing.temp_dirs import launch_env
+
 ROS2 = Path(sys.prefix) / "bin" / "ros2"
 LAUNCH = ["launch", "sar_framework", "search_and_rescue.launch.py", "nav2:=embedded"]
 #: Every node the mission's processes hold.
@@ -31,8 +33,8 @@ PROCESSES = ("sar-sim", "sar-detect-survivor-server", "sar-report-survivor-serve
 
 def launch(tmp_path: Path, *arguments: str) -> subprocess.Popen[str]:
     """Start the launch in a session of its own, its output (both streams) on a pipe."""
-    env = dict(os.environ, ROS_LOG_DIR=str(tmp_path / "ros-log"), RCUTILS_COLORIZED_OUTPUT="0",
-               PYTHONUNBUFFERED="1")
+    env = launch_env(tmp_path, ROS_LOG_DIR=str(tmp_path / "ros-log"),
+                     RCUTILS_COLORIZED_OUTPUT="0", PYTHONUNBUFFERED="1")
     # No terminal on stdin, as in CI: launch is then --noninteractive and forwards SIGINT.
     return subprocess.Popen(
         [str(ROS2), *LAUNCH, f"report_file:={tmp_path / 'reports.jsonl'}", *arguments],

@@ -41,7 +41,7 @@ while not stop:
 def interrupt_until_ended(process: NodeProcess, bound_s: float = 20.0) -> int:
     """Send SIGINT to ``process`` every few milliseconds until it ends; its exit code."""
     deadline = time.monotonic() + bound_s
-    while process.returncode() is None and time.monotonic() < deadline:
+    while process.returncode() is None and time.monotonic() < deadline:  # outer safety bound
         process.send_signal(signal.SIGINT)
         time.sleep(FLOOD_PERIOD_S)
     return process.wait(timeout=10)

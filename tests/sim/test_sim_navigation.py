@@ -67,7 +67,9 @@ class SimClient:
         self.action_type = NavigateToPose
         self.action = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.odom: list[Odometry] = []
-        node.create_subscription(Odometry, "/odometry/filtered", self.odom.append, 10)
+        # Deep enough to keep every message of a drive however late the executor takes
+        # them: a loaded machine must not thin out the speeds a test reads.
+        node.create_subscription(Odometry, "/odometry/filtered", self.odom.append, 1000)
 
     def wait_ready(self, sim: NodeProcess) -> None:
         ready = lambda: self.action.server_is_ready() and bool(self.odom)  # noqa: E731

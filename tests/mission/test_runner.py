@@ -214,8 +214,19 @@ def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
     runner = NodeProcess(runner_args(tree, status, "exit_on_completion:=true",
                                      "completion:=rest", "tick_rate_hz:=20.0"), "runner",
                          log_dir=tmp_path).start()
+    def ticks() -> int:
+        try:
+            return json.loads(status.read_text())["ticks"]
+        except (OSError, ValueError, KeyError):
+            return 0
+
     try:
-        time.sleep(3.0)  # dozens of ticks, the root SUCCESS every fourth one
+        # Dozens of ticks, the root SUCCESS every fourth one (the status file counts them).
+        deadline = time.monotonic() + 120  # outer safety bound (about 2 s expected)
+        while ticks() < 40:
+            assert time.monotonic() < deadline, runner.output  # outer safety bound
+            assert runner.returncode() is None, runner.output
+            time.sleep(0.1)
         assert runner.returncode() is None, runner.output
         runner.send_signal(signal.SIGINT)
         code = runner.wait(timeout=10)

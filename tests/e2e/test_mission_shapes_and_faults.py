@@ -80,10 +80,12 @@ def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_p
     shown = [line for line in out.splitlines()
              if line.endswith("| Returning to base with 3 zone(s) unvisited.")]
     assert len(shown) == 1, out
-    counted = re.search(r"\(repeated: .*'runner \| Returning to base with 3 zone\(s\) "
-                        r"unvisited\.' (\d+) more times", out)
+    # Held-back repeats are counted in one line per flush (one at the stop, perhaps one
+    # before): together with the line shown, every decision the runner logged.
+    counted = re.findall(r"\(repeated: .*'runner \| Returning to base with 3 zone\(s\) "
+                         r"unvisited\.' (\d+) more times?", out)
     decided = (report / "runner.log").read_text().count("Returning to base with 3 zone(s)")
-    assert counted is not None and int(counted.group(1)) == decided - 1 >= 1, out
+    assert counted and sum(map(int, counted)) == decided - 1 >= 1, out
     assert len(out.splitlines()) < 60, out
 
 

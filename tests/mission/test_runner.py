@@ -324,6 +324,22 @@ def test_bad_runner_parameter(tmp_path):
 
 
 @ros
+def test_sim_timeout_stops_the_tree_and_exits_4_naming_what_ran(tmp_path):
+    """``sim_timeout_s`` counts the runner's ROS clock from the first tick."""
+    status = tmp_path / "status.json"
+    tree = write_tree(tmp_path, "format: 1\nname: forever\nroot:\n  Forever: {name: Wait}\n")
+    code, output = run_to_end(runner_args(tree, status, "sim_timeout_s:=1.5",
+                                          "exit_on_completion:=true", "tick_rate_hz:=10.0"),
+                              tmp_path, timeout=60.0)  # outer safety bound
+    assert code == 4, output
+    assert "sim_timeout_s: the mission is not complete after" in output
+    assert "Wait terminated (INVALID)" in output
+    doc = json.loads(status.read_text())
+    assert doc["complete"] is False and doc["running"] == ["0"]
+    assert doc["sim_end_s"] - doc["sim_start_s"] >= 1.5
+
+
+@ros
 def test_setup_timeout_exits_3(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: slow\nroot:\n  SlowSetup: {seconds: 10.0}\n")
     code, output = run_to_end(runner_args(tree, None, "setup_timeout_wall_s:=1.0"), tmp_path)

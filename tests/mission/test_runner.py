@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import signal
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import py_trees
@@ -89,6 +90,21 @@ def run_to_end(args: list[str], tmp_path: Path, label: str = "runner",
     finally:
         process.stop()
     return code, process.output
+
+
+def wait_for_status(status: Path, found: Callable[[dict], bool], runner: NodeProcess) -> dict:
+    """Poll the runner's status file until ``found`` says yes; the document then."""
+    deadline = time.monotonic() + 120  # outer safety bound (a few seconds expected)
+    doc: dict = {}
+    while not doc or not found(doc):
+        assert runner.returncode() is None, runner.output
+        assert time.monotonic() < deadline, f"status never matched: {doc}"  # outer safety bound
+        time.sleep(0.05)
+        try:
+            doc = json.loads(status.read_text())
+        except (OSError, ValueError):
+            doc = {}
+    return doc
 
 
 @ros
@@ -214,19 +230,9 @@ def test_a_root_that_succeeds_then_restarts_is_not_complete(tmp_path):
     runner = NodeProcess(runner_args(tree, status, "exit_on_completion:=true",
                                      "completion:=rest", "tick_rate_hz:=20.0"), "runner",
                          log_dir=tmp_path).start()
-    def ticks() -> int:
-        try:
-            return json.loads(status.read_text())["ticks"]
-        except (OSError, ValueError, KeyError):
-            return 0
-
     try:
         # Dozens of ticks, the root SUCCESS every fourth one (the status file counts them).
-        deadline = time.monotonic() + 120  # outer safety bound (about 2 s expected)
-        while ticks() < 40:
-            assert time.monotonic() < deadline, runner.output  # outer safety bound
-            assert runner.returncode() is None, runner.output
-            time.sleep(0.1)
+        wait_for_status(status, lambda doc: doc["ticks"] >= 40, runner)
         assert runner.returncode() is None, runner.output
         runner.send_signal(signal.SIGINT)
         code = runner.wait(timeout=10)
@@ -265,11 +271,11 @@ def test_a_tree_without_a_one_shot_at_its_end_runs_once_by_default(tmp_path):
 @ros
 def test_sigint_twice_terminates_a_running_leaf_and_exits_0(tmp_path):
     tree = write_tree(tmp_path, "format: 1\nname: forever\nroot:\n  Forever: {name: Wait}\n")
-    runner = NodeProcess(runner_args(tree, None, "tick_rate_hz:=10.0"), "runner",
+    status = tmp_path / "status.json"
+    runner = NodeProcess(runner_args(tree, status, "tick_rate_hz:=10.0"), "runner",
                          log_dir=tmp_path).start()
     try:
-        runner.wait_for_output("Ticking")
-        time.sleep(0.5)
+        wait_for_status(status, lambda doc: doc["running"] == ["0"], runner)  # Wait runs
         runner.send_signal(signal.SIGINT)  # a terminal's Ctrl-C ...
         time.sleep(0.05)
         runner.send_signal(signal.SIGINT)  # ... and ros2 launch forwarding it once more

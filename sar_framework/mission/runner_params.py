@@ -52,6 +52,9 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
           "holds when no /clock comes)", exclusive_minimum=0.0, unit="s"),
     Param("setup_timeout_wall_s", float, 15.0, "bound of the tree's setup() (wall clock: it "
           "holds when a setup() blocks)", exclusive_minimum=0.0, unit="s"),
+    Param("sim_timeout_s", float, 0.0, "stop the tree and exit 4 once it has ticked this "
+          "long on its ROS clock (/clock time with use_sim_time; 0 = no bound; "
+          "sar-tree run --sim-timeout)", minimum=0.0, unit="s"),
     *_pose("initial_pose", "AMCL seed (spawn pose)", 0.0),
     USE_SIM_TIME,
 )

@@ -158,7 +158,9 @@ def mission_settings(config: RunConfig, report_dir: Path,
         extra={"sim": entry_values(config.sim_params, zones),
                "detect": entry_values(config.detect_params),
                "report": entry_values(config.report_params),
-               "runner": entry_values(config.runner_params)})
+               "runner": {**({} if config.sim_timeout_s is None
+                             else {"sim_timeout_s": config.sim_timeout_s}),
+                          **entry_values(config.runner_params)}})
 
 
 def fleet_file(config: RunConfig, report_dir: Path) -> Path:

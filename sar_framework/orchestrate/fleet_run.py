@@ -139,7 +139,8 @@ class FleetOrchestrator(Orchestrator):
                 self.take_events()
                 self.outcomes[name] = runner_exit_outcome(
                     code, self.robot_events[name], read_status(self.robot_dir(name)),
-                    self.last_error(runner.label))
+                    self.last_error(runner.label), spec=self.spec,
+                    sim_timeout_s=self.config.sim_timeout_s)
                 self.say(f"sar-tree run: {name}: Mission {self.outcomes[name].status}"
                          + (f": {self.outcomes[name].reason}" if self.outcomes[name].reason
                             else ""))

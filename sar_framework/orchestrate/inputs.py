@@ -1,12 +1,12 @@
 """Every input of ``sar-tree run`` checked before anything starts, all problems at once.
 
-Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule) and ``--timeout``;
-the tree (every diagnostic) and the apps it uses (:mod:`sar_framework.app`); the mission
-parameter file, the apps' default when none is named (rcl's structure, then each key's
-name, type and value against the runner's table and its apps', then each app's own
-checks); the survivor table; and
-each ``--sim-param``/``--detect-param``/``--report-param``/``--runner-param NAME:=VALUE``
-(known name, did-you-mean, type and range, from each node's table in
+Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule), ``--timeout`` and
+``--sim-timeout``; the tree (every diagnostic) and the apps it uses
+(:mod:`sar_framework.app`); the mission parameter file, the apps' default when none is named
+(rcl's structure, then each key's name, type and value against the runner's table and its
+apps', then each app's own checks); the survivor table; and each ``--sim-param``/
+``--detect-param``/``--report-param``/``--runner-param NAME:=VALUE`` (known name,
+did-you-mean, type and range, from each node's table in
 :data:`NODE_PARAMETERS`; ``blocked_zones`` entries parsed, with the mission's zone names
 accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
 position is known).
@@ -17,6 +17,7 @@ even where rclpy or a message package cannot be imported.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -108,6 +109,9 @@ def _option_problems(config: RunConfig) -> list[str]:
         problems.append(f"--speed {speed}")
     if not config.timeout_s > 0:
         problems.append(f"--timeout must be positive, got {config.timeout_s:g}")
+    if config.sim_timeout_s is not None and not 0 < config.sim_timeout_s < math.inf:
+        problems.append("--sim-timeout must be a positive number of seconds, "
+                        f"got {config.sim_timeout_s:g}")
     return problems
 
 

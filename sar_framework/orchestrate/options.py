@@ -34,6 +34,7 @@ class RunConfig:
         speed: The simulator's speed factor.
         report_dir: Where logs and the report go.
         timeout_s: Wall-clock bound of the mission.
+        sim_timeout_s: Bound of the tree's ticking on its ROS clock, or None.
         keep_alive: Stay up after the mission until Ctrl-C.
         verbose: Print every child log line, not only progress, warnings and errors.
         detect_server: Start the detect server.
@@ -57,6 +58,7 @@ class RunConfig:
     speed: float = SPEED.default
     report_dir: str = DEFAULT_REPORT_DIR
     timeout_s: float = DEFAULT_TIMEOUT_S
+    sim_timeout_s: float | None = None
     keep_alive: bool = False
     verbose: bool = False
     detect_server: bool = True
@@ -109,6 +111,10 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help=f"logs and mission report (default: {DEFAULT_REPORT_DIR})")
     parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, metavar="S",
                         help=f"give up after S wall seconds (default: {DEFAULT_TIMEOUT_S:g})")
+    parser.add_argument("--sim-timeout", type=float, metavar="S",
+                        help="give up once the tree has ticked S seconds on its ROS clock "
+                        "(simulated seconds with the simulator; exit code and message as "
+                        "--timeout; default: no bound)")
     parser.add_argument("--keep-alive", action="store_true",
                         help="stay up after the mission (TF, services) until Ctrl-C")
     parser.add_argument("-v", "--verbose", action="store_true",
@@ -152,6 +158,7 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
     return RunConfig(
         tree=args.tree, params=args.params, survivors=args.survivors, sim=args.sim,
         speed=args.speed, report_dir=args.report_dir, timeout_s=args.timeout,
+        sim_timeout_s=args.sim_timeout,
         keep_alive=args.keep_alive, verbose=args.verbose,
         detect_server=args.detect_server, report_server=args.report_server,
         sim_params=list(args.sim_params), detect_params=list(args.detect_params),

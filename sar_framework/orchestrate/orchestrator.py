@@ -245,7 +245,8 @@ class Orchestrator:
                 runner.finish_reading()
                 self.take_events()  # the last events, written before it exited
                 return runner_exit_outcome(code, self.events, read_status(self.report_dir),
-                                           self.last_error("runner"))
+                                           self.last_error("runner"), spec=self.spec,
+                                           sim_timeout_s=self.config.sim_timeout_s)
             for child in self.children:
                 if (child is runner or child.label in self.exited or child.poll() is None
                         or self._stopped_early):  # then they end because we asked

@@ -25,6 +25,8 @@ EXIT_OK = 0
 EXIT_FAILURE = 1
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
+RUNNER_EXIT_SIM_TIMEOUT = 4
+"""The runner's exit code past its ``sim_timeout_s`` (``sar-tree run --sim-timeout``)."""
 
 PROGRESS_KINDS = frozenset({
     EventKind.NAVIGATION, EventKind.GOAL_REACHED, EventKind.NOTE, EventKind.COMPLETION,
@@ -99,15 +101,20 @@ def completion_outcome(completion: MissionEvent, events: Sequence[MissionEvent])
 
 
 def runner_exit_outcome(code: int, events: Sequence[MissionEvent], status: dict[str, Any],
-                        last_error: str) -> Outcome:
+                        last_error: str, *, spec: Any = None,
+                        sim_timeout_s: float | None = None) -> Outcome:
     """The outcome of a runner that exited with ``code``.
 
     Args:
         code: The runner's exit status.
         events: Every event it emitted.
-        status: Its status file (start-up failures).
+        status: Its status file (start-up failures; the nodes running at a timeout).
         last_error: Its last warning or error line (quoted for the user, never parsed).
+        spec: The tree's spec (names the nodes still running at a timeout), or None.
+        sim_timeout_s: The runner's ``sim_timeout_s`` (``--sim-timeout``), or None.
     """
+    if code == RUNNER_EXIT_SIM_TIMEOUT and sim_timeout_s:
+        return timeout_outcome(sim_timeout_s, status, spec, events, clock="ROS")
     complete = any(e.kind == EventKind.COMPLETION for e in events)
     if code == 0 and not complete:  # stopped by a signal we did not send
         return Outcome("ERROR", EXIT_FAILURE, "the runner was stopped before the mission "
@@ -155,8 +162,16 @@ def child_exit_outcome(label: str, code: int | None, last_error: str) -> Outcome
 
 
 def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any,
-                    events: Sequence[MissionEvent]) -> Outcome:
-    """The outcome of a mission still running after ``timeout_s`` wall seconds."""
+                    events: Sequence[MissionEvent], *, clock: str = "") -> Outcome:
+    """The outcome of a mission still running after ``timeout_s`` seconds.
+
+    Args:
+        timeout_s: The bound.
+        status: The runner's status file (its ``running`` nodes are named).
+        spec: The tree's spec, or None (nodes are then named by uid).
+        events: Every event the runner emitted (the last failure is quoted).
+        clock: ``""`` for wall seconds (``--timeout``), ``"ROS"`` for the tree's ROS clock.
+    """
     running = list(status.get("running") or [])
     names = {n.uid: n.name for n in spec.nodes()} if spec is not None else {}
     leaves = [u for u in running if not any(o != u and o.startswith(u + ".")
@@ -166,7 +181,8 @@ def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any,
     last = (f"; last failure: {failure.node_name} [{failure.node_uid}]: "
             f"{failure.message}") if failure else ""
     return Outcome("TIMEOUT", EXIT_FAILURE,
-                   f"timeout after {timeout_s:g} s; still running: {where}{last}")
+                   f"timeout after {timeout_s:g} s{' of ' + clock + ' time' if clock else ''}; "
+                   f"still running: {where}{last}")
 
 
 def _where_it_ended(summary: dict[str, Any]) -> str:

@@ -38,7 +38,9 @@ Other processes read the runner's events, never its log (:mod:`.mission_events`)
 ``/sar_mission/events`` and, with a ``status_file``, in ``events.jsonl`` beside it.
 
 Exit codes: 0 complete with SUCCESS, 1 complete with FAILURE, 2 a parameter or tree error,
-3 a start-up failure (Nav2 never ready, tree setup failed or timed out). A shutdown
+3 a start-up failure (Nav2 never ready, tree setup failed or timed out), 4 still not complete
+after ``sim_timeout_s`` of ticking on the node's ROS clock (the status file's ``running``
+names the nodes it stopped). A shutdown
 requested by SIGINT/SIGTERM is a clean exit 0 even before the mission was complete (the
 status file says so: ``complete`` is false), as ``ros2 launch`` expects of its processes;
 whoever sent the signal knows the mission was interrupted.
@@ -102,6 +104,7 @@ EXIT_FAILURE = 1
 EXIT_CONFIG = 2
 EXIT_STARTUP = 3
 EXIT_STOPPED = 0
+EXIT_SIM_TIMEOUT = 4
 #: How long the executor keeps spinning after running leaves were stopped.
 CANCEL_GRACE_S = 0.5
 #: Warn when ``use_sim_time`` is set and no tick came within this many wall seconds.
@@ -137,6 +140,7 @@ class MissionRunner:
         self.stop = stop
         self.logger = node.get_logger()
         self.finished = False
+        self.sim_timed_out = False
         self._announced = False
         self._snapshot_timer: Timer | None = None
         self.completion, self.completion_why = resolve_completion(settings.completion,
@@ -226,7 +230,9 @@ class MissionRunner:
         return self.exit_code()
 
     def exit_code(self) -> int:
-        """Return 0/1 for a complete mission (SUCCESS/FAILURE), else 0 (stopped by a signal)."""
+        """Return 0/1 for a complete mission (SUCCESS/FAILURE), 4 past ``sim_timeout_s``, else 0."""
+        if self.sim_timed_out:
+            return EXIT_SIM_TIMEOUT
         if not self.status_writer.complete:
             return EXIT_STOPPED
         return EXIT_SUCCESS if self.status_writer.status == Status.SUCCESS else EXIT_FAILURE
@@ -251,6 +257,7 @@ class MissionRunner:
         if changed and self.settings.print_tree:
             self.logger.info("\n" + py_trees.display.unicode_tree(tree.root, show_status=True))
         if not self.status_writer.complete:
+            self._check_sim_timeout()
             return
         if self.completion != "forever":
             self._stop_ticking()  # a finished mission is never ticked again
@@ -273,6 +280,20 @@ class MissionRunner:
             # keep receiving the final tree once a second.
             self._snapshot_timer = self.node.create_timer(
                 SNAPSHOT_PERIOD_S, functools.partial(publish_snapshots, self.tree))
+
+    def _check_sim_timeout(self) -> None:
+        """End the run once the tree has ticked ``sim_timeout_s`` on its ROS clock."""
+        bound = self.settings.sim_timeout_s
+        started = self.status_writer.sim_start_s
+        if bound <= 0 or started is None or self.sim_timed_out:
+            return
+        ticked = self.node.get_clock().now().nanoseconds / 1e9 - started
+        if ticked >= bound:
+            self.sim_timed_out = True
+            self.finished = True
+            self._stop_ticking()
+            self.logger.error(f"sim_timeout_s: the mission is not complete after {ticked:.1f} "
+                              f"s of ROS time (bound {bound:g} s); stopping the tree")
 
     def _stop_ticking(self) -> None:
         timer = getattr(self.tree, "timer", None)

@@ -47,6 +47,7 @@ class RunnerSettings:
         seed_amcl: Seed AMCL and wait for Nav2 first.
         nav2_timeout_wall_s: Bound of the Nav2 start-up, seconds.
         setup_timeout_wall_s: Bound of the tree's setup, seconds.
+        sim_timeout_s: Bound of the ticking on the node's ROS clock, seconds (0: none).
         initial_pose: The AMCL seed.
         use_sim_time: Whether the node follows ``/clock``.
         tick_rate_hz: How often the tree ticks (ROS time).
@@ -62,6 +63,7 @@ class RunnerSettings:
     seed_amcl: bool
     nav2_timeout_wall_s: float
     setup_timeout_wall_s: float
+    sim_timeout_s: float
     initial_pose: InitialPose
     use_sim_time: bool
     tick_rate_hz: float
@@ -111,6 +113,7 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
         seed_amcl=values["seed_amcl"],
         nav2_timeout_wall_s=float(values["nav2_timeout_wall_s"]),
         setup_timeout_wall_s=float(values["setup_timeout_wall_s"]),
+        sim_timeout_s=float(values["sim_timeout_s"]),
         initial_pose=InitialPose(*(float(values[f"initial_pose.{k}"])
                                    for k in ("x", "y", "yaw"))),
         use_sim_time=bool(values["use_sim_time"]),

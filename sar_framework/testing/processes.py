@@ -80,7 +80,7 @@ class NodeProcess(ChildProcess):
                     f"{self.label} exited ({self.returncode()}) before printing {pattern!r}:\n"
                     f"{self.output}"
                 )
-            if time.monotonic() > deadline:
+            if time.monotonic() > deadline:  # outer safety bound
                 raise AssertionError(
                     f"{self.label}: no {pattern!r} within {timeout} s:\n{self.output}"
                 )

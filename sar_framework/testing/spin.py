@@ -6,6 +6,7 @@ interleaved with ``spin_once``; nothing blocks on a future.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -47,14 +48,15 @@ def spin_until(executor: Any, predicate: Callable[[], bool], timeout: float,
     Args:
         executor: An rclpy executor.
         predicate: Checked after each spin.
-        timeout: Seconds.
+        timeout: Seconds: an outer safety bound (the caller asserts the result, naming what
+            it awaited), never a figure under test.
         step: Called after each spin (e.g. a tree tick).
 
     Returns:
         Whether the predicate became true.
     """
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
+    while time.monotonic() < deadline:  # outer safety bound
         executor.spin_once(timeout_sec=0.02)
         if step is not None:
             step()
@@ -95,15 +97,20 @@ def call_service(node: Any, executor: Any, srv_type: Any, name: str, request: An
         assert spin_until(executor, client.service_is_ready, discovery_timeout), (
             f"{name}: no server after {discovery_timeout:.0f} s")
         futures = [client.call_async(request)]
-        started = time.monotonic()
 
         def answered() -> bool:
-            if resend_after is not None and \
-                    time.monotonic() - started > resend_after * len(futures):
-                futures.append(client.call_async(request))
             return any(future.done() for future in futures)
 
-        assert spin_until(executor, answered, timeout), (
+        waits = [timeout]
+        if resend_after is not None:
+            again = max(1, math.ceil(timeout / resend_after)) - 1
+            waits = [resend_after] * again + [timeout - resend_after * again]
+        for index, wait_s in enumerate(waits):
+            if index:  # a request lost in transport is sent again
+                futures.append(client.call_async(request))
+            if spin_until(executor, answered, wait_s):
+                break
+        assert answered(), (
             f"{name}: no answer within {timeout:.0f} s ({len(futures)} sends)")
         return next(future for future in futures if future.done()).result()
     finally:

@@ -111,10 +111,13 @@ def alive(pid: int) -> bool:
     return state[state.rindex(")") + 2:].split()[0] != "Z"
 
 
-def wait_gone(pids: list[int], timeout: float = 3.0) -> list[int]:
-    """Wait until every pid has ended; return those still alive after ``timeout``."""
+def wait_gone(pids: list[int], timeout: float = 30.0) -> list[int]:
+    """Wait until every pid has ended; return those still alive after ``timeout``.
+
+    ``timeout`` is an outer safety bound: a stop takes well under a second.
+    """
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and any(alive(p) for p in pids):
+    while time.monotonic() < deadline and any(alive(p) for p in pids):  # outer safety bound
         time.sleep(0.05)
     return [p for p in pids if alive(p)]
 

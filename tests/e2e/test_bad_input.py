@@ -60,3 +60,16 @@ def test_bad_option_values(tmp_path: Path) -> None:
     assert "expected NAME:=VALUE" in _assert_rejected(
         _run(str(DEFAULT_TREE), "--sim-param", "speed=3"))
     _assert_rejected(_run(str(DEFAULT_TREE), "--speed", "fast"))  # argparse
+
+
+@pytest.mark.parametrize(("value", "problem"), [
+    ("-5", "--sim-timeout must be a positive number of seconds, got -5"),
+    ("0", "--sim-timeout must be a positive number of seconds, got 0"),
+    ("nan", "--sim-timeout must be a positive number of seconds, got nan"),
+    ("soon", "argument --sim-timeout: invalid float value: 'soon'"),
+])
+def test_bad_sim_timeout(value: str, problem: str, tmp_path: Path) -> None:
+    err = _assert_rejected(_run(str(DEFAULT_TREE), f"--sim-timeout={value}",
+                                "--report-dir", str(tmp_path / "r")))
+    assert problem in err
+    assert not (tmp_path / "r").exists()

@@ -79,7 +79,7 @@ def test_detect_server_killed_the_tree_skips_and_finishes(tmp_path: Path, moment
     # what was acknowledged before the kill is in the report
     acknowledged = [s["id"] for s in mission["survivors"] if s.get("acknowledged")]
     assert acknowledged == [r["survivor_id"] for r in read_jsonl(report / "reports.jsonl")]
-    assert wait_gone(children, timeout=2.0) == []
+    assert wait_gone(children) == []
 
 
 def test_report_server_killed_mid_mission_the_tree_goes_on(tmp_path: Path) -> None:
@@ -88,7 +88,7 @@ def test_report_server_killed_mid_mission_the_tree_goes_on(tmp_path: Path) -> No
     assert "the report process was killed by SIGKILL mid-mission" in out
     assert "NotifyBase [" in out
     assert [r["survivor_id"] for r in read_jsonl(report / "reports.jsonl")] == ["survivor_1"]
-    assert wait_gone(children, timeout=2.0) == []
+    assert wait_gone(children) == []
 
 
 @pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Reached zone_b\."])
@@ -99,4 +99,4 @@ def test_simulator_killed_ends_the_run_naming_it(tmp_path: Path, moment: str) ->
             "so the tree cannot go on") in out
     assert "Mission ERROR" in out and no_traceback(out)
     assert (report / "mission.json").exists()
-    assert wait_gone(children, timeout=2.0) == []
+    assert wait_gone(children) == []

@@ -115,7 +115,9 @@ def test_run_help_explains_completion_and_points_at_the_faults() -> None:
     assert main(["faults"]) == 0
     for words in ("end (default) = the mission ends when the tree reaches its declared end",
                   "auto = the tree file's key, else end",
-                  "see `sar-tree faults`"):
+                  "see `sar-tree faults`",
+                  "--timeout S give up after S wall seconds",
+                  "--sim-timeout S give up once the tree has ticked S seconds on its ROS clock"):
         assert words in text
 
 

@@ -66,23 +66,26 @@ def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_p
     on every tick is shown once, with a count.
     """
     report = tmp_path / "report"
-    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--timeout", "12",
-                            "--sim-param", "blocked_zones:=['zone_b']"], report)
+    # The bound is simulated time, so every run gets as far whatever the machine's load.
+    # --timeout and run_to_end's wait: outer safety bounds (about 10 s expected).
+    code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--sim-timeout", "30",
+                            "--timeout", "150", "--sim-param", "blocked_zones:=['zone_b']"],
+                           report, timeout=180.0)
     assert code == 1, out
     assert "Mission TIMEOUT" in out
-    assert "timeout after 12 s" in out
+    assert "timeout after 30 s of ROS time; still running: " in out
     assert "last failure: NavigateToZone [0.0.1]: goal to zone_b aborted" in out
     assert read_json(report / "mission.json")["zones_skipped"] == ["zone_b", "zone_c", "zone_d"]
     assert no_traceback(out)
     shown = [line for line in out.splitlines()
              if line.endswith("| Returning to base with 3 zone(s) unvisited.")]
     assert len(shown) == 1, out
-    counted = re.search(r"\(repeated: .*'runner \| Returning to base with 3 zone\(s\) "
-                        r"unvisited\.' (\d+) more times", out)
-    # How many cycles fit before the wall-clock bound depends on the machine's load (62 on an
-    # idle one, 3 when start-up took 9 s); the count must be every one of them.
+    # Held-back repeats are counted in one line per flush (one at the stop, perhaps one
+    # before): together with the line shown, every decision the runner logged.
+    counted = re.findall(r"\(repeated: .*'runner \| Returning to base with 3 zone\(s\) "
+                         r"unvisited\.' (\d+) more times?", out)
     decided = (report / "runner.log").read_text().count("Returning to base with 3 zone(s)")
-    assert counted is not None and int(counted.group(1)) == decided - 1 >= 1, out
+    assert counted and sum(map(int, counted)) == decided - 1 >= 1, out
     assert len(out.splitlines()) < 60, out
 
 

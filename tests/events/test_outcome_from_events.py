@@ -74,3 +74,13 @@ def test_progress_lines_are_the_events_that_tell_the_mission() -> None:
     for quiet in (STARTED, FAILED, MissionEvent(EventKind.STATUS, message="RUNNING"),
                   MissionEvent(EventKind.VERDICT, message="Mission SUCCESS")):
         assert progress_line(quiet, [SAR]) is None
+
+
+def test_a_runner_past_its_sim_timeout_is_a_timeout_in_ros_time() -> None:
+    outcome = runner_exit_outcome(4, [FAILED], {"running": ["0", "0.2"]}, "a log line",
+                                  sim_timeout_s=45.0)
+    assert (outcome.status, outcome.exit_code) == ("TIMEOUT", EXIT_FAILURE)
+    assert outcome.reason.startswith("timeout after 45 s of ROS time; still running: "
+                                     "0.2 [0.2]; last failure: DetectSurvivor [0.1]")
+    # Without a bound asked for, exit 4 is just an unexpected exit code.
+    assert runner_exit_outcome(4, [], {}, "a log line").status == "ERROR"

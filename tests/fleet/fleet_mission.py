@@ -43,7 +43,6 @@ class FleetRun:
     codes: dict[str, int | None]
     outputs: str
     victim: str | None = None
-    lost_after_s: float | None = None
     reports: list[dict[str, Any]] | None = None
 
     def kinds(self, kind: str) -> list[dict[str, Any]]:
@@ -81,7 +80,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         kill: Called with the events so far and each runner's output while the mission
             runs; the first robot name it returns has its runner killed with SIGKILL (at
             most once). The time until the coordinator's ``robot_lost`` event is measured.
-        timeout_s: Wall bound of the mission.
+        timeout_s: Outer safety bound of the mission, wall seconds.
         lab: Run the root namespace's processes on its host ``world`` and each robot's on
             the host of its name (hosts of their own), instead of on this machine.
     """
@@ -96,7 +95,6 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
     tree = str(REPO / "trees" / "fleet_search.yaml")
     procs: list[NodeProcess] = []
     runners: dict[str, NodeProcess] = {}
-    killed_at = lost_after = None
 
     def start(args: list[str], label: str, host: str = "world") -> NodeProcess:
         where = {"prefix": lab.enter(host), "env": {**UDP_ONLY, **lab.ros_env(host)}} \
@@ -128,17 +126,12 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
                 name)
         deadline = time.monotonic() + timeout_s
         victim = None
-        while time.monotonic() < deadline:
+        while time.monotonic() < deadline:  # outer safety bound
             if kill is not None and victim is None:
                 victim = kill(read_events(events_file),
                               {n: r.output for n, r in runners.items()})
                 if victim is not None:
                     runners[victim].signal(signal.SIGKILL)
-                    killed_at = time.monotonic()
-            if killed_at is not None and lost_after is None and any(
-                    e["kind"] == "robot_lost" and e["robot"] == victim
-                    for e in read_events(events_file)):
-                lost_after = time.monotonic() - killed_at
             if all(r.poll() is not None for r in runners.values()):
                 break
             time.sleep(0.05)
@@ -147,7 +140,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         for proc in reversed(procs):
             proc.stop()
     outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
-    return FleetRun(read_events(events_file), codes, outputs, victim, lost_after,
+    return FleetRun(read_events(events_file), codes, outputs, victim,
                     read_events(tmp / "reports.jsonl"))
 
 

@@ -28,6 +28,7 @@ from sar_framework.stop_signals import stop_on_signals
 
 class SlowToFinalize:
     def __del__(self):  # module teardown, after Python has reset its signal handlers
+        print("finalizing", flush=True)
         time.sleep(0.3)
 
 keep = SlowToFinalize()
@@ -41,7 +42,7 @@ while not stop:
 def interrupt_until_ended(process: NodeProcess, bound_s: float = 20.0) -> int:
     """Send SIGINT to ``process`` every few milliseconds until it ends; its exit code."""
     deadline = time.monotonic() + bound_s
-    while process.returncode() is None and time.monotonic() < deadline:
+    while process.returncode() is None and time.monotonic() < deadline:  # outer safety bound
         process.send_signal(signal.SIGINT)
         time.sleep(FLOOD_PERIOD_S)
     return process.wait(timeout=10)
@@ -62,7 +63,7 @@ def test_sigterm_still_ends_a_process_that_is_stopping(tmp_path: Path) -> None:
                          env={"PYTHONPATH": str(REPO)}).start()
     script.wait_for_output("ready")
     script.send_signal(signal.SIGINT)
-    time.sleep(0.5)  # in finalization now, sleeping
+    script.wait_for_output("finalizing")  # in finalization now, sleeping
     script.send_signal(signal.SIGINT)
     assert script.returncode() is None
     script.send_signal(signal.SIGTERM)

@@ -57,7 +57,7 @@ def node_names(expected: set[str], bound_s: float) -> list[str]:
         listed = subprocess.run(
             [str(ROS2), "node", "list", "--no-daemon", "--spin-time", "3"],
             capture_output=True, text=True, timeout=60, check=True).stdout.split()
-        if expected <= set(listed) or time.monotonic() > deadline:
+        if expected <= set(listed) or time.monotonic() > deadline:  # outer safety bound
             return listed
 
 
@@ -107,7 +107,7 @@ def ctrl_c_mid_mission(tmp_path: Path) -> CtrlCRun:
         lines: list[str] = []
         deadline = time.monotonic() + 90
         assert proc.stdout is not None
-        while time.monotonic() < deadline:
+        while time.monotonic() < deadline:  # outer safety bound
             line = proc.stdout.readline()
             lines.append(line)
             if "--- Zone 1/4" in line or not line:

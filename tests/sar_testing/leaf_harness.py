@@ -25,7 +25,8 @@ from sar_framework.testing.ros_harness import (
 )
 
 __all__ = ["BASE", "DISCOVERY_S", "NODES", "SPEC_ZONES", "TERMINAL", "OutputMark",
-           "TfStaticRecorder", "TreeMaker", "spec_zone_manager", "tick_until_done", "tree_on",
+           "TfStaticRecorder", "TreeMaker", "ros_seconds", "spec_zone_manager",
+           "tick_until_done", "tree_on",
            "wait_for_action_server", "wait_for_service"]
 
 NODES = Path(__file__).resolve().parent / "nodes"
@@ -54,3 +55,10 @@ class FixedDetector:
 
     def survivor_pose(self) -> tuple[float, float] | None:
         return self.pose
+
+
+def ros_seconds() -> float:
+    """The ROS clock the leaves count their bounds on, in seconds (no ``/clock`` here)."""
+    from rclpy.clock import Clock, ClockType
+
+    return Clock(clock_type=ClockType.ROS_TIME).now().nanoseconds / 1e9

@@ -34,7 +34,8 @@ def run_ros2(*args: str, expect: str = "", timeout: float = 30.0, daemon: bool =
     while True:
         done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
                               check=False)
-        if (done.returncode == 0 and expect in done.stdout) or time.monotonic() > deadline:
+        if (done.returncode == 0 and expect in done.stdout) \
+                or time.monotonic() > deadline:  # outer safety bound
             break
         time.sleep(0.5)
     assert done.returncode == 0 and expect in done.stdout, done.stdout + done.stderr

@@ -46,8 +46,8 @@ def navigator(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
         rclpy.init()
     nav = BasicNavigator()
     try:
-        deadline = time.monotonic() + 15.0
-        while time.monotonic() < deadline and sum(
+        deadline = time.monotonic() + 60.0  # outer safety bound (discovery: a second or two)
+        while time.monotonic() < deadline and sum(  # outer safety bound
             types == ["nav2_msgs/srv/ManageLifecycleNodes"]
             for _name, types in nav.get_service_names_and_types()
         ) < MANAGERS:  # lifecycleStartup only calls the managers it has discovered

@@ -120,7 +120,8 @@ class TestSimNode:
             return [a for a in answers if a.pose.pose.position.x == pytest.approx(0.05)]
 
         deadline = time.monotonic() + DISCOVERY_S
-        while not seeded() and time.monotonic() < deadline:  # waitUntilNav2Active's loop
+        # waitUntilNav2Active's loop, under an outer safety bound
+        while not seeded() and time.monotonic() < deadline:  # outer safety bound
             seed_pub.publish(seed)
             spin_until(executor, lambda: bool(seeded()), 0.5)
         assert seeded(), "no /amcl_pose answer to /initialpose"

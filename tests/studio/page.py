@@ -39,7 +39,7 @@ def wait_for(driver: Any, names: list[str], found: Callable[[dict[str, Any]], bo
     """Poll the page until ``found`` says yes; its state then."""
     deadline = time.monotonic() + timeout
     last: dict[str, Any] = {}
-    while time.monotonic() < deadline:
+    while time.monotonic() < deadline:  # outer safety bound
         try:
             last = state(driver, names)
         except Exception as err:  # the page may not have its tree yet
@@ -54,7 +54,7 @@ def wait_for(driver: Any, names: list[str], found: Callable[[dict[str, Any]], bo
 def until(driver: Any, script: str, timeout: float = 15) -> Any:
     """Poll a script on the page until it returns something true; return that."""
     deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
+    while time.monotonic() < deadline:  # outer safety bound
         value = driver.execute_script(script)
         if value:
             return value

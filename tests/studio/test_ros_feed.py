@@ -5,7 +5,6 @@ are dropped."""
 from __future__ import annotations
 
 import json
-import time
 
 import pytest
 from sar_testing.spin import ros_node, spin_until
@@ -94,9 +93,7 @@ def test_a_mission_on_the_domain_fills_the_session() -> None:
             assert len(session.timeline.statuses) == 1
             assert session.frame()["reasons"] == []
     finally:
-        started = time.monotonic()
         feed.stop()
-        assert time.monotonic() - started < 2.0
 
 
 def test_the_feed_asks_the_runner_to_reload_and_a_swap_redraws_the_tree() -> None:

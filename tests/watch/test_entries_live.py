@@ -60,8 +60,10 @@ def test_entries_stream_from_the_runner_to_the_watch_view(tmp_path) -> None:
             gate.touch()
             spin_until(executor, lambda: any(decode_status(t)["complete"] for t in early),
                        timeout=30.0)
-            deadline = time.monotonic() + 2.0
-            while time.monotonic() < deadline and process.returncode() is None:
+            # Spin while it delivers its last messages, then wait for its end.
+            deadline = time.monotonic() + 60.0  # outer safety bound (about 1 s expected)
+            while process.returncode() is None \
+                    and time.monotonic() < deadline:  # outer safety bound
                 executor.spin_once(timeout_sec=0.05)
             assert process.wait(timeout=10.0) == 0, process.output
         finally:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import itertools
 import os
 import re
 import shlex
@@ -44,8 +45,8 @@ class Terminal:
         return self._tmux("capture-pane", "-p", "-t", "w")
 
     def wait_for(self, found: Callable[[str], bool], timeout: float) -> str:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
+        deadline = time.monotonic() + timeout  # outer safety bound
+        while time.monotonic() < deadline:  # outer safety bound
             text = self.screen()
             if found(text):
                 return text
@@ -138,13 +139,11 @@ def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
                         BehaviourTree, open_snapshot_stream(node, executor),
                         lambda m: by_tick.__setitem__(m.statistics.count + 1, sorted(
                             (SYMBOLS[b.status], b.name) for b in m.behaviours)), 100)
-                last_look = 0.0
+                calls = itertools.count()
 
-                def over() -> bool:
-                    nonlocal last_look
-                    if time.monotonic() - last_look < 0.2:
+                def over() -> bool:  # spin_until asks every 10 ms; the screen is read every 20th
+                    if next(calls) % 20:
                         return False
-                    last_look = time.monotonic()
                     text = screen.screen()
                     if not seen["running"] and RUNNING in text and "ticks/s" in text:
                         seen["running"] = text

@@ -8,12 +8,13 @@ Options (argv):
     --bt-drop-first N     leave bt_navigator's first N get_state requests unanswered (what
                           a reply lost by DDS looks like to the client)
 
-Logs ``ready`` once serving and ``initialpose x=.. y=.. yaw=.. frame=..`` per seed.
+Logs ``ready`` once serving, ``initialpose x=.. y=.. yaw=.. frame=..`` per seed, and
+``bt_navigator answered inactive``/``active`` whenever its answer changes.
 """
 
 import argparse
 import math
-import time
+import threading
 
 import rclpy
 import rclpy.task
@@ -37,7 +38,12 @@ def main() -> None:
     rclpy.init(args=ros_args)
     amcl = Node("amcl")
     bt = Node("bt_navigator")
-    started = time.monotonic()
+    active_now = threading.Event()  # set once --bt-active-after has passed
+    if options.bt_active_after > 0:
+        threading.Timer(options.bt_active_after, active_now.set).start()
+    else:
+        active_now.set()
+    answered: list[bool] = []
 
     def state(active: bool) -> GetState.Response:
         response = GetState.Response()
@@ -57,8 +63,10 @@ def main() -> None:
         if asked[0] <= options.bt_drop_first:
             bt.get_logger().info(f"get_state request {asked[0]} left unanswered")
             await rclpy.task.Future()  # never done: no reply is ever sent
-        active = not options.bt_never_active and (
-            time.monotonic() - started >= options.bt_active_after)
+        active = not options.bt_never_active and active_now.is_set()
+        if answered[-1:] != [active]:
+            answered.append(active)
+            bt.get_logger().info(f"bt_navigator answered {'active' if active else 'inactive'}")
         return state(active)
 
     latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,

@@ -50,14 +50,16 @@ def main() -> None:
     def execute(goal_handle):
         script = goal_handle.request.behavior_tree or "succeed"
         feedback = NavigateToPose.Feedback()
-        deadline = time.monotonic() + args.delay
-        while script == "hang" or time.monotonic() < deadline:
+        steps = round(args.delay / 0.05)  # takes at least the delay
+        step = 0
+        while script == "hang" or step < steps:
             if goal_handle.is_cancel_requested:
                 goal_handle.canceled()
                 log.info("goal canceled")
                 return NavigateToPose.Result()
-            feedback.distance_remaining = max(0.0, deadline - time.monotonic())
+            feedback.distance_remaining = max(0.0, (steps - step) * 0.05)
             goal_handle.publish_feedback(feedback)
+            step += 1
             time.sleep(0.05)
         if script == "abort":
             goal_handle.abort()

@@ -20,6 +20,7 @@ def main() -> None:
     def execute(goal_handle):
         feedback = NavigateToPose.Feedback()
         distance = 10.0
+        node.get_logger().info("goal executing")
         while not goal_handle.is_cancel_requested:
             feedback.distance_remaining = distance
             feedback.current_pose.header.frame_id = "map"

@@ -272,7 +272,7 @@ _COMMANDS: dict[str, Command] = {
                 interop.configure_export, interop.run_export),
         Command("import", "turn BehaviorTree.CPP 4 XML into a validated tree file",
                 interop.configure_import, interop.run_import),
-        Command("palette", "write a Groot2 <TreeNodesModel> of every registered leaf",
+        Command("palette", "write a Groot2 <TreeNodesModel> of every node kind",
                 interop.configure_palette, interop.run_palette),
         Command("replay", "draw a mission's report again from its recording (.mcap)",
                 *_lazy("sar_framework.recording.replay", "configure", "replay_command")),

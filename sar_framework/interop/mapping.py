@@ -156,6 +156,24 @@ def custom_id(kind: NodeKind) -> str:
     return CUSTOM_PREFIX + kind.class_name
 
 
+def always_builtin(kind: NodeKind) -> bool:
+    """Whether every node of ``kind`` exports as a BT.CPP built-in (never as ``Sar...``).
+
+    True when a mapping takes the kind whatever its attributes, or when the mappings'
+    fixed values cover every value of the one attribute they fix (``memory``).
+    """
+    entries = [b for b in BUILTIN if b.kind == kind.key]
+    if any(not b.fixed for b in entries):
+        return True
+    fixed = {name for b in entries for name, _ in b.fixed}
+    if len(fixed) != 1 or any(len(b.fixed) != 1 for b in entries):
+        return False
+    attr = kind.attr(fixed.pop())
+    values = (True, False) if attr is not None and attr.type is AttrType.BOOLEAN else (
+        attr.enum if attr is not None else None)
+    return values is not None and set(values) <= {b.fixed[0][1] for b in entries}
+
+
 #: Custom BT.CPP ID -> our kind.
 CUSTOM_KINDS: dict[str, NodeKind] = {custom_id(k): k for k in PY_TREES_KINDS.values()}
 

@@ -106,10 +106,7 @@ def kind_model(kind: NodeKind, parent: ET.Element, *, ident: str | None = None,
     """
     element = ("Condition" if kind.key in CONDITION_KINDS else KIND_ELEMENTS[kind.category])
     model = ET.SubElement(parent, element, {"ID": ident or kind.key})
-    for attr in kind.attrs:
-        if attr.name == "name" or attr.name.startswith("_") or attr.type in (
-                AttrType.NODE, AttrType.NODES):
-            continue
+    for attr in kind.settings():
         if attr.port is not None:
             port = attr.port
             default = None if port.default is NO_DEFAULT else port.default

@@ -92,8 +92,7 @@ def _typed_port_value(attr: Attr, text: str) -> Any:
 
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
-    names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
-             and a.type not in (AttrType.NODE, AttrType.NODES)]  # conditions: btcpp_scripts
+    names = kind.settings()  # the conditions are btcpp_scripts'
 
     def to_ports(attrs: dict[str, Any]) -> dict[str, str]:
         return {a.name: port_text(attrs[a.name]) for a in names

@@ -81,9 +81,9 @@ def test_every_kind_is_in_the_palette_with_its_ports(tmp_path: Path) -> None:
         shape = next((categories[a.type] for a in kind.attrs if a.type in categories), None)
         assert model.category == (shape or ("Condition" if kind.key == "ScriptCondition"
                                             else "Action")), kind.key
-        own = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
-               and a.type not in categories]
+        own = kind.settings()
         assert [p.name for p in model.ports] == [a.name for a in own], kind.key
+        assert not {"name", "child", "children", "_skipIf"} & {a.name for a in own}
         for attr in (a for a in own if a.port is not None):
             port = model.port(attr.name)
             assert (port.direction, port.type) == (attr.port.direction.value,

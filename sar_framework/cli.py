@@ -170,6 +170,9 @@ def _run_render(args: argparse.Namespace) -> int:
 # -- plugins ----------------------------------------------------------------------------
 def _configure_plugins(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.add_argument("--kinds", action="store_true",
+                        help="list the node kinds instead: composites, decorators, BT.CPP's "
+                        "and Nav2's nodes")
     _add_plugin_path(parser)
 
 
@@ -177,6 +180,12 @@ def _run_plugins(args: argparse.Namespace) -> int:
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.plugin_catalogue import param_text, plugin_info, port_text
 
+    if args.kinds:
+        from sar_framework.plugin_catalogue import kind_lines
+
+        for line in kind_lines():
+            _say(line)
+        return EXIT_OK
     registry = extend(default_registry().copy(), args.plugin_path)
     errors = _print_diagnostics(registry.diagnostics)
     if args.json:
@@ -272,7 +281,7 @@ _COMMANDS: dict[str, Command] = {
                 interop.configure_export, interop.run_export),
         Command("import", "turn BehaviorTree.CPP 4 XML into a validated tree file",
                 interop.configure_import, interop.run_import),
-        Command("palette", "write a Groot2 <TreeNodesModel> of every registered leaf",
+        Command("palette", "write a Groot2 <TreeNodesModel> of every node kind",
                 interop.configure_palette, interop.run_palette),
         Command("replay", "draw a mission's report again from its recording (.mcap)",
                 *_lazy("sar_framework.recording.replay", "configure", "replay_command")),

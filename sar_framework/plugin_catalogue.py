@@ -100,3 +100,29 @@ def plugin_info(plugin: Any) -> dict[str, Any]:
         "ports": [port_info(p) for p in plugin.ports],
         "context": list(plugin.context),
     }
+
+
+def kind_lines() -> list[str]:
+    """What ``sar-tree plugins --kinds`` prints: every node kind that is not a plugin.
+
+    py_trees' composites and decorators (snake_case keys), the script nodes, and
+    BT.CPP's and Nav2's controls, decorators and built-in leaves, each with its category,
+    its description and its attributes (ports as ports; children and the pre- and
+    post-conditions left out), as their declarations give them.
+    """
+    from sar_framework.engine.nodes.node_kinds import KINDS
+
+    lines = []
+    for key, kind in sorted(KINDS.items()):
+        lines.append(f"{key}  [{kind.category.value}]")
+        lines.append(f"    {kind.description}")
+        for attr in kind.settings():
+            if attr.port is not None:
+                lines.append(f"    - {port_text(attr.port)}")
+                continue
+            parts = [f"{attr.name}: {attr.type.value}",
+                     "(required)" if attr.required else f"= {attr.default!r}"]
+            if attr.enum is not None:
+                parts.append("[one of " + ", ".join(str(v) for v in attr.enum) + "]")
+            lines.append(f"    - {' '.join(parts)}  {attr.description}")
+    return lines

@@ -25,8 +25,7 @@ from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_blackboard import declarations_element, with_initial
-from sar_framework.interop.btcpp_models import cpp_type
-from sar_framework.interop.btcpp_palette import PORT_ELEMENTS, leaf_model, model_port
+from sar_framework.interop.btcpp_palette import kind_model, leaf_model
 from sar_framework.interop.btcpp_scripts import condition_scripts
 from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
 
@@ -99,14 +98,8 @@ class _Exporter:
             leaf_model(plugin, root, description=False)
         for key in sorted(self.custom_models | self.nav2_models):
             kind = KINDS[key]
-            category = "Control" if kind.category is Category.COMPOSITE else "Decorator"
             ident = kind.key if key in self.nav2_models else custom_id(kind)
-            model = ET.SubElement(root, category, {"ID": ident})
-            for name, cpp, default, text in custom_ports(kind):
-                model_port(model, name, cpp, default, text)
-            for port in (a.port for a in kind.attrs if a.port is not None):
-                model_port(model, port.name, cpp_type(port.type), None, port.description,
-                           element=PORT_ELEMENTS[port.direction.value])
+            kind_model(kind, root, ident=ident, description=False)
         return root
 
 

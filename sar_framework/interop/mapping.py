@@ -92,8 +92,7 @@ def _typed_port_value(attr: Attr, text: str) -> Any:
 
 def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
-    names = [a for a in kind.attrs if a.name != "name" and not a.name.startswith("_")
-             and a.type not in (AttrType.NODE, AttrType.NODES)]  # conditions: btcpp_scripts
+    names = kind.settings()  # the conditions are btcpp_scripts'
 
     def to_ports(attrs: dict[str, Any]) -> dict[str, str]:
         return {a.name: port_text(attrs[a.name]) for a in names
@@ -154,6 +153,24 @@ def builtin_for(kind: str, attrs: dict[str, Any]) -> Builtin | None:
 def custom_id(kind: NodeKind) -> str:
     """The BT.CPP ID of the custom node a kind becomes (``SarOneShot``)."""
     return CUSTOM_PREFIX + kind.class_name
+
+
+def always_builtin(kind: NodeKind) -> bool:
+    """Whether every node of ``kind`` exports as a BT.CPP built-in (never as ``Sar...``).
+
+    True when a mapping takes the kind whatever its attributes, or when the mappings'
+    fixed values cover every value of the one attribute they fix (``memory``).
+    """
+    entries = [b for b in BUILTIN if b.kind == kind.key]
+    if any(not b.fixed for b in entries):
+        return True
+    fixed = {name for b in entries for name, _ in b.fixed}
+    if len(fixed) != 1 or any(len(b.fixed) != 1 for b in entries):
+        return False
+    attr = kind.attr(fixed.pop())
+    values = (True, False) if attr is not None and attr.type is AttrType.BOOLEAN else (
+        attr.enum if attr is not None else None)
+    return values is not None and set(values) <= {b.fixed[0][1] for b in entries}
 
 
 #: Custom BT.CPP ID -> our kind.

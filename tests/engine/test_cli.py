@@ -112,6 +112,20 @@ def test_plugins_lists_params(tmp_path: Path) -> None:
     assert "- source: ref Fixed = None  An optional Fixed leaf." in run.stdout
 
 
+def test_plugins_kinds_lists_every_node_kind(tmp_path: Path) -> None:
+    from sar_framework.engine.nodes.node_kinds import KINDS
+
+    run = sar_tree("plugins", "--kinds", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    listed = [line.split("  [")[0] for line in run.stdout.splitlines() if "  [" in line]
+    assert listed == sorted(KINDS)
+    assert "RecoveryNode  [composite]" in run.stdout
+    assert ("    - number_of_retries: input port int = 1  Recoveries allowed before "
+            "failing.") in run.stdout
+    assert "    - memory: boolean (required)  true: resume" in run.stdout
+    assert "_skipIf" not in run.stdout and "- children" not in run.stdout
+
+
 def test_plugins_json(tmp_path: Path) -> None:
     run = sar_tree("plugins", "--json", "--plugin-path", str(GENERIC_PLUGINS), cwd=tmp_path)
     assert run.returncode == 0, run.stderr

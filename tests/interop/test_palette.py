@@ -1,9 +1,12 @@
-"""``sar-tree palette``: our Groot2 palette, and proof that it never drifts from the registry.
+"""``sar-tree palette``: our Groot2 palette, and proof that it never drifts from the kinds.
 
 The palette is read back with the importer's model reader: every registered leaf is there,
 an Action or a Condition, with its params and ports (direction, type, default,
-description) and its description; the committed ``sar_framework/schema/tree_nodes.xml``
-is what the built-in registry gives now, and third-party plugins join the palette.
+description) and its description; so is every control, decorator and built-in leaf kind
+under its BT.CPP ID, and every py_trees kind BT.CPP has no node for as its ``Sar...``
+node. Nav2's controls and decorators are Nav2's own palette's, node for node and port
+for port. The committed ``sar_framework/schema/tree_nodes.xml`` is what the built-in
+registry gives now, and third-party plugins join the palette.
 """
 
 from __future__ import annotations
@@ -13,12 +16,17 @@ from pathlib import Path
 import pytest
 
 from sar_framework.cli import main
+from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS, NAV2_KINDS
+from sar_framework.engine.nodes.kind_model import AttrType
+from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS
 from sar_framework.engine.param import REQUIRED
 from sar_framework.engine.ports import NO_DEFAULT, PYTHON_TYPES, convert
 from sar_framework.engine.registry import Registry, discover, extend
 from sar_framework.interop.btcpp_file import read_palette
 from sar_framework.interop.btcpp_models import literal_default
 from sar_framework.interop.btcpp_palette import palette_text
+from sar_framework.interop.mapping import always_builtin, custom_id
+from sar_framework.testing.nav2_navigators import nav2_share
 
 REPO = Path(__file__).resolve().parents[2]
 COMMITTED = REPO / "sar_framework" / "schema" / "tree_nodes.xml"
@@ -33,8 +41,13 @@ def read_back(text: str, tmp_path: Path) -> dict:
     return models
 
 
+#: The IDs of the palette's node kinds: BT.CPP's and Nav2's, then the custom ``Sar...``.
+KIND_IDS = {*(k.key for k in (*CONTROL_KINDS, *SCRIPT_KINDS)),
+            *(custom_id(k) for k in PY_TREES_KINDS.values() if not always_builtin(k))}
+
+
 def assert_same(registry: Registry, models: dict) -> None:
-    assert sorted(models) == registry.names()
+    assert sorted(set(models) - KIND_IDS) == registry.names()
     for plugin in registry:
         model = models[plugin.name]
         assert model.category == ("Condition" if plugin.condition else "Action"), plugin.name
@@ -57,6 +70,44 @@ def assert_same(registry: Registry, models: dict) -> None:
                 got = convert("list", got)  # BT.CPP's 'a;b;c'
             assert got == want, where
             assert port.description == " ".join(declared.description.split()), where
+
+
+def test_every_kind_is_in_the_palette_with_its_ports(tmp_path: Path) -> None:
+    models = read_back(palette_text(discover(entry_points=False)), tmp_path)
+    assert set(models) >= KIND_IDS
+    categories = {AttrType.NODES: "Control", AttrType.NODE: "Decorator"}
+    for kind in (*CONTROL_KINDS, *SCRIPT_KINDS):
+        model = models[kind.key]
+        shape = next((categories[a.type] for a in kind.attrs if a.type in categories), None)
+        assert model.category == (shape or ("Condition" if kind.key == "ScriptCondition"
+                                            else "Action")), kind.key
+        own = kind.settings()
+        assert [p.name for p in model.ports] == [a.name for a in own], kind.key
+        assert not {"name", "child", "children", "_skipIf"} & {a.name for a in own}
+        for attr in (a for a in own if a.port is not None):
+            port = model.port(attr.name)
+            assert (port.direction, port.type) == (attr.port.direction.value,
+                                                   attr.port.type), (kind.key, attr.name)
+    # BT.CPP ticks a `sequence` as its Sequence; a `parallel` only as our custom node
+    assert "SarSequence" not in models and "SarInverter" not in models
+    assert [p.name for p in models["SarParallel"].ports] == ["policy", "synchronise",
+                                                              "selected"]
+    assert models["Repeat"].port("num_cycles").type == "int"
+    assert literal_default(models["RecoveryNode"].port("number_of_retries")) == 1
+
+
+def test_nav2s_controls_and_decorators_are_nav2s_palettes(tmp_path: Path) -> None:
+    """Node for node and port for port: name, direction, type and default."""
+    theirs, problems = read_palette(str(nav2_share("nav2_behavior_tree", "nav2_tree_nodes.xml")))
+    assert not problems
+    theirs = {key: m for key, m in theirs.items() if m.category in ("Control", "Decorator")}
+    ours = read_back(palette_text(discover(entry_points=False)), tmp_path)
+    assert sorted(theirs) == sorted(NAV2_KINDS)
+    for key, model in theirs.items():
+        mine = ours[key]
+        assert mine.category == model.category, key
+        assert [(p.name, p.direction, p.type, literal_default(p)) for p in mine.ports] == [
+            (p.name, p.direction, p.type, literal_default(p)) for p in model.ports], key
 
 
 def description_of(text: str, leaf: str) -> str:

@@ -130,6 +130,14 @@ class NodeKind:
                 return a
         return None
 
+    def settings(self) -> tuple[Attr, ...]:
+        """The attributes that set the node up (a palette's ports, a listing's lines).
+
+        Not its ``name``, its children or its pre- and post-conditions (``_skipIf``...).
+        """
+        return tuple(a for a in self.attrs if a.name != "name" and not a.name.startswith("_")
+                     and a.type not in (AttrType.NODE, AttrType.NODES))
+
 
 def name_attr(default: str) -> Attr:
     """The ``name`` attribute every kind has, defaulting to ``default``."""

@@ -39,8 +39,8 @@ def test_what_the_run_s_processes_left_is_found_and_removed_others_untouched(
         assert child.stdout is not None and child.stdout.readline().strip() == "ready"
         deadline = time.monotonic() + 30.0  # outer safety bound: sampled every 0.5 s
         while "fastrtps_0123456789abcdef" not in leftovers.noted():
-            assert time.monotonic() < deadline, f"never noted the child's segment: " \
-                                                f"{leftovers.noted()}"
+            assert time.monotonic() < deadline, (  # outer safety bound
+                f"never noted the child's segment: {leftovers.noted()}")
             time.sleep(0.05)
     finally:
         child.communicate(input="", timeout=30)

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from sar_testing.temp_dirs import launch_env
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -119,8 +120,8 @@ def by_ros2_launch(tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Path]
     done = subprocess.run([str(ROS2), "launch", "sar_framework", "search_and_rescue.launch.py",
                            "nav2:=embedded", "tree:=patrol.yaml", f"report_dir:={out}"],
                           cwd=folder, capture_output=True, text=True, stdin=subprocess.DEVNULL,
-                          env=ros_env(folder.parent / "ros_log"), timeout=RUN_BOUND_S,
-                          check=False)
+                          env=launch_env(folder.parent, ros_env(folder.parent / "ros_log")),
+                          timeout=RUN_BOUND_S, check=False)
     assert done.returncode == 0, done.stdout + done.stderr
     return done.stdout + done.stderr, out
 

@@ -180,13 +180,13 @@ def _run_plugins(args: argparse.Namespace) -> int:
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.plugin_catalogue import param_text, plugin_info, port_text
 
+    registry = extend(default_registry().copy(), args.plugin_path)
     if args.kinds:
         from sar_framework.plugin_catalogue import kind_lines
 
-        for line in kind_lines():
+        for line in kind_lines(registry):
             _say(line)
         return EXIT_OK
-    registry = extend(default_registry().copy(), args.plugin_path)
     errors = _print_diagnostics(registry.diagnostics)
     if args.json:
         import json

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from sar_framework.engine.registry import Registry
 
 
 def param_text(param: Any) -> str:
@@ -102,18 +105,20 @@ def plugin_info(plugin: Any) -> dict[str, Any]:
     }
 
 
-def kind_lines() -> list[str]:
-    """What ``sar-tree plugins --kinds`` prints: every node kind that is not a plugin.
+def kind_lines(registry: Registry | None = None) -> list[str]:
+    """What ``sar-tree plugins --kinds`` prints: every node kind that is not a leaf plugin.
 
     py_trees' composites and decorators (snake_case keys), the script nodes, and
     BT.CPP's and Nav2's controls, decorators and built-in leaves, each with its category,
     its description and its attributes (ports as ports; children and the pre- and
-    post-conditions left out), as their declarations give them.
+    post-conditions left out), as their declarations give them; then the controls and
+    decorators ``registry``'s plugins add.
     """
     from sar_framework.engine.nodes.node_kinds import KINDS
 
     lines = []
-    for key, kind in sorted(KINDS.items()):
+    added = {k.name: k.kind for k in registry.kind_plugins()} if registry is not None else {}
+    for key, kind in (*sorted(KINDS.items()), *sorted(added.items())):
         lines.append(f"{key}  [{kind.category.value}]")
         lines.append(f"    {kind.description}")
         for attr in kind.settings():

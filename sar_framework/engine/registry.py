@@ -8,10 +8,11 @@ Three sources feed one :class:`Registry`:
 * local paths: a ``.py`` file, a directory of ``.py`` files or a dotted module
   name, given with ``--plugin-path`` or in a tree's ``plugins:`` key.
 
-Only a class whose own ``__dict__`` holds the :func:`~.plugin.leaf` mark is a
-plugin (a subclass of a plugin is not silently the same plugin). A module that
-fails to import becomes a diagnostic naming it and the exception, never a
-traceback; two plugins with one name is an error naming both sources.
+Only a class whose own ``__dict__`` holds the :func:`~.plugin.leaf` mark (or, for a
+control or decorator kind, :func:`~.kind_plugin.node_kind`'s) is a plugin (a subclass
+of a plugin is not silently the same plugin). A module that fails to import becomes a
+diagnostic naming it and the exception, never a traceback; two plugins with one name is
+an error naming both sources.
 """
 
 from __future__ import annotations
@@ -28,6 +29,8 @@ from types import ModuleType
 from typing import Any
 
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display_path
+from sar_framework.engine.kind_plugin import KIND_ATTRIBUTE, KindSpec
+from sar_framework.engine.nodes.kind_model import NodeKind
 from sar_framework.engine.nodes.node_kinds import RESERVED_KINDS
 from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
 from sar_framework.engine.plugin_import import (
@@ -52,6 +55,11 @@ _path_modules: dict[Path, ModuleType | BaseException] = {}
 _default: dict[str, Registry] = {}
 
 
+def _marked(cls: type) -> bool:
+    """Whether ``cls`` itself (not a base class) is marked as a plugin."""
+    return PLUGIN_ATTRIBUTE in cls.__dict__ or KIND_ATTRIBUTE in cls.__dict__
+
+
 class Registry:
     """The known leaf plugins, by name, plus the problems met while finding them.
 
@@ -61,12 +69,14 @@ class Registry:
 
     def __init__(self) -> None:
         self._plugins: dict[str, PluginSpec] = {}
+        self._kinds: dict[str, KindSpec] = {}
         self.diagnostics: list[Diagnostic] = []
 
     def copy(self) -> Registry:
         """Return an independent copy (to extend with a tree's local plugins)."""
         other = Registry()
         other._plugins = dict(self._plugins)
+        other._kinds = dict(self._kinds)
         other.diagnostics = list(self.diagnostics)
         return other
 
@@ -88,18 +98,32 @@ class Registry:
         """Return the plugin names, sorted."""
         return sorted(self._plugins)
 
+    def kind_plugin(self, name: str) -> KindSpec | None:
+        """Return the control or decorator plugin called ``name``, or None."""
+        return self._kinds.get(name)
+
+    def kind(self, name: str) -> NodeKind | None:
+        """Return the declaration of the plugin's control or decorator ``name``, or None."""
+        spec = self._kinds.get(name)
+        return spec.kind if spec is not None else None
+
+    def kind_plugins(self) -> list[KindSpec]:
+        """Return the control and decorator plugins, sorted by name."""
+        return [self._kinds[name] for name in sorted(self._kinds)]
+
     def add(self, cls: type, source: str, location: SourceLocation | None = None) -> None:
         """Register one plugin class.
 
         Args:
-            cls: A class marked with :func:`~.plugin.leaf`.
+            cls: A class marked with :func:`~.plugin.leaf` or :func:`~.kind_plugin.node_kind`.
             source: Where it came from, for messages and ``sar-tree plugins``.
             location: Where to report a problem when the class's source is unknown.
         """
         import py_trees  # only once a plugin module, which imported it, gave a class
 
-        spec: PluginSpec = cls.__dict__[PLUGIN_ATTRIBUTE]
-        known = self._plugins.get(spec.name)
+        spec: PluginSpec | KindSpec = (cls.__dict__.get(PLUGIN_ATTRIBUTE)
+                                       or cls.__dict__[KIND_ATTRIBUTE])
+        known = self._plugins.get(spec.name) or self._kinds.get(spec.name)
         if known is not None and same_definition(known.cls, cls):
             return  # one definition reached twice (re-export, package and path)
         if not issubclass(cls, py_trees.behaviour.Behaviour):
@@ -108,6 +132,9 @@ class Registry:
             problem = f"plugin name '{spec.name}' is reserved (from {source})"
         elif known is not None:
             problem = f"plugin '{spec.name}' is defined twice: in {known.source} and in {source}"
+        elif isinstance(spec, KindSpec):
+            self._kinds[spec.name] = dataclasses.replace(spec, source=source)
+            return
         else:
             self._plugins[spec.name] = dataclasses.replace(spec, source=source)
             return
@@ -130,7 +157,7 @@ class Registry:
             source = f"{module.__name__} ({display_path(file)})" if file else module.__name__
         count = 0
         for value in list(vars(module).values()):
-            if isinstance(value, type) and PLUGIN_ATTRIBUTE in value.__dict__:
+            if isinstance(value, type) and _marked(value):
                 self.add(value, source)
                 count += 1
         return count
@@ -276,7 +303,7 @@ class Registry:
                         )
                     )
                     continue
-                if isinstance(obj, type) and PLUGIN_ATTRIBUTE in obj.__dict__:
+                if isinstance(obj, type) and _marked(obj):
                     self.add(obj, label, here)
                 else:
                     self.diagnostics.append(

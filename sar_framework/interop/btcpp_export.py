@@ -27,7 +27,13 @@ from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_blackboard import declarations_element, with_initial
 from sar_framework.interop.btcpp_palette import kind_model, leaf_model
 from sar_framework.interop.btcpp_scripts import condition_scripts
-from sar_framework.interop.mapping import builtin_for, custom_id, custom_ports, port_text
+from sar_framework.interop.mapping import (
+    builtin_for,
+    custom_id,
+    custom_ports,
+    port_text,
+    same_ids,
+)
 
 
 class _Exporter:
@@ -39,7 +45,7 @@ class _Exporter:
         self.subtrees: dict[str, ET.Element] = {}
         self.leaf_models: dict[str, PluginSpec] = {}
         self.custom_models: set[str] = set()
-        self.nav2_models: set[str] = set()
+        self.own_models: set[str] = set()
 
     def element(self, node: NodeSpec, *, inside: str | None = None) -> ET.Element:
         if node.subtree is not None and node.subtree != inside:
@@ -59,10 +65,12 @@ class _Exporter:
     def node(self, node: NodeSpec) -> ET.Element:
         if node.category is Category.LEAF and node.kind not in KINDS:
             return self.leaf(node)
-        kind = KINDS[node.kind]
-        builtin = builtin_for(node.kind, node.attrs)
-        if node.kind in NAV2_KINDS:
-            self.nav2_models.add(node.kind)
+        plugin_kind = self.registry.kind(node.kind)
+        kind = KINDS.get(node.kind) or plugin_kind
+        builtin = same_ids(kind) if plugin_kind is not None else builtin_for(node.kind,
+                                                                             node.attrs)
+        if node.kind in NAV2_KINDS or plugin_kind is not None:  # declared in the models
+            self.own_models.add(node.kind)
         if builtin is not None:
             tag, ports = builtin.btcpp_id, builtin.to_ports(node.attrs)
         else:
@@ -96,9 +104,10 @@ class _Exporter:
         root = ET.Element("TreeNodesModel")
         for plugin in sorted(self.leaf_models.values(), key=lambda p: p.name):
             leaf_model(plugin, root, description=False)
-        for key in sorted(self.custom_models | self.nav2_models):
-            kind = KINDS[key]
-            ident = kind.key if key in self.nav2_models else custom_id(kind)
+        for key in sorted(self.custom_models | self.own_models):
+            kind = KINDS.get(key) or self.registry.kind(key)
+            assert kind is not None, "a node kind the tree holds"
+            ident = kind.key if key in self.own_models else custom_id(kind)
             kind_model(kind, root, ident=ident, description=False)
         return root
 

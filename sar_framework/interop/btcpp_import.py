@@ -47,7 +47,13 @@ from sar_framework.interop.btcpp_models import (
 )
 from sar_framework.interop.btcpp_scaffold import LeafDraft
 from sar_framework.interop.btcpp_scripts import script_uses, split_conditions
-from sar_framework.interop.mapping import BUILTIN_BY_ID, CUSTOM_KINDS, REFUSED, custom_ports
+from sar_framework.interop.mapping import (
+    BUILTIN_BY_ID,
+    CUSTOM_KINDS,
+    REFUSED,
+    custom_ports,
+    plugin_mapping,
+)
 from sar_framework.interop.xml_source import Element, Problem
 
 #: Attributes of BT.CPP nodes that carry no meaning for the tree (Groot2 metadata).
@@ -143,8 +149,8 @@ class _Importer(LeafImporter):
         if tag in REFUSED:
             self.refuse(element, f"<{tag}> cannot be imported: {REFUSED[tag]}")
             return None
-        kind_key = BUILTIN_BY_ID[tag].kind if tag in BUILTIN_BY_ID else None
-        kind = KINDS[kind_key] if kind_key is not None else CUSTOM_KINDS.get(tag)
+        mapped = BUILTIN_BY_ID.get(tag) or plugin_mapping(tag, self.registry)
+        kind = self.kind_of(mapped.kind) if mapped is not None else CUSTOM_KINDS.get(tag)
         for key, value in ports.items() if kind is not None else ():
             if entry_key(value) is None:
                 continue
@@ -155,8 +161,8 @@ class _Importer(LeafImporter):
                 self.problem(element, f"port '{key}' of <{tag}> reads the blackboard entry "
                              f"'{value}'; ours takes a fixed value here: give one")
                 return None
-        if tag in BUILTIN_BY_ID:
-            entry = BUILTIN_BY_ID[tag]
+        if mapped is not None:
+            entry = mapped
             code = {k: v for k, v in ports.items() if kind is not None
                     and getattr(kind.attr(k), "type", None) is AttrType.SCRIPT}
             if not self.scripts(element, tag, code):
@@ -166,8 +172,8 @@ class _Importer(LeafImporter):
             except ValueError as exc:
                 self.problem(element, f"<{tag}>: {exc}")
                 return None
-            self.kind_uses(KINDS[entry.kind], tag, attrs)
-            return self.branch(element, KINDS[entry.kind], ports.get("name"), attrs)
+            self.kind_uses(self.kind_of(entry.kind), tag, attrs)
+            return self.branch(element, self.kind_of(entry.kind), ports.get("name"), attrs)
         if tag in CUSTOM_KINDS:
             kind = CUSTOM_KINDS[tag]
             attrs = {}
@@ -189,6 +195,10 @@ class _Importer(LeafImporter):
                 f"ports the plugin lacks ({', '.join(missing_ports(plugin, model))}); "
                 f"scaffolded as '{alias}'", "warning"))
         return self.unknown(element, tag, ports, alias)
+
+    def kind_of(self, key: str) -> NodeKind:
+        """The declaration of a node kind, built in or a plugin's."""
+        return KINDS.get(key) or self.registry.kind(key)  # type: ignore[return-value]
 
     def kind_uses(self, kind: NodeKind, tag: str, attrs: dict[str, Any]) -> None:
         """Record the entries a control node's port attributes are bound to."""

@@ -123,13 +123,13 @@ def palette_text(registry: Registry) -> str:
     """Return the palette of every node kind as BT.CPP 4 XML, sorted by ID.
 
     Args:
-        registry: The leaf plugins (the control, decorator and built-in kinds are the
-            engine's).
+        registry: The plugins, leaves and the controls and decorators they add (beside the
+            engine's kinds).
     """
     root = ET.Element("root", {"BTCPP_format": "4"})
     models = ET.SubElement(root, "TreeNodesModel")
     makers = {plugin.name: lambda p=plugin: leaf_model(p, models) for plugin in registry}
-    for kind in (*CONTROL_KINDS, *SCRIPT_KINDS):
+    for kind in (*CONTROL_KINDS, *SCRIPT_KINDS, *(k.kind for k in registry.kind_plugins())):
         makers[kind.key] = lambda k=kind: kind_model(k, models)
     for kind in (k for k in PY_TREES_KINDS.values() if not always_builtin(k)):
         makers[custom_id(kind)] = lambda k=kind: kind_model(k, models, ident=custom_id(k))

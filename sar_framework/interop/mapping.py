@@ -18,6 +18,7 @@ from typing import Any
 from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
 from sar_framework.engine.nodes.kind_model import Attr
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
+from sar_framework.engine.registry import Registry
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
 CUSTOM_PREFIX = "Sar"
@@ -90,7 +91,7 @@ def _typed_port_value(attr: Attr, text: str) -> Any:
     return _port_value(attr.type, attr.name, text)
 
 
-def _same(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
+def same_ids(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
     """The 1:1 mapping of a BT.CPP/Nav2 kind: every attribute is the port of its name."""
     names = kind.settings()  # the conditions are btcpp_scripts'
 
@@ -129,9 +130,9 @@ BUILTIN: tuple[Builtin, ...] = (
     Builtin("ForceSuccess", "failure_is_success"),
     Builtin("ForceFailure", "success_is_failure"),
     Builtin("KeepRunningUntilFailure", "success_is_running"),
-    *(_same(kind) for kind in CONTROL_KINDS),
-    *(_same(kind) for kind in SCRIPT_KINDS),
-    _same(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),
+    *(same_ids(kind) for kind in CONTROL_KINDS),
+    *(same_ids(kind) for kind in SCRIPT_KINDS),
+    same_ids(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),
 )
 
 #: BT.CPP ID -> its mapping; an ID shared with a py_trees kind imports as the BT.CPP kind.
@@ -140,6 +141,14 @@ BUILTIN_BY_ID: dict[str, Builtin] = {b.btcpp_id: b for b in BUILTIN}
 #: BT.CPP (and Nav2) nodes that are refused on import, with the reason and a way out.
 REFUSED: dict[str, str] = {
 }
+
+
+def plugin_mapping(tag: str, registry: Registry) -> Builtin | None:
+    """The mapping of a plugin's control or decorator named ``tag`` (or spelt so), or None."""
+    for spec in registry.kind_plugins():
+        if tag == spec.name or tag in spec.spellings:
+            return same_ids(spec.kind, tag)
+    return None
 
 
 def builtin_for(kind: str, attrs: dict[str, Any]) -> Builtin | None:

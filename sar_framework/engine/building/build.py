@@ -19,7 +19,12 @@ from typing import Any, Protocol
 import py_trees
 
 from sar_framework.engine import compat
-from sar_framework.engine.building.control_build import CLOCK_KEY, CONTROL_BUILDERS, ClockTimeout
+from sar_framework.engine.building.control_build import (
+    CLOCK_KEY,
+    CONTROL_BUILDERS,
+    ClockTimeout,
+    ControlBuilder,
+)
 from sar_framework.engine.building.port_values import PortValues, write_initial
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.nodes.node_kinds import KINDS
@@ -290,7 +295,10 @@ class _Builder:
     def make_node(self, node: NodeSpec) -> Behaviour | None:
         """Build ``node`` and its children, without its pre/post-conditions."""
         if node.kind in CONTROL_BUILDERS:  # BT.CPP's and Nav2's nodes, leaves included
-            return self.control(node)
+            return self.control(node, CONTROL_BUILDERS[node.kind])
+        kind_plugin = self.registry.kind_plugin(node.kind)
+        if kind_plugin is not None:  # a plugin's control or decorator
+            return self.control(node, kind_plugin.builder())
         if node.kind not in SCRIPTED and node.category is _LEAF_CATEGORY:
             plan = self.plans.get(node.kind)
             if plan is None or not plan.plain:
@@ -321,14 +329,12 @@ class _Builder:
         self.built[node.uid] = behaviour
         return behaviour
 
-    def control(self, node: NodeSpec) -> Behaviour | None:
+    def control(self, node: NodeSpec, build: ControlBuilder) -> Behaviour | None:
         children = [self.make(child) for child in node.children]
         if self.problems:
             return None
         try:
-            behaviour = CONTROL_BUILDERS[node.kind](
-                node, children, self.context  # type: ignore[arg-type]
-            )
+            behaviour = build(node, children, self.context)  # type: ignore[arg-type]
         except Exception as exc:
             self._cannot_construct(node, exc)
             return None

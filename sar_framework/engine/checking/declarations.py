@@ -53,7 +53,7 @@ def declaration_of(key: str, registry: Registry) -> Declaration | None:
         key: The key in the tree file.
         registry: The plugins.
     """
-    kind = KINDS.get(key)
+    kind = KINDS.get(key) or registry.kind(key)
     if kind is not None:
         ports = tuple(a.port for a in kind.attrs if a.port is not None)
         return Declaration(key, kind.category, kind.class_name, kind.attrs,

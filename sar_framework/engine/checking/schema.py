@@ -257,7 +257,7 @@ def tree_schema(registry: Registry) -> dict[str, Any]:
     """
     defs: dict[str, Any] = {}
     kinds: dict[str, Any] = {}
-    for key, kind in KINDS.items():
+    for key, kind in (*KINDS.items(), *((k.name, k.kind) for k in registry.kind_plugins())):
         defs[f"kind.{key}"] = _kind_schema(kind)
         kinds[key] = {"$ref": f"#/$defs/kind.{key}"}
     kinds[SUBTREE] = {"$ref": "#/$defs/subtree.use"}

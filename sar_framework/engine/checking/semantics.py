@@ -189,7 +189,8 @@ class Semantics:
                     kept = NO_DEFAULT
                 if kept is not NO_DEFAULT:
                     ports[attr.name] = kept
-                if key in KINDS:  # BT.CPP's node: the text as written, for labels and export
+                # BT.CPP's node (or a plugin's): the text as written, for labels and export
+                if key in KINDS or self.registry.kind(key):
                     values[attr.name] = given
                 continue
             if attr.type is AttrType.SCRIPT:

@@ -22,6 +22,7 @@ from sar_framework.engine.nodes.node_kinds import (
     SUBTREE,
     TOP_LEVEL,
     UNSUPPORTED_DECORATORS,
+    NodeKind,
     Rule,
 )
 from sar_framework.engine.ports import BASIC_TYPES, Port, entry_ref
@@ -210,11 +211,17 @@ class StructureCheck:
         else:  # a schema keyword this wording does not know yet: jsonschema's own words
             yield doc.where(path), error.message
 
+    def kind(self, key: object) -> NodeKind | None:
+        """The declaration of a node kind, built in or a plugin's, or None."""
+        if not isinstance(key, str):
+            return None
+        return KINDS.get(key) or self.registry.kind(key)
+
     def owner(self, path: DocPath) -> str:
         """Return the node kind whose attributes hold ``path`` (the nearest above it)."""
         for index in range(len(path) - 1, -1, -1):
             key = path[index]
-            if isinstance(key, str) and (key in KINDS or key == SUBTREE or key in self.registry):
+            if isinstance(key, str) and (self.kind(key) or key == SUBTREE or key in self.registry):
                 return key
         return ""
 
@@ -226,16 +233,17 @@ class StructureCheck:
         """The attribute names of a node kind or plugin, in schema order, or None."""
         if key == SUBTREE:
             return list(self.schema["$defs"]["subtree.use"]["else"]["properties"])
-        prefix = "kind" if key in KINDS else "plugin"
+        prefix = "kind" if self.kind(key) else "plugin"
         schema = self.schema["$defs"].get(f"{prefix}.{key}")
         return list(schema["properties"]) if schema is not None else None
 
     def rule(self, error: jsonschema.ValidationError, owner: str) -> str:
         """Word the condition of a rule (``when policy is X``), or "" for a plain error."""
         schema_path = list(error.schema_path)
-        if "allOf" not in schema_path or owner not in KINDS:
+        kind = self.kind(owner)
+        if "allOf" not in schema_path or kind is None:
             return ""
-        found: Rule = KINDS[owner].rules[schema_path[schema_path.index("allOf") + 1]]
+        found: Rule = kind.rules[schema_path[schema_path.index("allOf") + 1]]
         word = "when" if "then" in schema_path else "unless"
         return f"{word} {found.if_attr} is {found.equals}"
 
@@ -246,7 +254,8 @@ class StructureCheck:
         if error_schema is self.node_schema:
             if key in UNSUPPORTED_DECORATORS:
                 return f"decorator '{key}' is not supported: {UNSUPPORTED_DECORATORS[key]}"
-            candidates = [*KINDS, SUBTREE, *self.registry.names()]
+            candidates = [*KINDS, SUBTREE, *self.registry.names(),
+                          *(k.name for k in self.registry.kind_plugins())]
             return f"unknown plugin '{key}'" + (did_you_mean(key, candidates)
                                                  or UNKNOWN_PLUGIN_HINT)
         owner = str(path[-1])
@@ -262,7 +271,8 @@ class StructureCheck:
             what = "param or port" if plugin is not None and plugin.ports else "param"
             return f"unknown {what} '{key}' for plugin '{owner}'" + suggest(key, names)
         what = f"unknown attribute '{key}' for {owner}"
-        category = KINDS[owner].category.value if owner in KINDS else ""
+        kind = self.kind(owner)
+        category = kind.category.value if kind is not None else ""
         if key == "children" and category == "decorator":
             return f"{what} (a decorator has exactly one 'child')"
         if key == "child" and category == "composite":
@@ -293,7 +303,7 @@ class StructureCheck:
         got = describe(instance, doc.nodes.get(path))
         if error.schema is self.node_schema:
             hint = ""
-            if isinstance(instance, str) and (instance in KINDS or instance in self.registry):
+            if isinstance(instance, str) and (self.kind(instance) or instance in self.registry):
                 hint = f" (write '{instance}: {{}}')"
             return ("expected a node: a one-key mapping such as 'NavigateToZone: {}', "
                     f"got {got}{hint}")

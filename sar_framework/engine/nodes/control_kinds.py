@@ -55,7 +55,8 @@ LOOP_TYPES = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "float", "Loop
 SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
 
 
-def _children(minimum: int = 1, maximum: int | None = None, text: str = "") -> Attr:
+def children_attr(minimum: int = 1, maximum: int | None = None, text: str = "") -> Attr:
+    """The ``children`` of a control: at least ``minimum``, at most ``maximum``."""
     return Attr("children", AttrType.NODES, required=True, min_items=minimum,
                 max_items=maximum, description=text or "The child nodes, in order.")
 
@@ -110,12 +111,14 @@ def _entry() -> Attr:
                  naming=Naming.NAME)
 
 
-def _control(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
+def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
+    """A control node's declaration: its key, one line of docs, its attributes, children."""
     return NodeKind(key, Category.COMPOSITE, key, text,
-                    (name_attr(key), *attrs, children or _children(), *CONDITION_ATTRS))
+                    (name_attr(key), *attrs, children or children_attr(), *CONDITION_ATTRS))
 
 
-def _decorator(key: str, text: str, *attrs: Attr) -> NodeKind:
+def decorator_kind(key: str, text: str, *attrs: Attr) -> NodeKind:
+    """A decorator's declaration: its key, one line of docs, its attributes (one child)."""
     return NodeKind(key, Category.DECORATOR, key, text,
                     (name_attr(key), *attrs, _CHILD, *CONDITION_ATTRS))
 
@@ -127,13 +130,13 @@ def _leaf(key: str, text: str, *attrs: Attr) -> NodeKind:
 def _switch(key: str, cases: int) -> NodeKind:
     case_attrs = [_port(f"case_{i}", "any", f"The value that selects child {i}: a literal, "
                         "or '{name}' to read that entry.") for i in range(1, cases + 1)]
-    return _control(
+    return control_kind(
         key, f"Tick the child of the first of {cases} cases the variable matches, else the "
         "last child.",
         _port("variable", "any", "The value compared (as text) with the cases: '{name}' "
               "reads that entry; a literal is compared as it is."),
         *case_attrs,
-        children=_children(cases + 1, cases + 1, f"One child per case, then the default "
+        children=children_attr(cases + 1, cases + 1, f"One child per case, then the default "
                            f"({cases + 1} children)."),
     )
 
@@ -154,64 +157,64 @@ def threshold_problem(kind: str, attrs: dict[str, object], children: int) -> str
     return None
 
 
-_BRANCHES = _children(2, 3, "The condition, the then-branch and an optional else-branch.")
+_BRANCHES = children_attr(2, 3, "The condition, the then-branch and an optional else-branch.")
 _THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
 
 CONTROL_KINDS: tuple[NodeKind, ...] = (
-    _control("Sequence", "Children in order until one fails; resumes at a running child."),
-    _control("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
+    control_kind("Sequence", "Children in order until one fails; resumes at a running child."),
+    control_kind("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
              "time instead of the first."),
-    _control("ReactiveSequence", "Every tick from the first child; a failure stops, a "
+    control_kind("ReactiveSequence", "Every tick from the first child; a failure stops, a "
              "running child halts the others."),
-    _control("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "
+    control_kind("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "
              "succeeds on its first tick."),
-    _control("AsyncFallback", "Like Fallback, but returns RUNNING after each child that fails "
+    control_kind("AsyncFallback", "Like Fallback, but returns RUNNING after each child that fails "
              "on its first tick."),
-    _control("Fallback", "Children in order until one succeeds; resumes at a running child."),
-    _control("ReactiveFallback", "Every tick from the first child; a success stops, a running "
+    control_kind("Fallback", "Children in order until one succeeds; resumes at a running child."),
+    control_kind("ReactiveFallback", "Every tick from the first child; a success stops, a running "
              "child halts the others."),
-    _control("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
+    control_kind("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
              "threshold is reached.",
              _int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
              _int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
-    _control("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
+    control_kind("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
              "when max_failures failed.",
              _int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
-    _control("IfThenElse", "The condition once, then the branch it chose until that "
+    control_kind("IfThenElse", "The condition once, then the branch it chose until that "
              "completes.", children=_BRANCHES),
-    _control("WhileDoElse", "The condition every tick, then its branch; switching halts the "
+    control_kind("WhileDoElse", "The condition every tick, then its branch; switching halts the "
              "other branch.", children=_BRANCHES),
     *(_switch(key, cases) for key, cases in SWITCH_CASES.items()),
-    _control("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
+    control_kind("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
              "then the first again.",
              _int_port("number_of_retries", "Recoveries allowed before failing.", default=1,
                        minimum=0),
-             children=_children(2, 2, "The action, then its recovery.")),
-    _control("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
+             children=children_attr(2, 2, "The action, then its recovery.")),
+    control_kind("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
              "later one runs."),
-    _control("RoundRobin", "Nav2: one child at a time, the next one after each completion."),
-    _decorator("Inverter", "SUCCESS becomes FAILURE and FAILURE SUCCESS."),
-    _decorator("ForceSuccess", "A completed child gives SUCCESS."),
-    _decorator("ForceFailure", "A completed child gives FAILURE."),
-    _decorator("KeepRunningUntilFailure", "RUNNING until the child fails."),
-    _decorator("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
+    control_kind("RoundRobin", "Nav2: one child at a time, the next one after each completion."),
+    decorator_kind("Inverter", "SUCCESS becomes FAILURE and FAILURE SUCCESS."),
+    decorator_kind("ForceSuccess", "A completed child gives SUCCESS."),
+    decorator_kind("ForceFailure", "A completed child gives FAILURE."),
+    decorator_kind("KeepRunningUntilFailure", "RUNNING until the child fails."),
+    decorator_kind("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
                _int_port("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
-    _decorator("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
+    decorator_kind("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
                _int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
-    _decorator("RunOnce", "Tick the child until it completes once; then skip, or repeat "
+    decorator_kind("RunOnce", "Tick the child until it completes once; then skip, or repeat "
                "that result.",
                _bool_port("then_skip", "After the first completion: SKIPPED (true) or the "
                           "same result (false).", default=True)),
-    _decorator("Delay", "RUNNING for delay_msec, then tick the child.",
+    decorator_kind("Delay", "RUNNING for delay_msec, then tick the child.",
                _int_port("delay_msec", "Milliseconds before the child's first tick.",
                          minimum=0)),
-    _decorator("Timeout", "Halt the child and fail if it still runs after msec.",
+    decorator_kind("Timeout", "Halt the child and fail if it still runs after msec.",
                _int_port("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
-    _decorator("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
+    decorator_kind("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
                "tick of the child.", _entry()),
-    _decorator("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
+    decorator_kind("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
                "of the child.", _entry()),
-    *(_decorator(key, f"Pop the next {kind} of queue into value and tick the child; RUNNING "
+    *(decorator_kind(key, f"Pop the next {kind} of queue into value and tick the child; RUNNING "
                  "while values remain, if_empty once the queue is empty.",
                  _port("queue", "list", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared "
                        "list (its values are popped from it)."),
@@ -221,16 +224,16 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                  _port("value", LOOP_TYPES[key], "The entry each value is written to: "
                        "'{name}'.", direction=Direction.OUTPUT, required=False))
       for key, kind in LOOP_ITEMS.items()),
-    _decorator("RateController", "Nav2: tick the child at most hz times a second (a running "
+    decorator_kind("RateController", "Nav2: tick the child at most hz times a second (a running "
                "child every tick).",
                Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
                     description="Child ticks per second.")),
-    _decorator("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
+    decorator_kind("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
                "the node is reset."),
-    _decorator("GoalUpdatedController", "Nav2: tick the child when goal or goals changed "
+    decorator_kind("GoalUpdatedController", "Nav2: tick the child when goal or goals changed "
                "(starting counts) and while it runs; else RUNNING.",
                *_goal_ports()),
-    _decorator("PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal "
+    decorator_kind("PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal "
                "is length_factor times longer while the old one was shorter than prox_len; "
                "else SUCCESS.",
                _port("path", PATH, "The path created by the planner: '{name}'."),
@@ -238,18 +241,18 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                     description="Proximity length (m) for the path to be longer on approach."),
                Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
                     description="How many times longer the new path must be.")),
-    _decorator("DistanceController", "Nav2: tick the child each time the robot travelled "
+    decorator_kind("DistanceController", "Nav2: tick the child each time the robot travelled "
                "distance metres (and on the first tick, and while it runs); else RUNNING.",
                _number("distance", 1.0, "Metres travelled between ticks of the child."),
                _frame("global_frame", "Reference frame ('': the navigator's, map)."),
                _frame("robot_base_frame", "Robot frame ('': the navigator's, base_link).")),
-    _decorator("SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate "
+    decorator_kind("SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate "
                "as the robot's speed goes from min_speed to max_speed; else RUNNING.",
                _number("min_rate", 0.1, "Hz at min_speed and below."),
                _number("max_rate", 1.0, "Hz at max_speed and above."),
                _number("min_speed", 0.0, "m/s."), _number("max_speed", 0.5, "m/s."),
                *_goal_ports(" (a new goal ticks the child)")),
-    _decorator("GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on "
+    decorator_kind("GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on "
                "the goal_update topic; then tick the child.",
                _port("input_goal", POSE, "The original goal: '{name}'."),
                _port("output_goal", POSE, "The goal to use (input_goal or a newer one): "

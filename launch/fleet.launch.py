@@ -30,6 +30,7 @@ from launch.events import Shutdown
 from launch.substitutions import LaunchConfiguration
 
 from launch import LaunchContext, LaunchDescription
+from sar_framework.app import tree_apps
 from sar_framework.engine.api import validate
 from sar_framework.mission.fleet_processes import (
     FLEET_FILE,
@@ -96,13 +97,13 @@ def fleet_settings(context: LaunchContext) -> FleetSettings:
     kinds = [node.kind for node in spec.nodes()] if spec is not None else []
     settings = MissionSettings(
         tree=tree, params_file=params_file, speed=float(arg("speed")),
-        survivors_file=package_file(arg("survivors_file")),
-        report_file=str(folder / RUN_FILES["report_file"]),
-        trace_file=str(folder / RUN_FILES["trace_file"]),
-        tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None)
+        run_folder=str(folder), trace_file=str(folder / RUN_FILES["trace_file"]),
+        tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
+        extra={"detect": {"survivors_file": package_file(arg("survivors_file"))}})
     return FleetSettings(settings, str(fleet_file), read_members(fleet_file), str(folder),
                          coordinator=tree_uses_coordinator(kinds),
-                         zone_order=tuple(mission.get("zone_order") or ()))
+                         zone_order=tuple(mission.get("zone_order") or ()),
+                         apps=tuple(tree_apps(tree)))
 
 
 def launch_setup(context: LaunchContext) -> list:

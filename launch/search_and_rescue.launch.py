@@ -54,6 +54,7 @@ from launch.events import Shutdown
 from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
+from sar_plugins.sar.processes import REPORT_FILE as REPORTS_IN_RUN_FOLDER
 
 from launch import LaunchContext, LaunchDescription
 from sar_framework.app import tree_apps
@@ -61,6 +62,7 @@ from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
     RUN_FILES,
     MissionSettings,
+    ParamValue,
     mission_processes,
     new_run_folder,
 )
@@ -149,8 +151,10 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
               else new_run_folder())
     folder.mkdir(parents=True, exist_ok=True)
     files = {name: str(folder / file) for name, file in RUN_FILES.items()}
+    servers: dict[str, dict[str, ParamValue]] = {
+        "detect": {"survivors_file": package_file(arg("survivors_file"))}}
     if arg("report_file"):
-        files["report_file"] = str(Path(arg("report_file")).expanduser().absolute())
+        servers["report"] = {"report_file": str(Path(arg("report_file")).expanduser().absolute())}
     tree = package_file(arg("tree"), "trees")
     apps = tree_apps(tree)
     params = arg("params_file") or next((f for f in (a.default_params_file() for a in apps)
@@ -161,8 +165,8 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         use_sim_time=arg("use_sim_time").lower() in ("true", "1", "yes"),
         simulator=embedded,
         speed=float(arg("speed")),
-        survivors_file=package_file(arg("survivors_file")),
-        report_file=files["report_file"],
+        run_folder=str(folder),
+        extra=servers,
         trace_file=files["trace_file"] if embedded else "",
         status_file=files["status_file"],
         exit_on_completion=True,
@@ -174,6 +178,12 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     )
 
 
+def report_file(settings: MissionSettings) -> str:
+    """The report server's file: the ``report_file`` argument's, else the run folder's."""
+    named = settings.extra.get("report", {}).get("report_file")
+    return str(named) if named else str(Path(settings.run_folder) / REPORTS_IN_RUN_FOLDER)
+
+
 def launch_setup(context: LaunchContext) -> list:
     """Build the actions once the arguments are known: Nav2's side, then the processes."""
     started = time.monotonic()
@@ -181,7 +191,7 @@ def launch_setup(context: LaunchContext) -> list:
     apps = tree_apps(settings.tree)
     actions: list = [LogInfo(msg=f"sar_framework: this run's files are in "
                                  f"{Path(settings.status_file).parent}/ (survivors reported: "
-                                 f"{settings.report_file})")]
+                                 f"{report_file(settings)})")]
     if not settings.simulator:
         bringup = Path(get_package_share_directory("nav2_bringup"))
         actions.append(IncludeLaunchDescription(

@@ -15,13 +15,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_plugins.sar.figure import mission_figure
+from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
 from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
 
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
 from sar_framework.events.event import EventKind
 from sar_framework.mission.params_check import mission_problems
-from sar_framework.mission.processes import MissionSettings, Process, detect_server, report_server
 from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
 if TYPE_CHECKING:
@@ -79,10 +79,6 @@ def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> App
     return AppRun({"zone_manager": manager}, observe, lambda: {"zone": zone_of(manager)})
 
 
-def _processes(settings: MissionSettings) -> list[Process]:
-    return [p for p in (detect_server(settings), report_server(settings)) if p is not None]
-
-
 APP = App(
     name="search_and_rescue",
     provides=("zone_manager",),
@@ -90,7 +86,10 @@ APP = App(
     params_file=_params_file,
     check=mission_problems,
     start=_start,
-    processes=_processes,
+    processes=server_processes,
+    process_kinds=PROCESS_KINDS,
+    options=OPTIONS,
+    recorded_topics=RECORDED_TOPICS,
     event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
     progress=progress_line,
     summary=summary_parts,

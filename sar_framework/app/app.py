@@ -37,6 +37,51 @@ class AppRun:
 
 
 @dataclass(frozen=True)
+class AppProcess:
+    """A process an app starts, as the core's command line and docs name it.
+
+    Attributes:
+        label: Its label (``detect``): ``sar-tree run --detect-param NAME:=VALUE`` sets its
+            parameters, its log file is ``detect.log``.
+        title: What it is, in help texts and docs (``the detect server``).
+        parameters: Its node's parameter table (checks of ``--LABEL-param``, the docs).
+        declared_in: The module declaring that table (the parameter docs).
+        off_flag: ``sar-tree run``'s flag that leaves it out (``--no-detect-server``), or "".
+        off_help: That flag's help.
+        per_robot: A fleet starts one per robot (in the robot's namespace), else one in all.
+    """
+
+    label: str
+    title: str
+    parameters: tuple[Param, ...] = ()
+    declared_in: str = ""
+    off_flag: str = ""
+    off_help: str = ""
+    per_robot: bool = False
+
+
+@dataclass(frozen=True)
+class AppOption:
+    """A file option of ``sar-tree run`` that sets one parameter of an app's process.
+
+    Attributes:
+        flag: The option (``--table``).
+        process: The process's label (``detect``).
+        parameter: The parameter it sets (``table_file``).
+        what: The file in messages (``item table``): "item table not found: ...".
+        help: Its help.
+        check: ``check(path) -> problem or None``: the file's contents checked before the run.
+    """
+
+    flag: str
+    process: str
+    parameter: str
+    what: str
+    help: str = ""
+    check: Callable[[str], str | None] | None = None
+
+
+@dataclass(frozen=True)
 class App:
     """One mission's additions to the core, registered like plugins.
 
@@ -52,6 +97,11 @@ class App:
         start: Runner side: reads its parameters from the runner's node and returns its
             context objects: ``start(node, source, locations) -> AppRun``.
         processes: The processes it needs beside the runner, in start order.
+        process_kinds: What the core's command line, checks and docs know of those processes
+            (their labels, parameter tables, flags).
+        options: ``sar-tree run`` options that set a parameter of one of them to a file.
+        recorded_topics: ``(topic, type)`` pairs a recording keeps beside the core's (its
+            services' ``_service_event`` topics).
         event_kinds: Its event kinds, each with what it means.
         progress: One progress line for one of its events, or None (``sar-tree run``).
         summary: Its words in ``sar-tree run``'s summary line, from ``mission.json``
@@ -71,6 +121,9 @@ class App:
                     list[ParamsError]] | None = None
     start: Callable[[Node, str, Mapping[str, KeyLocation]], AppRun] | None = None
     processes: Callable[[MissionSettings], list[Process]] | None = None
+    process_kinds: tuple[AppProcess, ...] = ()
+    options: tuple[AppOption, ...] = ()
+    recorded_topics: tuple[tuple[str, str], ...] = ()
     event_kinds: Mapping[str, str] = field(default_factory=dict)
     progress: Callable[[MissionEvent], str | None] | None = None
     summary: Callable[[Mapping[str, Any]], list[str]] | None = None

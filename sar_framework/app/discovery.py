@@ -54,6 +54,18 @@ def discover_apps(*, refresh: bool = False) -> list[App]:
     return list(found)
 
 
+def installed_apps() -> list[App]:
+    """The installed apps, or [] when one fails to load.
+
+    For what lists them without running a tree (the command line's options, the parameter
+    docs); a run's checks call :func:`discover_apps` and report the failure.
+    """
+    try:
+        return discover_apps()
+    except AppError:
+        return []
+
+
 def _module_apps(modules: Iterable[str]) -> list[App]:
     """The apps the given modules, or their packages, define as ``APP``."""
     apps: list[App] = []

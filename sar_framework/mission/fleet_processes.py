@@ -27,8 +27,8 @@ from sar_framework.mission.processes import (
     MissionSettings,
     ParamValue,
     Process,
-    detect_server,
-    report_server,
+    ProcessSource,
+    app_processes,
     runner,
     simulator,
     with_extra,
@@ -81,6 +81,8 @@ class FleetSettings:
         zone_order: The mission's ``zone_order``: without the coordinator each robot walks
             every zone, robot ``i`` starting at zone ``i`` (:func:`rotated`), so two robots
             never head for the same zone at once; empty: the parameter file's order for all.
+        apps: The tree's apps: their processes start once, or once per robot in its
+            namespace (an :class:`~sar_framework.app.AppProcess` with ``per_robot``).
     """
 
     mission: MissionSettings
@@ -89,6 +91,7 @@ class FleetSettings:
     run_dir: str
     coordinator: bool = False
     zone_order: tuple[str, ...] = ()
+    apps: tuple[ProcessSource, ...] = ()
 
     def robot_dir(self, name: str) -> Path:
         """``RUN/<name>``: a robot's status, events, trace and report."""
@@ -119,16 +122,19 @@ def rotated(zone_order: tuple[str, ...], index: int) -> list[str]:
     return list(zone_order[start:] + zone_order[:start])
 
 
+def _per_robot(settings: FleetSettings) -> set[str]:
+    """The labels of the apps' processes each robot starts its own of."""
+    return {kind.label for app in settings.apps for kind in app.process_kinds if kind.per_robot}
+
+
 def robot_processes(settings: FleetSettings, robot: FleetMember, index: int = 0
                     ) -> list[Process]:
-    """One robot's detect server and runner, in ``/<name>`` (``index``: its place)."""
+    """One robot's own app processes and runner, in ``/<name>`` (``index``: its place)."""
     m = settings.mission
     folder = settings.robot_dir(robot.name)
     own = replace(m, status_file=str(folder / "status.json"))
-    processes = []
-    detect = detect_server(own)
-    if detect is not None:
-        processes.append(replace(detect, namespace=robot.name))
+    processes = [replace(p, namespace=robot.name)
+                 for p in app_processes(own, settings.apps) if p.label in _per_robot(settings)]
     tree_runner = runner(own)
     assert tree_runner is not None
     pose: dict[str, ParamValue] = {}
@@ -158,9 +164,11 @@ def fleet_processes(settings: FleetSettings) -> list[Process]:
     if sim is not None:
         processes.append(replace(sim, parameters={**sim.parameters,
                                                   "fleet_file": settings.fleet_file}))
-    for process in (report_server(m), coordinator(settings)):
-        if process is not None:
-            processes.append(process)
+    processes += [p for p in app_processes(m, settings.apps)
+                  if p.label not in _per_robot(settings)]
+    shared = coordinator(settings)
+    if shared is not None:
+        processes.append(shared)
     servers = [p for i, robot in enumerate(settings.robots)
                for p in robot_processes(settings, robot, i)]
     processes += [p for p in servers if p.label != "runner"]

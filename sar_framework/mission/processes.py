@@ -9,18 +9,18 @@ supervisor (:func:`ros_arguments`), the launch file into ``launch_ros.actions.No
 
 What the two genuinely do differently is a setting, not a second list:
 
-- Both write a run's files (``trace_file``, ``status_file``, ``report_file``) into a
-  folder of that run: ``sar-tree run`` into its ``--report-dir``, the launch into its
-  ``report_dir`` argument or, by default, a new folder under ``$ROS_HOME/sar_runs/``
-  (:func:`new_run_folder`), so a mission never inherits an earlier one's survivors.
-  Reusing a report log across runs is explicit: the launch's ``report_file`` argument.
+- Both write a run's files (``trace_file``, ``status_file``, and the apps' own) into a
+  folder of that run (:attr:`MissionSettings.run_folder`): ``sar-tree run`` into its
+  ``--report-dir``, the launch into its ``report_dir`` argument or, by default, a new
+  folder under ``$ROS_HOME/sar_runs/`` (:func:`new_run_folder`), so a mission never
+  inherits an earlier one's results.
 - The launch's ``nav2:=bringup`` starts Nav2 beside the mission, which can take a while next
   to Gazebo: it sets ``nav2_timeout_wall_s`` to :data:`BRINGUP_NAV2_TIMEOUT_S`. The embedded
   simulator, and a Nav2 that ``sar-tree run --no-sim`` expects already running, keep the
   runner's own bound (its default, or the mission parameter file's).
-- ``sar-tree run`` leaves the detect server's ``survivors_file`` unset unless
-  ``--survivors`` is given (the server then reads the repository's table); the launch
-  always names the file of its ``survivors_file`` argument.
+- The apps' processes (:attr:`sar_framework.app.App.processes`) take their files from
+  :attr:`MissionSettings.extra` (``sar-tree run``'s app options, the launch's arguments);
+  a label in :attr:`MissionSettings.disabled` does not start.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 import yaml
 
@@ -42,8 +42,7 @@ BRINGUP_NAV2_TIMEOUT_S = 90.0
 """The runner's bound on the Nav2 start-up when nav2_bringup starts beside the mission."""
 
 
-RUN_FILES = {"trace_file": "trace.jsonl", "status_file": "status.json",
-             "report_file": "reports.jsonl"}
+RUN_FILES = {"trace_file": "trace.jsonl", "status_file": "status.json"}
 """A run's files in its folder, by the parameter that names each."""
 
 
@@ -89,10 +88,9 @@ class MissionSettings:
         simulator: Start the embedded simulator (``sar-sim``).
         speed: The simulator's speed factor (None: the simulator's default).
         trace_file: The simulator's JSON Lines trace.
-        detect_server: Start the detect server (when the tree's app has one).
-        survivors_file: The detect server's survivor table.
-        report_server: Start the report server (when the tree's app has one).
-        report_file: The report server's JSON Lines file of acknowledged reports.
+        run_folder: The run's folder, where the apps' processes write their files ("":
+            their own defaults).
+        disabled: Labels of processes that do not start (``--no-detect-server``).
         exit_on_completion: The runner ends when the mission is complete.
         watch_tree: The runner reloads the tree when its file changes.
         status_file: The runner's JSON status file.
@@ -109,10 +107,8 @@ class MissionSettings:
     simulator: bool = True
     speed: float | None = None
     trace_file: str = ""
-    detect_server: bool = True
-    survivors_file: str = ""
-    report_server: bool = True
-    report_file: str = ""
+    run_folder: str = ""
+    disabled: frozenset[str] = frozenset()
     exit_on_completion: bool = True
     watch_tree: bool = False
     status_file: str = ""
@@ -175,31 +171,6 @@ def simulator(settings: MissionSettings) -> Process | None:
     return Process("sim", "sar-sim", "sar_framework.sim", (), parameters)
 
 
-def _server(settings: MissionSettings, label: str, executable: str, file_parameter: str,
-            file: str) -> Process:
-    """A mission server, on the runner's clock, with its file (left unset when empty)."""
-    parameters: dict[str, ParamValue] = {"use_sim_time": settings.use_sim_time}
-    _set(parameters, file_parameter, file)
-    module = "sar_framework.servers." + label + "_survivor_server"
-    return Process(label, executable, module, (), parameters)
-
-
-def detect_server(settings: MissionSettings) -> Process | None:
-    """``sar-detect-survivor-server``."""
-    if not settings.detect_server:
-        return None
-    return _server(settings, "detect", "sar-detect-survivor-server", "survivors_file",
-                   settings.survivors_file)
-
-
-def report_server(settings: MissionSettings) -> Process | None:
-    """``sar-report-survivor-server``."""
-    if not settings.report_server:
-        return None
-    return _server(settings, "report", "sar-report-survivor-server", "report_file",
-                   settings.report_file)
-
-
 def runner(settings: MissionSettings) -> Process | None:
     """``sar-mission-runner``, last: the servers it calls are starting already."""
     parameters: dict[str, ParamValue] = {
@@ -220,11 +191,19 @@ class ProcessSource(Protocol):
     """What starts processes beside the runner: an app (:class:`sar_framework.app.App`)."""
 
     processes: Callable[[MissionSettings], list[Process]] | None
+    recorded_topics: tuple[tuple[str, str], ...]
+    process_kinds: tuple[Any, ...]  # AppProcess: its label, per_robot
 
 
 BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (recorder, simulator)
 """The core's processes before the apps' and the runner, in start order; each returns None
 when it does not start."""
+
+
+def app_processes(settings: MissionSettings, apps: Sequence[ProcessSource]) -> list[Process]:
+    """The apps' processes, in start order, without those ``settings.disabled`` names."""
+    return [p for app in apps if app.processes is not None
+            for p in app.processes(settings) if p.label not in settings.disabled]
 
 
 def mission_processes(settings: MissionSettings,
@@ -239,11 +218,16 @@ def mission_processes(settings: MissionSettings,
         One description per process; ``settings.extra`` is applied last.
     """
     built = [build(settings) for build in BUILDERS]
-    for app in apps:
-        if app.processes is not None:
-            built += app.processes(settings)
-    built.append(runner(settings))
-    return [with_extra(p, settings) for p in built if p is not None]
+    built += [*app_processes(settings, apps), runner(settings)]
+    topics = [f"{name} {kind}" for app in apps for name, kind in app.recorded_topics]
+    return [with_extra(with_app_topics(p, topics), settings) for p in built if p is not None]
+
+
+def with_app_topics(process: Process, topics: list[str]) -> Process:
+    """The recorder with the apps' topics (``app_topics``: ``"NAME TYPE"`` each) to keep."""
+    if process.label != "recorder" or not topics:
+        return process
+    return replace(process, parameters={**process.parameters, "app_topics": topics})
 
 
 def with_extra(process: Process, settings: MissionSettings) -> Process:

@@ -13,6 +13,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from sar_framework.app import App
 from sar_framework.mission.fleet_processes import (
@@ -27,7 +28,7 @@ from sar_framework.mission.processes import (
     mission_processes,
     ros_arguments,
 )
-from sar_framework.orchestrate.inputs import CheckedInputs, check_inputs, parse_entry
+from sar_framework.orchestrate.inputs import CheckedInputs, app_options, check_inputs, parse_entry
 from sar_framework.orchestrate.options import DEFAULT_DOMAIN_ID, RunConfig, RunUsageError
 
 
@@ -135,7 +136,8 @@ def ros_environment(base: dict[str, str] | None = None, *,
 
 
 def mission_settings(config: RunConfig, report_dir: Path,
-                     zones: dict[str, tuple[float, float]] | None = None) -> MissionSettings:
+                     zones: dict[str, tuple[float, float]] | None = None,
+                     apps: Sequence[App] = ()) -> MissionSettings:
     """What the mission starts, from ``sar-tree run``'s options.
 
     The trace, status and report files go into the report folder; the servers and the
@@ -146,18 +148,21 @@ def mission_settings(config: RunConfig, report_dir: Path,
         config: The configuration.
         report_dir: The report folder.
         zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+        apps: The tree's apps (their options, ``--survivors``, set their processes' files).
     """
+    extra: dict[str, dict[str, Any]] = {}
+    for option, path in app_options(config, apps):
+        extra.setdefault(option.process, {})[option.parameter] = path
+    for label, entries in config.app_params.items():
+        extra[label] = {**extra.get(label, {}), **entry_values(entries)}
     return MissionSettings(
         tree=config.tree, params_file=config.params or "", use_sim_time=config.sim,
         simulator=config.sim, speed=config.speed, trace_file=str(report_dir / "trace.jsonl"),
-        detect_server=config.detect_server, survivors_file=config.survivors or "",
-        report_server=config.report_server, report_file=str(report_dir / "reports.jsonl"),
+        run_folder=str(report_dir), disabled=frozenset(config.disabled),
         exit_on_completion=not config.keep_alive, watch_tree=config.reload,
         status_file=str(report_dir / "status.json"),
         plugin_paths=tuple(config.plugin_paths), record=config.record or "",
-        extra={"sim": entry_values(config.sim_params, zones),
-               "detect": entry_values(config.detect_params),
-               "report": entry_values(config.report_params),
+        extra={**extra, "sim": entry_values(config.sim_params, zones),
                "runner": {**({} if config.sim_timeout_s is None
                              else {"sim_timeout_s": config.sim_timeout_s}),
                           **entry_values(config.runner_params)}})
@@ -202,11 +207,11 @@ def child_specs(config: RunConfig, report_dir: Path,
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
         of :func:`mission_settings`), labelled ``robot1/runner`` in a namespace.
     """
-    settings = mission_settings(config, report_dir, zones)
+    settings = mission_settings(config, report_dir, zones, apps)
     if fleet:
         processes = fleet_processes(FleetSettings(
             settings, str(fleet_file(config, report_dir)), tuple(fleet), str(report_dir),
-            coordinator, tuple(zone_order)))
+            coordinator, tuple(zone_order), tuple(apps)))
     else:
         processes = mission_processes(settings, apps)
     return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)

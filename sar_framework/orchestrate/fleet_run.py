@@ -94,7 +94,8 @@ class FleetOrchestrator(Orchestrator):
         """The fleet's processes (:mod:`sar_framework.mission.fleet_processes`)."""
         return child_specs(self.config, self.report_dir, self.inputs.zones,
                            fleet=self.inputs.fleet, coordinator=self.inputs.coordinator,
-                           zone_order=list(self.inputs.runner_values.get("zone_order") or []))
+                           zone_order=list(self.inputs.runner_values.get("zone_order") or []),
+                           apps=self.inputs.apps)
 
     def take_events(self) -> None:
         """Read every robot's new events; show the progress ones under the robot's name."""

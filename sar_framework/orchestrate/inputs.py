@@ -4,11 +4,11 @@ Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule), ``--time
 ``--sim-timeout``; the tree (every diagnostic) and the apps it uses
 (:mod:`sar_framework.app`); the mission parameter file, the apps' default when none is named
 (rcl's structure, then each key's name, type and value against the runner's table and its
-apps', then each app's own checks); the survivor table; and each ``--sim-param``/
-``--detect-param``/``--report-param``/``--runner-param NAME:=VALUE`` (known name,
-did-you-mean, type and range, from each node's table in
-:data:`NODE_PARAMETERS`; ``blocked_zones`` entries parsed, with the mission's zone names
-accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
+apps', then each app's own checks); the apps' file options (``--survivors``: the file
+exists, the app's check of it); and each ``--sim-param``/``--runner-param`` and app
+process's ``--LABEL-param NAME:=VALUE`` (known name, did-you-mean, type and range, from each
+node's table, :func:`node_parameters`; ``blocked_zones`` entries parsed, with the mission's
+zone names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
 position is known).
 
 No ROS is imported here: the tables live in ROS-free modules, so a bad input is reported
@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from sar_framework.app import App, AppError, apps_for, discover_apps
+from sar_framework.app import App, AppError, AppOption, apps_for, discover_apps, installed_apps
 from sar_framework.engine.param import Param
 from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
@@ -33,24 +33,34 @@ from sar_framework.mission.params_check import check_values, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
-from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
 from sar_framework.sim.params import SIM_PARAMETERS, SPEED, sim_default
 
 if TYPE_CHECKING:
     from sar_framework.orchestrate.options import RunConfig
 
-CHILDREN = ("sim", "detect", "report", "runner")
-"""The children ``sar-tree run`` takes parameters for (``--sim-param`` ...)."""
 NODE_PARAMETERS: dict[str, tuple[Param, ...]] = {
-    "sim": SIM_PARAMETERS, "detect": DETECT_PARAMETERS, "report": REPORT_PARAMETERS,
-    "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS,
+    "sim": SIM_PARAMETERS, "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS,
     "coordinator": COORDINATOR_PARAMETERS}
-"""Each process label (:mod:`sar_framework.mission.processes`) -> its node's parameter table."""
+"""The core's process labels (:mod:`sar_framework.mission.processes`) -> each node's
+parameter table; the apps' processes declare their own (:func:`node_parameters`)."""
+
+
+def node_parameters(apps: Sequence[App] | None = None) -> dict[str, tuple[Param, ...]]:
+    """Each process label -> its node's parameter table: the core's, then the apps'.
+
+    Args:
+        apps: The apps whose processes count (default: the installed ones).
+    """
+    if apps is None:
+        apps = installed_apps()
+    tables = dict(NODE_PARAMETERS)
+    tables.update({kind.label: kind.parameters for app in apps for kind in app.process_kinds})
+    return tables
 
 
 def child_parameters(who: str) -> tuple[Param, ...]:
-    """The parameters child ``who`` (``sim``, ``detect``, ``report``, ``runner``) reads."""
-    return NODE_PARAMETERS[who]
+    """The parameters child ``who`` (``sim``, ``runner``, an installed app's ``detect``) reads."""
+    return node_parameters()[who]
 
 
 def parse_entry(entry: str) -> tuple[str, Any] | None:
@@ -99,9 +109,21 @@ def params_file(config: RunConfig, apps: Sequence[App]) -> str:
     return next((f for f in (app.default_params_file() for app in apps) if f), "")
 
 
+def app_options(config: RunConfig, apps: Sequence[App]) -> list[tuple[AppOption, str]]:
+    """The apps' file options given (``--survivors FILE``), each with its file.
+
+    The installed apps' options count beside ``apps``: an option of an app the tree does
+    not use is still checked.
+    """
+    known = {option.flag: option for app in (*apps, *installed_apps())
+             for option in app.options}
+    return [(known[flag], path) for flag, path in config.app_options.items() if flag in known]
+
+
 def _option_problems(config: RunConfig) -> list[str]:
     problems = []
-    for label, path in (("tree", config.tree), ("survivor table", config.survivors)):
+    for label, path in (("tree", config.tree),
+                        *((option.what, path) for option, path in app_options(config, ()))):
         if path is not None and not Path(path).is_file():
             problems.append(f"{label} not found: '{path}'")
     speed = SPEED.problem(config.speed)
@@ -117,7 +139,9 @@ def _option_problems(config: RunConfig) -> list[str]:
 
 def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]:
     values: dict[str, Any] = {}
-    for entry in getattr(config, f"{who}_params"):
+    given = (config.app_params.get(who, []) if who not in ("sim", "runner")
+             else getattr(config, f"{who}_params"))
+    for entry in given:
         parsed = parse_entry(entry)
         if parsed is None:
             problems.append(f"--{who}-param {entry!r}: expected NAME:=VALUE")
@@ -165,13 +189,11 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     """
     from sar_framework.engine.api import validate
     from sar_framework.mission.params_file import read_params_file
-    from sar_framework.servers.survivors import SurvivorsFileError, load_survivors
-
     problems = _option_problems(config)
-    overrides = {who: _entries(config, who, problems) for who in CHILDREN}
-    for who in CHILDREN[:-1]:  # the runner's after the tree: its apps add parameters
-        problems += [str(err) for err in check_values(overrides[who], child_parameters(who),
-                                                      {}, f"--{who}-param")]
+    overrides = {who: _entries(config, who, problems)
+                 for who in ("sim", *config.app_params, "runner")}
+    problems += [str(err) for err in check_values(overrides["sim"], SIM_PARAMETERS, {},
+                                                  "--sim-param")]
     spec = None
     apps: list[App] = []
     if Path(config.tree).is_file():
@@ -185,6 +207,10 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
         except AppError as err:
             problems.append(f"{config.tree}: {err}")
     file = params_file(config, apps)
+    tables = node_parameters([*apps, *installed_apps()])
+    for who in config.app_params:  # the apps' processes: known once the tree's apps are
+        problems += [str(err) for err in check_values(overrides[who], tables.get(who, ()), {},
+                                                      f"--{who}-param")]
     table = (*RUNNER_PARAMETERS, *(p for app in apps for p in app.parameters))
     problems += [str(err) for err in check_values(overrides["runner"], table, {},
                                                   "--runner-param")]
@@ -206,11 +232,11 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     zones = zone_positions(values)
     blocked = _blocked_areas(overrides["sim"], zones, problems)
     _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
-    if config.survivors is not None and Path(config.survivors).is_file():
-        try:
-            load_survivors(config.survivors)
-        except SurvivorsFileError as err:
-            problems.append(str(err))
+    for option, path in app_options(config, apps):
+        problem = (option.check(path) if option.check is not None and Path(path).is_file()
+                   else None)
+        if problem:
+            problems.append(problem)
     kinds = [node.kind for node in spec.nodes()] if spec is not None else []
     fleet, coordinator, fleet_issues = fleet_problems(config, values, overrides["sim"], kinds)
     problems += fleet_issues

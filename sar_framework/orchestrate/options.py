@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 from dataclasses import dataclass, field
 
+from sar_framework.app import installed_apps
 from sar_framework.sim.params import SPEED
 
 DEFAULT_DOMAIN_ID = 42
@@ -29,7 +30,6 @@ class RunConfig:
         tree: The tree file.
         params: The mission parameter file; None: the tree's app's default (none for a tree
             that uses no app), set by :func:`~sar_framework.orchestrate.config.check_config`.
-        survivors: The detect server's survivor table, or None for its default.
         sim: Start the embedded simulator (else real Nav2 must be running).
         speed: The simulator's speed factor.
         report_dir: Where logs and the report go.
@@ -37,12 +37,12 @@ class RunConfig:
         sim_timeout_s: Bound of the tree's ticking on its ROS clock, or None.
         keep_alive: Stay up after the mission until Ctrl-C.
         verbose: Print every child log line, not only progress, warnings and errors.
-        detect_server: Start the detect server.
-        report_server: Start the report server.
         sim_params: Extra ``NAME:=VALUE`` for the simulator.
-        detect_params: Extra ``NAME:=VALUE`` for the detect server.
-        report_params: Extra ``NAME:=VALUE`` for the report server.
         runner_params: Extra ``NAME:=VALUE`` for the runner.
+        app_params: An app's process label -> extra ``NAME:=VALUE`` for it
+            (``--detect-param``).
+        app_options: An app's file options given, by flag (``--survivors`` -> its file).
+        disabled: Labels of the apps' processes not to start (``--no-detect-server``).
         plugin_paths: Extra plugin locations for the runner.
         record: The MCAP file to record the mission into, or None.
         watch: Show the tree live (``sar-tree watch``) instead of progress lines.
@@ -53,7 +53,6 @@ class RunConfig:
 
     tree: str
     params: str | None = None
-    survivors: str | None = None
     sim: bool = True
     speed: float = SPEED.default
     report_dir: str = DEFAULT_REPORT_DIR
@@ -61,12 +60,11 @@ class RunConfig:
     sim_timeout_s: float | None = None
     keep_alive: bool = False
     verbose: bool = False
-    detect_server: bool = True
-    report_server: bool = True
     sim_params: list[str] = field(default_factory=list)
-    detect_params: list[str] = field(default_factory=list)
-    report_params: list[str] = field(default_factory=list)
     runner_params: list[str] = field(default_factory=list)
+    app_params: dict[str, list[str]] = field(default_factory=dict)
+    app_options: dict[str, str] = field(default_factory=dict)
+    disabled: list[str] = field(default_factory=list)
     plugin_paths: list[str] = field(default_factory=list)
     record: str | None = None
     watch: bool = False
@@ -81,24 +79,34 @@ class RunConfig:
 
 
 # -- command line -------------------------------------------------------------------------
+def _dest(flag: str) -> str:
+    return "app_option_" + flag.lstrip("-").replace("-", "_")
+
+
 def configure(parser: argparse.ArgumentParser) -> None:
-    """Add ``sar-tree run``'s arguments to ``parser``.
+    """Add ``sar-tree run``'s arguments to ``parser``, the installed apps' with the core's.
+
+    Each app process adds ``--LABEL-param`` (and its ``off_flag``); each app option its flag.
 
     Args:
         parser: The subcommand's parser.
     """
     from sar_framework.mission.completion import COMPLETION_HELP
 
-    parser.epilog = (COMPLETION_HELP + " Faults to inject (--sim-param, --detect-param, "
-                     "--report-param NAME:=VALUE): see `sar-tree faults`.")
+    apps = installed_apps()
+    kinds = [kind for app in apps for kind in app.process_kinds]
+    labels = ["sim", *(kind.label for kind in kinds)]
+    parser.epilog = (COMPLETION_HELP + " Faults to inject ("
+                     + ", ".join(f"--{label}-param" for label in labels)
+                     + " NAME:=VALUE): see `sar-tree faults`.")
     parser.add_argument("tree", metavar="TREE", help="the tree file")
     parser.add_argument("--params", metavar="FILE",
                         help="mission parameter file (default: the tree's app's, e.g. "
                         "config/mission_params.yaml for search and rescue; none for a tree "
                         "that uses no app)")
-    parser.add_argument("--survivors", metavar="FILE",
-                        help="survivor table for the detect server "
-                        "(default: config/survivors.yaml)")
+    for option in (option for app in apps for option in app.options):
+        parser.add_argument(option.flag, dest=_dest(option.flag), metavar="FILE",
+                            help=option.help)
     sim = parser.add_mutually_exclusive_group()
     sim.add_argument("--sim", dest="sim", action="store_true", default=True,
                      help="run the embedded simulator (default)")
@@ -119,12 +127,11 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="stay up after the mission (TF, services) until Ctrl-C")
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="print every log line of every process")
-    parser.add_argument("--no-detect-server", dest="detect_server", action="store_false",
-                        help="do not start the search-and-rescue detect server (fault "
-                        "injection)")
-    parser.add_argument("--no-report-server", dest="report_server", action="store_false",
-                        help="do not start the report server (fault injection)")
-    for who in ("sim", "detect", "report", "runner"):
+    for kind in kinds:
+        if kind.off_flag:
+            parser.add_argument(kind.off_flag, dest="disabled", action="append_const",
+                                const=kind.label, help=kind.off_help)
+    for who in (*labels, "runner"):
         parser.add_argument(f"--{who}-param", dest=f"{who}_params", action="append",
                             default=[], metavar="NAME:=VALUE",
                             help=f"extra ROS parameter for the {who} (repeatable; "
@@ -155,14 +162,20 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
     Returns:
         The configuration (not yet checked; see :func:`check_config`).
     """
+    apps = installed_apps()
+    labels = [kind.label for app in apps for kind in app.process_kinds]
+    flags = [option.flag for app in apps for option in app.options]
     return RunConfig(
-        tree=args.tree, params=args.params, survivors=args.survivors, sim=args.sim,
+        tree=args.tree, params=args.params, sim=args.sim,
         speed=args.speed, report_dir=args.report_dir, timeout_s=args.timeout,
         sim_timeout_s=args.sim_timeout,
         keep_alive=args.keep_alive, verbose=args.verbose,
-        detect_server=args.detect_server, report_server=args.report_server,
-        sim_params=list(args.sim_params), detect_params=list(args.detect_params),
-        report_params=list(args.report_params), runner_params=list(args.runner_params),
+        sim_params=list(args.sim_params), runner_params=list(args.runner_params),
+        app_params={label: list(getattr(args, f"{label}_params")) for label in labels
+                    if getattr(args, f"{label}_params")},
+        app_options={flag: getattr(args, _dest(flag)) for flag in flags
+                     if getattr(args, _dest(flag)) is not None},
+        disabled=list(getattr(args, "disabled", None) or []),
         plugin_paths=list(args.plugin_path), record=args.record,
         watch=args.watch, reload=args.reload, robots=args.robots, fleet=args.fleet,
     )

@@ -13,7 +13,7 @@ from typing import Any
 from sar_framework.app import discover_apps
 from sar_framework.engine.param import REQUIRED, Param, type_name
 from sar_framework.mission.processes import MissionSettings, mission_processes
-from sar_framework.orchestrate.inputs import NODE_PARAMETERS
+from sar_framework.orchestrate.inputs import node_parameters
 
 _ROOT = str(Path(__file__).resolve().parents[2]) + "/"
 
@@ -37,8 +37,6 @@ _TITLES = {
                "own settings"),
     "sim": ("the embedded simulator", "sar_framework/sim/params.py",
             "`sar-tree run --speed` and the launch's `speed` set `speed`"),
-    "detect": ("the detect server", "sar_framework/servers/params.py", ""),
-    "report": ("the report server", "sar_framework/servers/params.py", ""),
     "coordinator": ("the fleet's zone coordinator", "sar_framework/fleet/params.py",
                     "a fleet's robots win their zones from it (docs/how-to/fleet.md); it reads the "
                     "mission parameter file's `zone_order` and `zones`"),
@@ -80,11 +78,13 @@ def document() -> str:
         MissionSettings(tree="t", params_file="p", record="r"), apps)}
     executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's
     parts = [INTRO]
-    for label, own in NODE_PARAMETERS.items():
+    titles = {**_TITLES, **{kind.label: (kind.title, kind.declared_in, "")
+                            for app in apps for kind in app.process_kinds}}
+    for label, own in node_parameters(apps).items():
         # the runner's with the installed apps' (a tree that uses one reads them)
         table = (*(p for app in apps for p in app.parameters), *own) if label == "runner" \
             else own
-        title, module, note = _TITLES[label]
+        title, module, note = titles[label]
         lead = f"`{executables[label]}`, {title}; declared in `{module}`."
         parts.append(f"\n## {label}\n\n{lead}" + (f" {note[0].upper()}{note[1:]}." if note
                                                   else "") + "\n\n" + markdown_table(table))

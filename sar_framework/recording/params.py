@@ -11,6 +11,8 @@ RECORDER_PARAMETERS: tuple[Param, ...] = (
     Param("params_file", str, "", "the mission parameter file, attached to the recording"),
     Param("plugin_path", str | list[str], "",
           "local plugin modules or folders the run used (os.pathsep-separated), attached"),
+    Param("app_topics", list[str], None,
+          "the apps' topics to record too, each 'NAME TYPE' (their services' events)"),
     USE_SIM_TIME,
 )
 """Every parameter ``sar_recorder`` reads."""

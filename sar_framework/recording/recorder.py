@@ -12,8 +12,9 @@ delivered them, never deserialised) and writes each message as it arrives; the t
 parameter file go into the recording as attachments, so ``sar-tree replay`` needs nothing
 else. SIGINT or SIGTERM close the file (summary and index written).
 
-The detect and report servers publish their requests and answers as ROS 2 service
-introspection events (``/<service>/_service_event``; :mod:`.introspection`).
+An app's services publish their requests and answers as ROS 2 service introspection
+events (``/<service>/_service_event``; :mod:`.introspection`); the app names those topics
+(its ``recorded_topics``) and the recorder keeps them beside its own.
 """
 
 from __future__ import annotations
@@ -72,13 +73,17 @@ RECORDED_TOPICS = (
                   latched=True),
     RecordedTopic("/navigate_to_pose/_action/feedback",
                   "nav2_msgs/action/NavigateToPose_FeedbackMessage"),
-    RecordedTopic("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
-    RecordedTopic("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
     RecordedTopic(STATUS_TOPIC, STATUS_TYPE, latched=True),
     RecordedTopic(EVENT_TOPIC, EVENT_TYPE, latched=True),
 )
 """What a mission recording holds (a topic nobody publishes simply stays empty). Odometry is
-left out: ``/tf`` carries the same pose, and every extra stream costs the recorder time."""
+left out: ``/tf`` carries the same pose, and every extra stream costs the recorder time.
+The apps' topics (their ``recorded_topics``) come beside them: :func:`app_topics`."""
+
+
+def app_topics(entries: Sequence[str]) -> list[RecordedTopic]:
+    """The recorder's ``app_topics`` parameter (``"NAME TYPE"`` each) as topics to record."""
+    return [RecordedTopic(*entry.split()) for entry in entries if len(entry.split()) == 2]
 
 _INFINITE = "{sec: 9223372036, nsec: 854775807}"
 
@@ -242,8 +247,9 @@ def run(argv: Sequence[str] | None = None) -> int:
             node.get_logger().error(f"cannot write the recording '{output}': {err.strerror}")
             return 2
         attach_run_files(writer, tree, params_file, plugin_paths)
-        MissionRecorder(node, writer)
-        node.get_logger().info(f"recording {len(RECORDED_TOPICS)} topics into {output}")
+        topics = (*RECORDED_TOPICS, *app_topics(values["app_topics"] or ()))
+        MissionRecorder(node, writer, topics)
+        node.get_logger().info(f"recording {len(topics)} topics into {output}")
         executor = EventsExecutor()  # as the runner's: /tf at the simulator's update rate
         executor.add_node(node)
         while not stop:

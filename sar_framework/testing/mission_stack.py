@@ -47,8 +47,9 @@ class MissionStack:
         self.log_dir.mkdir(parents=True, exist_ok=True)
         self.report_file = self.log_dir / "reports.jsonl"
         settings = MissionSettings(tree="", params_file="", speed=speed,
-                                   survivors_file=str(survivors or ""),
-                                   report_file=str(self.report_file))
+                                   extra={"detect": {"survivors_file": str(survivors)}
+                                          if survivors else {},
+                                          "report": {"report_file": str(self.report_file)}})
         self.processes = [
             NodeProcess(["-m", process.module, "--ros-args", *ros_arguments(process)],
                         process.label, log_dir=self.log_dir)

@@ -18,7 +18,7 @@ import pytest
 from sar_framework import load_spec
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.registry import default_registry
-from sar_framework.orchestrate.inputs import NODE_PARAMETERS
+from sar_framework.orchestrate.inputs import node_parameters
 
 REPO = Path(__file__).resolve().parents[2]
 CONTRACTS = REPO / "docs" / "reference" / "mission-contracts.md"
@@ -51,7 +51,7 @@ def leaf_durations() -> dict[str, set[str]]:
 
 
 def all_parameter_names() -> set[str]:
-    names = {p.name for table in NODE_PARAMETERS.values() for p in table}
+    names = {p.name for table in node_parameters().values() for p in table}
     names |= {p.name for plugin in default_registry() for p in plugin.params}
     return names
 
@@ -84,7 +84,7 @@ def test_every_wall_duration_says_so_in_its_name_and_exists() -> None:
 
 
 def test_no_parameter_counts_wall_time_without_saying_so_in_its_name() -> None:
-    for table in NODE_PARAMETERS.values():
+    for table in node_parameters().values():
         for param in table:
             if "wall" in param.description and param.unit == "s":
                 assert param.name.endswith("_wall_s"), param.name
@@ -122,7 +122,7 @@ def test_parameter_names_quoted_in_the_docs_exist() -> None:
 
 
 def test_defaults_quoted_beside_a_parameter_are_its_defaults() -> None:
-    defaults = {p.name: p.default for table in NODE_PARAMETERS.values() for p in table}
+    defaults = {p.name: p.default for table in node_parameters().values() for p in table}
     defaults |= {p.name: p.default for plugin in default_registry() for p in plugin.params}
     for kind in KINDS.values():  # the composites' and decorators' attributes
         defaults |= {a.name: a.default for a in kind.attrs if a.default is not None}

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from sar_framework.orchestrate.inputs import NODE_PARAMETERS
+from sar_framework.orchestrate.inputs import node_parameters
 from sar_framework.orchestrate.parameter_docs import default_text, document, markdown_table
 from sar_framework.sim.params import SPEED
 
@@ -26,7 +26,7 @@ def test_docs_parameters_md_is_generated_from_the_tables() -> None:
 
 def test_a_changed_table_shows_in_the_docs() -> None:
     """The comparison above can fail: a different default is a different table."""
-    sim = NODE_PARAMETERS["sim"]
+    sim = node_parameters()["sim"]
     changed = tuple(p if p is not SPEED else type(p)(**{**p.__dict__, "default": 7.0})
                     for p in sim)
     assert markdown_table(changed) != markdown_table(sim)
@@ -52,7 +52,7 @@ def test_sar_sim_help_lists_every_simulator_parameter() -> None:
     from sar_framework.sim.__main__ import usage
 
     text = usage()
-    for param in NODE_PARAMETERS["sim"]:
+    for param in node_parameters()["sim"]:
         assert re.search(rf"^  {re.escape(param.name)} ", text, re.M), param.name
         assert param.description in text
     assert "  speed                float     20.0\n" in text
@@ -61,7 +61,7 @@ def test_sar_sim_help_lists_every_simulator_parameter() -> None:
 def test_defaults_as_the_docs_show_them() -> None:
     from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
-    by_name = {p.name: p for p in (*MISSION_PARAMETERS, *NODE_PARAMETERS["runner"])}
+    by_name = {p.name: p for p in (*MISSION_PARAMETERS, *node_parameters()["runner"])}
     assert [default_text(by_name[n]) for n in ("zone_order", "seed_amcl", "tree",
                                                 "tick_rate_hz")] == [
         "(required)", "`true`", "`'trees/search_and_rescue.yaml'`", "`2.0`"]

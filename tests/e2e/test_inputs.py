@@ -47,7 +47,7 @@ def test_misspelt_or_mistyped_child_parameters_are_errors(tmp_path: Path) -> Non
     """Regression: `--sim-param blocked_zone:=[...]` ran a clean mission with exit 0."""
     problems = _problems(
         tmp_path, sim_params=["blocked_zone:=['zone_b']", "speed_scale:=fast"],
-        detect_params=["answer_delay:=1.0"], report_params=["refuse_all:=maybe"],
+        app_params={"detect": ["answer_delay:=1.0"], "report": ["refuse_all:=maybe"]},
         runner_params=["completion:=onse", "tick_rate_hz:=0"])
     assert problems == [
         "--sim-param: blocked_zone: unknown parameter (did you mean 'blocked_zones'?)",

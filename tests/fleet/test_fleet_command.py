@@ -128,7 +128,7 @@ def _specs(config: RunConfig, tmp_path: Path, coordinator: bool = False) -> dict
     inputs = check_config(config)
     specs = child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
                         coordinator=coordinator,
-                        zone_order=inputs.runner_values["zone_order"])
+                        zone_order=inputs.runner_values["zone_order"], apps=inputs.apps)
     return {s.label: [s.module, *s.ros_args] for s in specs}
 
 

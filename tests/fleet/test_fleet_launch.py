@@ -80,13 +80,13 @@ def launched(**arguments: str) -> list[tuple[str, str, dict]]:
 def test_the_launch_and_sar_tree_run_start_the_same_fleet(tmp_path: Path) -> None:
     launch = launched(robots="3", tree=str(TREE), params_file=str(MISSION),
                       survivors_file=str(SURVIVORS), report_dir=str(tmp_path), speed="7.5")
-    config = RunConfig(tree=str(TREE), params=str(MISSION), survivors=str(SURVIVORS),
-                       robots=3, speed=7.5)
+    config = RunConfig(tree=str(TREE), params=str(MISSION), robots=3, speed=7.5,
+                       app_options={"--survivors": str(SURVIVORS)})
     inputs = check_config(config)
     run = []
     for spec in child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
                             coordinator=inputs.coordinator,
-                            zone_order=inputs.runner_values["zone_order"]):
+                            zone_order=inputs.runner_values["zone_order"], apps=inputs.apps):
         namespace = spec.label.rpartition("/")[0]
         run.append((namespace, spec.executable, _parameters(list(spec.ros_args))))
     assert [(ns, exe) for ns, exe, _ in launch] == [(ns, exe) for ns, exe, _ in run] == [

@@ -304,8 +304,8 @@ def test_launch_and_sar_tree_run_start_the_same_processes_with_the_same_paramete
     record = str(tmp_path / "mission.mcap")
     launch = launched(tmp_path, nav2="embedded", survivors_file=str(SURVIVORS), speed="7.5",
                       tick_rate_hz="4", record=record)
-    run = run_children(tmp_path, survivors=str(SURVIVORS), speed=7.5, record=record,
-                       runner_params=["tick_rate_hz:=4.0"])
+    run = run_children(tmp_path, app_options={"--survivors": str(SURVIVORS)}, speed=7.5,
+                       record=record, runner_params=["tick_rate_hz:=4.0"])
     assert [executable for executable, _ in run] == [
         "sar-mission-recorder", "sar-sim", "sar-detect-survivor-server",
         "sar-report-survivor-server", "sar-mission-runner"]
@@ -318,7 +318,8 @@ def test_launch_and_sar_tree_run_start_the_same_processes_with_the_same_paramete
 def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_differs(tmp_path):
     launch = launched(tmp_path, nav2="bringup", use_sim_time="false",
                       survivors_file=str(SURVIVORS))
-    run = run_children(tmp_path, sim=False, survivors=str(SURVIVORS))  # Nav2 already up
+    run = run_children(tmp_path, sim=False,  # Nav2 already up
+                       app_options={"--survivors": str(SURVIVORS)})
     assert launch[-1][1]["nav2_timeout_wall_s"] == processes.BRINGUP_NAV2_TIMEOUT_S
     assert "nav2_timeout_wall_s" not in run[-1][1]  # the runner's own bound (or the file's)
     assert_same_but(launch, run, run_only={}, launch_only={"sar-mission-runner": {

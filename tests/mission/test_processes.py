@@ -47,7 +47,7 @@ def test_processes_start_in_order_and_only_when_asked() -> None:
     assert [p.label for p in mission_processes(EVERYTHING, [SAR])] == [
         "recorder", "sim", "detect", "report", "runner"]
     assert [p.label for p in mission_processes(replace(
-        EVERYTHING, record="", simulator=False, detect_server=False, report_server=False),
+        EVERYTHING, record="", simulator=False, disabled=frozenset({"detect", "report"})),
         [SAR])] == ["runner"]
 
 
@@ -78,8 +78,10 @@ def test_unset_settings_leave_the_processes_their_own_defaults() -> None:
     assert by_label["runner"].params_files == (str(PARAMS),)
     assert by_label["runner"].parameters == {"tree": str(TREE), "use_sim_time": True,
                                              "exit_on_completion": True}
-    assert by_label["recorder"].parameters == {"output": "/tmp/m.mcap", "tree": str(TREE),
-                                               "params_file": str(PARAMS)}
+    assert by_label["recorder"].parameters == {
+        "output": "/tmp/m.mcap", "tree": str(TREE), "params_file": str(PARAMS),
+        "app_topics": [f"{name} {kind}" for name, kind in SAR.recorded_topics]}  # the app's
+    assert "app_topics" not in mission_processes(EVERYTHING)[0].parameters  # no app, none
 
 
 def test_the_recorder_gets_the_runners_plugin_paths_to_keep_their_sources() -> None:
@@ -131,12 +133,13 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
                        sim_params=["blocked_zones:=['zone_b:0.8']"],
                        runner_params=["completion:=once"], plugin_paths=PLUGINS)
     inputs = check_config(config)
-    settings = mission_settings(config, tmp_path, inputs.zones)
-    assert (settings.trace_file, settings.status_file, settings.report_file) == (
+    settings = mission_settings(config, tmp_path, inputs.zones, inputs.apps)
+    report = next(p for p in mission_processes(settings, inputs.apps) if p.label == "report")
+    assert (settings.trace_file, settings.status_file, report.parameters["report_file"]) == (
         str(tmp_path / "trace.jsonl"), str(tmp_path / "status.json"),
         str(tmp_path / "reports.jsonl"))
     assert settings.exit_on_completion is False  # --keep-alive
-    assert settings.survivors_file == "" and settings.nav2_timeout_wall_s is None
+    assert "detect" not in settings.extra and settings.nav2_timeout_wall_s is None
     assert settings.extra["sim"] == {"blocked_zones": ["3.5:3:0.8"]}  # the zone's position
     specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps)
     assert [(s.label, s.executable) for s in specs] == [

@@ -13,6 +13,7 @@ from typing import Any
 
 import pytest
 from e2e.helpers import DEFAULT_TREE, FAST, REPO, read_json, run_to_end
+from sar_plugins.sar.app import APP
 
 from sar_framework.recording.recorder import RECORDED_TOPICS
 
@@ -139,7 +140,7 @@ def test_an_independent_reader_rebuilds_path_zones_and_survivors(recorded) -> No
 def test_both_independent_readers_decode_every_message(recorded) -> None:
     record, _mission = recorded
     counts = message_counts(record)
-    assert len(counts) == len(RECORDED_TOPICS)
+    assert len(counts) == len(RECORDED_TOPICS) + len(APP.recorded_topics)  # the servers
     assert all(counts.values()), counts
     for topics in (read_with_mcap_ros2(record), read_with_rosbags(record)):
         assert {topic: len(messages) for topic, messages in topics.items()} == counts

@@ -128,12 +128,15 @@ def test_every_recorded_type_decodes_with_mcap_ros2_and_rosbags(tmp_path: Path) 
     from mcap_ros2.decoder import DecoderFactory
     from rclpy.serialization import serialize_message
     from rosbags.highlevel import AnyReader
+    from sar_plugins.sar.app import APP
 
-    from sar_framework.recording.recorder import RECORDED_TOPICS, message_class
+    from sar_framework.recording.recorder import RECORDED_TOPICS, RecordedTopic, message_class
+
+    every = (*RECORDED_TOPICS, *(RecordedTopic(*topic) for topic in APP.recorded_topics))
 
     path = tmp_path / "all.mcap"
     writer = BagWriter(path)
-    for topic in RECORDED_TOPICS:
+    for topic in every:
         writer.add_topic(topic.name, topic.type_name)
         writer.write(topic.name, serialize_message(message_class(topic.type_name)()))
     writer.close()
@@ -141,8 +144,8 @@ def test_every_recorded_type_decodes_with_mcap_ros2_and_rosbags(tmp_path: Path) 
         decoded = [channel.topic for _schema, channel, _message, _decoded in
                    make_reader(stream, decoder_factories=[DecoderFactory()])
                    .iter_decoded_messages()]
-    assert sorted(decoded) == sorted(t.name for t in RECORDED_TOPICS)
+    assert sorted(decoded) == sorted(t.name for t in every)
     with AnyReader([path]) as reader:
         topics = [c.topic for c, _t, raw in reader.messages()
                   if reader.deserialize(raw, c.msgtype) is not None]
-    assert sorted(topics) == sorted(t.name for t in RECORDED_TOPICS)
+    assert sorted(topics) == sorted(t.name for t in every)

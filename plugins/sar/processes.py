@@ -1,0 +1,73 @@
+"""The search-and-rescue app's processes: the detect and report servers.
+
+Both start before the runner, on its clock. The detect server reads ``survivors_file``
+(``sar-tree run --survivors``, the launch's ``survivors_file``); the report server writes
+``report_file``, ``reports.jsonl`` in the run's folder unless named otherwise.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from sar_framework.app import AppOption, AppProcess
+from sar_framework.mission.processes import MissionSettings, ParamValue, Process
+from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
+
+REPORT_FILE = "reports.jsonl"
+"""The report server's acknowledged reports, in the run's folder."""
+
+PROCESS_KINDS = (
+    AppProcess("detect", "the detect server", DETECT_PARAMETERS,
+               "sar_framework/servers/params.py", "--no-detect-server",
+               "do not start the search-and-rescue detect server (fault injection)",
+               per_robot=True),
+    AppProcess("report", "the report server", REPORT_PARAMETERS,
+               "sar_framework/servers/params.py", "--no-report-server",
+               "do not start the report server (fault injection)"),
+)
+"""What ``sar-tree run`` and the docs know of the two servers."""
+
+
+def _check_survivors(path: str) -> str | None:
+    from sar_framework.servers.survivors import SurvivorsFileError, load_survivors
+
+    try:
+        load_survivors(path)
+    except SurvivorsFileError as err:
+        return str(err)
+    return None
+
+
+OPTIONS = (
+    AppOption("--survivors", "detect", "survivors_file", "survivor table",
+              "survivor table for the detect server (default: config/survivors.yaml)",
+              _check_survivors),
+)
+"""``sar-tree run --survivors FILE``: the detect server's table."""
+
+RECORDED_TOPICS = (
+    ("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
+    ("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
+)
+"""The servers' introspection events, kept by a recording."""
+
+
+def _server(settings: MissionSettings, label: str, executable: str) -> Process:
+    parameters: dict[str, ParamValue] = {"use_sim_time": settings.use_sim_time}
+    if label == "report" and settings.run_folder:
+        parameters["report_file"] = str(Path(settings.run_folder) / REPORT_FILE)
+    module = "sar_framework.servers." + label + "_survivor_server"
+    return Process(label, executable, module, (), parameters)
+
+
+def server_processes(settings: MissionSettings) -> list[Process]:
+    """The detect and report servers, in start order (``settings.extra`` sets their files).
+
+    Args:
+        settings: What the mission starts.
+
+    Returns:
+        Their descriptions.
+    """
+    return [_server(settings, "detect", "sar-detect-survivor-server"),
+            _server(settings, "report", "sar-report-survivor-server")]

@@ -116,12 +116,16 @@ def test_basic_navigator_whole_api(navigator: Any) -> None:
 
     result, feedback, _ = send(nav, "goToPose", pose(nav, 1.0, 0.5))
     assert result == TaskResult.SUCCEEDED
-    assert feedback and feedback[0].distance_remaining > feedback[-1].distance_remaining
+    # Feedback is best-effort in count (BasicNavigator keeps the latest; a loaded client may
+    # see one): what is seen must never move away from the goal.
+    distances = [f.distance_remaining for f in feedback]
+    assert distances and distances[-1] <= distances[0], distances
 
     result, feedback, _ = send(nav, "goThroughPoses",
                                [pose(nav, 1.0, -0.5), pose(nav, 0.0, 0.0)])
     assert result == TaskResult.SUCCEEDED
-    assert {2, 1} <= {f.number_of_poses_remaining for f in feedback}
+    left = [f.number_of_poses_remaining for f in feedback]
+    assert left and left == sorted(left, reverse=True) and set(left) <= {2, 1, 0}, left
 
     result, feedback, raw = send(nav, "followWaypoints",
                                  [pose(nav, 0.5, 0.0), pose(nav, 0.0, 0.0)])

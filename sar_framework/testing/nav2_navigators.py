@@ -38,7 +38,10 @@ from sar_framework.events.emitter import SETUP_KEY, EventEmitter
 from sar_framework.testing.sim_control import reset_sim, set_sim_params
 from sar_framework.testing.spin import spin_until
 
-OVERLAY = Path("/work/shared/ros-overlay/src")
+#: Where the ROS 2 sources are, as tools/bootstrap.py finds them: ``SAR_ROS_OVERLAY_SRC``, else
+#: ``shared/ros-overlay/src`` beside the repository.
+OVERLAY = Path(os.environ.get("SAR_ROS_OVERLAY_SRC")
+               or Path(__file__).resolve().parents[2].parent / "shared" / "ros-overlay" / "src")
 #: bt_navigator's parameters the leaves read, as config/nav2_params.yaml sets them
 #: (``default_server_timeout`` raised from 20 ms: a loaded machine acknowledges slower).
 NAVIGATOR_PARAMETERS: dict[str, Any] = {

@@ -41,15 +41,21 @@ def render(document: dict) -> str:
 def test_entries_stream_from_the_runner_to_the_watch_view(tmp_path) -> None:
     from std_msgs.msg import String
 
-    status, gate = tmp_path / "status.json", tmp_path / "gate"
+    status, start, gate = tmp_path / "status.json", tmp_path / "start", tmp_path / "gate"
     tree = tmp_path / "entries.yaml"
-    tree.write_text((HERE / "entries.yaml").read_text().replace('"GATE"', json.dumps(str(gate))))
+    tree.write_text((HERE / "entries.yaml").read_text()
+                    .replace('"START"', json.dumps(str(start)))
+                    .replace('"GATE"', json.dumps(str(gate))))
     early: list[str] = []
     late: list[str] = []
     with ros_node("entries_live_test") as (node, executor):
         node.create_subscription(String, STATUS_TOPIC, lambda m: early.append(m.data), 100)
         process = NodeProcess(runner(tree, status), "runner", log_dir=tmp_path).start()
         try:
+            # the walk starts once this subscriber has its first message, however late
+            # discovery is on a loaded machine, so it sees every step
+            spin_until(executor, lambda: len(early) >= 1, timeout=60.0)
+            start.touch()
             spin_until(executor, lambda: len(early) >= 20, timeout=60.0)
             # a late joiner: the runner sees a new subscriber and sends every entry again;
             # the tree ends (its gate) once that joiner has its full message, however late
@@ -78,11 +84,14 @@ def test_entries_stream_from_the_runner_to_the_watch_view(tmp_path) -> None:
     # while the gate holds; never the constant label
     later = [{row[0] for row in d["entries"]} for d in documents[1:] if not d["entries_full"]]
     assert {"count", "where"} in later and all(names <= {"count", "where"} for names in later)
-    # the walker counts its ticks (whichever tick discovery let this subscriber see first)
-    tick = documents[4]["tick"]
-    rows = {row[0]: row for row in documents[4]["entries"]}
-    assert rows["count"] == ["count", "/count", str(tick), "int", "Walker"]
-    assert rows["where"] == ["where", "/where", f"Point(x={tick}, y=0.5, z=0)",
+    # the walker counts its ticks from the tick it started on
+    steps = [d for d in documents[1:] if not d["entries_full"]
+             and any(row[0] == "count" for row in d["entries"])]
+    started = steps[0]["tick"]
+    tick = steps[4]["tick"]
+    rows = {row[0]: row for row in steps[4]["entries"]}
+    assert rows["count"] == ["count", "/count", str(tick - started + 1), "int", "Walker"]
+    assert rows["where"] == ["where", "/where", f"Point(x={tick - started + 1}, y=0.5, z=0)",
                              "geometry_msgs/msg/Point", "Walker"]
 
     late_documents = [decode_status(text) for text in late]

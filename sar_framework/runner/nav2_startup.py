@@ -126,6 +126,7 @@ def seed_amcl_and_wait_for_nav2(
     ask_first: bool = True,
     on_step: Callable[[str], None] = _no_step,
     meanwhile: Callable[[], None] = _nothing,
+    idle: Callable[[float], None] | None = None,
 ) -> None:
     """Seed AMCL and block (bounded) until the localizer and navigator are ACTIVE.
 
@@ -147,6 +148,9 @@ def seed_amcl_and_wait_for_nav2(
         meanwhile: Called once, in the calling thread, while the wait goes on (with
             BasicNavigator: while it sleeps, both nodes ACTIVE); what it raises ends the
             wait and propagates.
+        idle: Called with a step in seconds, instead of a plain sleep, while BasicNavigator
+            sleeps after ``meanwhile`` (the caller spins its own node: what ``meanwhile``
+            set up keeps its timers and discovery going until the first tick).
 
     Raises:
         Nav2StartupError: A step did not complete within ``timeout_s``.
@@ -158,7 +162,8 @@ def seed_amcl_and_wait_for_nav2(
         _with_basic_navigator(navigator_cls, pose=pose, timeout_s=timeout_s,
                               use_sim_time=use_sim_time, localizer=localizer,
                               navigator=navigator, should_stop=should_stop, logger=logger,
-                              ask_first=ask_first, on_step=on_step, meanwhile=meanwhile)
+                              ask_first=ask_first, on_step=on_step, meanwhile=meanwhile,
+                              idle=idle)
     else:
         meanwhile()
         waiter = _Nav2Waiter(pose=pose, timeout_s=timeout_s, use_sim_time=use_sim_time,
@@ -170,7 +175,8 @@ def seed_amcl_and_wait_for_nav2(
 def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: float,
                           use_sim_time: bool, localizer: str, navigator: str,
                           should_stop: Callable[[], bool], logger: Any, ask_first: bool,
-                          on_step: Callable[[str], None], meanwhile: Callable[[], None]) -> None:
+                          on_step: Callable[[str], None], meanwhile: Callable[[], None],
+                          idle: Callable[[float], None] | None = None) -> None:
     """The guide's recipe, with the blocking wait in a thread so the bound holds."""
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
@@ -226,7 +232,10 @@ def _with_basic_navigator(navigator_cls: type, *, pose: InitialPose, timeout_s: 
                              f"dropped one; it does not ask again): {localizer} and "
                              f"{navigator} answered ACTIVE to a fresh request, going on")
                 break
-            waiter.join(timeout=_SPIN_STEP_S)
+            if idle is not None:
+                idle(_SPIN_STEP_S)
+            else:
+                waiter.join(timeout=_SPIN_STEP_S)
     finally:
         if probe is not None:
             probe.close()

@@ -448,21 +448,24 @@ def run(argv: Sequence[str] | None = None) -> int:
                 raise _StartupError(EXIT_STARTUP, "setup", str(err)) from err
             done("tree_ready")
 
-        if settings.seed_amcl:  # the tree is built while BasicNavigator sleeps
-            seed_amcl_and_wait_for_nav2(
-                pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
-                use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop), logger=logger,
-                on_step=done, meanwhile=build)
-        else:
-            build()
-        assert runner is not None
-        if stop:
-            return EXIT_STOPPED
         # As serve.py's: /clock, /tf and feedback wake the runner at the simulator's update
         # rate; 1.8 s of CPU per mission instead of 2.3 s with SingleThreadedExecutor (100 Hz).
         executor = EventsExecutor()
         executor.add_node(node)
         try:
+            if settings.seed_amcl:  # the tree is built while BasicNavigator sleeps
+                # ... and the node spins meanwhile: the set-up tree's timers (a fleet robot's
+                # heartbeat) and its clients' discovery go on until the first tick
+                seed_amcl_and_wait_for_nav2(
+                    pose=settings.initial_pose, timeout_s=settings.nav2_timeout_wall_s,
+                    use_sim_time=settings.use_sim_time, should_stop=lambda: bool(stop),
+                    logger=logger, on_step=done, meanwhile=build,
+                    idle=lambda step: executor.spin_once(timeout_sec=step))
+            else:
+                build()
+            assert runner is not None
+            if stop:
+                return EXIT_STOPPED
             return runner.run(executor)
         finally:
             executor.remove_node(node)

@@ -66,8 +66,10 @@ class TreeFiles:
             value: Any = []
             if type(root) is ScalarNode:
                 value = yaml_source.Reader(shown, []).scalar(root)[1]
-            reader.error(root, "a tree file is a mapping (format, name, root, ...), got "
-                               f"{describe(value, root)}")
+            got = describe(value, root)
+            if isinstance(value, str) and value.lstrip().startswith("<"):
+                got = "BehaviorTree.CPP XML: turn it into a tree file with 'sar-tree import FILE'"
+            reader.error(root, f"a tree file is a mapping (format, name, root, ...), got {got}")
             return None
         doc = to_document(root, reader)
         return doc if isinstance(doc.value, dict) else None

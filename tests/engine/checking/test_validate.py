@@ -221,6 +221,11 @@ CASES = {
         "- Tick: {}\n",
         ["tree.yaml:1:1: error: a tree file is a mapping (format, name, root, ...), got a list"],
     ),
+    "btcpp_xml": (
+        '<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>\n',
+        ["tree.yaml:1:1: error: a tree file is a mapping (format, name, root, ...), got "
+         "BehaviorTree.CPP XML: turn it into a tree file with 'sar-tree import FILE'"],
+    ),
     "unknown_subtree": (
         "format: 1\nsubtrees:\n  patrol: {Tick: {}}\nroot: {subtree: patro}\n",
         ["tree.yaml:4:8: error: unknown subtree 'patro' (did you mean 'patrol'?)"],

@@ -201,7 +201,7 @@ class MissionRunner:
         Returns:
             The exit code.
         """
-        from sar_framework.runner.tree_ticker import implementation_name
+        from sar_framework.runner.tree_ticker import implementation_name, snapshot_topics
 
         period_ms = 1000.0 / self.settings.tick_rate_hz
         self.tree.tick_tock(period_ms=period_ms)
@@ -222,10 +222,11 @@ class MissionRunner:
         if self.stop:
             self.logger.info(f"{self.stop.name}: stopping the tree")
         elif not deliver(self.node, executor,
-                         [in_namespace(name, self.node.get_namespace())
-                          for name in (STATUS_TOPIC_NAME, EVENT_TOPIC_NAME)], DELIVERY_WALL_S):
-            self.logger.warning("a subscriber of the status or event topic did not receive "
-                                f"everything within {DELIVERY_WALL_S:g} s")
+                         [*(in_namespace(name, self.node.get_namespace())
+                            for name in (STATUS_TOPIC_NAME, EVENT_TOPIC_NAME)),
+                          *snapshot_topics(self.tree)], DELIVERY_WALL_S):
+            self.logger.warning("a subscriber of the status, event or snapshot topics did "
+                                f"not receive everything within {DELIVERY_WALL_S:g} s")
         self._halt(executor)
         return self.exit_code()
 

@@ -54,8 +54,11 @@ class Client:
         return self.sent[-1]
 
 
-def spin_leaf(tmp_path: Path, clock: ManualClock) -> tuple[Any, Client]:
-    """A Spin leaf on a node of ``clock`` (``server_timeout``: Nav2's 20 ms)."""
+def spin_leaf(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+              ) -> tuple[Any, Client, ManualClock, ManualClock]:
+    """A Spin leaf (``server_timeout``: Nav2's 20 ms); its node's clock and the wall clock."""
+    clock, wall = ManualClock(100.0), ManualClock(1000.0)
+    monkeypatch.setattr(time, "monotonic", wall)
     tree = tmp_path / "t.yaml"
     tree.write_text("format: 1\nroot:\n  Spin: {name: Turn, spin_dist: 1.57}\n")
     leaf = load_tree(tree, {}).root
@@ -64,15 +67,12 @@ def spin_leaf(tmp_path: Path, clock: ManualClock) -> tuple[Any, Client]:
     node.has_parameter = lambda _name: False
     client = Client()
     leaf._node, leaf._action_type, leaf._client = node, spin_action, client
-    return leaf, client
+    return leaf, client, clock, wall
 
 
 def test_a_late_tick_on_the_wall_clock_is_not_a_late_acknowledgement(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    clock = ManualClock(100.0)
-    leaf, client = spin_leaf(tmp_path, clock)
-    wall = ManualClock(1000.0)
-    monkeypatch.setattr(time, "monotonic", wall)
+    leaf, client, _clock, wall = spin_leaf(tmp_path, monkeypatch)
     leaf.tick_once()
     assert leaf.status == Status.RUNNING and len(client.sent) == 1
     wall.now += 5.0  # the machine was busy: seconds of wall time, no ROS time
@@ -88,10 +88,7 @@ def test_a_late_tick_on_the_wall_clock_is_not_a_late_acknowledgement(
 
 def test_an_acknowledgement_missing_past_the_bound_fails_on_the_next_tick(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    clock = ManualClock(100.0)
-    leaf, _client = spin_leaf(tmp_path, clock)
-    wall = ManualClock(1000.0)
-    monkeypatch.setattr(time, "monotonic", wall)
+    leaf, _client, clock, wall = spin_leaf(tmp_path, monkeypatch)
     leaf.tick_once()
     clock.now += 0.019
     wall.now += 1.0

@@ -10,8 +10,11 @@ Nav2's bounds, without blocking:
 * the server must be there within the navigator's ``wait_for_service_timeout`` (1 s) of
   the first tick (Nav2 waits for it when the node is made);
 * a sent goal must be acknowledged within ``server_timeout`` (the port, in ms, else the
-  navigator's ``default_server_timeout``, 20 ms), measured on the wall clock from the
-  sending and checked only when the acknowledgement has not arrived by a tick;
+  navigator's ``default_server_timeout``, 20 ms), measured from the sending on the node's
+  clock (ROS time), as Nav2 does, and never shorter in wall time (the answer's round trip
+  takes wall time at any simulated speed); Nav2 spins for the answer inside the tick, this
+  leaf does not block, so the answer may be waiting in the executor when a tick finds the
+  bound passed: that tick lets the executor run once more, the next one fails;
 * SUCCEEDED -> :meth:`on_success` (SUCCESS), ABORTED -> :meth:`on_aborted` (FAILURE),
   CANCELED -> :meth:`on_cancelled` (SUCCESS, as in Nav2); a rejected goal fails.
 
@@ -33,7 +36,7 @@ from py_trees.common import Status
 from sar_framework.events.event import EventKind
 
 from .._ros_leaf import RosLeaf
-from ._common import optional_input, server_missing, server_timeout_s
+from ._common import node_now, optional_input, server_missing, server_timeout_s
 
 
 class Nav2ActionLeaf(RosLeaf):
@@ -65,7 +68,8 @@ class Nav2ActionLeaf(RosLeaf):
         self._result_future: Any = None
         self._feedback: Any = None
         self._started = 0.0
-        self._sent = 0.0
+        self._sent = self._sent_wall = 0.0
+        self._overdue = False
 
     # -- hooks ---------------------------------------------------------------------------
 
@@ -148,7 +152,11 @@ class Nav2ActionLeaf(RosLeaf):
             return Status.RUNNING
         if self._send_future is not None:
             if not self._send_future.done():
-                if now - self._sent < server_timeout_s(self._node, self.ports):
+                bound = server_timeout_s(self._node, self.ports)
+                overdue = (node_now(self._node) - self._sent >= bound
+                           and now - self._sent_wall >= bound)
+                if not (overdue and self._overdue):
+                    self._overdue = overdue
                     return Status.RUNNING
                 self._abandon()
                 return self._goal_failed("Timed out while waiting for action server to "
@@ -190,7 +198,8 @@ class Nav2ActionLeaf(RosLeaf):
         self._handle = self._result_future = None
         self._send_future = self._client.send_goal_async(self.goal,
                                                          feedback_callback=self._on_feedback)
-        self._sent = time.monotonic()
+        self._sent, self._sent_wall = node_now(self._node), time.monotonic()
+        self._overdue = False
         self.feedback_message = f"goal sent to {self.server_name}"
         self._goal_event(EventKind.NAVIGATION, f"sent to {self.server_name}")
 

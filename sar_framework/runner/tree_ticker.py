@@ -160,6 +160,12 @@ def publish_snapshots(tree: py_trees.trees.BehaviourTree) -> None:
                            tree.snapshot_visitor.visited_blackboard_client_ids))
 
 
+def snapshot_topics(tree: py_trees.trees.BehaviourTree) -> list[str]:
+    """The topics of the tree's open snapshot streams (none for the fallback)."""
+    streams = getattr(tree, "snapshot_streams", None) or {}
+    return [stream.publisher.topic_name for stream in list(streams.values())]
+
+
 def implementation_name(tree: py_trees.trees.BehaviourTree) -> str:
     """Name the wrapper in use, for the log: ``py_trees_ros`` or ``fallback``."""
     return "fallback" if isinstance(tree, FallbackBehaviourTree) else "py_trees_ros"

@@ -37,6 +37,12 @@ def ros_node(name: str, **node_kwargs: Any) -> Iterator[tuple[Any, Any]]:
         yield node, executor
     finally:
         executor.shutdown()
+        # destroy_node() leaves action clients and servers, which keep the node (and the
+        # context's DDS participant) alive in the graph until garbage collection: a later
+        # test on the same domain would see them
+        for waitable in list(node.waitables):
+            if hasattr(waitable, "destroy"):
+                waitable.destroy()
         node.destroy_node()
         rclpy.shutdown(context=context)
 

@@ -11,10 +11,12 @@ says so and exits 1.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -32,8 +34,8 @@ RATE_WINDOW_S = 2.0
 SPIN_S = 0.02
 #: Seconds to keep reading after the runner's publisher is gone (messages still in flight).
 GONE_GRACE_S = 0.5
-#: Seconds to wait, once the mission is over, for the last tick's snapshot.
-SNAPSHOT_GRACE_S = 0.4
+#: Callbacks taken at most, once the snapshot stream ended, for what it had sent.
+DRAIN_MAX = 100
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -138,7 +140,6 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     started = time.monotonic()
     ending = ""
     gone_since: float | None = None
-    done_since: float | None = None
     try:
         with Live(console=console, auto_refresh=False, transient=False) as live:
             live.update(f"waiting for a mission on {status_topic} "
@@ -151,10 +152,12 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
                     feed.poll(now)
                 done = state.document is not None and bool(state.document.get("complete"))
                 if done and feed is not None and feed.topic:
-                    # draw the last tick with its own snapshot, which follows the status
-                    done_since = done_since or now
-                    done = (feed.has(int(state.document.get("tick", 0)))
-                            or now - done_since > SNAPSHOT_GRACE_S)
+                    # draw the last tick with its own snapshot, which follows the status:
+                    # wait for it, or for the end of the stream (then take what it sent)
+                    tick = int(state.document.get("tick", 0))
+                    done = feed.settled(tick)
+                    if done and not feed.has(tick):
+                        _drain(executor, functools.partial(feed.has, tick))
                 fresh = state.fresh or (feed is not None and feed.fresh)
                 if fresh and (done or now - last_draw >= 1.0 / fps):
                     document = feed.merged(state.document) if feed else state.document
@@ -193,6 +196,14 @@ def watch(wait_s: float = DEFAULT_WAIT_S, fps: float = MAX_FPS, console: Any = N
     console.print(f"sar-tree watch: {ending}; {state.received} ticks seen, {state.drawn} "
                   f"frames drawn ({state.drawn / elapsed:.1f} frames/s)", highlight=False)
     return EXIT_OK
+
+
+def _drain(executor: Any, enough: Callable[[], bool]) -> None:
+    """Run the callbacks already waiting (messages received), until ``enough()``."""
+    for _ in range(DRAIN_MAX):
+        if enough():
+            return
+        executor.spin_once(timeout_sec=0.0)
 
 
 def _source(status_topic: str, received: int, feed: SnapshotFeed | None) -> str:

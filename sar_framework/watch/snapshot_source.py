@@ -177,6 +177,18 @@ class SnapshotFeed:
         """Whether the snapshot of ``tick`` has come."""
         return tick in self.snapshots
 
+    def ended(self) -> bool:
+        """Whether the stream is over: no publisher is left on its topic.
+
+        The runner waits until its snapshots were received before it closes the stream, so
+        a snapshot not here once the stream ended will not come.
+        """
+        return bool(self.topic) and self.node.count_publishers(self.topic) == 0
+
+    def settled(self, tick: int) -> bool:
+        """Whether the snapshot of ``tick`` has come or never will (the stream ended)."""
+        return self.has(tick) or self.ended()
+
     def merged(self, document: dict[str, Any]) -> dict[str, Any]:
         """``document`` with the statuses of its tick's snapshot, or as it is until that comes."""
         self.fresh = False

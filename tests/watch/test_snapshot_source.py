@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import py_trees
 import pytest
@@ -21,7 +24,19 @@ TREE_FILE = HERE / "watched.yaml"
 COMPARED = ("uid", "name", "status", "message", "visited", "depth")
 
 
-def test_snapshots_and_status_documents_agree_tick_by_tick() -> None:
+@dataclass
+class Streamed:
+    """A py_trees_ros tree on a runner node, its status documents and a watcher's feed."""
+
+    tree: Any
+    runner: Any
+    executor: Any
+    feed: SnapshotFeed
+    documents: list[dict]
+
+
+@pytest.fixture
+def streamed() -> Iterator[Streamed]:
     from rclpy.node import Node
     from std_msgs.msg import String
 
@@ -40,28 +55,54 @@ def test_snapshots_and_status_documents_agree_tick_by_tick() -> None:
         feed = SnapshotFeed(watcher)
         assert spin_until(executor, lambda: bool(feed.topic), 15.0,
                           step=lambda: feed.poll(time.monotonic() + 1.0))
-        assert feed.service == "/snap_runner/snapshot_streams/open"
-        assert feed.topic.startswith("/snap_runner/snapshot_streams/")
-        for tick in (1, 2, 3):
-            tree.tick()
-            assert spin_until(executor, lambda t=tick: feed.has(t) and len(documents) >= t, 10.0)
-        for document in documents:
-            snapshot = feed.snapshots[document["tick"]]
-            assert ([[n[k] for k in COMPARED] for n in snapshot["nodes"]]
-                    == [[n[k] for k in COMPARED] for n in document["nodes"]])
-            merged = feed.merged(document)
-            assert merged["nodes"] == document["nodes"]  # kinds kept from the status
-            assert merged["blackboard"] == document["blackboard"]
-        statuses = [[n["status"] for n in feed.snapshots[t]["nodes"]] for t in (1, 2, 3)]
-        assert statuses == [["RUNNING", "FAILURE", "RUNNING", "RUNNING", "INVALID"],
-                            ["RUNNING", "FAILURE", "RUNNING", "RUNNING", "INVALID"],
-                            ["SUCCESS", "FAILURE", "SUCCESS", "SUCCESS", "SUCCESS"]]
-        assert feed.snapshots[3]["blackboard"] == {"/ticks_counted": "1"}
-        topic = feed.topic
-        feed.close(executor)
-        assert spin_until(executor, lambda: runner.count_publishers(topic) == 0, 5.0)
+        yield Streamed(tree, runner, executor, feed, documents)
         executor.remove_node(runner)
         tree.shutdown()
+
+
+def test_snapshots_and_status_documents_agree_tick_by_tick(streamed: Streamed) -> None:
+    tree, runner, executor = streamed.tree, streamed.runner, streamed.executor
+    feed, documents = streamed.feed, streamed.documents
+    assert feed.service == "/snap_runner/snapshot_streams/open"
+    assert feed.topic.startswith("/snap_runner/snapshot_streams/")
+    for tick in (1, 2, 3):
+        tree.tick()
+        assert spin_until(executor, lambda t=tick: feed.has(t) and len(documents) >= t, 10.0)
+    for document in documents:
+        snapshot = feed.snapshots[document["tick"]]
+        assert ([[n[k] for k in COMPARED] for n in snapshot["nodes"]]
+                == [[n[k] for k in COMPARED] for n in document["nodes"]])
+        merged = feed.merged(document)
+        assert merged["nodes"] == document["nodes"]  # kinds kept from the status
+        assert merged["blackboard"] == document["blackboard"]
+    statuses = [[n["status"] for n in feed.snapshots[t]["nodes"]] for t in (1, 2, 3)]
+    assert statuses == [["RUNNING", "FAILURE", "RUNNING", "RUNNING", "INVALID"],
+                        ["RUNNING", "FAILURE", "RUNNING", "RUNNING", "INVALID"],
+                        ["SUCCESS", "FAILURE", "SUCCESS", "SUCCESS", "SUCCESS"]]
+    assert feed.snapshots[3]["blackboard"] == {"/ticks_counted": "1"}
+    topic = feed.topic
+    feed.close(executor)
+    assert spin_until(executor, lambda: runner.count_publishers(topic) == 0, 5.0)
+
+
+def test_the_last_snapshot_is_awaited_until_it_comes_or_the_stream_ends(
+        streamed: Streamed) -> None:
+    """However late a tick's snapshot is, the watcher waits for it or for the stream's end."""
+    from sar_framework.runner.tree_ticker import snapshot_topics
+
+    tree, executor, feed = streamed.tree, streamed.executor, streamed.feed
+    # the runner delivers its open streams before it leaves, as it does its status
+    assert snapshot_topics(tree) == [feed.topic]
+    assert not feed.settled(1)
+    assert not feed.ended()
+    tree.tick()
+    assert spin_until(executor, lambda: feed.settled(1), 10.0), sorted(feed.snapshots)
+    assert feed.has(1)
+    assert not feed.settled(2)  # the stream is open: tick 2's snapshot may still come
+    feed.close(executor)
+    assert spin_until(executor, feed.ended, 10.0), "the stream's publisher is still there"
+    assert feed.settled(2) and not feed.has(2)
+    assert snapshot_topics(tree) == []
 
 
 def test_merge_takes_statuses_from_the_snapshot_and_kinds_from_the_status() -> None:

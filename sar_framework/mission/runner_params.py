@@ -48,9 +48,9 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("status_file", str, "", "JSON status file, kept current ('' = none)"),
     Param("seed_amcl", bool, True, "seed AMCL with initial_pose and wait for Nav2 before "
           "ticking"),
-    Param("nav2_timeout_wall_s", float, 30.0, "bound of the Nav2 start-up (wall clock: it "
+    Param("nav2_timeout_wall_s", float, 90.0, "bound of the Nav2 start-up (wall clock: it "
           "holds when no /clock comes)", exclusive_minimum=0.0, unit="s"),
-    Param("setup_timeout_wall_s", float, 15.0, "bound of the tree's setup() (wall clock: it "
+    Param("setup_timeout_wall_s", float, 60.0, "bound of the tree's setup() (wall clock: it "
           "holds when a setup() blocks)", exclusive_minimum=0.0, unit="s"),
     Param("sim_timeout_s", float, 0.0, "stop the tree and exit 4 once it has ticked this "
           "long on its ROS clock (/clock time with use_sim_time; 0 = no bound; "

@@ -7,7 +7,7 @@ ROS-free core (plain Python + numpy)::
     planner     A* on the inflated grid
     drive       differential-drive model and path follower, stepped by dt
     clock       simulated time paced by a speed factor
-    faults      fault-injection params (reject, abort Nth, delay, blocked zones, phantoms)
+    faults      fault-injection params (reject, abort Nth, delay, blocked areas, phantoms)
     costmaps    the two costmaps' phantom layer: what clearing removes, walls that stay
     progress_checker  the stuck-controller fault as Nav2's progress checker sees it
     plugin_ids  the planner/controller/checker/smoother ids of config/nav2_params.yaml

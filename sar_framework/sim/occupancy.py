@@ -22,7 +22,8 @@ import numpy as np
 import yaml
 from PIL import Image
 
-from sar_framework.sim.world import DEFAULT_WORLD_PATH, Box, Cylinder, World
+from sar_framework.sim.params import DEFAULT_MAP_YAML
+from sar_framework.sim.world import Box, Cylinder, World
 
 FREE = 0
 OCCUPIED = 100
@@ -34,7 +35,8 @@ PGM_UNKNOWN = 205
 
 DEFAULT_RESOLUTION = 0.05
 DEFAULT_MARGIN = 0.3
-DEFAULT_MAP_PREFIX = DEFAULT_WORLD_PATH.parent / "final_project_map"
+DEFAULT_MAP_PREFIX = DEFAULT_MAP_YAML.with_suffix("")
+"""The simulator's default map without its extension (``maps/final_project_map``)."""
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.25
 
@@ -262,6 +264,27 @@ def inflate(grid: OccupancyGrid, radius: float) -> np.ndarray:
     # with a hair over the radius so a cell at exactly ``radius`` counts despite rounding.
     distance = obstacle_distance(occupied, grid.resolution, radius + grid.resolution)
     return distance <= radius + 1e-6
+
+
+def spawn_problem(grid: OccupancyGrid, x: float, y: float) -> str | None:
+    """Why a robot cannot start at ``(x, y)`` on ``grid`` (outside it, or not free), or None.
+
+    Args:
+        grid: The map.
+        x: Metres, map frame.
+        y: Metres, map frame.
+    """
+    row, col = grid.world_to_cell(x, y)
+    if not grid.in_bounds(row, col):
+        x1 = grid.origin_x + grid.width * grid.resolution
+        y1 = grid.origin_y + grid.height * grid.resolution
+        return (f"({x:g}, {y:g}) lies outside the map (x {grid.origin_x:g}..{x1:g}, "
+                f"y {grid.origin_y:g}..{y1:g})")
+    value = int(grid.data[row, col])
+    if value != FREE:
+        what = {OCCUPIED: "occupied", UNKNOWN: "unknown"}.get(value, f"occupancy {value}")
+        return f"({x:g}, {y:g}) is not free on the map ({what})"
+    return None
 
 
 def _yaml_number(doc: dict, key: str, source: str) -> float:

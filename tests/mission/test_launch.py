@@ -336,7 +336,7 @@ def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, 
     def simulator(settings: processes.MissionSettings) -> processes.Process | None:
         process = processes.simulator(settings)
         if process is not None:  # a list of strings a YAML reader would take for numbers
-            process.parameters["blocked_zones"] = ["1:2:0.5", "zone_b"]
+            process.parameters["blocked_areas"] = ["1:2:0.5", "zone_b"]
         return process
 
     builders = [simulator if b is processes.simulator else b for b in processes.BUILDERS]
@@ -345,7 +345,7 @@ def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, 
     run = run_children(tmp_path)
     for started in (launch, run):
         assert ("sar-detect-survivor-server", {"service_name": "/detect_again"}) in started
-        assert dict(started)["sar-sim"]["blocked_zones"] == ["1:2:0.5", "zone_b"]
+        assert dict(started)["sar-sim"]["blocked_areas"] == ["1:2:0.5", "zone_b"]
     assert len(launch) == len(run) == 5
 
 

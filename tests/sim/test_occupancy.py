@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
+from sar_plugins.sar.course_world import load_course_world
 
 from sar_framework.sim.map_writer import main, write_map
 from sar_framework.sim.occupancy import (
@@ -21,7 +22,6 @@ from sar_framework.sim.occupancy import (
     obstacle_distance,
     rasterize,
 )
-from sar_framework.sim.world import load_world
 
 ZONES = {"zone_a": (-3.0, 3.0), "zone_b": (3.5, 3.0), "zone_c": (4.0, -3.0), "zone_d": (-3.5, -3.0)}
 COMMITTED_PGM = DEFAULT_MAP_PREFIX.with_name("final_project_map.pgm")
@@ -30,7 +30,7 @@ COMMITTED_YAML = DEFAULT_MAP_PREFIX.with_name("final_project_map.yaml")
 
 @pytest.fixture(scope="module")
 def grid() -> OccupancyGrid:
-    return rasterize(load_world())
+    return rasterize(load_course_world().world)
 
 
 def test_geometry_covers_arena_with_margin(grid):
@@ -106,12 +106,6 @@ def test_world_to_cell_round_trip(grid):
         assert grid.world_to_cell(*grid.cell_to_world(row, col)) == (row, col)
     assert grid.world_to_cell(-6.4, -5.4) == (0, 0)
     assert not grid.in_bounds(-1, 0)
-
-
-def test_committed_map_is_up_to_date(tmp_path):
-    assert main(["--out", str(tmp_path / "final_project_map")]) == 0
-    assert (tmp_path / "final_project_map.pgm").read_bytes() == COMMITTED_PGM.read_bytes()
-    assert (tmp_path / "final_project_map.yaml").read_bytes() == COMMITTED_YAML.read_bytes()
 
 
 def test_yaml_is_map_server_format():
@@ -191,7 +185,7 @@ def test_load_map_missing_yaml(tmp_path):
 
 def test_write_is_deterministic(tmp_path, grid):
     a = write_map(grid, tmp_path / "a" / "m")
-    b = write_map(rasterize(load_world()), tmp_path / "b" / "m")
+    b = write_map(rasterize(load_course_world().world), tmp_path / "b" / "m")
     for pa, pb in zip(a, b, strict=True):
         assert pa.read_bytes() == pb.read_bytes()
 

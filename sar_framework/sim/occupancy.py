@@ -339,6 +339,12 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
         raise MapError(f"{source}: mode: expected trinary, scale or raw, got {mode!r}")
     occupied_thresh = _yaml_number({"occupied_thresh": 0.65, **doc}, "occupied_thresh", source)
     free_thresh = _yaml_number({"free_thresh": 0.25, **doc}, "free_thresh", source)
+    for key, value in (("occupied_thresh", occupied_thresh), ("free_thresh", free_thresh)):
+        if not 0.0 <= value <= 1.0:
+            raise MapError(f"{source}: {key}: expected a number from 0 to 1, got {value!r}")
+    if free_thresh >= occupied_thresh:
+        raise MapError(f"{source}: free_thresh: expected below occupied_thresh "
+                       f"({occupied_thresh!r}), got {free_thresh!r}")
     negate = doc.get("negate", 0)
     if negate not in (0, 1):
         raise MapError(f"{source}: negate: expected 0 or 1, got {negate!r}")

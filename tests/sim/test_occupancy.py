@@ -168,6 +168,12 @@ def test_load_map_honours_thresholds_and_negate(tmp_path):
         ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nmode: fancy\n", r"mode: expected"),
         ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 2\n", r"negate: expected"),
         ("image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n", r"m\.yaml: image: cannot read"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 65\n",
+         r"m\.yaml: occupied_thresh: expected a number from 0 to 1, got 65"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nfree_thresh: 0.7\n",
+         r"m\.yaml: free_thresh: expected below occupied_thresh \(0\.65\), got 0\.7"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nfree_thresh: low\n",
+         r"m\.yaml: free_thresh: expected a finite number, got 'low'"),
         ("[1, 2]\n", r"m\.yaml: expected a mapping"),
     ],
 )

@@ -141,8 +141,12 @@ def assert_it_drove_round_the_wall_on_the_map_made_here(out: Path) -> None:
     assert report["path_length_m"] > 2 * (2.0 - 0.0)  # up past the wall's end and down again
     trace = [json.loads(line) for line in (out / "trace.jsonl").read_text().splitlines()]
     start = next(r for r in trace if r.get("event") == "start")
-    assert (start["x"], start["y"], start["yaw"]) == (0.0, 0.0, 1.57)
+    assert (start["x"], start["y"], round(start["yaw"], 2)) == (0.0, 0.0, 1.57)
     assert max(r["y"] for r in trace if "event" not in r) > 1.0  # round the north end
+    assert_mission_png_is_the_map_made_here(out)
+
+
+def assert_mission_png_is_the_map_made_here(out: Path) -> None:
     # mission.png is this map: 3 px a cell, a 44 px title strip, the legend 250 px wide
     with Image.open(out / "mission.png") as png:
         assert png.size == (120 * 3 + 250, max(80 * 3 + 44, 420))
@@ -156,11 +160,28 @@ def assert_it_drove_round_the_wall_on_the_map_made_here(out: Path) -> None:
 def test_sar_tree_run_drives_on_the_users_map_from_the_spawn_given(tmp_path: Path) -> None:
     folder = own_folder(tmp_path)
     done = subprocess.run([sys.executable, "-m", "sar_framework", "run", "around.yaml",
-                           "--map", "room.yaml", "--spawn", SPAWN, "--report-dir", "out"],
+                           "--map", "room.yaml", "--spawn", SPAWN, "--report-dir", "out",
+                           "--record", "out/around.mcap"],
                           cwd=folder, capture_output=True, text=True,
                           env=ros_env(tmp_path / "ros_log"), timeout=RUN_BOUND_S, check=False)
     assert done.returncode == 0, done.stdout + done.stderr
     assert_it_drove_round_the_wall_on_the_map_made_here(folder / "out")
+    # the recording keeps the map: its replay draws the same
+    again = tmp_path / "again"
+    done = subprocess.run([sys.executable, "-m", "sar_framework", "replay",
+                           str(folder / "out" / "around.mcap"), "--report-dir", str(again)],
+                          capture_output=True, text=True, timeout=RUN_BOUND_S, check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    replayed, made = load_map(again / "map.yaml"), load_map(folder / "room.yaml")
+    assert replayed.data.tolist() == made.data.tolist()
+    assert (replayed.origin_x, replayed.origin_y) == (made.origin_x, made.origin_y)
+    assert_mission_png_is_the_map_made_here(again)
+    # and the studio's replay shows it
+    from sar_framework.studio.session import replay_session
+
+    world = replay_session(folder / "out" / "around.mcap", tmp_path / "sources").world
+    assert (world["grid"]["width"], world["grid"]["height"]) == (120, 80)
+    assert world["grid"]["origin"] == [-1.0, -1.0]
 
 
 @pytest.mark.slow

@@ -5,8 +5,9 @@ column, length]``) so the page draws a few thousand rectangles instead of a bitm
 image library in the page, and a grid the size of ours (260 x 220 cells) is a few kB.
 Live, the grid is the one the map server latches on ``/map``; replayed, the ``/map`` the
 recording kept (:func:`occupancy_view`); before ``/map`` arrives or in a recording without
-one, the simulator's default map file (:data:`~sar_framework.report_map.MAP_YAML`). Zones and base come from the mission
-parameter file (:func:`~sar_framework.report.read_mission_layout`).
+one, the simulator's default map file (:data:`~sar_framework.report_map.MAP_YAML`). Zones
+and base come from the mission parameter file
+(:func:`~sar_framework.report.read_mission_layout`).
 
 No ROS here: the ROS feed hands :func:`grid_view` plain numbers.
 """

@@ -299,7 +299,8 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
 
     Supports ``mode`` trinary (default), scale and raw, and ``negate``. Occupancy of a pixel
     is ``1 - shade/255`` (``shade/255`` when negated); above ``occupied_thresh`` is
-    ``OCCUPIED``, below ``free_thresh`` is ``FREE``.
+    ``OCCUPIED``, below ``free_thresh`` is ``FREE``; in scale mode, between them is graded
+    0..100 and a pixel not fully opaque (an image with alpha) is ``UNKNOWN``.
 
     Args:
         yaml_path: The map's yaml file; ``image`` is resolved relative to it.
@@ -353,10 +354,12 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
     try:
         with Image.open(image_path) as image:
             shade = np.asarray(image.convert("L"), dtype=np.float64)
+            opaque = (np.asarray(image.getchannel("A")) == 255 if "A" in image.getbands()
+                      else np.ones(shade.shape, dtype=bool))
     except (OSError, ValueError) as exc:
         raise MapError(f"{source}: image: cannot read {image_path}: {exc}") from exc
 
-    shade = np.flipud(shade)
+    shade, opaque = np.flipud(shade), np.flipud(opaque)
     data = np.full(shade.shape, UNKNOWN, dtype=np.int8)
     if mode == "raw":
         in_range = shade <= OCCUPIED
@@ -368,6 +371,8 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
             data[:] = np.rint(np.clip(ratio, 0.0, 1.0) * 100.0).astype(np.int8)
         data[occ > occupied_thresh] = OCCUPIED
         data[occ < free_thresh] = FREE
+        if mode == "scale":
+            data[~opaque] = UNKNOWN  # map_server: a transparent pixel is unknown in scale mode
     return OccupancyGrid(
         data=data, resolution=resolution, origin_x=float(origin[0]), origin_y=float(origin[1])
     )

@@ -234,3 +234,21 @@ def test_obstacle_distance_matches_brute_force(cells, cap):
         for c in range(25):
             brute = min(math.hypot(r - rr, c - cc) * 0.05 for rr, cc in cells)
             assert dist[r, c] == pytest.approx(min(brute, cap), abs=1e-5)
+
+
+def test_scale_mode_grades_between_the_thresholds_and_a_transparent_pixel_is_unknown(tmp_path):
+    # shades 0 (black), 255 (white), 128 (between), 128 again but transparent
+    pixels = np.array([[[0, 255], [255, 255], [128, 255], [128, 0]]], dtype=np.uint8)
+    Image.fromarray(pixels, "LA").save(tmp_path / "m.png")
+    (tmp_path / "m.yaml").write_text(
+        "image: m.png\nmode: scale\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.25\n")
+    between = round((1 - 128 / 255 - 0.25) / (0.65 - 0.25) * 100)
+    assert load_map(tmp_path / "m.yaml").data.tolist() == [[OCCUPIED, FREE, between, UNKNOWN]]
+
+
+def test_raw_mode_takes_the_pixel_as_the_occupancy(tmp_path):
+    Image.fromarray(np.array([[0, 42, 100, 205]], dtype=np.uint8)).save(tmp_path / "m.pgm")
+    (tmp_path / "m.yaml").write_text(
+        "image: m.pgm\nmode: raw\nresolution: 0.1\norigin: [0, 0, 0]\n")
+    assert load_map(tmp_path / "m.yaml").data.tolist() == [[0, 42, 100, UNKNOWN]]

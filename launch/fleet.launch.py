@@ -43,9 +43,8 @@ from sar_framework.mission.params_file import read_params_file
 from sar_framework.mission.processes import RUN_FILES, MissionSettings, new_run_folder
 from sar_framework.orchestrate.fleet_inputs import read_members
 from sar_framework.ros.launch_nodes import package_file, process_node
-from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED
+from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED, sim_default
 from sar_framework.sim.spawn_poses import write_fleet_file
-from sar_framework.sim.world import load_world
 
 ARGUMENTS = [
     DeclareLaunchArgument("robots", default_value="3",
@@ -92,7 +91,8 @@ def fleet_settings(context: LaunchContext) -> FleetSettings:
                 float(mission.get("base_station.y", 0.0)))
         fleet_file = write_fleet_file(
             folder / FLEET_FILE, int(arg("robots")), base, load_map(DEFAULT_MAP_YAML),
-            load_world().robot.footprint_radius, zones=list(zone_positions(mission).values()))
+            sim_default("robot_radius"),
+            destinations=list(zone_positions(mission).values()))
     spec = validate(tree).spec
     kinds = [node.kind for node in spec.nodes()] if spec is not None else []
     settings = MissionSettings(

@@ -1,7 +1,7 @@
 """The search-and-rescue mission under ``ros2 launch``: Nav2, both servers and the runner.
 
     ros2 launch sar_framework search_and_rescue.launch.py [nav2:=bringup|embedded]
-        [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...]
+        [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...] [spawn:=X,Y[,YAW]]
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
         [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE] [reload:=true]
 
@@ -69,7 +69,7 @@ from sar_framework.mission.processes import (
 from sar_framework.orchestrate.launch_report import write_launch_report
 from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.servers.params import REPORT_PARAMETERS
-from sar_framework.sim.params import SPEED
+from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED
 
 REPORT_FILE = next(p for p in REPORT_PARAMETERS if p.name == "report_file")
 
@@ -97,8 +97,13 @@ ARGUMENTS = [
                           "its survivors across runs."),
     DeclareLaunchArgument("tick_rate_hz", default_value="",
                           description="Override the tick rate of params_file (empty: keep)."),
-    DeclareLaunchArgument("map", default_value="maps/final_project_map.yaml",
-                          description="map_server map file for Nav2 (bringup)."),
+    DeclareLaunchArgument("map", default_value="",
+                          description="map_server map file (map_saver's yaml) for Nav2: "
+                          "bringup's map server, or the simulator's map (embedded); empty: "
+                          f"maps/{DEFAULT_MAP_YAML.name}."),
+    DeclareLaunchArgument("spawn", default_value="",
+                          description="Where the robot starts on the map: X,Y[,YAW] in metres "
+                          "and radians; empty: the simulator's default (embedded)."),
     DeclareLaunchArgument("nav2_params_file", default_value="config/nav2_params.yaml",
                           description="Nav2 parameters (ROSbot; bringup)."),
     DeclareLaunchArgument("use_sim_time", default_value="true",
@@ -155,6 +160,8 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         "detect": {"survivors_file": package_file(arg("survivors_file"))}}
     if arg("report_file"):
         servers["report"] = {"report_file": str(Path(arg("report_file")).expanduser().absolute())}
+    if embedded and (arg("map") or arg("spawn")):
+        servers["sim"] = sim_place(arg("map"), arg("spawn"))
     tree = package_file(arg("tree"), "trees")
     apps = tree_apps(tree)
     params = arg("params_file") or next((f for f in (a.default_params_file() for a in apps)
@@ -178,6 +185,28 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     )
 
 
+def sim_place(map_arg: str, spawn_arg: str) -> dict[str, ParamValue]:
+    """The simulator's map and spawn pose, checked as ``sar-tree run --map --spawn`` are."""
+    from sar_framework.sim.occupancy import MapError, load_map, spawn_problem
+    from sar_framework.sim.params import SPAWN_NAMES, parse_pose, sim_default
+
+    map_yaml = package_file(map_arg) if map_arg else str(DEFAULT_MAP_YAML)
+    try:
+        grid = load_map(map_yaml)
+    except MapError as err:
+        raise RuntimeError(f"map:={map_arg}: {err}") from None
+    try:
+        pose = parse_pose(spawn_arg) if spawn_arg else None
+    except ValueError as err:
+        raise RuntimeError(f"spawn:={err}") from None
+    x, y = pose[:2] if pose else (sim_default("spawn_x"), sim_default("spawn_y"))
+    problem = spawn_problem(grid, x, y)
+    if problem:
+        raise RuntimeError(f"spawn:={spawn_arg or '(default)'}: {problem} on {map_yaml}")
+    return {**({"map_yaml": map_yaml} if map_arg else {}),
+            **dict(zip(SPAWN_NAMES, pose or (), strict=False))}
+
+
 def report_file(settings: MissionSettings) -> str:
     """The report server's file: the ``report_file`` argument's, else the run folder's."""
     named = settings.extra.get("report", {}).get("report_file")
@@ -197,7 +226,8 @@ def launch_setup(context: LaunchContext) -> list:
         actions.append(IncludeLaunchDescription(
             PythonLaunchDescriptionSource(str(bringup / "launch" / "bringup_launch.py")),
             launch_arguments={
-                "map": package_file(LaunchConfiguration("map").perform(context)),
+                "map": package_file(LaunchConfiguration("map").perform(context)
+                                    or f"maps/{DEFAULT_MAP_YAML.name}"),
                 "params_file": package_file(
                     LaunchConfiguration("nav2_params_file").perform(context)),
                 "use_sim_time": str(settings.use_sim_time),

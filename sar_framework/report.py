@@ -31,7 +31,7 @@ import yaml
 from sar_framework.app import App
 from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent, kind_name
 from sar_framework.events.jsonl import EVENTS_FILE, read_events, read_json_lines
-from sar_framework.report_map import MAP_YAML, draw_map
+from sar_framework.report_map import draw_map
 
 AT_GOAL_M = 0.5
 """A robot ending this close to its last navigation goal (metres) is at it."""
@@ -49,7 +49,8 @@ class MissionInputs:
         outcome: ``SUCCESS``, ``FAILURE``, ``TIMEOUT``, ``INTERRUPTED`` or ``ERROR``.
         reason: Why it did not succeed ("" on success).
         wall_duration_s: Wall seconds of the whole run, set-up included.
-        map_yaml: The map to draw on.
+        map_yaml: The map to draw on; None: the one the simulator ran on (its trace), else
+            the simulator's default map.
         blocked_areas: Injected obstacles as ``(x, y, radius)`` metres, drawn on the map.
         base: ``{x, y, yaw}`` of this robot's base over the parameter file's (a fleet's
             robot goes home to its own spawn place).
@@ -64,7 +65,7 @@ class MissionInputs:
     outcome: str
     reason: str = ""
     wall_duration_s: float = 0.0
-    map_yaml: Path = MAP_YAML
+    map_yaml: Path | None = None
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
     base: dict[str, float] | None = None
     apps: Sequence[App] | None = None

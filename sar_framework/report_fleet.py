@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from sar_framework.events.jsonl import read_json_lines
-from sar_framework.report_map import MAP_YAML, font, label, map_canvas
+from sar_framework.report_map import MAP_YAML, font, label, map_canvas, trace_map
 
 ROBOT_COLOURS = ((30, 110, 220), (220, 90, 30), (40, 150, 60), (150, 60, 190),
                  (200, 40, 110), (0, 150, 160), (140, 110, 20), (90, 90, 90))
@@ -92,7 +92,7 @@ def award_lines(events: Sequence[dict[str, Any]]) -> list[str]:
 
 def draw_fleet(run_dir: Path, fleet: dict[str, Any], params_file: str,
                coordinator_events: Sequence[dict[str, Any]], out: Path, *,
-               map_yaml: Path = MAP_YAML) -> Path:
+               map_yaml: Path | None = None) -> Path:
     """Draw ``fleet.png``.
 
     Args:
@@ -101,14 +101,17 @@ def draw_fleet(run_dir: Path, fleet: dict[str, Any], params_file: str,
         params_file: The mission parameter file (zone positions).
         coordinator_events: The zone coordinator's events ([] when it did not run).
         out: The PNG file to write.
-        map_yaml: The occupancy map.
+        map_yaml: The occupancy map; None: the one the first robot's trace names, else
+            :data:`~sar_framework.report_map.MAP_YAML`.
 
     Returns:
         ``out``.
     """
     from sar_framework.report import read_mission_layout
 
-    canvas = map_canvas(map_yaml, _LEGEND_W)
+    first = next(iter(fleet.get("robots", {})), None)
+    traced = trace_map(read_json_lines(run_dir / first / "trace.jsonl")) if first else None
+    canvas = map_canvas(map_yaml or traced or MAP_YAML, _LEGEND_W)
     draw, to_px, limit = canvas.draw, canvas.to_px, canvas.map_img.width
     small, normal, big = font(13), font(15), font(18)
     colours = {name: ROBOT_COLOURS[i % len(ROBOT_COLOURS)]

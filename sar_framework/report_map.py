@@ -1,11 +1,10 @@
-"""``mission.png``: the course map with the robot's path, its goals and blocked areas.
+"""``mission.png``: the run's map with the robot's path, its goals and blocked areas.
 
 Plain Python (numpy, Pillow; no ROS). :func:`draw_map` draws a ``mission.json`` document
-(:func:`sar_framework.report.summarise`) and the simulator's trace: the occupancy map
-(walls and debris), injected blocked areas and the robot's path, then what each app draws
-(:class:`MapLayer`; the search-and-rescue app: zones, base station, survivors), or the
-navigation goals when no app drew, with a title (the tree path cut at the left when long)
-and a legend.
+(:func:`sar_framework.report.summarise`) and the simulator's trace: the occupancy map the
+simulator ran on (the trace's ``start`` names it; any map_server map), injected blocked
+areas and the robot's path, then what each app draws (:class:`MapLayer`), or the navigation
+goals when no app drew, with a title (the tree path cut at the left when long) and a legend.
 """
 
 from __future__ import annotations
@@ -16,8 +15,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-MAP_YAML = Path(__file__).resolve().parents[1] / "maps" / "final_project_map.yaml"
-"""The course map the report draws on."""
+from sar_framework.sim.params import DEFAULT_MAP_YAML
+
+MAP_YAML = DEFAULT_MAP_YAML
+"""The map drawn when the trace names none (the simulator's default map)."""
 
 
 _SCALE = 3  # pixels per map cell (0.05 m -> 60 px per metre)
@@ -170,7 +171,7 @@ class MapLayer:
     """What an app drew on ``mission.png`` and adds to its title and legend.
 
     Attributes:
-        title: Its facts in the title (``4/4 zones, 2 survivors reported``).
+        title: Its facts in the title (``3/3 shelves scanned``).
         legend: ``(text, icon)`` rows; ``icon(draw, x, y)`` draws a row's symbol.
         lines: Its lines in the panel, after the run's numbers.
     """
@@ -211,18 +212,25 @@ def diamond(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
     return [(cx, cy - radius), (cx + radius, cy), (cx, cy + radius), (cx - radius, cy)]
 
 
+def trace_map(trace: Sequence[dict[str, Any]]) -> Path | None:
+    """The map the simulator ran on, as its trace's ``start`` record names it (None: none)."""
+    start = next((r for r in trace if r.get("event") == "start"), None)
+    named = start.get("map") if start is not None else None
+    return Path(named) if isinstance(named, str) and named else None
+
+
 def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path,
-             map_yaml: Path = MAP_YAML, apps: Sequence[Any] | None = None) -> Path:
+             map_yaml: Path | None = None, apps: Sequence[Any] | None = None) -> Path:
     """Draw ``mission.png``: map, path, blocked areas, what the apps show, title and legend.
 
-    Each app with a ``figure`` hook draws its part (the search-and-rescue app: zones, base,
-    survivors); when none drew anything, the navigation goals are drawn.
+    Each app with a ``figure`` hook draws its part; when none drew anything, the navigation
+    goals are drawn.
 
     Args:
         summary: The ``mission.json`` document.
         trace: The simulator's trace records (poses are drawn as the path).
         out: The PNG file to write.
-        map_yaml: The occupancy map.
+        map_yaml: The occupancy map; None: the one the trace names, else :data:`MAP_YAML`.
         apps: The apps whose parts to draw; None: every installed app (each draws only
             what ``summary`` holds of it).
 
@@ -231,7 +239,7 @@ def draw_map(summary: dict[str, Any], trace: Sequence[dict[str, Any]], out: Path
     """
     from sar_framework.app import discover_apps
 
-    canvas = map_canvas(map_yaml)
+    canvas = map_canvas(map_yaml or trace_map(trace) or MAP_YAML)
     img, draw, to_px, px_per_m = canvas.img, canvas.draw, canvas.to_px, canvas.px_per_m
     width = img.width
     normal, big, small = _font(15), _font(18), _font(13)

@@ -70,7 +70,7 @@ def check_config(config: RunConfig) -> CheckedInputs:
 
 
 def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str:
-    """A ``blocked_zones`` entry with a mission zone name replaced by ``x:y:radius``.
+    """A ``blocked_areas`` entry with a mission zone name replaced by ``x:y:radius``.
 
     Args:
         entry: ``zone_b``, ``zone_b:0.8``, a world marker name or ``x:y:radius``.
@@ -89,7 +89,7 @@ def entry_values(entries: Sequence[str],
                  zones: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
     """``NAME:=VALUE`` entries as typed values, read as rcl reads them (the last one wins).
 
-    Mission zone names in a ``blocked_zones`` or ``phantom_obstacles`` list become
+    Mission zone names in a ``blocked_areas`` or ``phantom_obstacles`` list become
     ``x:y:radius`` (the simulator knows its world's markers, not the mission's zones).
 
     Args:
@@ -102,7 +102,7 @@ def entry_values(entries: Sequence[str],
         if parsed is None:
             continue  # check_config reported it; nothing starts with it
         name, value = parsed
-        if name in ("blocked_zones", "phantom_obstacles") and isinstance(value, list):
+        if name in ("blocked_areas", "phantom_obstacles") and isinstance(value, list):
             value = [blocked_zone_entry(str(e), zones or {}) for e in value]
         values[name] = value
     return values
@@ -147,7 +147,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
     Args:
         config: The configuration.
         report_dir: The report folder.
-        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+        zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
         apps: The tree's apps (their options, ``--survivors``, set their processes' files).
     """
     extra: dict[str, dict[str, Any]] = {}
@@ -162,7 +162,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
         exit_on_completion=not config.keep_alive, watch_tree=config.reload,
         status_file=str(report_dir / "status.json"),
         plugin_paths=tuple(config.plugin_paths), record=config.record or "",
-        extra={**extra, "sim": entry_values(config.sim_params, zones),
+        extra={**extra, "sim": entry_values(config.sim_entries, zones),
                "runner": {**({} if config.sim_timeout_s is None
                              else {"sim_timeout_s": config.sim_timeout_s}),
                           **entry_values(config.runner_params)}})
@@ -195,7 +195,7 @@ def child_specs(config: RunConfig, report_dir: Path,
     Args:
         config: The configuration.
         report_dir: The report folder (status, trace and report files go there).
-        zones: Mission zone id -> ``(x, y)`` (``blocked_zones`` may name them).
+        zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
         fleet: A fleet's robots (:func:`~sar_framework.mission.fleet_processes.fleet_processes`;
             each robot's files in ``report_dir/<name>/``); empty for one robot.
         coordinator: A fleet's zone coordinator starts.

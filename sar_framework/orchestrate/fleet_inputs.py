@@ -37,15 +37,10 @@ def coordinator_installed() -> bool:
 
 
 def _robot_radius(sim_values: dict[str, Any]) -> float:
-    from sar_framework.sim.world import WorldError, load_world
-
     radius = sim_values.get("robot_radius")
     if isinstance(radius, (int, float)) and not isinstance(radius, bool) and radius > 0:
         return float(radius)
-    try:
-        return load_world(sim_values.get("world") or sim_default("world")).robot.footprint_radius
-    except WorldError:
-        return 0.22
+    return float(sim_default("robot_radius"))
 
 
 def _generated(count: int, mission: dict[str, Any], sim_values: dict[str, Any],
@@ -60,7 +55,7 @@ def _generated(count: int, mission: dict[str, Any], sim_values: dict[str, Any],
     map_yaml = sim_values.get("map_yaml") or sim_default("map_yaml")
     try:
         poses = spawn_poses(count, base, load_map(map_yaml), _robot_radius(sim_values),
-                            zones=list(zone_positions(mission).values()))
+                            destinations=list(zone_positions(mission).values()))
     except (MapError, SpawnError) as err:
         problems.append(f"--robots {count}: {err}")
         return ()
@@ -104,7 +99,7 @@ def fleet_problems(config: RunConfig, mission: dict[str, Any], sim_values: dict[
     Args:
         config: The configuration (``robots``, ``fleet``).
         mission: The runner's parameters (``base_station.*``).
-        sim_values: The ``--sim-param`` values (``map_yaml``, ``world``, ``robot_radius``).
+        sim_values: The ``--sim-param`` values (``map_yaml``, ``robot_radius``).
         node_kinds: The tree's node kinds (empty when the tree did not load).
 
     Returns:

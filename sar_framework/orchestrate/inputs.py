@@ -7,7 +7,7 @@ Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule), ``--time
 apps', then each app's own checks); the apps' file options (``--survivors``: the file
 exists, the app's check of it); and each ``--sim-param``/``--runner-param`` and app
 process's ``--LABEL-param NAME:=VALUE`` (known name, did-you-mean, type and range, from each
-node's table, :func:`node_parameters`; ``blocked_zones`` entries parsed, with the mission's
+node's table, :func:`node_parameters`; ``blocked_areas`` entries parsed, with the mission's
 zone names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
 position is known).
 
@@ -33,7 +33,7 @@ from sar_framework.mission.params_check import check_values, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
-from sar_framework.sim.params import SIM_PARAMETERS, SPEED, sim_default
+from sar_framework.sim.params import SIM_PARAMETERS, SPEED
 
 if TYPE_CHECKING:
     from sar_framework.orchestrate.options import RunConfig
@@ -84,7 +84,7 @@ class CheckedInputs:
         spec: The tree's ``TreeSpec``.
         runner_values: The runner's parameters: the file's, then ``--runner-param``.
         zones: Mission zone id -> ``(x, y)``.
-        blocked_areas: The ``blocked_zones`` fault as ``(x, y, radius)`` circles, metres.
+        blocked_areas: The ``blocked_areas`` fault as ``(x, y, radius)`` circles, metres.
         fleet: The fleet's robots (``--robots``/``--fleet``); empty for one robot.
         coordinator: The zone coordinator starts (a fleet whose tree bids for zones).
         apps: The apps the tree uses.
@@ -140,7 +140,7 @@ def _option_problems(config: RunConfig) -> list[str]:
 def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]:
     values: dict[str, Any] = {}
     given = (config.app_params.get(who, []) if who not in ("sim", "runner")
-             else getattr(config, f"{who}_params"))
+             else config.sim_entries if who == "sim" else config.runner_params)
     for entry in given:
         parsed = parse_entry(entry)
         if parsed is None:
@@ -151,31 +151,46 @@ def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]
 
 
 def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]],
-                   problems: list[str], name: str = "blocked_zones"
+                   problems: list[str], name: str = "blocked_areas"
                    ) -> tuple[tuple[float, float, float], ...]:
-    """The circles of a zone-list fault (``blocked_zones``, ``phantom_obstacles``)."""
-    from sar_framework.sim.faults import FaultConfigError, parse_blocked_zone
-    from sar_framework.sim.world import WorldError, load_world
+    """The circles of a zone-list fault (``blocked_areas``, ``phantom_obstacles``)."""
+    from sar_framework.sim.faults import FaultConfigError, parse_circle
 
     entries = values.get(name)
     if not isinstance(entries, list):
         return ()
-    try:
-        markers = {m.name: (m.x, m.y) for m in load_world(values.get("world") or
-                                                           sim_default("world")).markers}
-    except WorldError:
-        markers = {}
     areas = []
     for entry in entries:
         if not str(entry).strip():
             continue  # [''] means none (a ROS list cannot be empty)
         try:
-            zone = parse_blocked_zone(str(entry), {**markers, **zones}, name)
+            zone = parse_circle(str(entry), zones, name)
         except FaultConfigError as err:
             problems.append(f"--sim-param {err}")
         else:
             areas.append((zone.x, zone.y, zone.radius))
     return tuple(areas)
+
+
+def _map_problems(config: RunConfig, values: dict[str, Any]) -> list[str]:
+    """The simulator's map (``--map``) read as map_server reads it, the spawn pose free on it."""
+    if not config.sim or not {"map_yaml", "spawn_x", "spawn_y"} & values.keys():
+        return []
+    from sar_framework.sim.occupancy import MapError, load_map, spawn_problem
+    from sar_framework.sim.params import sim_default
+
+    flag = "--map" if config.map else "--sim-param map_yaml"
+    map_yaml = str(values.get("map_yaml") or sim_default("map_yaml"))
+    try:
+        grid = load_map(map_yaml)
+    except MapError as err:
+        return [f"{flag}: {err}"]
+    x, y = (values.get(name, sim_default(name)) for name in ("spawn_x", "spawn_y"))
+    if config.is_fleet or not all(isinstance(v, (int, float)) for v in (x, y)):
+        return []  # a fleet's spawn poses are checked with the fleet; a bad type already was
+    problem = spawn_problem(grid, float(x), float(y))
+    where = "--spawn" if config.spawn is not None else "--sim-param spawn_x, spawn_y"
+    return [f"{where}: {problem} on {map_yaml}"] if problem else []
 
 
 def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
@@ -194,6 +209,7 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
                  for who in ("sim", *config.app_params, "runner")}
     problems += [str(err) for err in check_values(overrides["sim"], SIM_PARAMETERS, {},
                                                   "--sim-param")]
+    problems += _map_problems(config, overrides["sim"])
     spec = None
     apps: list[App] = []
     if Path(config.tree).is_file():

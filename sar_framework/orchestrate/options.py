@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from sar_framework.app import installed_apps
-from sar_framework.sim.params import SPEED
+from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED, parse_pose, pose_entries
 
 DEFAULT_DOMAIN_ID = 42
 """``ROS_DOMAIN_ID`` when the environment sets none (the Makefile's value too)."""
@@ -49,6 +50,9 @@ class RunConfig:
         reload: Reload the tree when its file changes (the runner's ``watch_tree``).
         robots: Run a fleet of this many robots near the base (``--robots N``), or None.
         fleet: Run the fleet of this fleet file (``--fleet FILE``), or None.
+        map: The simulator's map (``--map``, a map_server yaml), or None: its default.
+        spawn: Where the robot starts, ``(x, y, yaw)`` (``--spawn``), or None: the
+            simulator's default.
     """
 
     tree: str
@@ -71,16 +75,32 @@ class RunConfig:
     reload: bool = False
     robots: int | None = None
     fleet: str | None = None
+    map: str | None = None
+    spawn: tuple[float, float, float] | None = None
 
     @property
     def is_fleet(self) -> bool:
         """Whether the run is a fleet's (``--robots`` or ``--fleet``)."""
         return self.robots is not None or self.fleet is not None
 
+    @property
+    def sim_entries(self) -> list[str]:
+        """The simulator's ``NAME:=VALUE`` entries: ``--map``, ``--spawn``, then ``--sim-param``."""
+        entries = [f"map_yaml:={str(Path(self.map).absolute())!r}"] if self.map else []
+        entries += pose_entries(self.spawn) if self.spawn is not None else []
+        return entries + self.sim_params
+
 
 # -- command line -------------------------------------------------------------------------
 def _dest(flag: str) -> str:
     return "app_option_" + flag.lstrip("-").replace("-", "_")
+
+
+def _pose(text: str) -> tuple[float, float, float]:
+    try:
+        return parse_pose(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -112,6 +132,13 @@ def configure(parser: argparse.ArgumentParser) -> None:
                      help="run the embedded simulator (default)")
     sim.add_argument("--no-sim", dest="sim", action="store_false",
                      help="do not start the simulator: real Nav2 must be running")
+    parser.add_argument("--map", metavar="FILE.yaml",
+                        help="the simulator's map: a nav2 map_server yaml as map_saver writes "
+                        "it (image, resolution, origin, negate, occupied_thresh, free_thresh, "
+                        f"mode; default: {DEFAULT_MAP_YAML.parent.name}/{DEFAULT_MAP_YAML.name})")
+    parser.add_argument("--spawn", type=_pose, metavar="X,Y[,YAW]",
+                        help="where the robot starts on the map: metres, metres, radians "
+                        "(default: 0,0,0)")
     parser.add_argument("--speed", type=float, default=SPEED.default, metavar="X",
                         help=f"the simulator's speed: {SPEED.description.split(';')[0]}, "
                         f"{SPEED.bounds()} (default: {SPEED.default:g})")
@@ -178,4 +205,5 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
         disabled=list(getattr(args, "disabled", None) or []),
         plugin_paths=list(args.plugin_path), record=args.record,
         watch=args.watch, reload=args.reload, robots=args.robots, fleet=args.fleet,
+        map=args.map, spawn=args.spawn,
     )

@@ -3,10 +3,12 @@
 :func:`read_recording` decodes a recording (the ``mcap`` reader, and rclpy's own CDR
 deserialiser with the installed message classes) into a :class:`Recording`: the tree's
 status per tick, the runner's events, the robot's poses in ``map``, the navigation goals,
-the report service's answers, and the tree and parameter files attached to it.
+the report service's answers, the map the robot drove on (``/map``), and the tree and
+parameter files attached to it.
 :func:`write_report_inputs` turns it into the files :mod:`sar_framework.report` reads
-(``events.jsonl``, ``status.json``, ``trace.jsonl``, ``reports.jsonl``), so a replayed
-report is drawn by the same code as a live one.
+(``events.jsonl``, ``status.json``, ``trace.jsonl``, ``reports.jsonl``, and the map as
+``map.pgm`` and ``map.yaml`` named by the trace), so a replayed report is drawn by the same
+code as a live one, on the same map.
 """
 
 from __future__ import annotations
@@ -24,14 +26,16 @@ from sar_framework.recording.bag_writer import ROS_TYPE_KEY
 from sar_framework.recording.recorder import ATTACHMENT_PARAMS, METADATA_NAME, message_class
 from sar_framework.runner.entry_values import apply_entries
 from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
+from sar_framework.sim.occupancy import OccupancyGrid
 
 GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
+MAP_TOPIC = "/map"
 REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
 GLOBAL_FRAME = "map"
 #: The robot's frame is the one whose name starts so (``base_link``, ``base_footprint``).
 ROBOT_FRAME_PREFIX = "base"
 DECODED_TOPICS = frozenset({STATUS_TOPIC, EVENT_TOPIC, "/tf", "/tf_static",
-                            GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC})
+                            GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC, MAP_TOPIC})
 """The topics a replay needs (the others stay undecoded)."""
 _REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
 
@@ -52,6 +56,7 @@ class Recording:
         poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
         goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
         reports: The report service's requests with the answer (``acknowledged``).
+        map: The last map latched on ``/map``, or None (a recording without one).
         attachments: Attachment name -> bytes (the tree files, plugin sources and
             parameter file).
         metadata: The recorder's metadata (original tree and parameter paths).
@@ -64,9 +69,21 @@ class Recording:
     poses: list[tuple[float, float, float, float]] = field(default_factory=list)
     goals: list[tuple[float, str]] = field(default_factory=list)
     reports: list[dict[str, Any]] = field(default_factory=list)
+    map: OccupancyGrid | None = None
     attachments: dict[str, bytes] = field(default_factory=dict)
     metadata: dict[str, str] = field(default_factory=dict)
     wall_duration_s: float = 0.0
+
+
+def _grid(msg: Any) -> OccupancyGrid:
+    """A ``nav_msgs/msg/OccupancyGrid`` as the report's grid (row 0 the minimum y)."""
+    import numpy as np
+
+    info = msg.info
+    data = np.asarray(msg.data, dtype=np.int8).reshape(info.height, info.width)
+    return OccupancyGrid(data=data, resolution=float(info.resolution),
+                         origin_x=float(info.origin.position.x),
+                         origin_y=float(info.origin.position.y))
 
 
 def _stamp_s(stamp: Any) -> float:
@@ -164,6 +181,8 @@ def read_recording(path: str | Path) -> Recording:
                         recording.events.append(from_message(msg))
                     except ValueError:
                         continue  # a kind a later version added
+                elif channel.topic == MAP_TOPIC:
+                    recording.map = _grid(msg)
                 elif channel.topic in ("/tf", "/tf_static"):
                     recording.poses.extend(tracker.update(msg))
                 elif channel.topic == GOAL_STATUS_TOPIC:
@@ -225,11 +244,11 @@ def status_document(recording: Recording) -> dict[str, Any]:
     return document
 
 
-def trace_records(recording: Recording) -> list[dict[str, Any]]:
+def trace_records(recording: Recording, map_yaml: Path | None = None) -> list[dict[str, Any]]:
     """The simulator's trace (``trace.jsonl``) rebuilt from a recording.
 
     Robot poses with the distance travelled so far, and one ``accepted`` line per
-    navigation goal.
+    navigation goal; the ``start`` line names ``map_yaml``, the recorded map written out.
     """
     records: list[dict[str, Any]] = []
     path_m = 0.0
@@ -238,7 +257,8 @@ def trace_records(recording: Recording) -> list[dict[str, Any]]:
         if previous is not None:
             path_m += math.hypot(x - previous[0], y - previous[1])
         if previous is None:
-            records.append({"sim_s": sim_s, "event": "start", "x": x, "y": y, "yaw": yaw})
+            records.append({"sim_s": sim_s, "event": "start", "x": x, "y": y, "yaw": yaw,
+                            **({"map": str(map_yaml)} if map_yaml is not None else {})})
         elif (x, y) == previous:
             continue
         records.append({"sim_s": sim_s, "x": round(x, 4), "y": round(y, 4),
@@ -260,11 +280,15 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
         ``{"params": ...}``: the attached parameter file, written into ``folder`` (none
         when the recording has no such attachment).
     """
+    from sar_framework.sim.map_writer import write_map
+
     folder.mkdir(parents=True, exist_ok=True)
+    map_yaml = write_map(recording.map, folder / "map")[1] if recording.map is not None else None
     (folder / "status.json").write_text(json.dumps(status_document(recording), indent=1),
                                         encoding="utf-8")
     (folder / "trace.jsonl").write_text(
-        "".join(json.dumps(r) + "\n" for r in trace_records(recording)), encoding="utf-8")
+        "".join(json.dumps(r) + "\n" for r in trace_records(recording, map_yaml)),
+        encoding="utf-8")
     accepted = [r for r in recording.reports if r["acknowledged"]]
     (folder / "reports.jsonl").write_text(
         "".join(json.dumps({k: v for k, v in r.items() if k != "acknowledged"}) + "\n"

@@ -69,6 +69,7 @@ RECORDED_TOPICS = (
     RecordedTopic("/tf", "tf2_msgs/msg/TFMessage"),
     RecordedTopic("/tf_static", "tf2_msgs/msg/TFMessage", latched=True),
     RecordedTopic("/amcl_pose", "geometry_msgs/msg/PoseWithCovarianceStamped", latched=True),
+    RecordedTopic("/map", "nav_msgs/msg/OccupancyGrid", latched=True),
     RecordedTopic("/navigate_to_pose/_action/status", "action_msgs/msg/GoalStatusArray",
                   latched=True),
     RecordedTopic("/navigate_to_pose/_action/feedback",

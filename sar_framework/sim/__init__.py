@@ -1,13 +1,17 @@
-"""Embedded Nav2 stand-in: the course world, its map, and nodes that speak Nav2's surface.
+"""Embedded Nav2 stand-in: a map, robots on it, and nodes that speak Nav2's surface.
+
+It runs on any map_server map (``map_yaml``; the course's by default), the robots spawned
+where their parameters or the fleet file say. It knows no mission.
 
 ROS-free core (plain Python + numpy)::
 
-    world       the course world's geometry (maps/final_project_world.yaml)
-    occupancy   rasterise it into a map_server map; load maps; inflate
+    world       obstacle geometry of a world file (walls, debris, robot), map_writer's input
+    occupancy   load map_server maps as map_server does; rasterise a world; inflate
+    map_writer  write a map_server map (PGM + yaml)
     planner     A* on the inflated grid
     drive       differential-drive model and path follower, stepped by dt
     clock       simulated time paced by a speed factor
-    faults      fault-injection params (reject, abort Nth, delay, blocked zones, phantoms)
+    faults      fault-injection params (reject, abort Nth, delay, blocked areas, phantoms)
     costmaps    the two costmaps' phantom layer: what clearing removes, walls that stay
     progress_checker  the stuck-controller fault as Nav2's progress checker sees it
     plugin_ids  the planner/controller/checker/smoother ids of config/nav2_params.yaml

@@ -10,8 +10,8 @@ clearing services, by Nav2's names:
 - ``clear_except_<costmap>`` (ClearCostmapExceptRegion): the phantoms centred outside it go.
 
 What a costmap holds is described in :mod:`~sar_framework.sim.costmaps`: the static map and
-``blocked_zones`` never clear. ``is_path_valid`` (IsPathValid) checks a path's poses, from the
-one nearest the robot on, against the global costmap (map, blocked zones, its phantoms):
+``blocked_areas`` never clear. ``is_path_valid`` (IsPathValid) checks a path's poses, from the
+one nearest the robot on, against the global costmap (map, blocked areas, its phantoms):
 a pose in a lethal cell (or off the map) is invalid. Nav2 Jazzy also rejects inscribed cells
 (within the robot's radius of an obstacle); the simulator does not, since its spawn lies
 that close to a wall and every path from it would be invalid.

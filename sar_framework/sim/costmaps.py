@@ -5,7 +5,7 @@ them drops those marks, never the static map. The simulator has no sensors, so t
 are the ``phantom_obstacles`` fault's circles, written into BOTH costmaps:
 
 - the global costmap's phantoms are obstacles to the planner (:meth:`Costmaps.planner`:
-  static map + ``blocked_zones`` + these), and to ``is_path_valid``;
+  static map + ``blocked_areas`` + these), and to ``is_path_valid``;
 - the local costmap's phantoms stop the controller (:meth:`Costmaps.local_blocks`: a path
   through one gives FollowPath's NO_VALID_CONTROL) and make drive_on_heading / backup see a
   collision ahead.
@@ -13,7 +13,7 @@ are the ``phantom_obstacles`` fault's circles, written into BOTH costmaps:
 A fleet's other robots are a third layer of the global costmap only (:mod:`.traffic`), each
 padded by the gap the controller keeps (:func:`~.traffic.padding`).
 
-``blocked_zones`` are part of the base grid (a real wall): no clearing removes them.
+``blocked_areas`` are part of the base grid (a real wall): no clearing removes them.
 Clearing follows Nav2's three services: entirely, around the robot (the phantoms whose centre
 lies in the square of side ``reset_distance`` centred on the robot, as Nav2's
 ``clearLayerRegion``) and except that region (those outside it). A phantom is removed whole
@@ -28,7 +28,7 @@ import threading
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import replace
 
-from sar_framework.sim.faults import BlockedZone, with_blocked_zones
+from sar_framework.sim.faults import Circle, with_circles
 from sar_framework.sim.geometry import segment_distance
 from sar_framework.sim.goals import FOLLOW_PATH_NO_VALID_CONTROL
 from sar_framework.sim.occupancy import OccupancyGrid
@@ -45,9 +45,9 @@ class Layer(enum.Enum):
     LOCAL = "local_costmap"
 
 
-def _in_square(zone: BlockedZone, centre: Point, side: float) -> bool:
-    """Whether ``zone``'s centre lies in the axis-aligned square of ``side`` at ``centre``."""
-    return abs(zone.x - centre[0]) <= side / 2.0 and abs(zone.y - centre[1]) <= side / 2.0
+def _in_square(circle: Circle, centre: Point, side: float) -> bool:
+    """Whether ``circle``'s centre lies in the axis-aligned square of ``side`` at ``centre``."""
+    return abs(circle.x - centre[0]) <= side / 2.0 and abs(circle.y - centre[1]) <= side / 2.0
 
 
 class Costmaps:
@@ -57,25 +57,25 @@ class Costmaps:
         static: The map.
         robot_radius: Inflation radius of the planner, metres.
         phantoms: The phantoms written into both costmaps at start.
-        walls: The ``blocked_zones`` (never cleared; :meth:`set_walls` replaces them).
+        walls: The ``blocked_areas`` (never cleared; :meth:`set_walls` replaces them).
         planner: The planner over ``static`` (no walls) if already built.
         traffic: The other robots of a fleet, an obstacle layer of the global costmap.
     """
 
     def __init__(self, static: OccupancyGrid, robot_radius: float,
-                 phantoms: Iterable[BlockedZone] = (), *, walls: Iterable[BlockedZone] = (),
+                 phantoms: Iterable[Circle] = (), *, walls: Iterable[Circle] = (),
                  planner: GridPlanner | None = None, traffic: Traffic | None = None) -> None:
         self._static = static
         self._traffic = traffic
         self._radius = robot_radius
         self._lock = threading.Lock()
         self.walls = tuple(walls)
-        self._base = with_blocked_zones(static, self.walls) if self.walls else static
+        self._base = with_circles(static, self.walls) if self.walls else static
         self._base_planner = planner if planner is not None and not self.walls else \
             GridPlanner(self._base, robot_radius=robot_radius)
         self._planner = self._base_planner
-        self._phantoms: dict[Layer, tuple[BlockedZone, ...]] = {layer: () for layer in Layer}
-        self._planned: tuple[BlockedZone, ...] = ()
+        self._phantoms: dict[Layer, tuple[Circle, ...]] = {layer: () for layer in Layer}
+        self._planned: tuple[Circle, ...] = ()
         self.write(phantoms)
 
     @classmethod
@@ -83,28 +83,28 @@ class Costmaps:
         """Costmaps without phantoms over ``planner``'s grid and inflation."""
         return cls(planner.grid, planner.robot_radius, planner=planner)
 
-    def set_walls(self, walls: Iterable[BlockedZone]) -> None:
-        """Replace the ``blocked_zones`` walls (tens of milliseconds: the planner is rebuilt)."""
-        zones = tuple(walls)
-        base = with_blocked_zones(self._static, zones) if zones else self._static
+    def set_walls(self, walls: Iterable[Circle]) -> None:
+        """Replace the ``blocked_areas`` walls (tens of milliseconds: the planner is rebuilt)."""
+        circles = tuple(walls)
+        base = with_circles(self._static, circles) if circles else self._static
         planner = GridPlanner(base, robot_radius=self._radius)
         with self._lock:
-            self.walls, self._base, self._base_planner = zones, base, planner
+            self.walls, self._base, self._base_planner = circles, base, planner
             self._planner, self._planned = planner, ()
 
-    def phantoms(self, layer: Layer) -> tuple[BlockedZone, ...]:
+    def phantoms(self, layer: Layer) -> tuple[Circle, ...]:
         """The phantoms ``layer`` holds now."""
         with self._lock:
             return self._phantoms[layer]
 
-    def write(self, phantoms: Iterable[BlockedZone]) -> None:
+    def write(self, phantoms: Iterable[Circle]) -> None:
         """Write ``phantoms`` into both costmaps, replacing what they held."""
-        zones = tuple(phantoms)
+        circles = tuple(phantoms)
         with self._lock:
             for layer in Layer:
-                self._phantoms[layer] = zones
+                self._phantoms[layer] = circles
 
-    def clear(self, layer: Layer, keep: Callable[[BlockedZone], bool] | None = None) -> int:
+    def clear(self, layer: Layer, keep: Callable[[Circle], bool] | None = None) -> int:
         """Remove the phantoms of ``layer`` that ``keep`` does not keep (all without it).
 
         Returns:
@@ -129,7 +129,7 @@ class Costmaps:
         return self.clear(layer, lambda z: _in_square(z, robot, reset_distance))
 
     @property
-    def robots(self) -> tuple[BlockedZone, ...]:
+    def robots(self) -> tuple[Circle, ...]:
         """The other robots as the global costmap holds them: padded by :func:`padding`."""
         if self._traffic is None:
             return ()
@@ -143,31 +143,31 @@ class Costmaps:
         """
         others = self.robots
         with self._lock:
-            zones = self._phantoms[Layer.GLOBAL] + others
-            if zones == self._planned:
+            circles = self._phantoms[Layer.GLOBAL] + others
+            if circles == self._planned:
                 return self._planner
-            planner = self._base_planner if not zones else GridPlanner(
-                with_blocked_zones(self._base, zones), robot_radius=self._radius)
-            self._planner, self._planned = planner, zones
+            planner = self._base_planner if not circles else GridPlanner(
+                with_circles(self._base, circles), robot_radius=self._radius)
+            self._planner, self._planned = planner, circles
             return planner
 
     def local_failure(self, path: Sequence[Point]) -> tuple[int, str] | None:
         """FollowPath's NO_VALID_CONTROL if ``path`` runs through a local phantom, else None."""
-        zone = self.local_blocks(path)
-        if zone is None:
+        circle = self.local_blocks(path)
+        if circle is None:
             return None
         return (FOLLOW_PATH_NO_VALID_CONTROL, "No valid trajectories: an obstacle of the "
-                f"local costmap at ({zone.x:.2f}, {zone.y:.2f}) lies on the path")
+                f"local costmap at ({circle.x:.2f}, {circle.y:.2f}) lies on the path")
 
-    def local_blocks(self, path: Sequence[Point]) -> BlockedZone | None:
+    def local_blocks(self, path: Sequence[Point]) -> Circle | None:
         """The first local phantom the robot's footprint would touch along ``path``, if any."""
         with self._lock:
-            zones = self._phantoms[Layer.LOCAL]
-        if not zones or not path:
+            circles = self._phantoms[Layer.LOCAL]
+        if not circles or not path:
             return None
         segments = list(itertools.pairwise(path)) or [(path[0], path[0])]
-        for zone in zones:
-            reach = zone.radius + self._radius
-            if any(segment_distance((zone.x, zone.y), a, b) < reach for a, b in segments):
-                return zone
+        for circle in circles:
+            reach = circle.radius + self._radius
+            if any(segment_distance((circle.x, circle.y), a, b) < reach for a, b in segments):
+                return circle
         return None

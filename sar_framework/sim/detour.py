@@ -7,9 +7,9 @@ Plain Python. Two things Nav2 does that a robot of a fleet needs:
   half-side ``tolerance`` around the goal for the nearest point it can reach (a square, not
   a circle), and the path ENDS there (``smoothApproachToGoal`` appends that point, not the
   goal). The controller's goal checker tests the path's last pose, so NavigateToPose
-  succeeds there. A goal that another robot covers (one killed on its zone) is reached that
+  succeeds there. A goal that another robot covers (one stopped there) is reached that
   way: the path ends at the nearest reachable free cell of that square. A goal in a wall or
-  a ``blocked_zones`` circle keeps the simulator's rule (:mod:`.planner`: GOAL_OCCUPIED, or
+  a ``blocked_areas`` circle keeps the simulator's rule (:mod:`.planner`: GOAL_OCCUPIED, or
   the approach cell plus a straight leg to the goal).
 - **Replanning** (:class:`Detour`). Nav2's default navigate_to_pose tree replans at 1 Hz
   (``RateController hz="1.0"`` around ``ComputePathToPose``); the simulator plans once per
@@ -29,7 +29,7 @@ import numpy as np
 
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import BlockedZone
+from sar_framework.sim.faults import Circle
 from sar_framework.sim.goals import Goal, Kind
 from sar_framework.sim.planner import GridPlanner, NoPath, PlanningError
 from sar_framework.sim.traffic import GLOBAL_UPDATE_S, Traffic
@@ -40,7 +40,7 @@ __all__ = ["Detour", "approach", "covered", "plan_legs"]
 Point = tuple[float, float]
 
 
-def covered(planner: GridPlanner, robots: Sequence[BlockedZone], goal: Point) -> bool:
+def covered(planner: GridPlanner, robots: Sequence[Circle], goal: Point) -> bool:
     """Whether another robot covers ``goal``: it is not free, and within a robot's reach.
 
     Reach: the robot's (padded) circle in the costmap plus this robot's radius and a cell.
@@ -78,7 +78,7 @@ def approach(planner: GridPlanner, start: Point, goal: Point) -> list[Point]:
                  f"no free cell within {tolerance} m (NavFn's tolerance) can be reached")
 
 
-def plan_legs(planner: GridPlanner, robots: Sequence[BlockedZone], start: Pose2D,
+def plan_legs(planner: GridPlanner, robots: Sequence[Circle], start: Pose2D,
               poses: Sequence[Pose2D]) -> list[list[Point]]:
     """Plan from ``start`` through ``poses``; a pose another robot covers by :func:`approach`.
 

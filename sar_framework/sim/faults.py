@@ -10,10 +10,10 @@ Plain Python (no ROS). The simulator node reads these settings from its paramete
   simulated seconds after they start, as a failing controller would.
 - ``accept_delay_wall_s``: the server answers a goal request only after this many *wall*
   seconds (client time-outs are wall-clock bounds, so the delay is too).
-- ``blocked_zones``: circles added to the map as obstacles before planning. Each entry is
-  ``"x:y:radius"`` (``,`` or spaces also separate), or the name of a world marker with an
-  optional radius: ``"zone_b"`` or ``"zone_b:0.8"`` (``sar-tree run`` also accepts the
-  mission's zone names, which it turns into ``x:y:radius``).
+- ``blocked_areas``: circles added to the map as obstacles before planning. Each entry is
+  ``"x:y:radius"`` (``,`` or spaces also separate). The simulator knows no names; a caller
+  that knows named places passes them to :func:`parse_circle` (``sar-tree run`` accepts the
+  names its app gives, ``"name"`` or ``"name:0.8"``, and turns them into ``x:y:radius``).
 - ``phantom_obstacles``: circles, same syntax, written into both costmaps (never into the
   map); costmap clearing removes them (:mod:`.costmaps`). Settable at run time.
 - ``stuck_recoveries`` / ``movement_time_allowance``: the controller makes no progress and
@@ -33,8 +33,8 @@ import numpy as np
 from sar_framework.sim.occupancy import OCCUPIED, OccupancyGrid
 from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
 
-__all__ = ["DEFAULT_NAMED_RADIUS", "BlockedZone", "FaultConfigError", "Faults", "make_faults",
-           "parse_blocked_zone", "parse_zones", "with_blocked_zones"]
+__all__ = ["DEFAULT_NAMED_RADIUS", "Circle", "FaultConfigError", "Faults", "describe_circles",
+           "make_faults", "parse_circle", "parse_circles", "with_circles"]
 
 _SEPARATORS = re.compile(r"[:,\s]+")
 
@@ -44,7 +44,7 @@ class FaultConfigError(ValueError):
 
 
 @dataclass(frozen=True)
-class BlockedZone:
+class Circle:
     """A circular area the planner must treat as an obstacle.
 
     Attributes:
@@ -66,57 +66,58 @@ def _number(text: str, entry: str, setting: str) -> float:
     except ValueError:
         raise FaultConfigError(
             f"{setting}: {entry!r}: {text!r} is not a number (expected 'x:y:radius' "
-            "or 'marker[:radius]')"
+            "or 'name[:radius]')"
         ) from None
     if not math.isfinite(value):
         raise FaultConfigError(f"{setting}: {entry!r}: {text!r} is not finite")
     return value
 
 
-def parse_blocked_zone(entry: str, markers: Mapping[str, tuple[float, float]],
-                       setting: str = "blocked_zones") -> BlockedZone:
-    """Parse one ``blocked_zones`` (or ``phantom_obstacles``) entry.
+def parse_circle(entry: str, places: Mapping[str, tuple[float, float]],
+                 setting: str = "blocked_areas") -> Circle:
+    """Parse one ``blocked_areas`` (or ``phantom_obstacles``) entry.
 
     Args:
-        entry: ``"x:y:radius"`` or ``"marker"`` / ``"marker:radius"``.
-        markers: Known marker names and their ``(x, y)`` centres.
+        entry: ``"x:y:radius"``, or ``"name"`` / ``"name:radius"`` of one of ``places``.
+        places: Named places the caller knows and their ``(x, y)`` centres ({}: none).
         setting: The parameter it comes from (named in errors).
 
     Returns:
-        The zone.
+        The circle.
 
     Raises:
-        FaultConfigError: Unknown marker, wrong number of fields, or a bad number.
+        FaultConfigError: Unknown name, wrong number of fields, or a bad number.
     """
     parts = [p for p in _SEPARATORS.split(entry.strip()) if p]
     if not parts:
         raise FaultConfigError(f"{setting}: empty entry")
-    if parts[0] in markers:
+    if parts[0] in places:
         if len(parts) > 2:
-            raise FaultConfigError(f"{setting}: {entry!r}: expected 'marker[:radius]'")
-        x, y = markers[parts[0]]
+            raise FaultConfigError(f"{setting}: {entry!r}: expected 'name[:radius]'")
+        x, y = places[parts[0]]
         radius = _number(parts[1], entry, setting) if len(parts) == 2 else DEFAULT_NAMED_RADIUS
     elif len(parts) == 3:
         x, y, radius = (_number(p, entry, setting) for p in parts)
-    else:
-        known = ", ".join(sorted(markers)) or "none"
+    elif places:
         raise FaultConfigError(
-            f"{setting}: {entry!r}: expected 'x:y:radius' or a marker name "
-            f"(known markers: {known})"
+            f"{setting}: {entry!r}: expected 'x:y:radius' or a place's name "
+            f"(known: {', '.join(sorted(places))})"
         )
+    else:
+        raise FaultConfigError(f"{setting}: {entry!r}: expected 'x:y:radius'")
     if radius <= 0.0:
         raise FaultConfigError(f"{setting}: {entry!r}: radius must be positive")
-    return BlockedZone(x=x, y=y, radius=radius, label=entry)
+    return Circle(x=x, y=y, radius=radius, label=entry)
 
 
-def parse_zones(entries: Iterable[str], markers: Mapping[str, tuple[float, float]],
-                setting: str) -> tuple[BlockedZone, ...]:
-    """Parse a list of zone entries; empty strings are ignored (``['']`` means none).
+def parse_circles(entries: Iterable[str], places: Mapping[str, tuple[float, float]],
+                  setting: str) -> tuple[Circle, ...]:
+    """Parse a list of circle entries; empty strings are ignored (``['']`` means none).
 
     Raises:
         FaultConfigError: An entry is malformed (the message names ``setting``).
     """
-    return tuple(parse_blocked_zone(entry, markers, setting)
+    return tuple(parse_circle(entry, places, setting)
                  for entry in entries if entry.strip())
 
 
@@ -129,7 +130,7 @@ class Faults:
         abort_goal_numbers: 1-based numbers of the accepted goals that abort.
         abort_delay_s: Simulated seconds an injected abort waits after the goal starts.
         accept_delay_wall_s: Wall seconds before a goal request is answered.
-        blocked_zones: Extra circular obstacles.
+        blocked_areas: Extra circular obstacles.
         phantom_obstacles: Circles in both costmaps (clearing removes them) at start-up.
         stuck_recoveries: Recovery motions a stuck controller needs at start-up.
         movement_time_allowance: Simulated seconds before a stuck controller fails.
@@ -139,8 +140,8 @@ class Faults:
     abort_goal_numbers: frozenset[int] = field(default_factory=frozenset)
     abort_delay_s: float = 1.0
     accept_delay_wall_s: float = 0.0
-    blocked_zones: tuple[BlockedZone, ...] = ()
-    phantom_obstacles: tuple[BlockedZone, ...] = ()
+    blocked_areas: tuple[Circle, ...] = ()
+    phantom_obstacles: tuple[Circle, ...] = ()
     stuck_recoveries: int = 0
     movement_time_allowance: float = 10.0
 
@@ -155,7 +156,7 @@ class Faults:
             self.reject_goals
             or self.abort_goal_numbers
             or self.accept_delay_wall_s > 0.0
-            or self.blocked_zones
+            or self.blocked_areas
             or self.phantom_obstacles
             or self.stuck_recoveries
         )
@@ -170,13 +171,10 @@ class Faults:
             parts.append(f"abort goals [{numbers}] after {self.abort_delay_s:g} s")
         if self.accept_delay_wall_s > 0.0:
             parts.append(f"accept after {self.accept_delay_wall_s:g} s wall")
-        if self.blocked_zones:
-            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.blocked_zones)
-            parts.append(f"blocked zones {zones}")
+        if self.blocked_areas:
+            parts.append(f"blocked areas {describe_circles(self.blocked_areas)}")
         if self.phantom_obstacles:
-            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})"
-                              for z in self.phantom_obstacles)
-            parts.append(f"phantom obstacles {zones}")
+            parts.append(f"phantom obstacles {describe_circles(self.phantom_obstacles)}")
         if self.stuck_recoveries:
             parts.append(f"stuck for {self.stuck_recoveries} recoveries "
                          f"(fails after {self.movement_time_allowance:g} s)")
@@ -189,15 +187,14 @@ def make_faults(
     abort_goal_numbers: Iterable[int] = (),
     abort_delay_s: float = 1.0,
     accept_delay_wall_s: float = 0.0,
-    blocked_zones: Iterable[str] = (),
-    markers: Mapping[str, tuple[float, float]] | None = None,
+    blocked_areas: Iterable[str] = (),
     phantom_obstacles: Iterable[str] = (),
     stuck_recoveries: int = 0,
     movement_time_allowance: float = 10.0,
 ) -> Faults:
     """Validate raw settings (as read from ROS parameters) into :class:`Faults`.
 
-    Empty strings in ``blocked_zones`` and zeros in ``abort_goal_numbers`` are ignored:
+    Empty strings in ``blocked_areas`` and zeros in ``abort_goal_numbers`` are ignored:
     ROS parameters cannot hold an empty typed list, so ``['']`` and ``[0]`` mean "none".
 
     Args:
@@ -205,9 +202,8 @@ def make_faults(
         abort_goal_numbers: 1-based accepted-goal numbers to abort.
         abort_delay_s: Simulated seconds before an injected abort.
         accept_delay_wall_s: Wall seconds before a goal request is answered.
-        blocked_zones: Entries for :func:`parse_blocked_zone`.
-        markers: Marker names for named blocked zones.
-        phantom_obstacles: Entries for :func:`parse_blocked_zone`, as ``blocked_zones``.
+        blocked_areas: Entries for :func:`parse_circle` (``x:y:radius``).
+        phantom_obstacles: Entries for :func:`parse_circle`, as ``blocked_areas``.
         stuck_recoveries: Recovery motions a stuck controller needs (>= 0).
         movement_time_allowance: Seconds a stuck controller runs before it fails (> 0).
 
@@ -232,34 +228,39 @@ def make_faults(
     if not (math.isfinite(movement_time_allowance) and movement_time_allowance > 0.0):
         raise FaultConfigError(f"movement_time_allowance: expected a number > 0, "
                                f"got {movement_time_allowance!r}")
-    zones = parse_zones(blocked_zones, markers or {}, "blocked_zones")
+    areas = parse_circles(blocked_areas, {}, "blocked_areas")
     return Faults(
         reject_goals=bool(reject_goals),
         abort_goal_numbers=numbers,
         abort_delay_s=float(abort_delay_s),
         accept_delay_wall_s=float(accept_delay_wall_s),
-        blocked_zones=zones,
-        phantom_obstacles=parse_zones(phantom_obstacles, markers or {}, "phantom_obstacles"),
+        blocked_areas=areas,
+        phantom_obstacles=parse_circles(phantom_obstacles, {}, "phantom_obstacles"),
         stuck_recoveries=int(stuck_recoveries),
         movement_time_allowance=float(movement_time_allowance),
     )
 
 
-def with_blocked_zones(grid: OccupancyGrid, zones: Iterable[BlockedZone]) -> OccupancyGrid:
-    """Return a copy of ``grid`` with every cell whose centre lies in a zone made occupied.
+def describe_circles(circles: Iterable[Circle]) -> str:
+    """Circles in one line for a log: ``(1, -0.5, r 0.3), ...`` ("" for none)."""
+    return ", ".join(f"({c.x:g}, {c.y:g}, r {c.radius:g})" for c in circles)
+
+
+def with_circles(grid: OccupancyGrid, circles: Iterable[Circle]) -> OccupancyGrid:
+    """Return a copy of ``grid`` with every cell whose centre lies in a circle made occupied.
 
     Args:
         grid: The map.
-        zones: Circles to add.
+        circles: Circles to add.
 
     Returns:
         A new grid (``grid`` is left unchanged).
     """
     data = grid.data.copy()
     xs, ys = grid.cell_centres()
-    for zone in zones:
-        inside = (xs[np.newaxis, :] - zone.x) ** 2 + (ys[:, np.newaxis] - zone.y) ** 2
-        data[inside <= zone.radius**2] = OCCUPIED
+    for circle in circles:
+        inside = (xs[np.newaxis, :] - circle.x) ** 2 + (ys[:, np.newaxis] - circle.y) ** 2
+        data[inside <= circle.radius**2] = OCCUPIED
     return OccupancyGrid(
         data=data, resolution=grid.resolution, origin_x=grid.origin_x, origin_y=grid.origin_y
     )

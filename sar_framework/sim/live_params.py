@@ -6,7 +6,7 @@ are parsed) before anything changes; a bad value is refused with a reason naming
 parameter, and the simulator keeps what it had. Every other parameter is fixed.
 
 - ``phantom_obstacles``: re-written into both costmaps at once;
-- ``blocked_zones``: the walls are replaced (the planner is rebuilt);
+- ``blocked_areas``: the walls are replaced (the planner is rebuilt);
 - ``stuck_recoveries`` / ``movement_time_allowance``: the stuck controller is re-armed;
 - ``speed``: handed to the physics loop.
 
@@ -15,14 +15,20 @@ parameter, and the simulator keeps what it had. Every other parameter is fixed.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from typing import Any
 
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.parameter import Parameter
 
 from sar_framework.sim.costmaps import Costmaps
-from sar_framework.sim.faults import BlockedZone, FaultConfigError, Faults, parse_zones
+from sar_framework.sim.faults import (
+    Circle,
+    FaultConfigError,
+    Faults,
+    describe_circles,
+    parse_circles,
+)
 from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.params import RUNTIME_NAMES, SIM_PARAMETERS, SPEED
 
@@ -43,22 +49,19 @@ class LiveParameters:
 
     Args:
         faults: The faults read at start-up (the current values until changed).
-        markers: World marker names for named phantoms.
         costmaps: The costmaps phantoms are written into.
         navigator: Holds the stuck controller.
         set_speed: Hands a new speed factor to the physics loop.
         log: Logs one line per change.
     """
 
-    def __init__(self, faults: Faults, markers: Mapping[str, tuple[float, float]], *,
-                 costmaps: Costmaps, navigator: Navigator, set_speed: Callable[[float], None],
-                 log: Callable[[str], None]) -> None:
-        self._markers = dict(markers)
+    def __init__(self, faults: Faults, *, costmaps: Costmaps, navigator: Navigator,
+                 set_speed: Callable[[float], None], log: Callable[[str], None]) -> None:
         self._costmaps = costmaps
         self._navigator = navigator
         self._set_speed = set_speed
         self._log = log
-        self.phantoms: tuple[BlockedZone, ...] = faults.phantom_obstacles
+        self.phantoms: tuple[Circle, ...] = faults.phantom_obstacles
         self.stuck_recoveries = faults.stuck_recoveries
         self.movement_time_allowance = faults.movement_time_allowance
 
@@ -79,9 +82,9 @@ class LiveParameters:
             problem = None if value is None else _TABLE[name].problem(value)
             if problem is not None:
                 return SetParametersResult(successful=False, reason=f"{name}: {problem}")
-            if name in ("phantom_obstacles", "blocked_zones"):
+            if name in ("phantom_obstacles", "blocked_areas"):
                 try:
-                    value = parse_zones(value or (), self._markers, name)
+                    value = parse_circles(value or (), {}, name)
                 except FaultConfigError as exc:
                     return SetParametersResult(successful=False, reason=str(exc))
             elif value is None:
@@ -98,13 +101,12 @@ class LiveParameters:
         if "phantom_obstacles" in changes:
             self.phantoms = changes["phantom_obstacles"]
             self._costmaps.write(self.phantoms)
-            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})" for z in self.phantoms)
-            self._log(f"phantom_obstacles written into both costmaps: {zones or 'none'}")
-        if "blocked_zones" in changes:
-            self._costmaps.set_walls(changes["blocked_zones"])
-            zones = ", ".join(f"({z.x:g}, {z.y:g}, r {z.radius:g})"
-                              for z in changes["blocked_zones"])
-            self._log(f"blocked_zones (walls) now: {zones or 'none'}")
+            self._log("phantom_obstacles written into both costmaps: "
+                      f"{describe_circles(self.phantoms) or 'none'}")
+        if "blocked_areas" in changes:
+            self._costmaps.set_walls(changes["blocked_areas"])
+            self._log("blocked_areas (walls) now: "
+                      f"{describe_circles(changes['blocked_areas']) or 'none'}")
         if {"stuck_recoveries", "movement_time_allowance"} & changes.keys():
             self.stuck_recoveries = int(changes.get("stuck_recoveries", self.stuck_recoveries))
             self.movement_time_allowance = float(

@@ -7,7 +7,7 @@
   ``|target.x|`` at ``|speed|``), ``drive_on_heading`` (drive ``target.x``, its sign the
   speed's; INVALID_INPUT when they differ) and ``wait``, each with Nav2's ``time_allowance``
   timeout; a straight motion fails with COLLISION_AHEAD when its way is blocked (a wall, a
-  blocked zone, a phantom of either costmap) and with INVALID_INPUT for a sideways target.
+  blocked area, a phantom of either costmap) and with INVALID_INPUT for a sideways target.
   A completed spin, backup or drive_on_heading counts a stuck controller down.
 - ``waypoint_follower``: ``follow_waypoints`` navigates to each pose in turn (from
   ``goal_index``), feedback ``current_waypoint``; a failed waypoint is reported in

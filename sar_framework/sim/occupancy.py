@@ -22,7 +22,8 @@ import numpy as np
 import yaml
 from PIL import Image
 
-from sar_framework.sim.world import DEFAULT_WORLD_PATH, Box, Cylinder, World
+from sar_framework.sim.params import DEFAULT_MAP_YAML
+from sar_framework.sim.world import Box, Cylinder, World
 
 FREE = 0
 OCCUPIED = 100
@@ -34,7 +35,8 @@ PGM_UNKNOWN = 205
 
 DEFAULT_RESOLUTION = 0.05
 DEFAULT_MARGIN = 0.3
-DEFAULT_MAP_PREFIX = DEFAULT_WORLD_PATH.parent / "final_project_map"
+DEFAULT_MAP_PREFIX = DEFAULT_MAP_YAML.with_suffix("")
+"""The simulator's default map without its extension (``maps/final_project_map``)."""
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.25
 
@@ -264,6 +266,27 @@ def inflate(grid: OccupancyGrid, radius: float) -> np.ndarray:
     return distance <= radius + 1e-6
 
 
+def spawn_problem(grid: OccupancyGrid, x: float, y: float) -> str | None:
+    """Why a robot cannot start at ``(x, y)`` on ``grid`` (outside it, or not free), or None.
+
+    Args:
+        grid: The map.
+        x: Metres, map frame.
+        y: Metres, map frame.
+    """
+    row, col = grid.world_to_cell(x, y)
+    if not grid.in_bounds(row, col):
+        x1 = grid.origin_x + grid.width * grid.resolution
+        y1 = grid.origin_y + grid.height * grid.resolution
+        return (f"({x:g}, {y:g}) lies outside the map (x {grid.origin_x:g}..{x1:g}, "
+                f"y {grid.origin_y:g}..{y1:g})")
+    value = int(grid.data[row, col])
+    if value != FREE:
+        what = {OCCUPIED: "occupied", UNKNOWN: "unknown"}.get(value, f"occupancy {value}")
+        return f"({x:g}, {y:g}) is not free on the map ({what})"
+    return None
+
+
 def _yaml_number(doc: dict, key: str, source: str) -> float:
     value = doc.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -276,7 +299,8 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
 
     Supports ``mode`` trinary (default), scale and raw, and ``negate``. Occupancy of a pixel
     is ``1 - shade/255`` (``shade/255`` when negated); above ``occupied_thresh`` is
-    ``OCCUPIED``, below ``free_thresh`` is ``FREE``.
+    ``OCCUPIED``, below ``free_thresh`` is ``FREE``; in scale mode, between them is graded
+    0..100 and a pixel not fully opaque (an image with alpha) is ``UNKNOWN``.
 
     Args:
         yaml_path: The map's yaml file; ``image`` is resolved relative to it.
@@ -316,6 +340,12 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
         raise MapError(f"{source}: mode: expected trinary, scale or raw, got {mode!r}")
     occupied_thresh = _yaml_number({"occupied_thresh": 0.65, **doc}, "occupied_thresh", source)
     free_thresh = _yaml_number({"free_thresh": 0.25, **doc}, "free_thresh", source)
+    for key, value in (("occupied_thresh", occupied_thresh), ("free_thresh", free_thresh)):
+        if not 0.0 <= value <= 1.0:
+            raise MapError(f"{source}: {key}: expected a number from 0 to 1, got {value!r}")
+    if free_thresh >= occupied_thresh:
+        raise MapError(f"{source}: free_thresh: expected below occupied_thresh "
+                       f"({occupied_thresh!r}), got {free_thresh!r}")
     negate = doc.get("negate", 0)
     if negate not in (0, 1):
         raise MapError(f"{source}: negate: expected 0 or 1, got {negate!r}")
@@ -324,10 +354,12 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
     try:
         with Image.open(image_path) as image:
             shade = np.asarray(image.convert("L"), dtype=np.float64)
+            opaque = (np.asarray(image.getchannel("A")) == 255 if "A" in image.getbands()
+                      else np.ones(shade.shape, dtype=bool))
     except (OSError, ValueError) as exc:
         raise MapError(f"{source}: image: cannot read {image_path}: {exc}") from exc
 
-    shade = np.flipud(shade)
+    shade, opaque = np.flipud(shade), np.flipud(opaque)
     data = np.full(shade.shape, UNKNOWN, dtype=np.int8)
     if mode == "raw":
         in_range = shade <= OCCUPIED
@@ -339,6 +371,8 @@ def load_map(yaml_path: str | Path) -> OccupancyGrid:
             data[:] = np.rint(np.clip(ratio, 0.0, 1.0) * 100.0).astype(np.int8)
         data[occ > occupied_thresh] = OCCUPIED
         data[occ < free_thresh] = FREE
+        if mode == "scale":
+            data[~opaque] = UNKNOWN  # map_server: a transparent pixel is unknown in scale mode
     return OccupancyGrid(
         data=data, resolution=resolution, origin_x=float(origin[0]), origin_y=float(origin[1])
     )

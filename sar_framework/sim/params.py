@@ -8,16 +8,18 @@ speed's default from. Integers are accepted where a number is expected (``speed:
 
 from __future__ import annotations
 
+import math
+import re
+from pathlib import Path
 from typing import Any
 
 from sar_framework.engine.param import Param
 from sar_framework.mission.params_check import USE_SIM_TIME
-from sar_framework.sim.world import DEFAULT_WORLD_PATH
 
-DEFAULT_MAP_YAML = DEFAULT_WORLD_PATH.parent / "final_project_map.yaml"
-"""The committed course map (``maps/final_project_map.yaml``)."""
+DEFAULT_MAP_YAML = Path(__file__).resolve().parents[2] / "maps" / "final_project_map.yaml"
+"""The map the simulator runs on unless told otherwise (``maps/final_project_map.yaml``)."""
 DEFAULT_NAMED_RADIUS = 0.6
-"""Radius, metres, of a blocked zone given only by a marker or zone name."""
+"""Radius, metres, of a blocked area given by a name only (``sar-tree run`` resolves names)."""
 
 SPEED = Param("speed", float, 20.0, "simulated seconds per wall second (20 = 20x real time); "
               "may change at run time",
@@ -33,7 +35,7 @@ def _rate(name: str, default: float, description: str, unit: str = "Hz") -> Para
 RUNTIME_FAULTS: tuple[Param, ...] = (
     Param("phantom_obstacles", list[str], None,
           "fault (run-time): circles in both costmaps, never in the map, that costmap clearing "
-          "removes: 'x:y:radius' (m) or 'name[:radius]', as blocked_zones"),
+          "removes: 'x:y:radius' (m), as blocked_areas"),
     Param("stuck_recoveries", int, 0,
           "fault (run-time): the controller makes no progress (FollowPath 105 after "
           "movement_time_allowance) until this many spin/backup/drive_on_heading motions "
@@ -46,8 +48,9 @@ RUNTIME_FAULTS: tuple[Param, ...] = (
 re-arms them."""
 
 SIM_PARAMETERS: tuple[Param, ...] = (
-    Param("map_yaml", str, str(DEFAULT_MAP_YAML), "map_server yaml the planner and /map use"),
-    Param("world", str, str(DEFAULT_WORLD_PATH), "world file (spawn, footprint, markers)"),
+    Param("map_yaml", str, str(DEFAULT_MAP_YAML), "the map (nav2 map_server's yaml: image, "
+          "resolution, origin, negate, occupied_thresh, free_thresh, mode) the planner and "
+          "/map use"),
     SPEED,
     _rate("physics_hz", 50.0, "physics steps per simulated second"),
     _rate("max_update_hz", 50.0, "wall-clock cap on /clock, /tf and odometry updates (at "
@@ -59,11 +62,11 @@ SIM_PARAMETERS: tuple[Param, ...] = (
     _rate("speed_scale", 1.0, "fault: factor on both velocity limits (a slow robot)", ""),
     _rate("xy_goal_tolerance", 0.25, "goal position tolerance", "m"),
     _rate("yaw_goal_tolerance", 0.25, "goal heading tolerance", "rad"),
-    Param("robot_radius", float, None, "inflation radius (unset: the world's footprint)",
-          exclusive_minimum=0.0, unit="m"),
-    Param("spawn_x", float, None, "spawn x (unset: the world's spawn)", unit="m"),
-    Param("spawn_y", float, None, "spawn y (unset: the world's spawn)", unit="m"),
-    Param("spawn_yaw", float, None, "spawn heading (unset: the world's spawn)", unit="rad"),
+    Param("robot_radius", float, 0.22, "the robot's footprint radius, Nav2's robot_radius "
+          "(the inflation radius; a ROSbot's)", exclusive_minimum=0.0, unit="m"),
+    Param("spawn_x", float, 0.0, "spawn x, on a free cell of the map", unit="m"),
+    Param("spawn_y", float, 0.0, "spawn y, on a free cell of the map", unit="m"),
+    Param("spawn_yaw", float, 0.0, "spawn heading", unit="rad"),
     Param("auto_localize", bool, True,
           "publish map->odom from the start; false: only after /initialpose, as AMCL"),
     Param("autostart", bool, True,
@@ -85,17 +88,43 @@ SIM_PARAMETERS: tuple[Param, ...] = (
           "(simulated)", minimum=0.0, unit="s"),
     Param("accept_delay_wall_s", float, 0.0, "fault: the server answers a goal request this late "
           "(wall clock)", minimum=0.0, unit="s"),
-    Param("blocked_zones", list[str], None,
+    Param("blocked_areas", list[str], None,
           "fault (run-time): circles added to the map as obstacles (walls no costmap "
-          "clearing removes): 'x:y:radius' (m) or 'name[:radius]', a mission zone or world "
-          f"marker (radius {DEFAULT_NAMED_RADIUS:g} m unless given)"),
+          "clearing removes): 'x:y:radius' (m); sar-tree run also takes 'name[:radius]', a "
+          f"place its app names (radius {DEFAULT_NAMED_RADIUS:g} m unless given)"),
     *RUNTIME_FAULTS,
     USE_SIM_TIME,
 )
 """Every parameter ``sar_sim`` reads."""
 
-RUNTIME_NAMES = frozenset({SPEED.name, "blocked_zones", *(p.name for p in RUNTIME_FAULTS)})
+RUNTIME_NAMES = frozenset({SPEED.name, "blocked_areas", *(p.name for p in RUNTIME_FAULTS)})
 """The parameters that may change while the simulator runs (the others are fixed)."""
+
+
+SPAWN_NAMES = ("spawn_x", "spawn_y", "spawn_yaw")
+"""The parameters of the spawn pose (``sar-tree run --spawn``, the launch's ``spawn``)."""
+
+
+def parse_pose(text: str) -> tuple[float, float, float]:
+    """``"X,Y[,YAW]"`` (metres, metres, radians; ``;`` or spaces also separate) as numbers.
+
+    Raises:
+        ValueError: Not two or three finite numbers; the message says what is expected.
+    """
+    parts = [p for p in re.split(r"[,;\s]+", text.strip()) if p]
+    try:
+        numbers = [float(p) for p in parts]
+    except ValueError:
+        numbers = []
+    if len(numbers) not in (2, 3) or not all(math.isfinite(n) for n in numbers):
+        raise ValueError(f"{text!r}: expected X,Y[,YAW] (metres, metres, radians), "
+                         "e.g. 1.5,-2.0,1.57")
+    return numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else 0.0
+
+
+def pose_entries(pose: tuple[float, float, float]) -> list[str]:
+    """The simulator's spawn parameters for ``pose``, as ``NAME:=VALUE`` entries."""
+    return [f"{name}:={value!r}" for name, value in zip(SPAWN_NAMES, pose, strict=True)]
 
 
 def sim_default(name: str) -> Any:

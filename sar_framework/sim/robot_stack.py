@@ -24,7 +24,7 @@ from sar_framework.sim import messages
 from sar_framework.sim.amcl import AmclStandIn
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import BlockedZone
+from sar_framework.sim.faults import Circle
 from sar_framework.sim.goal_actions import GoalGate
 from sar_framework.sim.goals import GoalListener, RobotState
 from sar_framework.sim.lifecycle import robot_namespace
@@ -77,7 +77,7 @@ class RobotStack:
         self.settings = s
         self.traffic = Traffic(s.robot_radius)
         self.costmaps = Costmaps(grid, s.robot_radius, s.faults.phantom_obstacles,
-                                 walls=s.faults.blocked_zones, traffic=self.traffic)
+                                 walls=s.faults.blocked_areas, traffic=self.traffic)
         self.navigator = Navigator(DiffDrive(spawn, s.limits), self.costmaps.planner(),
                                    s.faults, listener, costmaps=self.costmaps,
                                    traffic=self.traffic)
@@ -118,10 +118,10 @@ class RobotStack:
                 self.behavior_server.node, self.nav.node, self.waypoint_follower.node,
                 *(m.node for m in self.managers)]
 
-    def footprint(self) -> BlockedZone:
+    def footprint(self) -> Circle:
         """This robot's footprint now, as an obstacle for the others."""
         pose = self.navigator.state().pose
-        return BlockedZone(pose.x, pose.y, self.traffic.radius, label=self.name)
+        return Circle(pose.x, pose.y, self.traffic.radius, label=self.name)
 
     def startup(self) -> None:
         """Start the Nav2 nodes up (``autostart``)."""

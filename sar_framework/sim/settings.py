@@ -16,9 +16,9 @@ from sar_framework.ros.parameters import declare_table
 from sar_framework.sim.drive import DriveLimits
 from sar_framework.sim.faults import FaultConfigError, Faults, make_faults
 from sar_framework.sim.fleet_file import FleetFileError, crowded_spawns, load_fleet
-from sar_framework.sim.occupancy import MapError, OccupancyGrid, load_map
+from sar_framework.sim.occupancy import MapError, OccupancyGrid, load_map, spawn_problem
 from sar_framework.sim.params import DEFAULT_MAP_YAML, SIM_PARAMETERS
-from sar_framework.sim.world import Pose2D, World, WorldError, load_world
+from sar_framework.sim.world import Pose2D
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -28,7 +28,7 @@ __all__ = ["DEFAULT_MAP_YAML", "SimConfigError", "SimSettings", "fleet_spawns",
 
 
 class SimConfigError(ValueError):
-    """A simulator parameter, the map or the world file is invalid; the message says which."""
+    """A simulator parameter or the map is invalid; the message says which."""
 
 
 @dataclass(frozen=True)
@@ -36,8 +36,7 @@ class SimSettings:
     """Validated simulator settings (see :data:`~.params.SIM_PARAMETERS` for each).
 
     Attributes:
-        map_yaml: Map file.
-        world: World file.
+        map_yaml: Map file (absolute).
         speed: Speed factor.
         physics_hz: Physics rate, simulated Hz.
         max_update_hz: Wall-clock cap on publishing.
@@ -59,7 +58,6 @@ class SimSettings:
     """
 
     map_yaml: Path
-    world: Path
     speed: float
     physics_hz: float
     max_update_hz: float
@@ -80,44 +78,39 @@ class SimSettings:
     faults: Faults = field(default_factory=Faults)
 
 
-def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
-    """Declare the simulator's parameters on ``node``, validate them, load world and map.
+def read_settings(node: Node) -> tuple[SimSettings, OccupancyGrid]:
+    """Declare the simulator's parameters on ``node``, validate them, load the map.
 
     Args:
         node: The ``sar_sim`` node (parameter overrides come from its ``--ros-args``).
 
     Returns:
-        ``(settings, world, map grid)``.
+        ``(settings, map grid)``.
 
     Raises:
-        SimConfigError: A parameter is invalid, or the map or world cannot be loaded.
+        SimConfigError: A parameter is invalid, the map cannot be loaded, or the spawn pose
+            is not on a free cell of it.
     """
-    files = [p for p in SIM_PARAMETERS if p.name in ("map_yaml", "world")]
     try:
-        raw = declare_table(node, files)
-        world = load_world(raw["world"])
+        raw = declare_table(node, SIM_PARAMETERS)
         grid = load_map(raw["map_yaml"])
-        raw.update(declare_table(node, SIM_PARAMETERS, defaults={
-            "robot_radius": world.robot.footprint_radius,
-            "spawn_x": world.robot.spawn.x,
-            "spawn_y": world.robot.spawn.y,
-            "spawn_yaw": world.robot.spawn.yaw,
-        }))
     except ParamsError as exc:
         raise SimConfigError(f"parameter {exc.key}: {exc.problem}") from exc
-    except (WorldError, MapError) as exc:
-        raise SimConfigError(str(exc)) from exc
+    except MapError as exc:
+        raise SimConfigError(f"parameter map_yaml: {exc}") from exc
     num = {name: float(value) for name, value in raw.items()
            if isinstance(value, (int, float)) and not isinstance(value, bool)}
-    markers = {m.name: (m.x, m.y) for m in world.markers}
+    spawn = Pose2D(num["spawn_x"], num["spawn_y"], num["spawn_yaw"])
+    problem = spawn_problem(grid, spawn.x, spawn.y)
+    if problem and not raw["fleet_file"]:
+        raise SimConfigError(f"parameters spawn_x, spawn_y on {raw['map_yaml']}: {problem}")
     try:
         faults = make_faults(
             reject_goals=raw["reject_goals"],
             abort_goal_numbers=raw["abort_goal_numbers"] or (),
             abort_delay_s=num["abort_delay_s"],
             accept_delay_wall_s=num["accept_delay_wall_s"],
-            blocked_zones=raw["blocked_zones"] or (),
-            markers=markers,
+            blocked_areas=raw["blocked_areas"] or (),
             phantom_obstacles=raw["phantom_obstacles"] or (),
             stuck_recoveries=int(raw["stuck_recoveries"]),
             movement_time_allowance=num["movement_time_allowance"],
@@ -131,18 +124,17 @@ def read_settings(node: Node) -> tuple[SimSettings, World, OccupancyGrid]:
         yaw_tolerance=num["yaw_goal_tolerance"],
     )
     return SimSettings(
-        map_yaml=Path(raw["map_yaml"]),
-        world=Path(raw["world"]),
+        map_yaml=Path(raw["map_yaml"]).absolute(),
         **{n: num[n] for n in ("speed", "physics_hz", "max_update_hz", "publish_hz",
                                "feedback_hz", "robot_radius", "trace_period_s")},
         **{n: bool(raw[n]) for n in ("auto_localize", "autostart")},
         **{n: str(raw[n]) for n in ("odom_topic", "global_frame", "odom_frame", "base_frame")},
         limits=limits,
-        spawn=Pose2D(num["spawn_x"], num["spawn_y"], num["spawn_yaw"]),
+        spawn=spawn,
         trace_file=Path(raw["trace_file"]) if raw["trace_file"] else None,
         fleet_file=Path(raw["fleet_file"]) if raw["fleet_file"] else None,
         faults=faults,
-    ), world, grid
+    ), grid
 
 
 def trace_path(trace_file: Path, robot: str) -> Path:

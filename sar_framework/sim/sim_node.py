@@ -73,7 +73,7 @@ class Simulator:
     def __init__(self) -> None:
         self.node = Node(NODE_NAME)
         try:
-            self.settings, self.world, self.grid = read_settings(self.node)
+            self.settings, self.grid = read_settings(self.node)
         except SimConfigError:
             self.node.destroy_node()
             raise
@@ -113,8 +113,7 @@ class Simulator:
         for node in self.nodes:
             self._time_source.attach_clock(node.get_clock())
         self._clock_pub = self.node.create_publisher(Clock, "/clock", 10)
-        markers = {m.name: (m.x, m.y) for m in self.world.markers}
-        self.lives = [LiveParameters(s.faults, markers, costmaps=robot.costmaps,
+        self.lives = [LiveParameters(s.faults, costmaps=robot.costmaps,
                                      navigator=robot.navigator, set_speed=self._set_speed,
                                      log=self.node.get_logger().info if i == 0 else _quiet)
                       for i, robot in enumerate(self.robots)]
@@ -161,7 +160,7 @@ class Simulator:
             if trace is not None:
                 spawn = robot.spawn
                 trace.event(0.0, "start", x=spawn.x, y=spawn.y, yaw=spawn.yaw, speed=s.speed,
-                            map=str(s.map_yaml), world=str(s.world))
+                            map=str(s.map_yaml))
         self._wall_start = time.monotonic()
         self._thread.start()
 

@@ -6,7 +6,7 @@ of a lattice of :data:`SPACING_M` between :data:`MIN_BASE_DISTANCE_M` and
 :data:`SEARCH_RADIUS_M` from the base station, each clear of walls and debris by the
 footprint plus :data:`CLEARANCE_MARGIN_M`, reachable from the base, and at least
 :data:`TRAFFIC_CLEARANCE_M` from the paths the simulator's planner plans between the base
-and the mission's zones (a robot at home is in nobody's way). The first is the
+and the mission's destinations (a robot at home is in nobody's way). The first is the
 nearest; each next one the place farthest from those chosen (so the robots spread over
 the rooms around the base), at least :data:`SPACING_M` from all of them: well over the
 simulator's two footprints, so no robot starts blocked.
@@ -40,7 +40,7 @@ MIN_BASE_DISTANCE_M = 2.0
 """How near the base a spawn may be: the example's base is the hub every path crosses, so
 robots waiting at home keep clear of it."""
 TRAFFIC_CLEARANCE_M = 1.0
-"""How near a planned path between the base and the zones a spawn may be (two footprints
+"""How near a planned path between the base and a destination a spawn may be (two footprints
 and a margin: the simulator stops a robot in contact with another ahead)."""
 
 
@@ -71,7 +71,7 @@ def _traffic(base: tuple[float, float], places: Sequence[tuple[float, float]],
 
 def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radius: float,
                 spacing: float = SPACING_M, *,
-                zones: Sequence[tuple[float, float]] = ()) -> list[Pose2D]:
+                destinations: Sequence[tuple[float, float]] = ()) -> list[Pose2D]:
     """``count`` spawn poses in free space near ``base``, spread out (see the module).
 
     Args:
@@ -80,9 +80,9 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
         grid: The map the robots drive in.
         radius: The robots' footprint radius, metres.
         spacing: Metres between two poses.
-        zones: The mission's zones: no pose within :data:`TRAFFIC_CLEARANCE_M` of the
-            planned paths between the base and the zones (robots waiting at home are out
-            of the others' way).
+        destinations: Where the mission sends the robots: no pose within
+            :data:`TRAFFIC_CLEARANCE_M` of the planned paths between the base and them
+            (robots waiting at home are out of the others' way).
 
     Returns:
         The poses (yaw 0), in the order chosen.
@@ -99,7 +99,7 @@ def spawn_poses(count: int, base: tuple[float, float], grid: OccupancyGrid, radi
     steps = int(SEARCH_RADIUS_M / spacing)
     lattice = ((base[0] + i * spacing, base[1] + j * spacing)
                for i in range(-steps, steps + 1) for j in range(-steps, steps + 1))
-    traffic = np.array(_traffic(base, zones, grid, radius) or [(math.inf, math.inf)])
+    traffic = np.array(_traffic(base, destinations, grid, radius) or [(math.inf, math.inf)])
     places = []
     for x, y in lattice:
         if np.min(np.hypot(traffic[:, 0] - x, traffic[:, 1] - y)) < TRAFFIC_CLEARANCE_M:
@@ -143,7 +143,7 @@ def fleet_text(poses: Sequence[Pose2D], prefix: str = "robot") -> str:
 
 def write_fleet_file(path: str | Path, count: int, base: tuple[float, float],
                      grid: OccupancyGrid, radius: float, *,
-                     zones: Sequence[tuple[float, float]] = ()) -> Path:
+                     destinations: Sequence[tuple[float, float]] = ()) -> Path:
     """Write the fleet file of ``count`` robots near ``base`` to ``path`` and return it.
 
     Raises:
@@ -151,7 +151,7 @@ def write_fleet_file(path: str | Path, count: int, base: tuple[float, float],
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    poses = spawn_poses(count, base, grid, radius, zones=zones)
+    poses = spawn_poses(count, base, grid, radius, destinations=destinations)
     path.write_text(fleet_text(poses), encoding="utf-8")
     return path
 

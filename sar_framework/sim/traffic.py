@@ -20,7 +20,7 @@ import math
 import threading
 from collections.abc import Sequence
 
-from sar_framework.sim.faults import BlockedZone
+from sar_framework.sim.faults import Circle
 from sar_framework.sim.goals import FOLLOW_PATH_NO_PROGRESS, Goal, Kind
 from sar_framework.sim.world import Pose2D
 
@@ -57,12 +57,12 @@ class Traffic:
     def __init__(self, radius: float) -> None:
         self.radius = radius
         self._lock = threading.Lock()
-        self._live: tuple[BlockedZone, ...] = ()
-        self._costmap: tuple[BlockedZone, ...] = ()
+        self._live: tuple[Circle, ...] = ()
+        self._costmap: tuple[Circle, ...] = ()
         self._next_update_s = 0.0
         self._blocked_since: float | None = None
 
-    def update(self, others: Sequence[BlockedZone], now_s: float) -> None:
+    def update(self, others: Sequence[Circle], now_s: float) -> None:
         """The other robots' footprints now (called by the physics loop every step)."""
         with self._lock:
             self._live = tuple(others)
@@ -76,12 +76,12 @@ class Traffic:
             self._costmap = self._live
 
     @property
-    def in_costmap(self) -> tuple[BlockedZone, ...]:
+    def in_costmap(self) -> tuple[Circle, ...]:
         """The other robots as the global costmap holds them."""
         with self._lock:
             return self._costmap
 
-    def ahead(self, pose: Pose2D) -> BlockedZone | None:
+    def ahead(self, pose: Pose2D) -> Circle | None:
         """The robot whose footprint a forward move from ``pose`` would touch, if any.
 
         A robot in contact (within both radii plus :data:`CLEARANCE_M`) and in front (less
@@ -90,12 +90,12 @@ class Traffic:
         """
         with self._lock:
             others = self._live
-        for zone in others:
-            dx, dy = zone.x - pose.x, zone.y - pose.y
-            if math.hypot(dx, dy) >= zone.radius + self.radius + CLEARANCE_M:
+        for circle in others:
+            dx, dy = circle.x - pose.x, circle.y - pose.y
+            if math.hypot(dx, dy) >= circle.radius + self.radius + CLEARANCE_M:
                 continue
             if dx * math.cos(pose.yaw) + dy * math.sin(pose.yaw) > 0.0:
-                return zone
+                return circle
         return None
 
     def hold(self, goal: Goal | None, pose: Pose2D, now_s: float, allowance_s: float
@@ -114,8 +114,8 @@ class Traffic:
             held ``allowance_s`` seconds in a row, else None.
         """
         drives = goal is not None and goal.active and goal.kind in (Kind.NAVIGATE, Kind.FOLLOW)
-        zone = self.ahead(pose) if drives else None
-        if zone is None:
+        circle = self.ahead(pose) if drives else None
+        if circle is None:
             self._blocked_since = None
             return False, None
         if self._blocked_since is None:
@@ -124,4 +124,4 @@ class Traffic:
             return True, None
         self._blocked_since = None
         return True, (FOLLOW_PATH_NO_PROGRESS, "Failed to make progress: another robot at "
-                      f"({zone.x:.2f}, {zone.y:.2f}) blocks the way for {allowance_s:g} s")
+                      f"({circle.x:.2f}, {circle.y:.2f}) blocks the way for {allowance_s:g} s")

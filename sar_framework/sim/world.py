@@ -1,24 +1,23 @@
-"""The simulated world: static obstacle geometry loaded from a YAML data file.
+"""A world as obstacle geometry: walls, debris and the robot, from a YAML data file.
 
-The file (``maps/final_project_world.yaml``) describes the course's Gazebo world in the
-``map`` frame: walls and debris (oriented boxes and cylinders), visual zone markers and
-the robot (spawn pose, footprint radius). :func:`load_world` turns it into frozen
-dataclasses; every problem raises :class:`WorldError` naming the file and the key, e.g.
-``maps/w.yaml: walls[2].size: expected [length, width] ...``.
+A world file describes a Gazebo-like world in the ``map`` frame: walls and debris (oriented
+boxes and cylinders) and the robot (spawn pose, footprint radius). :func:`load_world` turns
+it into frozen dataclasses; every problem raises :class:`WorldError` naming the file and the
+key, e.g. ``w.yaml: walls[2].size: expected [length, width] ...``. The simulator itself
+runs on a map (:mod:`.occupancy`); a world is what :mod:`.map_writer` rasterises into one.
+An app's own sections of a world file (what its floor marks mean) are read by the app:
+``sections`` names them, and the core leaves them alone.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import yaml
-
-DEFAULT_WORLD_PATH = Path(__file__).resolve().parents[2] / "maps" / "final_project_world.yaml"
-"""The course world shipped with the project (``maps/final_project_world.yaml``)."""
 
 
 class WorldError(ValueError):
@@ -103,29 +102,6 @@ Obstacle = Box | Cylinder
 
 
 @dataclass(frozen=True)
-class Marker:
-    """A floor marker (visual only, never an obstacle), e.g. a zone or the base station.
-
-    Attributes:
-        name: Unique marker name (``zone_a``, ``base_station``...).
-        x: Centre x, metres.
-        y: Centre y, metres.
-        radius: Disk radius, metres.
-        room: Optional room label (``NW``...).
-        colour: Optional display colour name.
-        survivor: Whether the course places a survivor here (None when not stated).
-    """
-
-    name: str
-    x: float
-    y: float
-    radius: float
-    room: str | None = None
-    colour: str | None = None
-    survivor: bool | None = None
-
-
-@dataclass(frozen=True)
 class Robot:
     """The simulated robot.
 
@@ -148,7 +124,6 @@ class World:
         name: World name.
         walls: Wall boxes.
         debris: Debris boxes and cylinders.
-        markers: Floor markers (no collision).
         robot: The robot description.
         source: The file the world came from (for messages).
     """
@@ -156,7 +131,6 @@ class World:
     name: str
     walls: tuple[Box, ...]
     debris: tuple[Obstacle, ...]
-    markers: tuple[Marker, ...]
     robot: Robot
     source: str = "<memory>"
 
@@ -175,29 +149,24 @@ class World:
             max(b[3] for b in boxes),
         )
 
-    def marker(self, name: str) -> Marker:
-        """Return the marker called ``name``.
-
-        Raises:
-            KeyError: If there is none; the message lists the known markers.
-        """
-        for marker in self.markers:
-            if marker.name == name:
-                return marker
-        known = ", ".join(m.name for m in self.markers)
-        raise KeyError(f"{self.source}: no marker {name!r} (known: {known})")
 
 
-class _Reader:
-    """Typed access to a parsed YAML document that reports errors as ``file: key: problem``."""
+class WorldReader:
+    """Typed access to a parsed YAML document that reports errors as ``file: key: problem``.
+
+    Args:
+        source: The file name used in error messages.
+    """
 
     def __init__(self, source: str) -> None:
         self.source = source
 
     def fail(self, key: str, problem: str) -> WorldError:
+        """The error for ``key``: ``file: key: problem``."""
         return WorldError(f"{self.source}: {key}: {problem}")
 
     def mapping(self, value: Any, key: str, allowed: set[str]) -> Mapping[str, Any]:
+        """``value`` as a mapping whose keys are all ``allowed``."""
         if not isinstance(value, Mapping):
             raise self.fail(key, f"expected a mapping, got {value!r}")
         unknown = sorted(set(value) - allowed, key=str)
@@ -208,11 +177,13 @@ class _Reader:
         return value
 
     def field(self, entry: Mapping[str, Any], parent: str, name: str) -> Any:
+        """``entry[name]``, a required key."""
         if name not in entry:
             raise self.fail(f"{parent}.{name}", "missing key")
         return entry[name]
 
     def number(self, value: Any, key: str, *, positive: bool = False) -> float:
+        """``value`` as a finite number (positive if asked)."""
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.fail(key, f"expected a number, got {value!r}")
         number = float(value)
@@ -225,14 +196,17 @@ class _Reader:
     def num_field(
         self, entry: Mapping[str, Any], parent: str, name: str, *, positive: bool = False
     ) -> float:
+        """``entry[name]`` as a finite number (positive if asked)."""
         return self.number(self.field(entry, parent, name), f"{parent}.{name}", positive=positive)
 
     def text(self, value: Any, key: str) -> str:
+        """``value`` as a non-empty string."""
         if not isinstance(value, str) or not value:
             raise self.fail(key, f"expected a non-empty string, got {value!r}")
         return value
 
     def items(self, doc: Mapping[str, Any], key: str) -> list[Any]:
+        """``doc[key]`` as a list (none: [])."""
         value = doc.get(key, [])
         if value is None:
             return []
@@ -243,10 +217,9 @@ class _Reader:
 
 _BOX_KEYS = {"name", "shape", "x", "y", "size", "yaw"}
 _CYLINDER_KEYS = {"name", "shape", "x", "y", "radius"}
-_MARKER_KEYS = {"name", "x", "y", "radius", "room", "colour", "survivor"}
 
 
-def _box(r: _Reader, entry: Mapping[str, Any], key: str) -> Box:
+def _box(r: WorldReader, entry: Mapping[str, Any], key: str) -> Box:
     r.mapping(entry, key, _BOX_KEYS)
     size = r.field(entry, key, "size")
     if not isinstance(size, list) or len(size) != 2:
@@ -261,7 +234,7 @@ def _box(r: _Reader, entry: Mapping[str, Any], key: str) -> Box:
     )
 
 
-def _obstacle(r: _Reader, entry: Any, key: str) -> Obstacle:
+def _obstacle(r: WorldReader, entry: Any, key: str) -> Obstacle:
     shape = entry.get("shape", "box") if isinstance(entry, Mapping) else "box"
     if shape == "box":
         return _box(r, entry, key)
@@ -276,26 +249,7 @@ def _obstacle(r: _Reader, entry: Any, key: str) -> Obstacle:
     raise r.fail(f"{key}.shape", f"expected 'box' or 'cylinder', got {shape!r}")
 
 
-def _marker(r: _Reader, entry: Any, key: str) -> Marker:
-    r.mapping(entry, key, _MARKER_KEYS)
-    survivor = entry.get("survivor")
-    if survivor is not None and not isinstance(survivor, bool):
-        raise r.fail(f"{key}.survivor", f"expected true or false, got {survivor!r}")
-    optional = {k: entry.get(k) for k in ("room", "colour")}
-    for k, v in optional.items():
-        if v is not None:
-            r.text(v, f"{key}.{k}")
-    return Marker(
-        name=r.text(r.field(entry, key, "name"), f"{key}.name"),
-        x=r.num_field(entry, key, "x"),
-        y=r.num_field(entry, key, "y"),
-        radius=r.num_field(entry, key, "radius", positive=True),
-        survivor=survivor,
-        **optional,
-    )
-
-
-def _robot(r: _Reader, value: Any) -> Robot:
+def _robot(r: WorldReader, value: Any) -> Robot:
     entry = r.mapping(value, "robot", {"name", "spawn", "footprint_radius"})
     spawn = r.mapping(r.field(entry, "robot", "spawn"), "robot.spawn", {"x", "y", "yaw"})
     return Robot(
@@ -309,13 +263,13 @@ def _robot(r: _Reader, value: Any) -> Robot:
     )
 
 
-def parse_world(doc: Any, source: str = "<memory>") -> World:
+def parse_world(doc: Any, source: str = "<memory>", *, sections: Collection[str] = ()) -> World:
     """Build a :class:`World` from an already parsed YAML document.
 
     Args:
-        doc: The document (a mapping with ``world``, ``walls``, ``debris``, ``markers``,
-            ``robot``).
+        doc: The document (a mapping with ``world``, ``walls``, ``debris``, ``robot``).
         source: The file name used in error messages.
+        sections: Top-level keys an app reads itself; allowed here, and left alone.
 
     Returns:
         The world.
@@ -323,42 +277,33 @@ def parse_world(doc: Any, source: str = "<memory>") -> World:
     Raises:
         WorldError: If a key is missing, unknown, of the wrong type, or a name repeats.
     """
-    r = _Reader(source)
+    r = WorldReader(source)
     if not isinstance(doc, Mapping):
         raise WorldError(f"{source}: expected a mapping at the top level, got {doc!r}")
-    r.mapping(doc, "<top level>", {"world", "walls", "debris", "markers", "robot"})
+    r.mapping(doc, "<top level>", {"world", "walls", "debris", "robot", *sections})
     walls = tuple(_box(r, e, f"walls[{i}]") for i, e in enumerate(r.items(doc, "walls")))
     debris = tuple(_obstacle(r, e, f"debris[{i}]") for i, e in enumerate(r.items(doc, "debris")))
-    markers = tuple(_marker(r, e, f"markers[{i}]") for i, e in enumerate(r.items(doc, "markers")))
     if not walls and not debris:
         raise r.fail("walls", "a world needs at least one obstacle")
-    for group, named in (("obstacle", walls + debris), ("marker", markers)):
-        seen: set[str] = set()
-        for item in named:
-            if item.name in seen:
-                raise r.fail(f"{item.name}", f"duplicate {group} name")
-            seen.add(item.name)
+    seen: set[str] = set()
+    for item in walls + debris:
+        if item.name in seen:
+            raise r.fail(f"{item.name}", "duplicate obstacle name")
+        seen.add(item.name)
     return World(
         name=r.text(doc.get("world", Path(source).stem), "world"),
         walls=walls,
         debris=debris,
-        markers=markers,
         robot=_robot(r, r.field(doc, "<top level>", "robot")),
         source=source,
     )
 
 
-def load_world(path: str | Path = DEFAULT_WORLD_PATH) -> World:
-    """Load a world file.
-
-    Args:
-        path: The YAML file (default: the course world in ``maps/``).
-
-    Returns:
-        The world; ``World.source`` is ``path`` as given.
+def read_world_file(path: str | Path) -> Any:
+    """The parsed YAML document of a world file.
 
     Raises:
-        WorldError: If the file cannot be read, is not valid YAML, or is malformed.
+        WorldError: If the file cannot be read or is not valid YAML.
     """
     source = str(path)
     try:
@@ -366,7 +311,22 @@ def load_world(path: str | Path = DEFAULT_WORLD_PATH) -> World:
     except OSError as exc:
         raise WorldError(f"{source}: cannot read world file: {exc.strerror or exc}") from exc
     try:
-        doc = yaml.safe_load(text)
+        return yaml.safe_load(text)
     except yaml.YAMLError as exc:
         raise WorldError(f"{source}: invalid YAML: {exc}") from exc
-    return parse_world(doc, source)
+
+
+def load_world(path: str | Path, *, sections: Collection[str] = ()) -> World:
+    """Load a world file.
+
+    Args:
+        path: The YAML file.
+        sections: Top-level keys an app reads itself (:func:`parse_world`).
+
+    Returns:
+        The world; ``World.source`` is ``path`` as given.
+
+    Raises:
+        WorldError: If the file cannot be read, is not valid YAML, or is malformed.
+    """
+    return parse_world(read_world_file(path), str(path), sections=sections)

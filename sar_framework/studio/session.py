@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 from sar_framework.studio.timeline import Timeline, timeline_of
 from sar_framework.studio.tree_view import matches, status_tree_view, tree_view
-from sar_framework.studio.world_view import world_view
+from sar_framework.studio.world_view import occupancy_view, world_view
 
 if TYPE_CHECKING:
     from sar_framework.studio.editor import TreeEditor
@@ -185,7 +185,8 @@ def replay_session(path: Path, sources_dir: Path) -> Session:
         params = sources_dir / ATTACHMENT_PARAMS
         params.parent.mkdir(parents=True, exist_ok=True)
         params.write_bytes(recording.attachments[ATTACHMENT_PARAMS])
-    session = Session(REPLAY, tree, world_view(params), str(path))
+    grid = occupancy_view(recording.map) if recording.map is not None else None
+    session = Session(REPLAY, tree, world_view(params, grid), str(path))
     session.timeline = timeline_of(recording)
     session.adopt_status_tree(recording.statuses[0])
     return session

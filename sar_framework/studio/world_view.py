@@ -3,10 +3,11 @@
 The walls are the occupancy grid's occupied cells, sent as runs per row (``[row, first
 column, length]``) so the page draws a few thousand rectangles instead of a bitmap: no
 image library in the page, and a grid the size of ours (260 x 220 cells) is a few kB.
-Live, the grid is the one the map server latches on ``/map`` (injected obstacles
-included); replayed or before ``/map`` arrives, the course map file
-(:data:`~sar_framework.report_map.MAP_YAML`). Zones and base come from the mission
-parameter file (:func:`~sar_framework.report.read_mission_layout`).
+Live, the grid is the one the map server latches on ``/map``; replayed, the ``/map`` the
+recording kept (:func:`occupancy_view`); before ``/map`` arrives or in a recording without
+one, the simulator's default map file (:data:`~sar_framework.report_map.MAP_YAML`). Zones
+and base come from the mission parameter file
+(:func:`~sar_framework.report.read_mission_layout`).
 
 No ROS here: the ROS feed hands :func:`grid_view` plain numbers.
 """
@@ -15,10 +16,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sar_framework.report import read_mission_layout
 from sar_framework.report_map import MAP_YAML
+
+if TYPE_CHECKING:
+    from sar_framework.sim.occupancy import OccupancyGrid
 
 #: A cell at or above this occupancy (0-100, as ``nav_msgs/OccupancyGrid``) is a wall.
 OCCUPIED_AT = 65
@@ -56,9 +60,15 @@ def grid_view(width: int, height: int, resolution: float, origin: tuple[float, f
 
 def file_grid_view(map_yaml: Path = MAP_YAML) -> dict[str, Any]:
     """The page's walls from a map_server yaml file (the course map by default)."""
-    from sar_framework.sim.occupancy import OCCUPIED, load_map
+    from sar_framework.sim.occupancy import load_map
 
-    grid = load_map(map_yaml)
+    return occupancy_view(load_map(map_yaml))
+
+
+def occupancy_view(grid: OccupancyGrid) -> dict[str, Any]:
+    """The page's walls from an occupancy grid (a map file's, a recording's ``/map``)."""
+    from sar_framework.sim.occupancy import OCCUPIED
+
     cells = [100 if value == OCCUPIED else 0 for value in grid.data.ravel().tolist()]
     return grid_view(grid.width, grid.height, grid.resolution,
                      (grid.origin_x, grid.origin_y), cells)

@@ -44,13 +44,13 @@ def test_a_params_file_with_three_mistakes_gets_three_located_errors(tmp_path: P
 
 
 def test_misspelt_or_mistyped_child_parameters_are_errors(tmp_path: Path) -> None:
-    """Regression: `--sim-param blocked_zone:=[...]` ran a clean mission with exit 0."""
+    """Regression: `--sim-param blocked_area:=[...]` ran a clean mission with exit 0."""
     problems = _problems(
-        tmp_path, sim_params=["blocked_zone:=['zone_b']", "speed_scale:=fast"],
+        tmp_path, sim_params=["blocked_area:=['zone_b']", "speed_scale:=fast"],
         app_params={"detect": ["answer_delay:=1.0"], "report": ["refuse_all:=maybe"]},
         runner_params=["completion:=onse", "tick_rate_hz:=0"])
     assert problems == [
-        "--sim-param: blocked_zone: unknown parameter (did you mean 'blocked_zones'?)",
+        "--sim-param: blocked_area: unknown parameter (did you mean 'blocked_areas'?)",
         "--sim-param: speed_scale: must be a number, got 'fast'",
         "--detect-param: answer_delay: unknown parameter (did you mean 'answer_delay_wall_s'?)",
         "--report-param: refuse_all: must be true or false, got 'maybe'",
@@ -60,16 +60,16 @@ def test_misspelt_or_mistyped_child_parameters_are_errors(tmp_path: Path) -> Non
     ]
 
 
-def test_blocked_zones_accept_mission_zone_names(tmp_path: Path) -> None:
+def test_blocked_areas_accept_mission_zone_names(tmp_path: Path) -> None:
     """Regression: only the world's marker names were accepted, not the mission's zones."""
     config = RunConfig(tree=str(DEFAULT_TREE), params=str(SIX_ZONES),
-                       sim_params=["blocked_zones:=['ne_corner:0.5', 'sw_corner', 'zone_b']"])
+                       sim_params=["blocked_areas:=['ne_corner:0.5', 'sw_corner', '1:2:0.3']"])
     inputs, problems = check_inputs(config)
     assert problems == [] and inputs is not None
     sim = next(c for c in child_specs(config, tmp_path, inputs.zones) if c.label == "sim")
-    assert "blocked_zones:=['5:4.2:0.5', '-5:-4.2:0.6', 'zone_b']" in sim.ros_args
-    bad = _problems(tmp_path, params=str(SIX_ZONES), sim_params=["blocked_zones:=['ne_cornr']"])
-    assert len(bad) == 1 and bad[0].startswith("--sim-param blocked_zones: 'ne_cornr'")
+    assert "blocked_areas:=['5:4.2:0.5', '-5:-4.2:0.6', '1:2:0.3']" in sim.ros_args
+    bad = _problems(tmp_path, params=str(SIX_ZONES), sim_params=["blocked_areas:=['ne_cornr']"])
+    assert len(bad) == 1 and bad[0].startswith("--sim-param blocked_areas: 'ne_cornr'")
     assert "ne_corner" in bad[0]
 
 
@@ -84,8 +84,8 @@ def test_phantom_obstacles_are_checked_and_accept_mission_zone_names(tmp_path: P
     assert "phantom_obstacles:=['5:4.2:0.5', '1:-0.5:0.3']" in sim.ros_args
     bad = _problems(tmp_path, sim_params=["phantom_obstacles:=['1:2']", "stuck_recoveries:=-1"])
     assert bad == ["--sim-param: stuck_recoveries: must be >= 0, got -1",
-                   "--sim-param phantom_obstacles: '1:2': expected 'x:y:radius' or a marker "
-                   "name (known markers: base_station, zone_a, zone_b, zone_c, zone_d)"]
+                   "--sim-param phantom_obstacles: '1:2': expected 'x:y:radius' or a place's "
+                   "name (known: zone_a, zone_b, zone_c, zone_d)"]
 
 
 def test_nothing_starts_and_no_internal_text_leaks(tmp_path: Path) -> None:
@@ -95,7 +95,7 @@ def test_nothing_starts_and_no_internal_text_leaks(tmp_path: Path) -> None:
     tree.write_text("format: 1\nroot:\n  sequence:\n    children:\n      - NavigateToZonee: {}\n")
     result = subprocess.run(
         [sys.executable, "-m", "sar_framework", "run", str(tree), "--params", str(params),
-         "--sim-param", "blocked_zone:=[]", "--report-dir", str(tmp_path / "r")],
+         "--sim-param", "blocked_area:=[]", "--report-dir", str(tmp_path / "r")],
         capture_output=True, text=True, timeout=60, cwd=REPO, check=False)
     assert result.returncode == 2, result.stderr
     assert result.stdout == ""

@@ -21,7 +21,7 @@ from .helpers import (
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
-NE_CORNER_BLOCKED = "blocked_zones:=['ne_corner:0.5']"  # a mission zone name
+NE_CORNER_BLOCKED = "blocked_areas:=['ne_corner:0.5']"  # a mission zone name
 
 
 def test_six_zones_with_retry_skip_an_unreachable_zone_and_finish(tmp_path) -> None:
@@ -70,7 +70,7 @@ def test_reference_tree_with_an_unreachable_zone_times_out_naming_the_node(tmp_p
     # machine lets fewer ticks into each simulated second (one decision in 30 s was seen).
     # --timeout and run_to_end's wait: outer safety bounds (about 10 s expected).
     code, out = run_to_end([str(DEFAULT_TREE), "--speed", FAST, "--sim-timeout", "120",
-                            "--timeout", "150", "--sim-param", "blocked_zones:=['zone_b']"],
+                            "--timeout", "150", "--sim-param", "blocked_areas:=['zone_b']"],
                            report, timeout=180.0)
     assert code == 1, out
     assert "Mission TIMEOUT" in out

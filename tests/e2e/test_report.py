@@ -156,7 +156,7 @@ def test_a_long_tree_path_in_the_title_is_cut_at_the_left_not_at_the_image_edge(
 
 
 def test_an_injected_blocked_area_is_drawn_and_listed(tmp_path: Path) -> None:
-    """Regression: a blocked_zones fault was not drawn on mission.png."""
+    """Regression: a blocked_areas fault was not drawn on mission.png."""
     _status(tmp_path, 0.0, 10.0)
     inputs = MissionInputs(tmp_path, "t.yaml", str(PARAMS), None, "SUCCESS",
                            blocked_areas=((3.5, 3.0, 0.6),))

@@ -92,6 +92,6 @@ def test_bad_inputs_are_reported_without_ros(tmp_path: Path) -> None:
 
 
 def test_a_good_input_gets_as_far_as_starting_the_children(tmp_path: Path) -> None:
-    result = _run(tmp_path, str(DEFAULT_TREE), "--sim-param", "blocked_zones:=['zone_b']")
+    result = _run(tmp_path, str(DEFAULT_TREE), "--sim-param", "blocked_areas:=['zone_b']")
     assert result.returncode == 17, result.stdout + result.stderr
     assert "starting sim; ROS modules loaded: []" in result.stdout

@@ -20,7 +20,7 @@ import pytest
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.detour import plan_legs
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import BlockedZone, with_blocked_zones
+from sar_framework.sim.faults import Circle, with_circles
 from sar_framework.sim.goals import ERROR_NONE, FOLLOW_PATH_NO_PROGRESS, Goal, Outcome
 from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, load_map
@@ -45,7 +45,7 @@ def planner() -> GridPlanner:
 def navigator(planner: GridPlanner, spawn: Pose2D, others: Sequence[tuple[float, float]] = (),
               traffic: Traffic | None = None) -> Navigator:
     traffic = traffic or Traffic(RADIUS)
-    traffic.update([BlockedZone(x, y, RADIUS) for x, y in others], 0.0)
+    traffic.update([Circle(x, y, RADIUS) for x, y in others], 0.0)
     costmaps = Costmaps(planner.grid, RADIUS, planner=planner, traffic=traffic)
     return Navigator(DiffDrive(spawn), costmaps.planner(), costmaps=costmaps, traffic=traffic)
 
@@ -79,8 +79,8 @@ def test_a_zone_under_a_dead_robot_is_reached_at_navfns_approach_point(
 
 def test_a_goal_under_a_robot_with_no_free_cell_in_the_tolerance_has_no_path(
         planner: GridPlanner) -> None:
-    body = BlockedZone(3.5, 3.0, RADIUS + padding(planner.grid.resolution))
-    tight = GridPlanner(with_blocked_zones(planner.grid, [body]), robot_radius=RADIUS,
+    body = Circle(3.5, 3.0, RADIUS + padding(planner.grid.resolution))
+    tight = GridPlanner(with_circles(planner.grid, [body]), robot_radius=RADIUS,
                         goal_tolerance=0.3)
     with pytest.raises(NoPath, match="another robot covers it"):
         plan_legs(tight, [body], Pose2D(4.5, 1.0), [Pose2D(3.5, 3.0)])
@@ -144,8 +144,8 @@ def head_on(planner: GridPlanner, a: tuple[Pose2D, Pose2D], b: tuple[Pose2D, Pos
 
     def see(now: float) -> None:
         pa, pb = navs[0].state().pose, navs[1].state().pose
-        traffic[0].update([BlockedZone(pb.x, pb.y, RADIUS)], now)
-        traffic[1].update([BlockedZone(pa.x, pa.y, RADIUS)], now)
+        traffic[0].update([Circle(pb.x, pb.y, RADIUS)], now)
+        traffic[1].update([Circle(pa.x, pa.y, RADIUS)], now)
 
     see(0.0)
     state = ["navigate", "navigate"]

@@ -105,7 +105,7 @@ def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
 
     grid = load_map(DEFAULT_MAP_YAML)
     free = free_places(grid, 0.22 + 0.5)
-    poses = spawn_poses(MAX_ROBOTS, (0.0, 0.0), grid, 0.22, zones=ZONES)
+    poses = spawn_poses(MAX_ROBOTS, (0.0, 0.0), grid, 0.22, destinations=ZONES)
     assert len(poses) == MAX_ROBOTS
     planner = GridPlanner(grid, 0.22)
     paths = [planner.plan((0.0, 0.0), zone) for zone in ZONES]
@@ -117,7 +117,7 @@ def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
         for path in paths:  # waypoints of the way from the base to each zone
             assert all(math.hypot(pose.x - x, pose.y - y) >= TRAFFIC_CLEARANCE_M - 0.05
                        for x, y in path), (pose, path)
-    assert spawn_poses(3, (0.0, 0.0), grid, 0.22, zones=ZONES) == poses[:3]  # stable
+    assert spawn_poses(3, (0.0, 0.0), grid, 0.22, destinations=ZONES) == poses[:3]  # stable
     rooms = {(pose.x > 0, pose.y > 0) for pose in poses[:4]}
     assert len(rooms) == 4  # the first four spread over the four rooms
     with pytest.raises(SpawnError, match=r"only .* free spawn places"):

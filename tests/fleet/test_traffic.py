@@ -8,7 +8,7 @@ import pytest
 
 from sar_framework.sim.costmaps import Costmaps
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import BlockedZone
+from sar_framework.sim.faults import Circle
 from sar_framework.sim.goals import FOLLOW_PATH_NO_PROGRESS, Outcome
 from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, load_map
@@ -29,7 +29,7 @@ def robot(planner: GridPlanner, spawn: Pose2D, other: Pose2D | None,
           traffic: Traffic | None = None) -> Navigator:
     traffic = traffic or Traffic(RADIUS)
     if other is not None:
-        traffic.update([BlockedZone(other.x, other.y, RADIUS, "other")], 0.0)
+        traffic.update([Circle(other.x, other.y, RADIUS, "other")], 0.0)
     costmaps = Costmaps(planner.grid, RADIUS, planner=planner, traffic=traffic)
     return Navigator(DiffDrive(spawn), costmaps.planner(), costmaps=costmaps, traffic=traffic)
 
@@ -44,7 +44,7 @@ def run(nav: Navigator, goal, limit_s: float = 60.0) -> float:
 
 def test_ahead_sees_a_robot_in_front_in_contact_only() -> None:
     traffic = Traffic(RADIUS)
-    traffic.update([BlockedZone(1.0, 0.0, RADIUS)], 0.0)
+    traffic.update([Circle(1.0, 0.0, RADIUS)], 0.0)
     touching = 1.0 - 2 * RADIUS - CLEARANCE_M / 2
     assert traffic.ahead(Pose2D(touching, 0.0, 0.0)) is not None  # in front, in contact
     assert traffic.ahead(Pose2D(touching, 0.0, 3.14)) is None  # behind: it may drive away
@@ -53,11 +53,11 @@ def test_ahead_sees_a_robot_in_front_in_contact_only() -> None:
 
 def test_the_global_costmap_sees_other_robots_at_its_update_rate() -> None:
     traffic = Traffic(RADIUS)
-    traffic.update([BlockedZone(1.0, 0.0, RADIUS)], 0.0)
-    traffic.update([BlockedZone(2.0, 0.0, RADIUS)], 0.5)  # live, not yet in the costmap
+    traffic.update([Circle(1.0, 0.0, RADIUS)], 0.0)
+    traffic.update([Circle(2.0, 0.0, RADIUS)], 0.5)  # live, not yet in the costmap
     assert traffic.in_costmap[0].x == 1.0
     assert traffic.ahead(Pose2D(2.0 - 2 * RADIUS, 0.0, 0.0)) is not None
-    traffic.update([BlockedZone(3.0, 0.0, RADIUS)], 1.0)
+    traffic.update([Circle(3.0, 0.0, RADIUS)], 1.0)
     assert traffic.in_costmap[0].x == 3.0
 
 
@@ -85,7 +85,7 @@ def test_a_robot_that_moves_into_the_only_passage_stops_the_other_then_fails_it(
     nav = robot(planner, Pose2D(2.0, 1.0), None, traffic)
     goal = nav.start(Pose2D(4.0, -3.0))
     nav.step(0.02, 0.02)
-    traffic.update([BlockedZone(0.5, 0.0, RADIUS)], 0.5)  # into the hub's opening at y=0
+    traffic.update([Circle(0.5, 0.0, RADIUS)], 0.5)  # into the hub's opening at y=0
     ended = run(nav, goal)
     assert goal.outcome is Outcome.ABORTED
     assert goal.error_code == FOLLOW_PATH_NO_PROGRESS
@@ -102,7 +102,7 @@ def test_a_held_robot_replans_around_a_robot_that_stepped_into_its_way_in_the_op
     nav = robot(planner, Pose2D(2.0, 2.0), None, traffic)
     goal = nav.start(Pose2D(4.0, 2.0))
     nav.step(0.02, 0.02)
-    traffic.update([BlockedZone(3.0, 2.0, RADIUS)], 0.5)
+    traffic.update([Circle(3.0, 2.0, RADIUS)], 0.5)
     closest, now = 10.0, 0.02
     while goal.active and now < 60.0:
         now += 0.02

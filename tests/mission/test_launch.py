@@ -70,7 +70,7 @@ def test_launch_file_compiles(tmp_path):
 def test_declared_arguments_and_their_defaults():
     declared = declared_arguments()
     assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
-                             "report_dir", "tick_rate_hz", "map", "nav2_params_file",
+                             "report_dir", "tick_rate_hz", "map", "spawn", "nav2_params_file",
                              "use_sim_time",
                              "speed", "rviz", "record", "reload"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
@@ -78,7 +78,8 @@ def test_declared_arguments_and_their_defaults():
     assert declared["reload"] == "false"  # the tree file is not watched unless asked
     assert declared["report_dir"] == ""  # a new folder per run
     assert (REPO / "trees" / declared["tree"]).is_file()
-    for key in ("map", "nav2_params_file", "survivors_file"):
+    assert declared["map"] == declared["spawn"] == ""  # the simulator's own defaults
+    for key in ("nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
     # As sar-tree run's --params: none named, the tree's app's (none for a tree without one).
     assert declared["params_file"] == ""
@@ -336,7 +337,7 @@ def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, 
     def simulator(settings: processes.MissionSettings) -> processes.Process | None:
         process = processes.simulator(settings)
         if process is not None:  # a list of strings a YAML reader would take for numbers
-            process.parameters["blocked_zones"] = ["1:2:0.5", "zone_b"]
+            process.parameters["blocked_areas"] = ["1:2:0.5", "zone_b"]
         return process
 
     builders = [simulator if b is processes.simulator else b for b in processes.BUILDERS]
@@ -345,7 +346,7 @@ def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, 
     run = run_children(tmp_path)
     for started in (launch, run):
         assert ("sar-detect-survivor-server", {"service_name": "/detect_again"}) in started
-        assert dict(started)["sar-sim"]["blocked_zones"] == ["1:2:0.5", "zone_b"]
+        assert dict(started)["sar-sim"]["blocked_areas"] == ["1:2:0.5", "zone_b"]
     assert len(launch) == len(run) == 5
 
 

@@ -130,7 +130,7 @@ def test_rcl_reads_every_formatted_value_back_as_it_was() -> None:
 
 def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> None:
     config = RunConfig(tree=str(TREE), params=str(PARAMS), keep_alive=True,
-                       sim_params=["blocked_zones:=['zone_b:0.8']"],
+                       sim_params=["blocked_areas:=['zone_b:0.8']"],
                        runner_params=["completion:=once"], plugin_paths=PLUGINS)
     inputs = check_config(config)
     settings = mission_settings(config, tmp_path, inputs.zones, inputs.apps)
@@ -140,7 +140,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
         str(tmp_path / "reports.jsonl"))
     assert settings.exit_on_completion is False  # --keep-alive
     assert "detect" not in settings.extra and settings.nav2_timeout_wall_s is None
-    assert settings.extra["sim"] == {"blocked_zones": ["3.5:3:0.8"]}  # the zone's position
+    assert settings.extra["sim"] == {"blocked_areas": ["3.5:3:0.8"]}  # the zone's position
     specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps)
     assert [(s.label, s.executable) for s in specs] == [
         (p.label, p.executable) for p in mission_processes(settings, [SAR])]

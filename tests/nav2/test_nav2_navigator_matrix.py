@@ -146,7 +146,7 @@ MATRIX = [(stem, outcome) for stem in TREES for outcome in cases(stem)]
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     blocked = "[" + ",".join(f"'{c}'" for c in BLOCKED_RING) + "]"
-    with sim_process(tmp_path_factory.mktemp("sim"), f"blocked_zones:={blocked}",
+    with sim_process(tmp_path_factory.mktemp("sim"), f"blocked_areas:={blocked}",
                      speed=SPEED) as proc:
         yield proc
 

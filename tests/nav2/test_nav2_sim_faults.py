@@ -1,6 +1,6 @@
 """Nav2's leaves against the simulator's faults, over real DDS with the real rclpy.
 
-One simulator for the module (40x, a ``blocked_zones`` wall at (2.0, -1.5)); faults are set
+One simulator for the module (40x, a ``blocked_areas`` wall at (2.0, -1.5)); faults are set
 at run time with SetParameters, and ``/sar_sim/reset`` puts the robot back after each test.
 """
 
@@ -32,7 +32,7 @@ WALL = (2.0, -1.5)
 
 @pytest.fixture(scope="module")
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
-    wall = f"blocked_zones:=['{WALL[0]}:{WALL[1]}:0.3']"
+    wall = f"blocked_areas:=['{WALL[0]}:{WALL[1]}:0.3']"
     with sim_process(tmp_path_factory.mktemp("sim"), wall, speed=40.0) as proc:
         yield proc
 

@@ -9,20 +9,20 @@ import yaml
 
 from sar_framework.sim import plugin_ids
 from sar_framework.sim.costmaps import Costmaps, Layer
-from sar_framework.sim.faults import BlockedZone, FaultConfigError, parse_zones, with_blocked_zones
+from sar_framework.sim.faults import Circle, FaultConfigError, parse_circles, with_circles
 from sar_framework.sim.occupancy import load_map
+from sar_framework.sim.params import DEFAULT_MAP_YAML
 from sar_framework.sim.planner import GoalInObstacle
-from sar_framework.sim.world import DEFAULT_WORLD_PATH
 
-NEAR = BlockedZone(0.6, 0.0, 0.2, "near")
-FAR = BlockedZone(1.0, -1.5, 0.3, "far")
-WALL = BlockedZone(2.0, -0.5, 0.3, "wall")
+NEAR = Circle(0.6, 0.0, 0.2, "near")
+FAR = Circle(1.0, -1.5, 0.3, "far")
+WALL = Circle(2.0, -0.5, 0.3, "wall")
 
 
 @pytest.fixture(scope="module")
 def base():
-    grid = load_map(DEFAULT_WORLD_PATH.parent / "final_project_map.yaml")
-    return with_blocked_zones(grid, [WALL])
+    grid = load_map(DEFAULT_MAP_YAML)
+    return with_circles(grid, [WALL])
 
 
 @pytest.fixture
@@ -43,7 +43,7 @@ def test_clearing_entirely_one_costmap_leaves_the_other_and_the_walls(costmaps):
     assert costmaps.phantoms(Layer.LOCAL) == (NEAR, FAR)
     assert costmaps.planner().plan((0.0, 0.0), (1.0, -1.5))[-1] == pytest.approx((1.0, -1.5))
     with pytest.raises(GoalInObstacle):
-        costmaps.planner().plan((0.0, 0.0), (2.0, -0.5))  # blocked_zones stay
+        costmaps.planner().plan((0.0, 0.0), (2.0, -0.5))  # blocked_areas stay
 
 
 def test_around_the_robot_and_except_a_region_use_nav2s_square(costmaps):
@@ -58,12 +58,12 @@ def test_around_the_robot_and_except_a_region_use_nav2s_square(costmaps):
 
 def test_a_malformed_phantom_names_the_parameter():
     with pytest.raises(FaultConfigError, match="phantom_obstacles: '1:2'"):
-        parse_zones(["1:2"], {}, "phantom_obstacles")
-    assert parse_zones(["", "zone_b"], {"zone_b": (3.5, 3.0)}, "phantom_obstacles")[0].x == 3.5
+        parse_circles(["1:2"], {}, "phantom_obstacles")
+    assert parse_circles(["", "shelf"], {"shelf": (3.5, 3.0)}, "phantom_obstacles")[0].x == 3.5
 
 
 def test_the_plugin_ids_are_the_params_files():
-    params = yaml.safe_load((DEFAULT_WORLD_PATH.parents[1] / "config" / "nav2_params.yaml")
+    params = yaml.safe_load((DEFAULT_MAP_YAML.parents[1] / "config" / "nav2_params.yaml")
                             .read_text())
     controller = params["controller_server"]["ros__parameters"]
     assert tuple(controller["controller_plugins"]) == plugin_ids.CONTROLLERS
@@ -83,10 +83,10 @@ def test_a_phantom_around_the_robot_or_across_the_way_gives_nav2s_codes(base):
     from sar_framework.sim.planner import NoPath, StartInObstacle
 
     with pytest.raises(StartInObstacle) as start:
-        Costmaps(base, 0.22, [BlockedZone(0.0, 0.0, 0.3)]).planner().plan((0.0, 0.0),
+        Costmaps(base, 0.22, [Circle(0.0, 0.0, 0.3)]).planner().plan((0.0, 0.0),
                                                                           (1.0, -0.5))
     assert start.value.error_code == 205  # START_OCCUPIED
-    ring = [BlockedZone(1.0 + 0.8 * math.cos(a / 20 * math.tau),
+    ring = [Circle(1.0 + 0.8 * math.cos(a / 20 * math.tau),
                         -0.5 + 0.8 * math.sin(a / 20 * math.tau), 0.15) for a in range(20)]
     with pytest.raises(NoPath) as cut:  # the goal is free, but fenced in
         Costmaps(base, 0.22, ring).planner().plan((0.0, 0.0), (1.0, -0.5))
@@ -95,7 +95,7 @@ def test_a_phantom_around_the_robot_or_across_the_way_gives_nav2s_codes(base):
 
 def test_walls_can_be_replaced_and_never_clear(base):
     costmaps = Costmaps(base, 0.22, [FAR])
-    costmaps.set_walls([BlockedZone(1.0, -0.5, 0.3)])
+    costmaps.set_walls([Circle(1.0, -0.5, 0.3)])
     costmaps.clear(Layer.GLOBAL)
     with pytest.raises(GoalInObstacle):
         costmaps.planner().plan((0.0, 0.0), (1.0, -0.5))

@@ -6,7 +6,7 @@ import pytest
 
 from sar_framework.sim.costmaps import Costmaps, Layer
 from sar_framework.sim.drive import DiffDrive
-from sar_framework.sim.faults import BlockedZone, Faults
+from sar_framework.sim.faults import Circle, Faults
 from sar_framework.sim.goals import Outcome
 from sar_framework.sim.navigation import Navigator
 from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, load_map
@@ -54,7 +54,7 @@ def test_a_stuck_controller_fails_after_the_allowance_until_recoveries_free_it(g
 
 
 def test_a_path_through_a_local_phantom_has_no_valid_control_until_cleared(grid) -> None:
-    phantom = BlockedZone(0.5, -0.25, 0.2)
+    phantom = Circle(0.5, -0.25, 0.2)
     nav = navigator(grid, phantoms=[phantom])
     goal = nav.start_path([(0.0, 0.0), (1.0, -0.5)], GOAL)
     assert goal.outcome is Outcome.ABORTED and goal.error_code == 106

@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
+from sar_plugins.sar.course_world import load_course_world
 
 from sar_framework.sim.map_writer import main, write_map
 from sar_framework.sim.occupancy import (
@@ -21,7 +22,6 @@ from sar_framework.sim.occupancy import (
     obstacle_distance,
     rasterize,
 )
-from sar_framework.sim.world import load_world
 
 ZONES = {"zone_a": (-3.0, 3.0), "zone_b": (3.5, 3.0), "zone_c": (4.0, -3.0), "zone_d": (-3.5, -3.0)}
 COMMITTED_PGM = DEFAULT_MAP_PREFIX.with_name("final_project_map.pgm")
@@ -30,7 +30,7 @@ COMMITTED_YAML = DEFAULT_MAP_PREFIX.with_name("final_project_map.yaml")
 
 @pytest.fixture(scope="module")
 def grid() -> OccupancyGrid:
-    return rasterize(load_world())
+    return rasterize(load_course_world().world)
 
 
 def test_geometry_covers_arena_with_margin(grid):
@@ -108,12 +108,6 @@ def test_world_to_cell_round_trip(grid):
     assert not grid.in_bounds(-1, 0)
 
 
-def test_committed_map_is_up_to_date(tmp_path):
-    assert main(["--out", str(tmp_path / "final_project_map")]) == 0
-    assert (tmp_path / "final_project_map.pgm").read_bytes() == COMMITTED_PGM.read_bytes()
-    assert (tmp_path / "final_project_map.yaml").read_bytes() == COMMITTED_YAML.read_bytes()
-
-
 def test_yaml_is_map_server_format():
     assert COMMITTED_YAML.read_text().splitlines() == [
         "image: final_project_map.pgm",
@@ -174,6 +168,12 @@ def test_load_map_honours_thresholds_and_negate(tmp_path):
         ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nmode: fancy\n", r"mode: expected"),
         ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 2\n", r"negate: expected"),
         ("image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n", r"m\.yaml: image: cannot read"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 65\n",
+         r"m\.yaml: occupied_thresh: expected a number from 0 to 1, got 65"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nfree_thresh: 0.7\n",
+         r"m\.yaml: free_thresh: expected below occupied_thresh \(0\.65\), got 0\.7"),
+        ("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nfree_thresh: low\n",
+         r"m\.yaml: free_thresh: expected a finite number, got 'low'"),
         ("[1, 2]\n", r"m\.yaml: expected a mapping"),
     ],
 )
@@ -191,7 +191,7 @@ def test_load_map_missing_yaml(tmp_path):
 
 def test_write_is_deterministic(tmp_path, grid):
     a = write_map(grid, tmp_path / "a" / "m")
-    b = write_map(rasterize(load_world()), tmp_path / "b" / "m")
+    b = write_map(rasterize(load_course_world().world), tmp_path / "b" / "m")
     for pa, pb in zip(a, b, strict=True):
         assert pa.read_bytes() == pb.read_bytes()
 
@@ -234,3 +234,21 @@ def test_obstacle_distance_matches_brute_force(cells, cap):
         for c in range(25):
             brute = min(math.hypot(r - rr, c - cc) * 0.05 for rr, cc in cells)
             assert dist[r, c] == pytest.approx(min(brute, cap), abs=1e-5)
+
+
+def test_scale_mode_grades_between_the_thresholds_and_a_transparent_pixel_is_unknown(tmp_path):
+    # shades 0 (black), 255 (white), 128 (between), 128 again but transparent
+    pixels = np.array([[[0, 255], [255, 255], [128, 255], [128, 0]]], dtype=np.uint8)
+    Image.fromarray(pixels, "LA").save(tmp_path / "m.png")
+    (tmp_path / "m.yaml").write_text(
+        "image: m.png\nmode: scale\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+        "occupied_thresh: 0.65\nfree_thresh: 0.25\n")
+    between = round((1 - 128 / 255 - 0.25) / (0.65 - 0.25) * 100)
+    assert load_map(tmp_path / "m.yaml").data.tolist() == [[OCCUPIED, FREE, between, UNKNOWN]]
+
+
+def test_raw_mode_takes_the_pixel_as_the_occupancy(tmp_path):
+    Image.fromarray(np.array([[0, 42, 100, 205]], dtype=np.uint8)).save(tmp_path / "m.pgm")
+    (tmp_path / "m.yaml").write_text(
+        "image: m.pgm\nmode: raw\nresolution: 0.1\norigin: [0, 0, 0]\n")
+    assert load_map(tmp_path / "m.yaml").data.tolist() == [[0, 42, 100, UNKNOWN]]

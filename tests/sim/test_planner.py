@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from sar_plugins.sar.course_world import load_course_world
 
 from sar_framework.sim.occupancy import DEFAULT_MAP_PREFIX, OCCUPIED, load_map, rasterize
 from sar_framework.sim.planner import (
@@ -16,7 +17,6 @@ from sar_framework.sim.planner import (
     PlanningError,
     StartInObstacle,
 )
-from sar_framework.sim.world import load_world
 
 BASE = (0.0, 0.0)
 ZONES = {"zone_a": (-3.0, 3.0), "zone_b": (3.5, 3.0), "zone_c": (4.0, -3.0), "zone_d": (-3.5, -3.0)}
@@ -103,7 +103,7 @@ def test_goal_beyond_the_arena_wall(planner):
     # map_server reads the unknown margin as free: reachable cells but a sealed region
     with pytest.raises(NoPath, match="separate free regions"):
         planner.plan(BASE, (6.3, 0.0))
-    raw = GridPlanner(rasterize(load_world()))
+    raw = GridPlanner(rasterize(load_course_world().world))
     with pytest.raises(GoalInObstacle):  # the rasterised grid keeps it unknown
         raw.plan(BASE, (6.3, 0.0))
 

@@ -11,8 +11,8 @@ from sar_framework.sim.faults import (
     DEFAULT_NAMED_RADIUS,
     FaultConfigError,
     make_faults,
-    parse_blocked_zone,
-    with_blocked_zones,
+    parse_circle,
+    with_circles,
 )
 from sar_framework.sim.goals import ERROR_NONE, Outcome
 from sar_framework.sim.navigation import Navigator
@@ -22,7 +22,7 @@ from sar_framework.sim.trace import TraceWriter, read_trace
 from sar_framework.sim.world import Pose2D
 
 MAP_YAML = DEFAULT_MAP_PREFIX.with_name("final_project_map.yaml")
-MARKERS = {"zone_a": (-3.0, 3.0), "zone_b": (3.5, 3.0)}
+PLACES = {"shelf_a": (-3.0, 3.0), "shelf_b": (3.5, 3.0)}
 SEAL_ZONE_A_ROOM = "-0.5:0.85:0.8"  # a disk over the north-west room's doorway
 
 
@@ -103,34 +103,39 @@ def test_clock_rejects_bad_settings(kwargs: dict, message: str) -> None:
 # ---------------------------------------------------------------------------- faults
 
 
-def test_blocked_zone_forms() -> None:
+def test_blocked_area_forms() -> None:
     for text in ("1.5:-2:0.4", " 1.5, -2, 0.4 ", "1.5 -2 0.4"):
-        zone = parse_blocked_zone(text, MARKERS)
-        assert (zone.x, zone.y, zone.radius, zone.label) == (1.5, -2.0, 0.4, text)
-    named = parse_blocked_zone("zone_b", MARKERS)
+        circle = parse_circle(text, PLACES)
+        assert (circle.x, circle.y, circle.radius, circle.label) == (1.5, -2.0, 0.4, text)
+    named = parse_circle("shelf_b", PLACES)
     assert (named.x, named.y, named.radius) == (3.5, 3.0, DEFAULT_NAMED_RADIUS)
-    assert parse_blocked_zone("zone_a:0.9", MARKERS).radius == 0.9
+    assert parse_circle("shelf_a:0.9", PLACES).radius == 0.9
 
 
 @pytest.mark.parametrize(
     ("entry", "message"),
     [
-        ("zone_x", "known markers: zone_a, zone_b"),
+        ("shelf_x", "known: shelf_a, shelf_b"),
         ("1:2", "expected 'x:y:radius'"),
         ("1:two:3", "'two' is not a number"),
         ("1:2:-3", "radius must be positive"),
-        ("zone_a:1:2", "expected 'marker"),
+        ("shelf_a:1:2", "expected 'name[:radius]'"),
         ("1:2:nan", "not finite"),
     ],
 )
-def test_blocked_zone_errors_name_the_entry(entry: str, message: str) -> None:
-    with pytest.raises(FaultConfigError, match="blocked_zones") as info:
-        parse_blocked_zone(entry, MARKERS)
+def test_blocked_area_errors_name_the_entry(entry: str, message: str) -> None:
+    with pytest.raises(FaultConfigError, match="blocked_areas") as info:
+        parse_circle(entry, PLACES)
     assert message in str(info.value)
 
 
+def test_without_named_places_only_coordinates_are_taken() -> None:
+    with pytest.raises(FaultConfigError, match=r"'shelf_a': expected 'x:y:radius'$"):
+        parse_circle("shelf_a", {})
+
+
 def test_make_faults_reads_ros_placeholders_as_empty() -> None:
-    faults = make_faults(abort_goal_numbers=[0], blocked_zones=[""])
+    faults = make_faults(abort_goal_numbers=[0], blocked_areas=[""])
     assert not faults.any
     faults = make_faults(abort_goal_numbers=[2, 3], accept_delay_wall_s=0.5)
     assert faults.aborts(2) and not faults.aborts(1)
@@ -143,10 +148,10 @@ def test_make_faults_reads_ros_placeholders_as_empty() -> None:
         make_faults(accept_delay_wall_s=-1.0)
 
 
-def test_blocked_zones_occupy_a_copy_of_the_grid() -> None:
+def test_blocked_areas_occupy_a_copy_of_the_grid() -> None:
     grid = load_map(MAP_YAML)
-    zone = parse_blocked_zone("2.0:-2.0:0.5", {})
-    blocked = with_blocked_zones(grid, [zone])
+    zone = parse_circle("2.0:-2.0:0.5", {})
+    blocked = with_circles(grid, [zone])
     assert blocked.value_at(2.0, -2.0) == OCCUPIED
     assert blocked.value_at(2.0, -2.45) == OCCUPIED
     assert blocked.value_at(2.0, -2.6) != OCCUPIED
@@ -264,7 +269,7 @@ def test_navigator_injected_abort_hits_only_the_nth_goal(planner: GridPlanner) -
 
 
 def test_navigator_blocked_doorway_means_no_path(planner: GridPlanner) -> None:
-    grid = with_blocked_zones(planner.grid, [parse_blocked_zone(SEAL_ZONE_A_ROOM, {})])
+    grid = with_circles(planner.grid, [parse_circle(SEAL_ZONE_A_ROOM, {})])
     nav = Navigator(DiffDrive(Pose2D(0.0, 0.0, 0.0)), GridPlanner(grid, robot_radius=0.22))
     goal = nav.start(Pose2D(-3.0, 3.0, 0.0))
     assert goal.outcome is Outcome.ABORTED

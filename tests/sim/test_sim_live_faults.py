@@ -37,7 +37,7 @@ def clean(client: tuple[Any, Any]) -> Iterator[tuple[Any, Any]]:
     """Faults unset and the world reset after the test."""
     yield client
     set_sim_params(*client, phantom_obstacles=[""], stuck_recoveries=0,
-                   movement_time_allowance=10.0, blocked_zones=[""])
+                   movement_time_allowance=10.0, blocked_areas=[""])
     assert reset_sim(*client).success
 
 
@@ -84,7 +84,7 @@ def test_a_bad_value_is_refused_naming_the_parameter(
     assert not result.successful
     assert expect in result.reason
     assert sim.returncode() is None  # still running, still answering
-    (again,) = set_sim_params(*clean, phantom_obstacles=["zone_b:0.4"])
+    (again,) = set_sim_params(*clean, phantom_obstacles=["3.5:3.0:0.4"])
     assert again.successful
 
 
@@ -98,16 +98,16 @@ def test_a_phantom_at_the_goal_fails_planning_until_it_is_unset(
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
 
 
-def test_blocked_zones_set_at_run_time_are_walls_until_unset(clean: tuple[Any, Any]) -> None:
+def test_blocked_areas_set_at_run_time_are_walls_until_unset(clean: tuple[Any, Any]) -> None:
     from nav2_msgs.srv import ClearEntireCostmap
     from sar_testing.spin import call_service
 
-    assert set_sim_params(*clean, blocked_zones=["1.0:-0.5:0.3"])[0].successful
+    assert set_sim_params(*clean, blocked_areas=["1.0:-0.5:0.3"])[0].successful
     assert compute_path(clean, 1.0, -0.5).result.error_code == 206
     call_service(*clean, ClearEntireCostmap, "/global_costmap/clear_entirely_global_costmap",
                  ClearEntireCostmap.Request())
     assert compute_path(clean, 1.0, -0.5).result.error_code == 206  # a wall stays
-    assert set_sim_params(*clean, blocked_zones=[""])[0].successful
+    assert set_sim_params(*clean, blocked_areas=[""])[0].successful
     assert compute_path(clean, 1.0, -0.5).result.error_code == 0
 
 

@@ -235,7 +235,7 @@ def reject_sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess
 def fault_sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NodeProcess]:
     proc = start_sim(
         tmp_path_factory.mktemp("faults"), f"speed:={SPEED}", "abort_goal_numbers:=[2]",
-        "abort_delay_s:=0.5", f"blocked_zones:=['{SEAL_ZONE_A_ROOM}']", "speed_scale:=0.5",
+        "abort_delay_s:=0.5", f"blocked_areas:=['{SEAL_ZONE_A_ROOM}']", "speed_scale:=0.5",
     )
     try:
         yield proc

@@ -226,8 +226,11 @@ class TestLocalisation:
     ("param", "message"),
     [
         ("speed:=-2.0", "parameter speed: must be > 0 and <= 1000, got -2.0"),
-        ("blocked_zones:=['nowhere']", "blocked_zones: 'nowhere'"),
-        ("map_yaml:=/no/such/map.yaml", "cannot read map yaml"),
+        ("blocked_areas:=['nowhere']", "blocked_areas: 'nowhere'"),
+        ("map_yaml:=/no/such/map.yaml",
+         "parameter map_yaml: /no/such/map.yaml: cannot read map yaml"),
+        ("spawn_x:=50.0", "parameters spawn_x, spawn_y on "),
+        ("spawn_y:=5.0", "(0, 5) is not free on the map (occupied)"),
         ("trace_file:=/proc/no/trace.jsonl", "parameter trace_file: cannot write"),
     ],
 )

@@ -1,13 +1,11 @@
-"""World file loading: the course world's facts and errors that name file and key."""
+"""World file loading: obstacles and robot, errors that name file and key, apps' sections."""
 
 import math
-from pathlib import Path
 
 import pytest
 import yaml
 
 from sar_framework.sim.world import (
-    DEFAULT_WORLD_PATH,
     Box,
     Cylinder,
     WorldError,
@@ -15,37 +13,42 @@ from sar_framework.sim.world import (
     parse_world,
 )
 
-SHARED_SPEC_WORLD = Path("/work/shared/spec/world.yaml")
+ROOM = """\
+world: room
+walls:
+  - {name: north, x: 0.0, y: 2.0, size: [4.0, 0.1]}
+  - {name: south, x: 0.0, y: -2.0, size: [4.0, 0.1]}
+  - {name: east, x: 2.0, y: 0.0, size: [0.1, 4.1], yaw: 0.0}
+debris:
+  - {name: drum, shape: cylinder, x: 1.0, y: 1.0, radius: 0.2}
+robot:
+  name: bot
+  spawn: {x: -1.0, y: 0.0, yaw: 1.5}
+  footprint_radius: 0.2
+"""
 
 
 def world_doc() -> dict:
-    return yaml.safe_load(DEFAULT_WORLD_PATH.read_text())
+    return yaml.safe_load(ROOM)
 
 
-def test_course_world_facts():
-    world = load_world()
-    assert world.name == "final_project"
-    assert len(world.walls) == 8
-    assert [type(d) for d in world.debris] == [Box, Box, Box, Cylinder]
-    names = [m.name for m in world.markers]
-    assert names == ["zone_a", "zone_b", "zone_c", "zone_d", "base_station"]
-    assert world.robot.spawn.x == world.robot.spawn.y == world.robot.spawn.yaw == 0.0
-    assert world.robot.footprint_radius == 0.22
-    assert world.marker("zone_c").survivor is True
-    assert world.bounds() == pytest.approx((-6.075, -5.075, 6.075, 5.075))
-    assert world.source == str(DEFAULT_WORLD_PATH)
+def test_a_world_file_gives_obstacles_and_robot(tmp_path):
+    path = tmp_path / "room.yaml"
+    path.write_text(ROOM)
+    world = load_world(path)
+    assert world.name == "room" and world.source == str(path)
+    assert [w.name for w in world.walls] == ["north", "south", "east"]
+    assert [type(d) for d in world.debris] == [Cylinder]
+    assert (world.robot.spawn.x, world.robot.spawn.yaw, world.robot.footprint_radius) == (
+        -1.0, 1.5, 0.2)
+    assert world.bounds() == pytest.approx((-2.0, -2.05, 2.05, 2.05))
 
 
-@pytest.mark.skipif(not SHARED_SPEC_WORLD.exists(), reason="shared spec not mounted")
-def test_same_facts_as_the_shared_spec():
-    ours = load_world()
-    spec = load_world(SHARED_SPEC_WORLD)
-    assert (ours.walls, ours.debris, ours.markers, ours.robot) == (
-        spec.walls,
-        spec.debris,
-        spec.markers,
-        spec.robot,
-    )
+def test_an_apps_sections_are_allowed_only_when_named():
+    doc = {**world_doc(), "markers": [{"name": "m", "x": 0}]}
+    with pytest.raises(WorldError, match=r"<top level>\.markers: unknown key"):
+        parse_world(doc, "w.yaml")
+    assert parse_world(doc, "w.yaml", sections=("markers",)).name == "room"
 
 
 def test_box_corners_follow_yaw():
@@ -54,11 +57,6 @@ def test_box_corners_follow_yaw():
     assert corners[0] == pytest.approx((1.5, 1.0))
     assert corners[2] == pytest.approx((0.5, 3.0))
     assert box.bounds() == pytest.approx((0.5, 1.0, 1.5, 3.0))
-
-
-def test_unknown_marker_lists_known():
-    with pytest.raises(KeyError, match="zone_a"):
-        load_world().marker("zone_z")
 
 
 def test_missing_file_names_it(tmp_path):
@@ -89,10 +87,9 @@ def mutate(edit) -> dict:
         (lambda d: d["walls"][0].update(y="north"), r"walls\[0\]\.y: expected a number"),
         (lambda d: d["walls"][0].update(yaw=float("nan")), r"walls\[0\]\.yaw: expected a finite"),
         (lambda d: d["walls"][1].update(colour="red"), r"walls\[1\]\.colour: unknown key"),
-        (lambda d: d["debris"][3].update(shape="cone"), r"debris\[3\]\.shape: expected 'box' or"),
-        (lambda d: d["debris"][3].pop("radius"), r"debris\[3\]\.radius: missing key"),
-        (lambda d: d["debris"][0].update(name="wall_north"), r"wall_north: duplicate obstacle"),
-        (lambda d: d["markers"][0].update(survivor="yes"), r"markers\[0\]\.survivor: expected"),
+        (lambda d: d["debris"][0].update(shape="cone"), r"debris\[0\]\.shape: expected 'box' or"),
+        (lambda d: d["debris"][0].pop("radius"), r"debris\[0\]\.radius: missing key"),
+        (lambda d: d["debris"][0].update(name="north"), r"north: duplicate obstacle"),
         (lambda d: d["robot"].pop("footprint_radius"), r"robot\.footprint_radius: missing key"),
         (lambda d: d["robot"]["spawn"].update(x=None), r"robot\.spawn\.x: expected a number"),
         (lambda d: d.pop("robot"), r"<top level>\.robot: missing key"),

@@ -8,7 +8,7 @@ the same thing (no ROS imported here). In start order:
 - the simulator (``sar-sim``) with ``fleet_file``: one process serves every robot, each
   under ``/<name>`` (docs/how-to/fleet.md); its trace, one per robot, goes to ``RUN/<name>/``;
 - the base's report server, in the root namespace: one base serves the fleet;
-- the zone coordinator (``sar_framework.fleet.coordinator_node``, node ``zone_coordinator``,
+- the zone coordinator (``sar_plugins.sar.fleet.coordinator_node``, node ``zone_coordinator``,
   root namespace) with the mission parameter file and ``events_file`` in the run folder,
   when the tree bids for its zones (:func:`tree_uses_coordinator`);
 - per robot, in ``/<name>``: a detect server and a runner, whose ``initial_pose`` and
@@ -36,7 +36,7 @@ from sar_framework.mission.processes import (
 
 FLEET_LEAVES = frozenset({"ClaimZone", "CompleteZone", "ReleaseZone"})
 """The leaves that talk to the zone coordinator: a tree with one of them needs it."""
-COORDINATOR_MODULE = "sar_framework.fleet.coordinator_node"
+COORDINATOR_MODULE = "sar_plugins.sar.fleet.coordinator_node"
 """The coordinator's module (``python -m``); its console script is ``sar-zone-coordinator``."""
 COORDINATOR_EVENTS_FILE = "fleet_events.jsonl"
 """The coordinator's JSON Lines events (``events_file``), in the run folder."""

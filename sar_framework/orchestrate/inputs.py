@@ -24,10 +24,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import yaml
+from sar_plugins.sar.fleet.params import COORDINATOR_PARAMETERS
 
 from sar_framework.app import App, AppError, AppOption, apps_for, discover_apps, installed_apps
 from sar_framework.engine.param import Param
-from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
 from sar_framework.mission.params_check import check_values, zone_positions
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS

@@ -37,7 +37,7 @@ _TITLES = {
                "own settings"),
     "sim": ("the embedded simulator", "sar_framework/sim/params.py",
             "`sar-tree run --speed` and the launch's `speed` set `speed`"),
-    "coordinator": ("the fleet's zone coordinator", "sar_framework/fleet/params.py",
+    "coordinator": ("the fleet's zone coordinator", "plugins/sar/fleet/params.py",
                     "a fleet's robots win their zones from it (docs/how-to/fleet.md); it reads the "
                     "mission parameter file's `zone_order` and `zones`"),
     "recorder": ("the recorder", "sar_framework/recording/params.py",

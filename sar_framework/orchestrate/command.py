@@ -1,4 +1,4 @@
-"""``sar-tree run``'s entry: check every input, then run one robot's mission or a fleet's."""
+"""``sar-tree run``'s entry: check every input, then run the mission (one robot or more)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,6 @@ import argparse
 import sys
 
 from sar_framework.orchestrate.config import check_config
-from sar_framework.orchestrate.fleet_run import FleetOrchestrator
 from sar_framework.orchestrate.options import RunUsageError, config_from_args
 from sar_framework.orchestrate.orchestrator import Orchestrator, run_mission
 from sar_framework.orchestrate.outcome import EXIT_USAGE
@@ -32,5 +31,4 @@ def run_command(args: argparse.Namespace) -> int:
             sys.stderr.write("\n".join(lines) + f"\nsar-tree run: error: {len(lines)} "
                              "problems in the inputs; nothing was started\n")
         return EXIT_USAGE
-    kind = FleetOrchestrator if inputs.fleet else Orchestrator
-    return run_mission(kind(config, inputs))
+    return run_mission(Orchestrator(config, inputs))

@@ -73,8 +73,8 @@ class RunConfig:
     fleet: str | None = None
 
     @property
-    def is_fleet(self) -> bool:
-        """Whether the run is a fleet's (``--robots`` or ``--fleet``)."""
+    def names_robots(self) -> bool:
+        """Whether the run names its robots (``--robots`` or ``--fleet``)."""
         return self.robots is not None or self.fleet is not None
 
 
@@ -147,8 +147,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         "changes; an invalid edit is refused (docs/how-to/hot-reload.md)")
     parser.add_argument("--robots", type=int, metavar="N",
                         help="run a fleet: N robots near the base, each with its runner in "
-                        "/robot1... and the zone coordinator when the tree bids for zones "
-                        "(docs/how-to/fleet.md)")
+                        "/robot1... and its apps' processes (docs/how-to/fleet.md)")
     parser.add_argument("--fleet", metavar="FILE",
                         help="run the fleet of this fleet file (names and spawn poses)")
 

@@ -12,15 +12,34 @@ import functools
 import json
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
+from sar_framework.mission.processes import Robot
+from sar_framework.orchestrate.inputs import CheckedInputs
+from sar_framework.orchestrate.options import RunConfig
 from sar_framework.orchestrate.outcome import Outcome, cut_short, robots_outcome, where_it_ended
 from sar_framework.report_robots import FLEET_JSON, FLEET_PNG
 
-if TYPE_CHECKING:
-    from sar_framework.orchestrate.orchestrator import Orchestrator
+
+class Run(Protocol):
+    """What these functions read of a run (:class:`~.orchestrator.Orchestrator`)."""
+
+    config: RunConfig
+    inputs: CheckedInputs
+    spec: Any
+    report_dir: Path
+    robots: dict[str, Robot]
+    outcomes: dict[str, Outcome]
+    verdict: Outcome | None
+    stop_s: float | None
+
+    def robot_dir(self, name: str) -> Path:
+        """Robot ``name``'s folder."""
+
+    def say(self, text: str) -> None:
+        """Print one line."""
 
 ROBOT_FILES = ("status.json", EVENTS_FILE, "trace.jsonl", "mission.json", "mission.png",
                "tree.svg", "detect.log", "runner.log")
@@ -69,7 +88,7 @@ def append_verdict(say: Callable[[str], None], events: list[MissionEvent], folde
     events.append(verdict)
 
 
-def robot_report(run: Orchestrator, name: str, outcome: Outcome, wall: float) -> list[Path]:
+def robot_report(run: Run, name: str, outcome: Outcome, wall: float) -> list[Path]:
     """Robot ``name``'s mission.json, mission.png and tree.svg in its folder."""
     from sar_framework.report import MissionInputs, write_report
 
@@ -95,8 +114,8 @@ def _summary(path: Path) -> dict[str, Any]:
         return {}
 
 
-def robots_page(run: Orchestrator, outcome: Outcome, wall: float) -> list[Path]:
-    """The run's verdict (:attr:`Orchestrator.verdict`), ``fleet.json`` and ``fleet.png``."""
+def robots_page(run: Run, outcome: Outcome, wall: float) -> list[Path]:
+    """The run's verdict (``run.verdict``), ``fleet.json`` and ``fleet.png``."""
     from sar_framework.orchestrate.config import mission_settings
     from sar_framework.report_robots import (
         app_findings,
@@ -123,7 +142,7 @@ def robots_page(run: Orchestrator, outcome: Outcome, wall: float) -> list[Path]:
     return written
 
 
-def conclude_robots(run: Orchestrator, outcome: Outcome) -> int:
+def conclude_robots(run: Run, outcome: Outcome) -> int:
     """Print a line per named robot and the run's; return the run's exit code."""
     verdict = run.verdict or outcome
     for name in run.robots:

@@ -146,8 +146,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="swap the tree in between ticks whenever its file or an include "
                         "changes; an invalid edit is refused (docs/how-to/hot-reload.md)")
     parser.add_argument("--robots", type=int, metavar="N",
-                        help="run a fleet: N robots near the base, each with its runner in "
-                        "/robot1... and its apps' processes (docs/how-to/fleet.md)")
+                        help="run N named robots (a fleet), each with its runner and its "
+                        "apps' per-robot processes in /robot1... (docs/how-to/fleet.md)")
     parser.add_argument("--fleet", metavar="FILE",
                         help="run the fleet of this fleet file (names and spawn poses)")
 

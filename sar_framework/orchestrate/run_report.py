@@ -125,7 +125,7 @@ def robots_page(run: Run, outcome: Outcome, wall: float) -> list[Path]:
     )
 
     summaries = {name: _summary(run.robot_dir(name) / "mission.json") for name in run.robots}
-    settings = mission_settings(run.config, run.report_dir, run.inputs.zones, run.inputs.apps,
+    settings = mission_settings(run.config, run.report_dir, apps=run.inputs.apps,
                                 robots=run.inputs.robots, node_kinds=run.inputs.node_kinds)
     keys, problems = app_findings(settings, summaries, run.inputs.apps)
     outcomes = {name: run.outcomes.get(name, outcome) for name in run.robots}

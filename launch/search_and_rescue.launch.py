@@ -16,7 +16,8 @@ tree in between ticks whenever its file changes (``sar-tree run --reload``;
 docs/how-to/hot-reload.md). ``robots:=N`` or ``fleet_file:=FILE`` names the robots, as
 ``sar-tree run --robots N``/``--fleet FILE`` do: one simulator serves them all, each robot
 has its runner (and its apps' per-robot processes) in ``/<name>``, its files in
-``<run folder>/<name>/``; the launch then ends once every runner has ended
+``<run folder>/<name>/``; the launch then ends once every runner has ended, with
+``sar-tree run``'s reports (each robot's, and ``fleet.json``, ``fleet.png``)
 (``fleet.launch.py`` is this launch with ``nav2:=embedded robots:=3`` and the fleet tree).
 
 Like ``sar-tree run``, every launch writes its run's files (the report server's log of
@@ -73,7 +74,10 @@ from sar_framework.mission.processes import (
     mission_processes,
     new_run_folder,
 )
-from sar_framework.orchestrate.launch_report import write_launch_report
+from sar_framework.orchestrate.launch_report import (
+    write_launch_report,
+    write_robots_launch_report,
+)
 from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import SPEED
@@ -153,17 +157,27 @@ def end_with_runner(event: object, context: LaunchContext, *, settings: MissionS
     return [said, EmitEvent(event=Shutdown(reason="the mission is complete"))]
 
 
-def end_with_runners(event: object, context: LaunchContext, *, ended: dict[str, int],
-                     count: int) -> list | None:
-    """Named robots: shut the launch down once every runner ended; fail it if one failed."""
-    ended[str(id(getattr(event, "action", None)))] = event.returncode
-    if context.is_shutdown or len(ended) < count:
+def end_with_runners(event: object, context: LaunchContext, *, robot: str,
+                     ended: dict[str, int], settings: MissionSettings, apps: list,
+                     started: float) -> list | None:
+    """Named robots: once every runner ended, write the reports and shut the launch down.
+
+    The reports are ``sar-tree run``'s: each robot's in its folder, the run's
+    ``fleet.json`` and ``fleet.png``; the launch fails when the run's verdict is not SUCCESS.
+    """
+    ended[robot] = event.returncode
+    if context.is_shutdown or len(ended) < len(settings.robots):
         return None
-    failed = [code for code in ended.values() if code != 0]
-    if failed:
-        raise RuntimeError(f"{len(failed)} of {count} runners did not succeed "
-                           f"(exit codes {failed})")
-    return [EmitEvent(event=Shutdown(reason="every robot's mission is complete"))]
+    verdict, written = write_robots_launch_report(settings, apps, ended, started)
+    folder = Path(settings.run_folder)
+    said = LogInfo(msg=f"sar_framework: report in {settings.run_folder}/ "
+                       f"({', '.join(p.name for p in written if p.parent == folder)}; each "
+                       "robot's report in its folder)")
+    if verdict.status != "SUCCESS":
+        said.execute(context)
+        raise RuntimeError(f"the robots' mission did not succeed: {verdict.status}: "
+                           f"{verdict.reason}")
+    return [said, EmitEvent(event=Shutdown(reason="every robot's mission is complete"))]
 
 
 def named_robots(folder: Path, fleet_file: str, count: str, params_file: str,
@@ -270,7 +284,8 @@ def launch_setup(context: LaunchContext) -> list:
         if process.label == "runner":
             actions.append(RegisterEventHandler(OnProcessExit(
                 target_action=node, on_exit=functools.partial(
-                    end_with_runners, ended=ended, count=len(settings.robots))
+                    end_with_runners, robot=process.namespace, ended=ended, settings=settings,
+                    apps=apps, started=started)
                 if settings.named_robots else functools.partial(
                     end_with_runner, settings=settings, apps=apps, started=started))))
     return actions

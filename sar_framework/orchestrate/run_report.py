@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import functools
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
+from sar_framework.app import App
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
-from sar_framework.mission.processes import Robot
+from sar_framework.mission.processes import MissionSettings, Robot
 from sar_framework.orchestrate.inputs import CheckedInputs
 from sar_framework.orchestrate.options import RunConfig
 from sar_framework.orchestrate.outcome import Outcome, cut_short, robots_outcome, where_it_ended
@@ -117,6 +118,31 @@ def _summary(path: Path) -> dict[str, Any]:
 def robots_page(run: Run, outcome: Outcome, wall: float) -> list[Path]:
     """The run's verdict (``run.verdict``), ``fleet.json`` and ``fleet.png``."""
     from sar_framework.orchestrate.config import mission_settings
+
+    settings = mission_settings(run.config, run.report_dir, apps=run.inputs.apps,
+                                robots=run.inputs.robots, node_kinds=run.inputs.node_kinds)
+    outcomes = {name: run.outcomes.get(name, outcome) for name in run.robots}
+    run.verdict, written = write_robots_page(settings, run.inputs.apps, outcomes, outcome,
+                                             wall_s=wall, say=run.say)
+    return written
+
+
+def write_robots_page(settings: MissionSettings, apps: Sequence[App],
+                      outcomes: Mapping[str, Outcome], outcome: Outcome, *, wall_s: float,
+                      say: Callable[[str], None]) -> tuple[Outcome, list[Path]]:
+    """Named robots' verdict, ``fleet.json`` and ``fleet.png`` in the run folder.
+
+    Args:
+        settings: What the run started (its robots, run folder, node kinds).
+        apps: The tree's apps.
+        outcomes: Robot name -> its verdict.
+        outcome: How the run ended (a cut-short run keeps its verdict).
+        wall_s: Wall seconds of the whole run.
+        say: Prints a warning (``fleet.png`` not drawn).
+
+    Returns:
+        The run's verdict and the files written.
+    """
     from sar_framework.report_robots import (
         app_findings,
         draw_fleet,
@@ -124,22 +150,19 @@ def robots_page(run: Run, outcome: Outcome, wall: float) -> list[Path]:
         write_fleet_json,
     )
 
-    summaries = {name: _summary(run.robot_dir(name) / "mission.json") for name in run.robots}
-    settings = mission_settings(run.config, run.report_dir, apps=run.inputs.apps,
-                                robots=run.inputs.robots, node_kinds=run.inputs.node_kinds)
-    keys, problems = app_findings(settings, summaries, run.inputs.apps)
-    outcomes = {name: run.outcomes.get(name, outcome) for name in run.robots}
-    run.verdict = cut_short(outcome, robots_outcome(outcomes, problems))
-    document = fleet_document(run.verdict.status, run.verdict.reason, outcomes, summaries,
-                              keys, wall_duration_s=wall)
-    written = [write_fleet_json(run.report_dir, document)]
+    folder = Path(settings.run_folder)
+    summaries = {robot.name: _summary(settings.robot_folder(robot) / "mission.json")
+                 for robot in settings.robots}
+    keys, problems = app_findings(settings, summaries, apps)
+    verdict = cut_short(outcome, robots_outcome(outcomes, problems))
+    document = fleet_document(verdict.status, verdict.reason, outcomes, summaries, keys,
+                              wall_duration_s=wall_s)
+    written = [write_fleet_json(folder, document)]
     try:
-        written.append(draw_fleet(run.report_dir, document, run.inputs.apps,
-                                  run.report_dir / FLEET_PNG))
+        written.append(draw_fleet(folder, document, apps, folder / FLEET_PNG))
     except Exception as err:
-        run.say(f"sar-tree run: warning: could not draw {FLEET_PNG}: "
-                f"{type(err).__name__}: {err}")
-    return written
+        say(f"warning: could not draw {FLEET_PNG}: {type(err).__name__}: {err}")
+    return verdict, written
 
 
 def conclude_robots(run: Run, outcome: Outcome) -> int:

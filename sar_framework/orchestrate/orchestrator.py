@@ -33,7 +33,6 @@ from sar_framework.orchestrate.outcome import (
     child_exit_outcome,
     completion_outcome,
     exit_words,
-    exited_children,
     progress_line,
     read_status,
     runner_exit_outcome,
@@ -53,7 +52,6 @@ from sar_framework.orchestrate.run_report import (
 )
 from sar_framework.orchestrate.supervise import GoalTraces, LogLine, start_child, stop_children
 from sar_framework.run_clock import RUN_STARTED_ENV, process_started
-from sar_framework.stop_signals import stop_on_signals
 from sar_framework.watch.child import start_watcher, stop_watcher
 
 POLL_S = 0.05
@@ -386,11 +384,11 @@ class Orchestrator:
     def write_report(self, outcome: Outcome) -> list[Path]:
         """Write each robot's report, and named robots' fleet.json and fleet.png.
 
-        Returns:
-            The files written.
-
         Args:
             outcome: How the mission ended.
+
+        Returns:
+            The files written.
         """
         wall = (self.completion_wall_s
                 if self.config.keep_alive and self.completion_wall_s is not None
@@ -398,33 +396,3 @@ class Orchestrator:
         written = [path for name in self.robots
                    for path in robot_report(self, name, self.own_outcome(name, outcome), wall)]
         return written + (robots_page(self, outcome, wall) if self.named else [])
-
-
-def run_mission(mission: Orchestrator) -> int:
-    """Run a checked mission; return the exit code.
-
-    Args:
-        mission: The mission (an :class:`Orchestrator` of checked inputs, or a fleet's).
-
-    Returns:
-        0 SUCCESS, 1 FAILURE/timeout/start-up failure, 2 input rejected by a child,
-        130 interrupted.
-    """
-    interrupt = stop_on_signals()
-    try:
-        mission.prepare()
-        mission.start()
-        outcome = mission.wait(interrupt.event)
-        if outcome.status == "TIMEOUT":
-            mission.say(f"sar-tree run: {outcome.reason}; stopping")
-        if outcome.status == "INTERRUPTED":
-            mission.say(f"sar-tree run: {interrupt.name or 'interrupted'}: stopping "
-                        "(the goal in flight is cancelled)")
-    finally:
-        mission.stop()
-        interrupt.restore()
-    if mission.exited and outcome.status != "SUCCESS":
-        outcome.reason = "; ".join([outcome.reason, *exited_children(mission.exited)]).strip("; ")
-    mission.record_verdict(outcome)
-    written = mission.write_report(outcome)
-    return mission.conclude(outcome, written)

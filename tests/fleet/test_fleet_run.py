@@ -4,7 +4,8 @@ Real processes over real DDS (the test's leased domain): one simulator, the base
 coordinator, and per robot a detect server and a runner in ``/robotN``. The verdicts come
 from events: every robot's, and the fleet's (every zone searched once by the coordinator's
 ``searched`` events, every robot home, each auction won by its lowest bid); and from the
-base's report file: every survivor reported once, under its fleet-wide id.
+base's report file: every survivor reported once, under its fleet-wide id. A tree that
+uses no app runs named robots on the core alone.
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@
         [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...] [spawn:=X,Y[,YAW]]
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
         [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE] [reload:=true]
+        [robots:=N | fleet_file:=FILE]
 
 ``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
 ``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
@@ -12,7 +13,12 @@ when the runner ends: exit 0 when the mission succeeded, non-zero otherwise. ``r
 adds the recorder (``sar-mission-recorder``), which writes the mission to a rosbag2-compatible
 MCAP file and closes it when the launch shuts down. ``reload:=true`` makes the runner swap the
 tree in between ticks whenever its file changes (``sar-tree run --reload``;
-docs/how-to/hot-reload.md).
+docs/how-to/hot-reload.md). ``robots:=N`` or ``fleet_file:=FILE`` names the robots, as
+``sar-tree run --robots N``/``--fleet FILE`` do: one simulator serves them all, each robot
+has its runner (and its apps' per-robot processes) in ``/<name>``, its files in
+``<run folder>/<name>/``; the launch then ends once every runner has ended, with
+``sar-tree run``'s reports (each robot's, and ``fleet.json``, ``fleet.png``)
+(``fleet.launch.py`` is this launch with ``nav2:=embedded robots:=3`` and the fleet tree).
 
 Like ``sar-tree run``, every launch writes its run's files (the report server's log of
 acknowledged survivors, the runner's status and events, the simulator's trace) into a
@@ -58,15 +64,20 @@ from sar_plugins.sar.processes import REPORT_FILE as REPORTS_IN_RUN_FOLDER
 
 from launch import LaunchContext, LaunchDescription
 from sar_framework.app import tree_apps
+from sar_framework.engine.api import validate
 from sar_framework.mission.processes import (
     BRINGUP_NAV2_TIMEOUT_S,
+    ONE_ROBOT,
     RUN_FILES,
     MissionSettings,
     ParamValue,
     mission_processes,
     new_run_folder,
 )
-from sar_framework.orchestrate.launch_report import write_launch_report
+from sar_framework.orchestrate.launch_report import (
+    write_launch_report,
+    write_robots_launch_report,
+)
 from sar_framework.ros.launch_nodes import package_file, process_node
 from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import DEFAULT_MAP_YAML, SPEED
@@ -120,6 +131,12 @@ ARGUMENTS = [
     DeclareLaunchArgument("record", default_value="",
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
+    DeclareLaunchArgument("robots", default_value="",
+                          description="Name N robots, spawned by the tree's app's choice "
+                          "(embedded); empty: one robot in the root namespace."),
+    DeclareLaunchArgument("fleet_file", default_value="",
+                          description="A fleet file naming the robots and their spawn poses "
+                          "(embedded; docs/how-to/fleet.md)."),
 ]
 
 
@@ -145,6 +162,51 @@ def end_with_runner(event: object, context: LaunchContext, *, settings: MissionS
     return [said, EmitEvent(event=Shutdown(reason="the mission is complete"))]
 
 
+def end_with_runners(event: object, context: LaunchContext, *, robot: str,
+                     ended: dict[str, int], settings: MissionSettings, apps: list,
+                     started: float) -> list | None:
+    """Named robots: once every runner ended, write the reports and shut the launch down.
+
+    The reports are ``sar-tree run``'s: each robot's in its folder, the run's
+    ``fleet.json`` and ``fleet.png``; the launch fails when the run's verdict is not SUCCESS.
+    """
+    ended[robot] = event.returncode
+    if context.is_shutdown or len(ended) < len(settings.robots):
+        return None
+    verdict, written = write_robots_launch_report(settings, apps, ended, started)
+    folder = Path(settings.run_folder)
+    said = LogInfo(msg=f"sar_framework: report in {settings.run_folder}/ "
+                       f"({', '.join(p.name for p in written if p.parent == folder)}; each "
+                       "robot's report in its folder)")
+    if verdict.status != "SUCCESS":
+        said.execute(context)
+        raise RuntimeError(f"the robots' mission did not succeed: {verdict.status}: "
+                           f"{verdict.reason}")
+    return [said, EmitEvent(event=Shutdown(reason="every robot's mission is complete"))]
+
+
+def named_robots(folder: Path, fleet_file: str, count: str, params_file: str,
+                 apps: list) -> tuple[str, tuple]:
+    """The fleet file and its robots (``robots:=N`` writes one in ``folder``), or none."""
+    from sar_framework.mission.params_file import read_params_file
+    from sar_framework.orchestrate.robots import FLEET_FILE, read_robots, spawn_around
+    from sar_framework.sim.occupancy import load_map
+    from sar_framework.sim.params import DEFAULT_MAP_YAML, sim_default
+    from sar_framework.sim.spawn_poses import write_fleet_file
+
+    if fleet_file:
+        path = Path(package_file(fleet_file))
+    elif count:
+        values = read_params_file(params_file).values if params_file else {}
+        centre, places = spawn_around(values, apps)
+        path = write_fleet_file(folder / FLEET_FILE, int(count), centre,
+                                load_map(DEFAULT_MAP_YAML), sim_default("robot_radius"),
+                                destinations=places)
+    else:
+        return "", ONE_ROBOT
+    return str(path), read_robots(path)
+
+
 def mission_settings(context: LaunchContext) -> MissionSettings:
     """What the mission starts, from the launch arguments (file arguments resolved)."""
     def arg(name: str) -> str:
@@ -166,9 +228,12 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     apps = tree_apps(tree)
     params = arg("params_file") or next((f for f in (a.default_params_file() for a in apps)
                                          if f), "")
+    params = package_file(params) if params else ""
+    fleet_file, robots = named_robots(folder, arg("fleet_file"), arg("robots"), params, apps)
+    spec = validate(tree).spec
     return MissionSettings(
         tree=tree,
-        params_file=package_file(params) if params else "",
+        params_file=params,
         use_sim_time=arg("use_sim_time").lower() in ("true", "1", "yes"),
         simulator=embedded,
         speed=float(arg("speed")),
@@ -182,6 +247,8 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
         nav2_timeout_wall_s=None if embedded else BRINGUP_NAV2_TIMEOUT_S,
         tick_rate_hz=float(arg("tick_rate_hz")) if arg("tick_rate_hz") else None,
         record=str(Path(record).expanduser().absolute()) if record else "",
+        robots=robots, fleet_file=fleet_file,
+        node_kinds=frozenset(n.kind for n in spec.nodes()) if spec is not None else frozenset(),
     )
 
 
@@ -239,12 +306,16 @@ def launch_setup(context: LaunchContext) -> list:
             arguments=["-d", str(bringup / "rviz" / "nav2_default_view.rviz")],
             parameters=[{"use_sim_time": settings.use_sim_time}],
             condition=IfCondition(LaunchConfiguration("rviz")), output="screen"))
+    ended: dict[str, int] = {}  # named robots: each runner's exit code
     for process in mission_processes(settings, apps):
         node = process_node(process)
         actions.append(node)
         if process.label == "runner":
             actions.append(RegisterEventHandler(OnProcessExit(
                 target_action=node, on_exit=functools.partial(
+                    end_with_runners, robot=process.namespace, ended=ended, settings=settings,
+                    apps=apps, started=started)
+                if settings.named_robots else functools.partial(
                     end_with_runner, settings=settings, apps=apps, started=started))))
     return actions
 

@@ -4,8 +4,10 @@
   ``base_station.*`` (so every tree with a zone leaf uses this app);
 - parameters: those, checked whole (:func:`~sar_framework.mission.params_check.mission_problems`),
   from ``config/mission_params.yaml`` when ``sar-tree run`` names no file;
-- processes: the detect and report servers, started before the runner;
-- events: the zone and survivor kinds, and the status's current zone.
+- processes: the detect and report servers, started before the runner; with several robots
+  a detect server each, their homes, and the zone coordinator (:mod:`sar_plugins.sar.fleet`);
+- events: the zone and survivor kinds, and the status's current zone;
+- report: zones, base and survivors (a fleet's: who searched which zone, the auction).
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_plugins.sar.figure import mission_figure
+from sar_plugins.sar.fleet.processes import robot_parameters, spawn_around
+from sar_plugins.sar.fleet.report import fleet_figure, fleet_report
 from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
 from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
 
@@ -95,5 +99,9 @@ APP = App(
     summary=summary_parts,
     report=mission_report,
     figure=mission_figure,
+    robot_parameters=robot_parameters,
+    spawn_around=spawn_around,
+    fleet_report=fleet_report,
+    fleet_figure=fleet_figure,
 )
 """The search-and-rescue app."""

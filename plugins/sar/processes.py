@@ -1,6 +1,8 @@
-"""The search-and-rescue app's processes: the detect and report servers.
+"""The search-and-rescue app's processes: the detect and report servers, the coordinator.
 
-Both start before the runner, on its clock. The detect server reads ``survivors_file``
+Both servers start before the runner, on its clock (a run of named robots: one detect
+server per robot, one report server at the base, and the zone coordinator when the tree
+bids for zones, :mod:`sar_plugins.sar.fleet.processes`). The detect server reads ``survivors_file``
 (``sar-tree run --survivors``, the launch's ``survivors_file``); the report server writes
 ``report_file``, ``reports.jsonl`` in the run's folder unless named otherwise.
 """
@@ -8,6 +10,8 @@ Both start before the runner, on its clock. The detect server reads ``survivors_
 from __future__ import annotations
 
 from pathlib import Path
+
+from sar_plugins.sar.fleet.processes import COORDINATOR_KIND, coordinator
 
 from sar_framework.app import AppOption, AppProcess
 from sar_framework.mission.processes import MissionSettings, ParamValue, Process
@@ -24,8 +28,9 @@ PROCESS_KINDS = (
     AppProcess("report", "the report server", REPORT_PARAMETERS,
                "sar_framework/servers/params.py", "--no-report-server",
                "do not start the report server (fault injection)"),
+    COORDINATOR_KIND,
 )
-"""What ``sar-tree run`` and the docs know of the two servers."""
+"""What ``sar-tree run`` and the docs know of the app's processes."""
 
 
 def _check_survivors(path: str) -> str | None:
@@ -61,7 +66,7 @@ def _server(settings: MissionSettings, label: str, executable: str) -> Process:
 
 
 def server_processes(settings: MissionSettings) -> list[Process]:
-    """The detect and report servers, in start order (``settings.extra`` sets their files).
+    """The servers and the coordinator, in start order (``settings.extra`` sets their files).
 
     Args:
         settings: What the mission starts.
@@ -70,4 +75,4 @@ def server_processes(settings: MissionSettings) -> list[Process]:
         Their descriptions.
     """
     return [_server(settings, "detect", "sar-detect-survivor-server"),
-            _server(settings, "report", "sar-report-survivor-server")]
+            _server(settings, "report", "sar-report-survivor-server"), *coordinator(settings)]

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.events.event import MissionEvent
     from sar_framework.mission.params_file import KeyLocation, ParamsError
-    from sar_framework.mission.processes import MissionSettings, Process
+    from sar_framework.mission.processes import MissionSettings, ParamValue, Process, Robot
 
 
 @dataclass
@@ -111,6 +111,18 @@ class App:
         figure: Draws its part of ``mission.png``: ``figure(canvas, document)`` returns a
             :class:`~sar_framework.report_map.MapLayer` (its title, legend and lines), or
             None when ``mission.json`` has nothing of it.
+        robot_parameters: A robot's own runner parameters beside its spawn pose:
+            ``robot_parameters(settings, robot, index) -> {name: value}`` (named robots).
+        spawn_around: Where ``--robots N`` spawns its robots, from the runner's parameter
+            values: ``spawn_around(values) -> (centre, places)``, near ``centre`` and off
+            the ways from it to ``places`` (default: ``initial_pose``, no places).
+        fleet_report: Its part of a run of named robots' ``fleet.json``:
+            ``fleet_report(settings, summaries) -> (keys, problems)`` from each robot's
+            ``mission.json``; ``keys["robots"][name]`` joins that robot's entry, each
+            problem fails the run.
+        fleet_figure: Draws its part of ``fleet.png``: ``fleet_figure(canvas, document,
+            run_folder, colours)`` (robot name -> colour) returns a
+            :class:`~sar_framework.report_map.MapLayer`, or None.
     """
 
     name: str
@@ -130,6 +142,13 @@ class App:
     report: Callable[[Any, Sequence[MissionEvent], dict[str, Any]],
                      dict[str, Any]] | None = None
     figure: Callable[[Any, dict[str, Any]], Any] | None = None
+    robot_parameters: Callable[[MissionSettings, Robot, int],
+                               Mapping[str, ParamValue]] | None = None
+    spawn_around: Callable[[Mapping[str, Any]], tuple[tuple[float, float],
+                                                      list[tuple[float, float]]]] | None = None
+    fleet_report: Callable[[MissionSettings, Mapping[str, dict[str, Any]]],
+                           tuple[dict[str, Any], list[str]]] | None = None
+    fleet_figure: Callable[[Any, dict[str, Any], Path, Mapping[str, Any]], Any] | None = None
 
     def default_params_file(self) -> str:
         """Its parameter file when none is named, or "" (it then needs none)."""

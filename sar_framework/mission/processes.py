@@ -21,6 +21,14 @@ What the two genuinely do differently is a setting, not a second list:
 - The apps' processes (:attr:`sar_framework.app.App.processes`) take their files from
   :attr:`MissionSettings.extra` (``sar-tree run``'s app options, the launch's arguments);
   a label in :attr:`MissionSettings.disabled` does not start.
+
+The robot count is a setting too (:attr:`MissionSettings.robots`). By default one robot,
+unnamed: its runner in the root namespace, its files in the run folder. Named robots
+(``sar-tree run --robots N``/``--fleet FILE``, the launch's ``robots``/``fleet_file``) share
+one simulator (its ``fleet_file``) and the apps' shared processes; each has its runner, and
+its own copy of the apps' ``per_robot`` processes, in ``/<name>``, with its files in
+``RUN/<name>/`` and its spawn pose as ``initial_pose`` (plus what its apps add,
+:attr:`sar_framework.app.App.robot_parameters`).
 """
 
 from __future__ import annotations
@@ -75,6 +83,28 @@ def new_run_folder(root: Path | None = None) -> Path:
 
 
 @dataclass(frozen=True)
+class Robot:
+    """One robot of a run.
+
+    Attributes:
+        name: Its namespace (``robot1``); "" for the one robot of a run that names none
+            (root namespace, its files in the run folder, its pose from the parameters).
+        x: Spawn x, metres (map frame).
+        y: Spawn y, metres.
+        yaw: Spawn heading, radians.
+    """
+
+    name: str = ""
+    x: float = 0.0
+    y: float = 0.0
+    yaw: float = 0.0
+
+
+ONE_ROBOT = (Robot(),)
+"""The robots of a run that names none."""
+
+
+@dataclass(frozen=True)
 class MissionSettings:
     """What a mission starts, whoever starts it (``sar-tree run`` or ``ros2 launch``).
 
@@ -99,6 +129,11 @@ class MissionSettings:
         plugin_paths: Extra plugin locations for the runner (the recorder keeps their files).
         record: Start the recorder writing this MCAP file.
         extra: Process label -> parameters set last (``sar-tree run --sim-param`` ...).
+        robots: The robots (:data:`ONE_ROBOT` by default); named robots each run in
+            their namespace with their files in ``run_folder/<name>/``.
+        fleet_file: The simulator's fleet file (named robots' names and spawn poses).
+        node_kinds: The tree's node kinds (an app may start a process only for a tree that
+            uses one of its leaves).
     """
 
     tree: str
@@ -117,6 +152,19 @@ class MissionSettings:
     plugin_paths: tuple[str, ...] = ()
     record: str = ""
     extra: Mapping[str, Mapping[str, ParamValue]] = field(default_factory=dict)
+    robots: tuple[Robot, ...] = ONE_ROBOT
+    fleet_file: str = ""
+    node_kinds: frozenset[str] = frozenset()
+
+    @property
+    def named_robots(self) -> bool:
+        """Whether the robots are named (each in its namespace), not the one unnamed robot."""
+        return any(robot.name for robot in self.robots)
+
+    def robot_folder(self, robot: Robot) -> Path:
+        """Where ``robot``'s status, events, trace and report go: the run folder, or its own."""
+        folder = Path(self.run_folder or Path(self.status_file).parent)
+        return folder / robot.name if robot.name else folder
 
 
 @dataclass(frozen=True)
@@ -168,6 +216,7 @@ def simulator(settings: MissionSettings) -> Process | None:
     parameters: dict[str, ParamValue] = {}
     _set(parameters, "speed", None if settings.speed is None else float(settings.speed))
     _set(parameters, "trace_file", settings.trace_file)
+    _set(parameters, "fleet_file", settings.fleet_file)
     return Process("sim", "sar-sim", "sar_framework.sim", (), parameters)
 
 
@@ -193,6 +242,7 @@ class ProcessSource(Protocol):
     processes: Callable[[MissionSettings], list[Process]] | None
     recorded_topics: tuple[tuple[str, str], ...]
     process_kinds: tuple[Any, ...]  # AppProcess: its label, per_robot
+    robot_parameters: Callable[[MissionSettings, Robot, int], Mapping[str, ParamValue]] | None
 
 
 BUILDERS: tuple[Callable[[MissionSettings], Process | None], ...] = (recorder, simulator)
@@ -206,19 +256,60 @@ def app_processes(settings: MissionSettings, apps: Sequence[ProcessSource]) -> l
             for p in app.processes(settings) if p.label not in settings.disabled]
 
 
-def mission_processes(settings: MissionSettings,
-                      apps: Sequence[ProcessSource] = ()) -> list[Process]:
-    """The mission's processes in start order (the runner last), each with its parameters.
+def _per_robot(apps: Sequence[ProcessSource]) -> set[str]:
+    """The labels of the apps' processes each named robot starts its own of."""
+    return {kind.label for app in apps for kind in app.process_kinds if kind.per_robot}
+
+
+def robot_processes(settings: MissionSettings, apps: Sequence[ProcessSource], robot: Robot,
+                    index: int) -> list[Process]:
+    """A robot's own processes: a named robot's app processes and runner in ``/<name>``.
+
+    The unnamed robot has its runner alone (its apps' processes are the run's).
 
     Args:
         settings: What the mission starts.
-        apps: The tree's apps: their processes start after the core's, before the runner.
+        apps: The tree's apps.
+        robot: The robot.
+        index: Its place among the robots.
+    """
+    own = replace(settings, status_file=str(settings.robot_folder(robot) / "status.json")
+                  if robot.name else settings.status_file)
+    labels = _per_robot(apps) if robot.name else set()
+    processes = [replace(p, namespace=robot.name)
+                 for p in app_processes(own, apps) if p.label in labels]
+    tree_runner = runner(own)
+    assert tree_runner is not None
+    parameters = dict(tree_runner.parameters)
+    if robot.name:
+        parameters.update({"initial_pose.x": robot.x, "initial_pose.y": robot.y,
+                           "initial_pose.yaw": robot.yaw})
+    for app in apps:
+        if app.robot_parameters is not None:
+            parameters.update(app.robot_parameters(settings, robot, index))
+    return [*processes, replace(tree_runner, namespace=robot.name, parameters=parameters)]
+
+
+def mission_processes(settings: MissionSettings,
+                      apps: Sequence[ProcessSource] = ()) -> list[Process]:
+    """The mission's processes in start order (the runners last), each with its parameters.
+
+    Args:
+        settings: What the mission starts (its robots among it).
+        apps: The tree's apps: their processes start after the core's, before the runners
+            (a named robot's own copies in its namespace).
 
     Returns:
-        One description per process; ``settings.extra`` is applied last.
+        One description per process; ``settings.extra`` is applied last, by label (every
+        robot's runner takes ``extra["runner"]``).
     """
     built = [build(settings) for build in BUILDERS]
-    built += [*app_processes(settings, apps), runner(settings)]
+    shared = _per_robot(apps) if settings.named_robots else set()
+    built += [p for p in app_processes(settings, apps) if p.label not in shared]
+    robots = [p for i, robot in enumerate(settings.robots)
+              for p in robot_processes(settings, apps, robot, i)]
+    built += [p for p in robots if p.label != "runner"]
+    built += [p for p in robots if p.label == "runner"]
     topics = [f"{name} {kind}" for app in apps for name, kind in app.recorded_topics]
     return [with_extra(with_app_topics(p, topics), settings) for p in built if p is not None]
 

@@ -16,20 +16,17 @@ from pathlib import Path
 from typing import Any
 
 from sar_framework.app import App
-from sar_framework.mission.fleet_processes import (
-    FLEET_FILE,
-    FleetMember,
-    FleetSettings,
-    fleet_processes,
-)
 from sar_framework.mission.processes import (
+    ONE_ROBOT,
     MissionSettings,
     ParamValue,
+    Robot,
     mission_processes,
     ros_arguments,
 )
 from sar_framework.orchestrate.inputs import CheckedInputs, app_options, check_inputs, parse_entry
 from sar_framework.orchestrate.options import DEFAULT_DOMAIN_ID, RunConfig, RunUsageError
+from sar_framework.orchestrate.robots import fleet_file
 
 
 @dataclass(frozen=True)
@@ -137,7 +134,8 @@ def ros_environment(base: dict[str, str] | None = None, *,
 
 def mission_settings(config: RunConfig, report_dir: Path,
                      zones: dict[str, tuple[float, float]] | None = None,
-                     apps: Sequence[App] = ()) -> MissionSettings:
+                     apps: Sequence[App] = (), *, robots: Sequence[Robot] = ONE_ROBOT,
+                     node_kinds: frozenset[str] = frozenset()) -> MissionSettings:
     """What the mission starts, from ``sar-tree run``'s options.
 
     The trace, status and report files go into the report folder; the servers and the
@@ -149,6 +147,8 @@ def mission_settings(config: RunConfig, report_dir: Path,
         report_dir: The report folder.
         zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
         apps: The tree's apps (their options, ``--survivors``, set their processes' files).
+        robots: The robots (named ones read the fleet file, ``--fleet``'s or the folder's).
+        node_kinds: The tree's node kinds.
     """
     extra: dict[str, dict[str, Any]] = {}
     for option, path in app_options(config, apps):
@@ -165,54 +165,31 @@ def mission_settings(config: RunConfig, report_dir: Path,
         extra={**extra, "sim": entry_values(config.sim_entries, zones),
                "runner": {**({} if config.sim_timeout_s is None
                              else {"sim_timeout_s": config.sim_timeout_s}),
-                          **entry_values(config.runner_params)}})
-
-
-def fleet_file(config: RunConfig, report_dir: Path) -> Path:
-    """The fleet file the simulator reads: ``--fleet``'s, or the one ``--robots`` writes."""
-    return Path(config.fleet).resolve() if config.fleet else report_dir / FLEET_FILE
-
-
-def write_fleet_file(config: RunConfig, report_dir: Path,
-                     robots: Sequence[FleetMember]) -> Path:
-    """Write ``--robots``' fleet file into the report folder (``--fleet``'s is used as is)."""
-    from sar_framework.sim.spawn_poses import fleet_text
-    from sar_framework.sim.world import Pose2D
-
-    path = fleet_file(config, report_dir)
-    if not config.fleet:
-        path.write_text(fleet_text([Pose2D(r.x, r.y, r.yaw) for r in robots]),
-                        encoding="utf-8")
-    return path
+                          **entry_values(config.runner_params)}},
+        robots=tuple(robots), node_kinds=node_kinds,
+        fleet_file=str(fleet_file(config, report_dir)) if any(r.name for r in robots) else "")
 
 
 def child_specs(config: RunConfig, report_dir: Path,
                 zones: dict[str, tuple[float, float]] | None = None, *,
-                fleet: Sequence[FleetMember] = (), coordinator: bool = False,
-                zone_order: Sequence[str] = (), apps: Sequence[App] = ()) -> list[ChildSpec]:
-    """The processes of a mission, in start order (the runner last), as command lines.
+                apps: Sequence[App] = (), robots: Sequence[Robot] = ONE_ROBOT,
+                node_kinds: frozenset[str] = frozenset()) -> list[ChildSpec]:
+    """The processes of a mission, in start order (the runners last), as command lines.
 
     Args:
         config: The configuration.
-        report_dir: The report folder (status, trace and report files go there).
+        report_dir: The report folder (status, trace and report files go there; a named
+            robot's into ``report_dir/<name>/``).
         zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
-        fleet: A fleet's robots (:func:`~sar_framework.mission.fleet_processes.fleet_processes`;
-            each robot's files in ``report_dir/<name>/``); empty for one robot.
-        coordinator: A fleet's zone coordinator starts.
-        zone_order: The mission's zone order (a fleet's robots without the coordinator
-            each start at a different zone).
-        apps: The tree's apps (their processes start before the runner).
+        apps: The tree's apps (their processes start before the runners).
+        robots: The robots.
+        node_kinds: The tree's node kinds (which of the apps' processes start).
 
     Returns:
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
         of :func:`mission_settings`), labelled ``robot1/runner`` in a namespace.
     """
-    settings = mission_settings(config, report_dir, zones, apps)
-    if fleet:
-        processes = fleet_processes(FleetSettings(
-            settings, str(fleet_file(config, report_dir)), tuple(fleet), str(report_dir),
-            coordinator, tuple(zone_order), tuple(apps)))
-    else:
-        processes = mission_processes(settings, apps)
+    settings = mission_settings(config, report_dir, zones, apps, robots=robots,
+                                node_kinds=node_kinds)
     return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)
-            for p in processes]
+            for p in mission_processes(settings, apps)]

@@ -27,11 +27,10 @@ import yaml
 
 from sar_framework.app import App, AppError, AppOption, apps_for, discover_apps, installed_apps
 from sar_framework.engine.param import Param
-from sar_framework.fleet.params import COORDINATOR_PARAMETERS
-from sar_framework.mission.fleet_processes import FleetMember
 from sar_framework.mission.params_check import check_values, zone_positions
+from sar_framework.mission.processes import ONE_ROBOT, Robot
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
-from sar_framework.orchestrate.fleet_inputs import fleet_problems
+from sar_framework.orchestrate.robots import robot_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
 from sar_framework.sim.params import SIM_PARAMETERS, SPEED
 
@@ -39,8 +38,7 @@ if TYPE_CHECKING:
     from sar_framework.orchestrate.options import RunConfig
 
 NODE_PARAMETERS: dict[str, tuple[Param, ...]] = {
-    "sim": SIM_PARAMETERS, "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS,
-    "coordinator": COORDINATOR_PARAMETERS}
+    "sim": SIM_PARAMETERS, "runner": RUNNER_PARAMETERS, "recorder": RECORDER_PARAMETERS}
 """The core's process labels (:mod:`sar_framework.mission.processes`) -> each node's
 parameter table; the apps' processes declare their own (:func:`node_parameters`)."""
 
@@ -85,21 +83,21 @@ class CheckedInputs:
         runner_values: The runner's parameters: the file's, then ``--runner-param``.
         zones: Mission zone id -> ``(x, y)``.
         blocked_areas: The ``blocked_areas`` fault as ``(x, y, radius)`` circles, metres.
-        fleet: The fleet's robots (``--robots``/``--fleet``); empty for one robot.
-        coordinator: The zone coordinator starts (a fleet whose tree bids for zones).
+        robots: The robots (``--robots``/``--fleet`` name them; one unnamed by default).
         apps: The apps the tree uses.
         params_file: The mission parameter file used: ``--params``, else the apps'
             default, else "" (none).
+        node_kinds: The tree's node kinds.
     """
 
     spec: Any
     runner_values: dict[str, Any]
     zones: dict[str, tuple[float, float]]
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
-    fleet: tuple[FleetMember, ...] = ()
-    coordinator: bool = False
+    robots: tuple[Robot, ...] = ONE_ROBOT
     apps: tuple[App, ...] = ()
     params_file: str = ""
+    node_kinds: frozenset[str] = frozenset()
 
 
 def params_file(config: RunConfig, apps: Sequence[App]) -> str:
@@ -253,10 +251,9 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
                    else None)
         if problem:
             problems.append(problem)
-    kinds = [node.kind for node in spec.nodes()] if spec is not None else []
-    fleet, coordinator, fleet_issues = fleet_problems(config, values, overrides["sim"], kinds)
-    problems += fleet_issues
+    robots, robot_issues = robot_problems(config, values, overrides["sim"], apps)
+    problems += robot_issues
     if problems or spec is None:
         return None, problems
-    return CheckedInputs(spec, values, zones, blocked, fleet, coordinator, tuple(apps),
-                         file), problems
+    return CheckedInputs(spec, values, zones, blocked, robots, tuple(apps), file,
+                         frozenset(node.kind for node in spec.nodes())), problems

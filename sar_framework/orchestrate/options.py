@@ -79,8 +79,8 @@ class RunConfig:
     spawn: tuple[float, float, float] | None = None
 
     @property
-    def is_fleet(self) -> bool:
-        """Whether the run is a fleet's (``--robots`` or ``--fleet``)."""
+    def names_robots(self) -> bool:
+        """Whether the run names its robots (``--robots`` or ``--fleet``)."""
         return self.robots is not None or self.fleet is not None
 
     @property
@@ -173,9 +173,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="swap the tree in between ticks whenever its file or an include "
                         "changes; an invalid edit is refused (docs/how-to/hot-reload.md)")
     parser.add_argument("--robots", type=int, metavar="N",
-                        help="run a fleet: N robots near the base, each with its runner in "
-                        "/robot1... and the zone coordinator when the tree bids for zones "
-                        "(docs/how-to/fleet.md)")
+                        help="run N named robots (a fleet), each with its runner and its "
+                        "apps' per-robot processes in /robot1... (docs/how-to/fleet.md)")
     parser.add_argument("--fleet", metavar="FILE",
                         help="run the fleet of this fleet file (names and spawn poses)")
 

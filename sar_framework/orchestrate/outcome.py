@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import signal
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -185,7 +185,39 @@ def timeout_outcome(timeout_s: float, status: dict[str, Any], spec: Any,
                    f"still running: {where}{last}")
 
 
-def _where_it_ended(summary: dict[str, Any]) -> str:
+def robots_outcome(robots: Mapping[str, Outcome], problems: Sequence[str] = ()) -> Outcome:
+    """The verdict of a run of named robots: each robot's, then its apps' problems.
+
+    Args:
+        robots: Robot name -> its verdict (the one a single robot gets).
+        problems: What the tree's apps found across the robots (each fails the run).
+
+    Returns:
+        SUCCESS (exit 0) when every robot succeeded and no app found a problem; INTERRUPTED
+        (130) when any robot was; ERROR with exit 2 when a robot's runner rejected its
+        input; else FAILURE (1) with every problem in the reason.
+    """
+    if any(o.status == "INTERRUPTED" for o in robots.values()):
+        return Outcome("INTERRUPTED", EXIT_INTERRUPTED, "interrupted (Ctrl-C)")
+    found = [f"{name}: {o.status}" + (f" ({o.reason})" if o.reason else "")
+             for name, o in robots.items() if o.status != "SUCCESS"] + list(problems)
+    if not found:
+        return Outcome("SUCCESS", EXIT_OK)
+    usage = any(o.exit_code == EXIT_USAGE for o in robots.values())
+    return Outcome("ERROR" if usage else "FAILURE", EXIT_USAGE if usage else EXIT_FAILURE,
+                   "; ".join(found))
+
+
+def cut_short(run: Outcome, verdict: Outcome) -> Outcome:
+    """The robots' verdict, unless the run was cut short (interrupted, timeout, an error)."""
+    if run.status in ("INTERRUPTED", "TIMEOUT") or \
+            (run.status == "ERROR" and verdict.status != "INTERRUPTED"):
+        return Outcome(run.status, run.exit_code,
+                       "; ".join(r for r in (run.reason, verdict.reason) if r))
+    return verdict
+
+
+def where_it_ended(summary: dict[str, Any]) -> str:
     """``final position (0.02, -0.01)`` from a ``mission.json`` document.
 
     With a base station (an app's ``at_base``), whether the robot ended there:
@@ -249,7 +281,7 @@ def summarise(say: Callable[[str], None], report_dir: Path, outcome: Outcome,
         own = [part for app in apps if app.summary is not None
                for part in app.summary(summary)]
         parts += own or goal_parts(summary)
-        parts.append(_where_it_ended(summary))
+        parts.append(where_it_ended(summary))
     say("sar-tree run: " + "; ".join(parts))
     if outcome.reason:
         say(f"sar-tree run: {outcome.reason}")

@@ -37,9 +37,6 @@ _TITLES = {
                "own settings"),
     "sim": ("the embedded simulator", "sar_framework/sim/params.py",
             "`sar-tree run --speed` and the launch's `speed` set `speed`"),
-    "coordinator": ("the fleet's zone coordinator", "sar_framework/fleet/params.py",
-                    "a fleet's robots win their zones from it (docs/how-to/fleet.md); it reads the "
-                    "mission parameter file's `zone_order` and `zones`"),
     "recorder": ("the recorder", "sar_framework/recording/params.py",
                  "`sar-tree run --record FILE` and the launch's `record` set `output`"),
 }
@@ -76,7 +73,7 @@ def document() -> str:
     apps = discover_apps()
     executables = {p.label: p.executable for p in mission_processes(
         MissionSettings(tree="t", params_file="p", record="r"), apps)}
-    executables.setdefault("coordinator", "sar-zone-coordinator")  # a fleet's, not one robot's
+    executables.setdefault("coordinator", "sar-zone-coordinator")  # named robots' only
     parts = [INTRO]
     titles = {**_TITLES, **{kind.label: (kind.title, kind.declared_in, "")
                             for app in apps for kind in app.process_kinds}}

@@ -22,12 +22,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from sar_framework.child_process import ChildProcess
+from sar_framework.events.jsonl import JsonLinesFollower
 from sar_framework.orchestrate.config import ChildSpec
 
 RUNNER_STOP_S = 1.2
 """Wall seconds the runner gets to cancel its goals and exit after SIGINT."""
 OTHERS_STOP_S = 0.6
 """Wall seconds the servers and the simulator get after SIGINT before SIGKILL."""
+
+GOAL_ENDS = frozenset({"canceled", "aborted", "succeeded"})
+"""The simulator's trace events that end a goal (a stop may release the simulator then)."""
 
 _ROS_LINE = re.compile(r"^\[(DEBUG|INFO|WARN|ERROR|FATAL)\] \[[0-9.]+\] \[([^\]]+)\]: (.*)$")
 
@@ -122,3 +126,31 @@ def stop_children(children: Sequence[ChildProcess], *, first: str = "runner", la
     for child in children:
         child.finish_reading(timeout=0.5)
     return time.monotonic() - start
+
+
+class GoalTraces:
+    """The simulator's goals, from its trace files (one per robot), read as they grow.
+
+    Args:
+        paths: The trace files.
+    """
+
+    def __init__(self, paths: Sequence[Path]) -> None:
+        self._traces = [JsonLinesFollower(path) for path in paths]
+        self._in_flight = 0
+
+    def _records(self) -> list[dict]:
+        return [r for trace in self._traces for r in trace.poll() if isinstance(r, dict)]
+
+    def in_flight(self) -> int:
+        """Goals accepted and not yet ended, counted from the first call on."""
+        for record in self._records():
+            if record.get("event") == "accepted":
+                self._in_flight += 1
+            elif record.get("event") in GOAL_ENDS:
+                self._in_flight = max(0, self._in_flight - 1)
+        return self._in_flight
+
+    def ended(self) -> bool:
+        """Whether a goal ended since the last call."""
+        return any(record.get("event") in GOAL_ENDS for record in self._records())

@@ -108,7 +108,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
                      "-p", f"fleet_file:={fleet}", *sim_params], "sim")
         start(["sar_framework.servers.report_survivor_server", "--ros-args",
                "-p", f"report_file:={tmp / 'reports.jsonl'}"], "report")
-        coordinator = start(["sar_framework.fleet.coordinator_node", "--ros-args",
+        coordinator = start(["sar_plugins.sar.fleet.coordinator_node", "--ros-args",
                              "--params-file", params, "-p", f"events_file:={events_file}",
                              "-p", f"robot_timeout_wall_s:={ROBOT_TIMEOUT_WALL_S}"], "coordinator")
         sim.wait_for_output("ready", timeout=30)
@@ -159,5 +159,5 @@ def two_zone_coordinator(tmp: Path, *extra: str) -> NodeProcess:
     """The coordinator over :data:`TWO_ZONES` (not started), with extra ``--ros-args``."""
     params = tmp / "mission.yaml"
     params.write_text(TWO_ZONES, encoding="utf-8")
-    return NodeProcess(["-m", "sar_framework.fleet.coordinator_node", "--ros-args",
+    return NodeProcess(["-m", "sar_plugins.sar.fleet.coordinator_node", "--ros-args",
                         "--params-file", str(params), *extra], "coordinator", log_dir=tmp)

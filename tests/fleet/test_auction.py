@@ -5,8 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
-
-from sar_framework.fleet.auction import Award, RobotState, ZoneAuction, ZoneState
+from sar_plugins.sar.fleet.auction import Award, RobotState, ZoneAuction, ZoneState
 
 INF = math.inf
 

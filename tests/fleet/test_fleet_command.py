@@ -12,16 +12,16 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from sar_framework.mission.fleet_processes import (
+from sar_plugins.sar.fleet.processes import (
     COORDINATOR_EVENTS_FILE,
     COORDINATOR_MODULE,
-    FleetMember,
     rotated,
-    tree_uses_coordinator,
+    uses_coordinator,
 )
+
+from sar_framework.mission.processes import MissionSettings, Robot
 from sar_framework.orchestrate.config import check_config, child_specs
-from sar_framework.orchestrate.options import RunConfig, RunUsageError
+from sar_framework.orchestrate.options import RunConfig
 from sar_framework.sim.occupancy import load_map
 from sar_framework.sim.params import DEFAULT_MAP_YAML
 from sar_framework.sim.spawn_poses import MAX_ROBOTS, SpawnError, free_places, spawn_poses
@@ -126,9 +126,9 @@ def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
 
 def _specs(config: RunConfig, tmp_path: Path, coordinator: bool = False) -> dict[str, list[str]]:
     inputs = check_config(config)
-    specs = child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
-                        coordinator=coordinator,
-                        zone_order=inputs.runner_values["zone_order"], apps=inputs.apps)
+    kinds = inputs.node_kinds | ({"ClaimZone"} if coordinator else set())
+    specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps,
+                        robots=inputs.robots, node_kinds=frozenset(kinds))
     return {s.label: [s.module, *s.ros_args] for s in specs}
 
 
@@ -162,24 +162,28 @@ def test_a_fleet_file_names_the_robots(tmp_path: Path) -> None:
     fleet = tmp_path / "fleet.yaml"
     fleet.write_text("robots:\n  - name: scout\n    pose: {x: -1.0, y: -1.0, yaw: 1.57}\n")
     config = RunConfig(tree=TREE, params=PARAMS, fleet=str(fleet))
-    assert check_config(config).fleet == (FleetMember("scout", -1.0, -1.0, 1.57),)
+    assert check_config(config).robots == (Robot("scout", -1.0, -1.0, 1.57),)
     specs = _specs(config, tmp_path)
     assert f"fleet_file:={fleet}" in specs["sim"]
     assert "initial_pose.yaw:=1.57" in specs["scout/runner"]
 
 
-def test_which_trees_need_the_coordinator() -> None:
-    assert tree_uses_coordinator(["Sequence", "ClaimZone"])
-    assert not tree_uses_coordinator(["Sequence", "NavigateToZone"])
-    assert rotated(("a", "b", "c"), 4) == ["b", "c", "a"]
+def test_which_runs_need_the_coordinator() -> None:
+    named = (Robot("robot1"), Robot("robot2"))
+    assert uses_coordinator(MissionSettings("t", robots=named,
+                                            node_kinds=frozenset({"Sequence", "ClaimZone"})))
+    assert not uses_coordinator(MissionSettings("t", robots=named,
+                                                node_kinds=frozenset({"NavigateToZone"})))
+    assert not uses_coordinator(MissionSettings("t", node_kinds=frozenset({"ClaimZone"})))
+    assert rotated(["a", "b", "c"], 4) == ["b", "c", "a"]
 
 
-def test_a_tree_that_bids_needs_the_coordinator_installed(tmp_path: Path,
-                                                          monkeypatch: pytest.MonkeyPatch
-                                                          ) -> None:
-    from sar_framework.orchestrate import fleet_inputs
-
-    monkeypatch.setattr(fleet_inputs, "tree_uses_coordinator", lambda kinds: True)
-    monkeypatch.setattr(fleet_inputs, "coordinator_installed", lambda: False)
-    with pytest.raises(RunUsageError, match=r"the zone coordinator .* is not installed"):
-        check_config(RunConfig(tree=TREE, params=PARAMS, robots=2))
+def test_one_robot_is_the_unnamed_robot_of_the_same_description(tmp_path: Path) -> None:
+    specs = _specs(RunConfig(tree=TREE, params=PARAMS), tmp_path)
+    assert list(specs) == ["sim", "detect", "report", "runner"]
+    assert not any(a.startswith(("fleet_file:=", "__ns:=")) for a in specs["sim"])
+    assert f"status_file:={tmp_path / 'status.json'}" in specs["runner"]
+    assert not any(a.startswith(("initial_pose.", "base_station.", "zone_order"))
+                   for a in specs["runner"])
+    one = _specs(RunConfig(tree=TREE, params=PARAMS, robots=1), tmp_path / "one")
+    assert list(one) == ["sim", "report", "robot1/detect", "robot1/runner"]

@@ -3,7 +3,7 @@
 The launch description is evaluated by launch itself (no process starts): the same
 executables, in the same order and namespaces, with the same parameters as the command
 lines of ``sar-tree run TREE --robots 3`` (one description:
-:mod:`sar_framework.mission.fleet_processes`).
+:mod:`sar_framework.mission.processes`).
 """
 
 from __future__ import annotations
@@ -84,9 +84,8 @@ def test_the_launch_and_sar_tree_run_start_the_same_fleet(tmp_path: Path) -> Non
                        app_options={"--survivors": str(SURVIVORS)})
     inputs = check_config(config)
     run = []
-    for spec in child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
-                            coordinator=inputs.coordinator,
-                            zone_order=inputs.runner_values["zone_order"], apps=inputs.apps):
+    for spec in child_specs(config, tmp_path, inputs.zones, apps=inputs.apps,
+                            robots=inputs.robots, node_kinds=inputs.node_kinds):
         namespace = spec.label.rpartition("/")[0]
         run.append((namespace, spec.executable, _parameters(list(spec.ros_args))))
     assert [(ns, exe) for ns, exe, _ in launch] == [(ns, exe) for ns, exe, _ in run] == [

@@ -4,7 +4,8 @@ Real processes over real DDS (the test's leased domain): one simulator, the base
 coordinator, and per robot a detect server and a runner in ``/robotN``. The verdicts come
 from events: every robot's, and the fleet's (every zone searched once by the coordinator's
 ``searched`` events, every robot home, each auction won by its lowest bid); and from the
-base's report file: every survivor reported once, under its fleet-wide id.
+base's report file: every survivor reported once, under its fleet-wide id. A tree that
+uses no app runs named robots on the core alone.
 """
 
 from __future__ import annotations
@@ -95,3 +96,43 @@ def test_a_fleet_cut_short_by_the_timeout_says_which_robots_were_still_running(
         assert events and events[-1].kind == EventKind.VERDICT
         assert events[-1].status == "TIMEOUT"
     assert "sar-tree run: Fleet TIMEOUT" in result.stdout
+
+
+COUNT = """\
+format: 1
+name: count
+description: Counts once; uses no app.
+blackboard:
+  laps: {type: int, initial: 0, description: laps}
+root:
+  sequence:
+    name: Count
+    memory: true
+    children:
+      - Script: {name: CountOnce, code: "laps += 1"}
+"""
+
+
+def test_named_robots_of_a_tree_that_uses_no_app(tmp_path: Path) -> None:
+    folder = tmp_path / "count"
+    folder.mkdir()
+    (folder / "count.yaml").write_text(COUNT, encoding="utf-8")
+    result = subprocess.run(
+        [sys.executable, "-m", "sar_framework", "run", "count.yaml", "--robots", "2",
+         "--speed", "30", "--timeout", "240", "--report-dir", "out"],
+        capture_output=True, text=True, timeout=300, cwd=folder, check=False)
+    out = result.stdout + result.stderr
+    assert result.returncode == 0, out
+    report = folder / "out"
+    fleet = json.loads((report / "fleet.json").read_text())
+    assert fleet["outcome"] == "SUCCESS", fleet
+    assert {name: r["outcome"] for name, r in fleet["robots"].items()} == {
+        "robot1": "SUCCESS", "robot2": "SUCCESS"}
+    assert "coordinator" not in fleet and "zones" not in fleet  # no app, no app's keys
+    for name in ("robot1", "robot2"):
+        assert json.loads((report / name / "mission.json").read_text())["outcome"] == "SUCCESS"
+    # the simulator and a runner per robot, nothing else (no app's processes)
+    logs = sorted(str(p.relative_to(report)) for p in report.rglob("*.log")
+                  if p.parent.name != "ros_log" and "ros_log" not in p.parts)
+    assert logs == ["robot1/runner.log", "robot2/runner.log", "sim.log"], logs
+    assert "sar-tree run: Fleet SUCCESS" in result.stdout

@@ -1,18 +1,22 @@
-"""The fleet's verdict and picture from events and reports (no ROS): good and bad fleets."""
+"""Named robots' verdict and picture from events and reports (no ROS): good and bad fleets.
+
+The core's verdict (each robot's) and the search-and-rescue app's problems (zones searched
+once, robots home), as ``sar-tree run`` combines them.
+"""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
+
+from sar_plugins.sar.app import APP
+from sar_plugins.sar.fleet.report import award_lines, zone_problems, zone_searchers
 
 from sar_framework.events.jsonl import read_json_lines
-from sar_framework.orchestrate.fleet_outcome import (
-    fleet_document,
-    fleet_outcome,
-    zone_searchers,
-)
-from sar_framework.orchestrate.outcome import Outcome
-from sar_framework.report_fleet import ROBOT_COLOURS, award_lines, draw_fleet
+from sar_framework.mission.processes import MissionSettings, Robot
+from sar_framework.orchestrate.outcome import Outcome, robots_outcome
+from sar_framework.report_robots import ROBOT_COLOURS, app_findings, draw_fleet, fleet_document
 
 REPO = Path(__file__).resolve().parents[2]
 ZONES = ["zone_a", "zone_b"]
@@ -22,6 +26,14 @@ OK = Outcome("SUCCESS", 0)
 def _summary(*zones: str, home: bool = True) -> dict:
     return {"zones_visited": [{"id": z} for z in zones], "at_base": home,
             "final_position": {"x": 1.0, "y": 2.0}, "sim_duration_s": 50.0}
+
+
+def fleet_outcome(robots: dict[str, Outcome], summaries: dict[str, Any],
+                  searched: dict[str, list[str]], *, once: bool) -> Outcome:
+    """The verdict ``sar-tree run`` gives: the robots', with the app's problems."""
+    own = {name: {**summary, "outcome": robots[name].status}
+           for name, summary in summaries.items()}
+    return robots_outcome(robots, zone_problems(searched, own, once=once))
 
 
 def _events(*records: dict) -> list[dict]:
@@ -95,13 +107,32 @@ def test_fleet_png_draws_each_robot_s_path_in_its_colour(tmp_path: Path) -> None
             {"sim_s": i, "x": x0 + 0.1 * i, "y": y0} for i in range(1, 10)]
         (tmp_path / name / "trace.jsonl").write_text(
             "".join(json.dumps(line) + "\n" for line in lines))
-    summaries = {"robot1": _summary("zone_a"), "robot2": _summary("zone_b")}
-    searched = zone_searchers(["zone_a", "zone_b", "zone_c", "zone_d"], summaries, SEARCHED)
-    document = fleet_document(OK, {"robot1": OK, "robot2": OK}, summaries, searched,
-                              coordinator=True, wall_duration_s=10.0)
-    out = draw_fleet(tmp_path, document, str(REPO / "config" / "mission_params.yaml"), BIDS,
-                     tmp_path / "fleet.png")
+    planned = [{"id": z, "x": x, "y": 3.0} for z, x in
+               (("zone_a", -3.0), ("zone_b", 3.5), ("zone_c", 4.0), ("zone_d", -3.5))]
+    summaries = {"robot1": {**_summary("zone_a"), "zones_planned": planned},
+                 "robot2": {**_summary("zone_b"), "zones_planned": planned}}
+    for name, summary in summaries.items():
+        (tmp_path / name / "mission.json").write_text(json.dumps(summary))
+    (tmp_path / "fleet_events.jsonl").write_text(
+        "".join(json.dumps(e) + "\n" for e in [*BIDS, *SEARCHED]))
+    settings = MissionSettings("t.yaml", run_folder=str(tmp_path),
+                               robots=(Robot("robot1"), Robot("robot2")),
+                               node_kinds=frozenset({"ClaimZone"}))
+    keys, problems = app_findings(settings, summaries, [APP])
+    assert problems == ["zone_c was never searched", "zone_d was never searched"]
+    document = fleet_document("FAILURE", "; ".join(problems), {"robot1": OK, "robot2": OK},
+                              summaries, keys, wall_duration_s=10.0)
+    out = draw_fleet(tmp_path, document, [APP], tmp_path / "fleet.png")
     colours = {colour for _count, colour in Image.open(out).convert("RGB").getcolors(1 << 20)}
     assert set(ROBOT_COLOURS[:2]) <= colours
+    assert document["coordinator"] is True
     assert document["zones"]["zone_c"] == {"searched_by": []}
     assert document["robots"]["robot2"]["report"] == "robot2/mission.json"
+    assert document["robots"]["robot1"]["zones_visited"] == ["zone_a"]
+
+
+def test_robots_without_an_app_succeed_on_their_own_verdicts(tmp_path: Path) -> None:
+    settings = MissionSettings("t.yaml", run_folder=str(tmp_path), robots=(Robot("a"),))
+    keys, problems = app_findings(settings, {"a": {"goals": []}}, [APP])
+    assert (keys, problems) == ({}, [])
+    assert robots_outcome({"a": OK}, problems) == OK

@@ -5,8 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
-
-from sar_framework.fleet.survivor_registry import RegistrationError, SurvivorRegistry
+from sar_plugins.sar.fleet.survivor_registry import RegistrationError, SurvivorRegistry
 
 
 @pytest.fixture

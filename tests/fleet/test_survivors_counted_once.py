@@ -22,6 +22,11 @@ import pytest
 from py_trees.common import Status
 from sar_plugins.log_survivor_not_registered import LogSurvivorNotRegistered
 from sar_plugins.register_survivor import RegisterSurvivor
+from sar_plugins.sar.fleet.survivor_registry import Registration
+from sar_plugins.sar.fleet.survivor_service import (
+    REGISTER_SURVIVOR_SERVICE,
+    SurvivorRegistryService,
+)
 from sar_testing.leaf_harness import TfStaticRecorder, spec_zone_manager, tree_on
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import call_service, spin_until
@@ -29,11 +34,6 @@ from sar_testing.spin import call_service, spin_until
 from sar_framework import load_tree
 from sar_framework.events.emitter import EventEmitter
 from sar_framework.events.event import EventKind
-from sar_framework.fleet.survivor_registry import Registration
-from sar_framework.fleet.survivor_service import (
-    REGISTER_SURVIVOR_SERVICE,
-    SurvivorRegistryService,
-)
 from sar_framework.ros.tf_topics import TF_REMAP_ARGS
 
 pytestmark = pytest.mark.ros

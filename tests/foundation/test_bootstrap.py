@@ -264,14 +264,13 @@ def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
         tmp_path: Path) -> None:
     from sar_plugins.sar.app import APP
 
-    from sar_framework.mission.fleet_processes import FleetMember, FleetSettings, fleet_processes
-    from sar_framework.mission.processes import MissionSettings, mission_processes
+    from sar_framework.mission.processes import MissionSettings, Robot, mission_processes
 
-    mission = MissionSettings(tree="t.yaml", params_file="p.yaml",
-                              record=str(tmp_path / "r.mcap"))
-    fleet = FleetSettings(mission, fleet_file="f.yaml", robots=(FleetMember("r1", 0, 0, 0),),
-                          run_dir=str(tmp_path), coordinator=True)
-    started = {p.executable for p in [*mission_processes(mission, [APP]), *fleet_processes(fleet)]}
+    mission = MissionSettings(tree="t.yaml", params_file="", record=str(tmp_path / "r.mcap"))
+    fleet = MissionSettings(tree="t.yaml", run_folder=str(tmp_path), fleet_file="f.yaml",
+                            robots=(Robot("r1"),), node_kinds=frozenset({"ClaimZone"}))
+    started = {p.executable for settings in (mission, fleet)
+               for p in mission_processes(settings, [APP])}
     assert "sar-zone-coordinator" in started
     assert started <= set(load_bootstrap().EXECUTABLES)
 

@@ -72,11 +72,12 @@ def test_declared_arguments_and_their_defaults():
     assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
                              "report_dir", "tick_rate_hz", "map", "spawn", "nav2_params_file",
                              "use_sim_time",
-                             "speed", "rviz", "record", "reload"}
+                             "speed", "rviz", "record", "reload", "robots", "fleet_file"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
     assert declared["record"] == ""  # no recorder unless asked
     assert declared["reload"] == "false"  # the tree file is not watched unless asked
     assert declared["report_dir"] == ""  # a new folder per run
+    assert declared["robots"] == declared["fleet_file"] == ""  # one robot, unnamed
     assert (REPO / "trees" / declared["tree"]).is_file()
     assert declared["map"] == declared["spawn"] == ""  # the simulator's own defaults
     for key in ("nav2_params_file", "survivors_file"):

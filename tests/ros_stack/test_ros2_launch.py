@@ -156,3 +156,9 @@ def test_the_fleet_launch_runs_two_robots_to_the_end(tmp_path):
     searched = sorted(e["zone_id"] for e in events if e["kind"] == "searched")
     assert searched == ["zone_a", "zone_b", "zone_c", "zone_d"], output
     assert events[-1]["kind"] == "complete"
+    # the report sar-tree run writes: each robot's, and the run's page
+    fleet = json.loads((tmp_path / "fleet.json").read_text(encoding="utf-8"))
+    assert fleet["outcome"] == "SUCCESS", fleet
+    assert sorted(fleet["robots"]) == ["robot1", "robot2"] and fleet["coordinator"] is True
+    assert all((tmp_path / name / "mission.json").is_file() for name in fleet["robots"])
+    assert (tmp_path / "fleet.png").stat().st_size > 0

@@ -6,7 +6,7 @@ One node in the root namespace serves every robot (the robots' ``ClaimZone``,
     sar-zone-coordinator --ros-args --params-file config/mission_params.yaml \\
         -p events_file:=fleet_events.jsonl
 
-The protocol (the rules are :mod:`sar_framework.fleet.auction`'s):
+The protocol (the rules are :mod:`sar_plugins.sar.fleet.auction`'s):
 
 1. request: a robot asks for work on ``/zone_coordinator/request_zone``;
 2. notice: when open zones and waiting robots exist, a round opens: a ``ZoneNotice`` on
@@ -21,7 +21,7 @@ The protocol (the rules are :mod:`sar_framework.fleet.auction`'s):
 Robots publish ``FleetHeartbeat`` on ``/zone_coordinator/heartbeat``; one silent for
 ``robot_timeout_wall_s`` (wall clock) is lost and its claims go back to auction. Every decision
 is a ``FleetEvent`` (:mod:`.event_log`). Parameters:
-:data:`~sar_framework.fleet.params.COORDINATOR_PARAMETERS`. Exits 2 with one line on a bad
+:data:`~sar_plugins.sar.fleet.params.COORDINATOR_PARAMETERS`. Exits 2 with one line on a bad
 configuration.
 """
 
@@ -37,12 +37,12 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from sar_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
 from sar_interfaces.srv import BidZones, FinishZone, RequestZone
+from sar_plugins.sar.fleet.auction import ZoneAuction
+from sar_plugins.sar.fleet.event_log import FleetEventLog
+from sar_plugins.sar.fleet.params import COORDINATOR_PARAMETERS
+from sar_plugins.sar.fleet.survivor_registry import Registration
+from sar_plugins.sar.fleet.survivor_service import SurvivorRegistryService
 
-from sar_framework.fleet.auction import ZoneAuction
-from sar_framework.fleet.event_log import FleetEventLog
-from sar_framework.fleet.params import COORDINATOR_PARAMETERS
-from sar_framework.fleet.survivor_registry import Registration
-from sar_framework.fleet.survivor_service import SurvivorRegistryService
 from sar_framework.mission.params import read_mission_params
 from sar_framework.mission.params_file import check_params_file, params_files_from_args
 from sar_framework.ros.parameters import declare_table

@@ -1,7 +1,7 @@
 """The fleet's survivor registry: one fleet-wide id per survivor, one robot to report it (no ROS).
 
 Every robot that finds a survivor registers it with the fleet (the zone coordinator hosts
-the registry, :mod:`sar_framework.fleet.survivor_service`). A survivor registered within
+the registry, :mod:`sar_plugins.sar.fleet.survivor_service`). A survivor registered within
 ``radius_m`` of one already known is the same survivor and gets the same id; otherwise it
 gets the next id, ``survivor_1``, ``survivor_2``... counted fleet-wide, in registration order.
 

@@ -24,7 +24,7 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.fleet.survivor_registry import (
+from sar_plugins.sar.fleet.survivor_registry import (
     Registration,
     RegistrationError,
     SurvivorRegistry,

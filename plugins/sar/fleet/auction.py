@@ -1,6 +1,6 @@
 """The fleet's zone ledger and its sequential single-item auction (no ROS).
 
-The zone coordinator (:mod:`sar_framework.fleet.coordinator_node`) keeps one
+The zone coordinator (:mod:`sar_plugins.sar.fleet.coordinator_node`) keeps one
 :class:`ZoneAuction`; every fact it learns from the robots goes in, every decision comes
 out. Times are plain seconds given by the caller (the node's wall clock), so the rules are
 tested without ROS::

@@ -17,7 +17,7 @@ import time
 from collections.abc import Mapping
 from typing import Any
 
-from ._navigation import yaw_to_quaternion
+from ._pose_target import yaw_to_quaternion
 
 
 def path_length(poses: Any) -> float:

@@ -15,7 +15,7 @@ from __future__ import annotations
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 
-from ._action import Nav2ActionLeaf
+from ._bt_nodes import Nav2ActionLeaf
 from ._common import count_recovery, duration_msg, optional_input, server_ports
 
 _ALLOWANCE = InputPort("time_allowance", float, default=10.0,
@@ -47,7 +47,7 @@ class _Behavior(Nav2ActionLeaf):
 class Spin(_Behavior):
     """Nav2's Spin: turn in place by ``spin_dist`` radians."""
 
-    ACTION = ("nav2_msgs.action", "Spin")
+    action_type = "nav2_msgs/action/Spin"
     SERVER = "spin"
 
     def on_tick(self) -> bool:
@@ -69,7 +69,7 @@ class Spin(_Behavior):
 class BackUp(_Behavior):
     """Nav2's BackUp: drive straight backwards ``backup_dist`` metres."""
 
-    ACTION = ("nav2_msgs.action", "BackUp")
+    action_type = "nav2_msgs/action/BackUp"
     SERVER = "backup"
 
     def on_tick(self) -> bool:
@@ -89,7 +89,7 @@ class BackUp(_Behavior):
 class DriveOnHeading(_Behavior):
     """Nav2's DriveOnHeading: drive straight ahead ``dist_to_travel`` metres."""
 
-    ACTION = ("nav2_msgs.action", "DriveOnHeading")
+    action_type = "nav2_msgs/action/DriveOnHeading"
     SERVER = "drive_on_heading"
 
     def on_tick(self) -> bool:
@@ -108,7 +108,7 @@ class Wait(_Behavior):
     Not a dwell on this node's clock: that is ``Dwell``.
     """
 
-    ACTION = ("nav2_msgs.action", "Wait")
+    action_type = "nav2_msgs/action/Wait"
     SERVER = "wait"
 
     def on_tick(self) -> bool:

@@ -2,7 +2,7 @@
 
 ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion.
 
-Service clients (:class:`~._service.Nav2ServiceLeaf`) of a costmap's clearing service,
+Service clients (:class:`~._bt_nodes.Nav2ServiceLeaf`) of a costmap's clearing service,
 named by ``service_name`` as in Nav2's trees (``local_costmap/clear_entirely_local_costmap``).
 """
 
@@ -11,8 +11,8 @@ from __future__ import annotations
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 
+from ._bt_nodes import Nav2ServiceLeaf
 from ._common import optional_input, timeout_port
-from ._service import Nav2ServiceLeaf
 
 _SERVICE = InputPort("service_name", str, optional=True,
                      description="Costmap service name responsible for clearing the costmap.")
@@ -22,7 +22,7 @@ _SERVICE = InputPort("service_name", str, optional=True,
 class ClearEntireCostmap(Nav2ServiceLeaf):
     """Nav2's ClearEntireCostmap: clear every layer of a costmap."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearEntireCostmap")
+    service_type = "nav2_msgs/srv/ClearEntireCostmap"
 
 
 class _ClearRegion(Nav2ServiceLeaf):
@@ -41,7 +41,7 @@ class _ClearRegion(Nav2ServiceLeaf):
 class ClearCostmapExceptRegion(_ClearRegion):
     """Nav2's ClearCostmapExceptRegion: clear a costmap except a square around the robot."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearCostmapExceptRegion")
+    service_type = "nav2_msgs/srv/ClearCostmapExceptRegion"
 
 
 @leaf(ports=[
@@ -53,4 +53,4 @@ class ClearCostmapExceptRegion(_ClearRegion):
 class ClearCostmapAroundRobot(_ClearRegion):
     """Nav2's ClearCostmapAroundRobot: clear a square of a costmap around the robot."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearCostmapAroundRobot")
+    service_type = "nav2_msgs/srv/ClearCostmapAroundRobot"

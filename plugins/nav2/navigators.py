@@ -13,9 +13,9 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
+from sar_framework.leaves import RosLeaf
 
-from .._ros_leaf import RosLeaf
-from ._action import Nav2ActionLeaf
+from ._bt_nodes import Nav2ActionLeaf
 from ._common import optional_input, server_ports, server_timeout_s
 
 _TREE = ("Behavior tree absolute path. If none is specified, the action server uses a "
@@ -34,7 +34,7 @@ _ERROR = OutputPort("error_code_id", int, description="The navigator's error cod
 class NavigateToPose(Nav2ActionLeaf):
     """Nav2's NavigateToPose: the navigator drives to ``goal``."""
 
-    ACTION = ("nav2_msgs.action", "NavigateToPose")
+    action_type = "nav2_msgs/action/NavigateToPose"
     SERVER = "navigate_to_pose"
 
     def on_tick(self) -> bool:
@@ -57,7 +57,7 @@ class NavigateToPose(Nav2ActionLeaf):
 class NavigateThroughPoses(Nav2ActionLeaf):
     """Nav2's NavigateThroughPoses: the navigator drives through every pose of ``goals``."""
 
-    ACTION = ("nav2_msgs.action", "NavigateThroughPoses")
+    action_type = "nav2_msgs/action/NavigateThroughPoses"
     SERVER = "navigate_through_poses"
 
     def on_tick(self) -> bool:
@@ -105,21 +105,21 @@ class CancelControl(RosLeaf):
         """Send the cancel-all request (a zero goal id and stamp)."""
         from action_msgs.srv import CancelGoal
 
-        self._reset_latch()
+        self.reset_latch()
         self._future = self._client.call_async(CancelGoal.Request())
         self._sent = time.monotonic()
 
     def update(self) -> Status:
         """SUCCESS once answered, or once ``server_timeout`` passed (logged as an error)."""
         if self._done:
-            return self._verdict()
+            return self.verdict()
         if self._future.done():
-            return self._latch(True, f"goals of {self.server_name} cancelled")
+            return self.latch(True, f"goals of {self.server_name} cancelled")
         if time.monotonic() - self._sent < server_timeout_s(self._node, self.ports):
             return Status.RUNNING
         self._future.cancel()
         self.node.get_logger().error(f"Failed to cancel action server for {self.server_name}")
-        return self._latch(True, f"no answer from {self.server_name} to the cancel request",
+        return self.latch(True, f"no answer from {self.server_name} to the cancel request",
                            log=False)
 
     def shutdown(self) -> None:

@@ -2,7 +2,7 @@
 
 ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath.
 
-Each is a :class:`~._action.Nav2ActionLeaf` with Nav2's ports (nav2_tree_nodes.xml) and
+Each is a :class:`~._bt_nodes.Nav2ActionLeaf` with Nav2's ports (nav2_tree_nodes.xml) and
 Nav2 Jazzy's semantics: a path output is cleared (an empty ``nav_msgs/Path``) when the
 planner fails or is cancelled; ``error_code_id`` is 0 (NONE) on success and the server's
 code on failure; FollowPath sends its goal again when ``path`` or an id port changes while
@@ -18,7 +18,7 @@ from py_trees.common import Status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 
-from ._action import Nav2ActionLeaf
+from ._bt_nodes import Nav2ActionLeaf
 from ._common import duration_msg, optional_input, server_ports
 
 POSE = "geometry_msgs/msg/PoseStamped"
@@ -38,7 +38,7 @@ class _Planner(Nav2ActionLeaf):
 
     def on_success(self) -> Status:
         """Write the outputs of a success."""
-        self.ports.set("path", self.result.result.path)
+        self.ports.set("path", self.result.path)
         self.set_error_code(0)
         return Status.SUCCESS
 
@@ -76,7 +76,7 @@ class _Planner(Nav2ActionLeaf):
 class ComputePathToPose(_Planner):
     """Nav2's ComputePathToPose: a path from the robot (or ``start``) to ``goal``."""
 
-    ACTION = ("nav2_msgs.action", "ComputePathToPose")
+    action_type = "nav2_msgs/action/ComputePathToPose"
     SERVER = "compute_path_to_pose"
 
     def on_tick(self) -> bool:
@@ -104,7 +104,7 @@ class ComputePathToPose(_Planner):
 class ComputePathThroughPoses(_Planner):
     """Nav2's ComputePathThroughPoses: a path through every pose of ``goals``, in order."""
 
-    ACTION = ("nav2_msgs.action", "ComputePathThroughPoses")
+    action_type = "nav2_msgs/action/ComputePathThroughPoses"
     SERVER = "compute_path_through_poses"
 
     def on_tick(self) -> bool:
@@ -136,7 +136,7 @@ class ComputePathThroughPoses(_Planner):
 class SmoothPath(Nav2ActionLeaf):
     """Nav2's SmoothPath: the smoother server's version of ``unsmoothed_path``."""
 
-    ACTION = ("nav2_msgs.action", "SmoothPath")
+    action_type = "nav2_msgs/action/SmoothPath"
     SERVER = "smooth_path"
 
     def on_tick(self) -> bool:
@@ -155,7 +155,7 @@ class SmoothPath(Nav2ActionLeaf):
 
     def on_success(self) -> Status:
         """Write the outputs of a success."""
-        result = self.result.result
+        result = self.result
         self.ports.set("smoothed_path", result.path)
         duration = result.smoothing_duration
         self.ports.set("smoothing_duration", duration.sec + duration.nanosec / 1e9)
@@ -178,7 +178,7 @@ class SmoothPath(Nav2ActionLeaf):
 class FollowPath(Nav2ActionLeaf):
     """Nav2's FollowPath: the controller drives ``path``; a new path while it runs is sent."""
 
-    ACTION = ("nav2_msgs.action", "FollowPath")
+    action_type = "nav2_msgs/action/FollowPath"
     SERVER = "follow_path"
     IDS = ("controller_id", "goal_checker_id", "progress_checker_id")
 

@@ -76,7 +76,8 @@ def test_every_wall_duration_says_so_in_its_name_and_exists() -> None:
         if name.startswith("sar-tree run --"):
             continue  # a command-line option, not a parameter
         assert name.endswith("_wall_s"), name
-        assert name in names or name in (REPO / "plugins" / "_service_call.py").read_text(), name
+        service_call = REPO / "sar_framework" / "leaves" / "service_call.py"
+        assert name in names or name in service_call.read_text(), name
     # and every *_wall_s parameter of a node is listed
     for name in names:
         if name.endswith("_wall_s"):

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.leaves import PolledServiceCall, RosLeaf, service_timeout_params
+from sar_framework.leaves import GoalBatch, PolledServiceCall, RosLeaf, service_timeout_params
 
 from ._fleet import COORDINATOR_PARAM, robot_name
 from ._path_costs import PathCosts
@@ -96,7 +96,6 @@ class ClaimZone(RosLeaf):
         """
         super().setup(**kwargs)
         from nav2_msgs.action import ComputePathToPose
-        from rclpy.action import ActionClient
         from rclpy.clock import Clock, ClockType
         from sar_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
         from sar_interfaces.srv import BidZones, RequestZone
@@ -116,8 +115,7 @@ class ClaimZone(RosLeaf):
             heartbeat.publish(FleetHeartbeat(robot=self.robot))
 
         self._ros = {
-            "action_type": ComputePathToPose,
-            "planner": ActionClient(node, ComputePathToPose, self.action_name),
+            "planner": GoalBatch(node, ComputePathToPose, self.action_name),
             "heartbeat": heartbeat,
             "timer": node.create_timer(self.heartbeat_period_wall_s, beat,
                                        clock=Clock(clock_type=ClockType.STEADY_TIME)),
@@ -257,7 +255,7 @@ class ClaimZone(RosLeaf):
                 self.node.get_logger().warning(f"auction {self._round.auction_id}: "
                                                f"{zone_id} is not in this robot's mission")
         bound = max(0.1, 0.75 * float(self._round.bid_window_s))
-        self._costs = PathCosts(self._ros["planner"], self._ros["action_type"], self.frame_id,
+        self._costs = PathCosts(self._ros["planner"], self.frame_id,
                                 zones=zones, bound_wall_s=bound,
                                 stamp=self.node.get_clock().now().to_msg())
         self._phase = "plan"

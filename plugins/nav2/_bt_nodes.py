@@ -198,6 +198,10 @@ class Nav2ServiceLeaf(ServiceLeaf):
         """The response arrived (``self.response``)."""
         return Status.SUCCESS
 
+    def service_from_ports(self) -> str:
+        """The service to call: the ``service_name`` port, else :attr:`SERVER` ("": none)."""
+        return optional_input(self.ports, "service_name", self.SERVER) or ""
+
     def setup(self, **kwargs: Any) -> None:
         """Name the service and set Nav2's bounds, then create the client.
 
@@ -205,7 +209,7 @@ class Nav2ServiceLeaf(ServiceLeaf):
             **kwargs: Must hold ``node``.
         """
         node = kwargs.get("node")
-        self.service_name = optional_input(self.ports, "service_name", self.SERVER) or ""
+        self.service_name = self.service_from_ports()
         self.server_timeout_s = wait_for_service_s(node)
         self.response_timeout_s = math.inf  # the wall bound alone, as Nav2's
         self.response_timeout_wall_s = server_timeout_s(node, self.ports)

@@ -15,9 +15,11 @@ on the node's clock and say why they ended in ``feedback_message``:
 :class:`Leaf`            a plain leaf; :class:`Condition`: a plain condition
 =======================  ==============================================================
 
-:func:`action_params`, :func:`service_params` and :func:`topic_params` declare the params
-each ROS leaf reads (names, bounds, QoS), to put in the leaf's ``@leaf(params=[...])``.
-Importing this package imports no ROS package.
+The goal and request life cycles are usable alone: :class:`PolledGoal`, :class:`GoalBatch`
+(many goals to one server), :class:`PolledServiceCall` and, for a condition that must answer
+in its tick, :class:`TickServiceCall`. :func:`action_params`, :func:`service_params` and
+:func:`topic_params` declare the params each ROS leaf reads (names, bounds, QoS), to put in
+the leaf's ``@leaf(params=[...])``. Importing this package imports no ROS package.
 """
 
 from sar_framework.leaves.action import ActionLeaf, action_params
@@ -26,6 +28,7 @@ from sar_framework.leaves.goal_call import (
     STATUS_ABORTED,
     STATUS_CANCELED,
     STATUS_SUCCEEDED,
+    GoalBatch,
     GoalEnd,
     GoalFailure,
     PolledGoal,
@@ -34,12 +37,14 @@ from sar_framework.leaves.plain import Condition, Leaf, StatefulLeaf
 from sar_framework.leaves.ros_leaf import RosLeaf
 from sar_framework.leaves.service import ServiceLeaf, service_params, service_timeout_params
 from sar_framework.leaves.service_call import CallResult, PolledServiceCall
+from sar_framework.leaves.tick_call import TickServiceCall
 from sar_framework.leaves.topics import PublisherLeaf, TopicCondition, qos_of, topic_params
 
 __all__ = [
     "STATUS_ABORTED", "STATUS_CANCELED", "STATUS_SUCCEEDED", "ActionLeaf", "CallResult",
-    "Condition", "GoalEnd", "GoalFailure", "Leaf", "PolledGoal", "PolledServiceCall",
-    "PublisherLeaf", "RosLeaf", "ServiceLeaf", "StatefulLeaf", "TopicCondition",
+    "Condition", "GoalBatch", "GoalEnd", "GoalFailure", "Leaf", "PolledGoal", "PolledServiceCall",
+    "PublisherLeaf", "RosLeaf", "ServiceLeaf", "StatefulLeaf", "TickServiceCall",
+    "TopicCondition",
     "action_params", "interface_type", "qos_of", "service_params", "service_timeout_params",
     "topic_params",
 ]

@@ -113,7 +113,7 @@ class ActionLeaf(RosLeaf):
         return None
 
     def on_sent(self) -> None:
-        """Called once the goal (:attr:`goal`) has been sent."""
+        """Called once the goal (``goal``) has been sent."""
 
     def on_feedback(self, feedback: Any) -> Status | None:
         """See the goal's progress on every tick it runs.
@@ -136,7 +136,8 @@ class ActionLeaf(RosLeaf):
             result: The action's result message.
 
         Returns:
-            The leaf's verdict, usually through :meth:`succeed` or :meth:`fail`.
+            The leaf's verdict, usually through :meth:`~sar_framework.leaves.RosLeaf.succeed` or
+            :meth:`~sar_framework.leaves.RosLeaf.fail`.
         """
         said = f"{self.action_name} {_STATUS_WORDS.get(status, f'ended with status {status}')}"
         detail = getattr(result, "error_msg", "")
@@ -159,7 +160,7 @@ class ActionLeaf(RosLeaf):
         """Called after a halt cancelled the goal in flight."""
 
     def resend(self) -> None:
-        """Send :attr:`goal` again, as updated (from :meth:`on_feedback`); the server preempts."""
+        """Send ``goal`` again, as updated (from :meth:`on_feedback`); the server preempts."""
         self._goals().send(self.goal)
         self.on_sent()
 

@@ -219,3 +219,68 @@ def _cancel_if_accepted(future: Any) -> None:
     """Cancel a goal whose acceptance arrives after its sender stopped wanting it."""
     if future.exception() is None and future.result() is not None and future.result().accepted:
         future.result().cancel_goal_async()
+
+
+class GoalBatch:
+    """Several goals to one action server at once, each polled to its end, never blocking.
+
+    For a leaf that asks many questions of one server in one tick (a path cost per zone).
+    No feedback, no bounds of its own: the caller decides how long it waits (:meth:`drop`).
+
+    Args:
+        node: The node that owns the client.
+        action_type: The action type.
+        action_name: The action server's name (relative: in the node's namespace).
+    """
+
+    def __init__(self, node: Node, action_type: Any, action_name: str) -> None:
+        from rclpy.action import ActionClient
+
+        self.action_type = action_type
+        self.action_name = action_name
+        self._client = ActionClient(node, action_type, action_name)
+        self._sent: dict[str, Any] = {}
+        self._results: dict[str, Any] = {}
+
+    def server_is_ready(self) -> bool:
+        """Whether the action server is there."""
+        return bool(self._client.server_is_ready())
+
+    def send(self, key: str, goal: Any) -> None:
+        """Send ``goal``, known as ``key`` (the server must be ready)."""
+        self._sent[key] = self._client.send_goal_async(goal)
+
+    @property
+    def pending(self) -> bool:
+        """Whether some goal has not ended yet."""
+        return bool(self._sent or self._results)
+
+    def poll(self) -> dict[str, GoalEnd]:
+        """The goals that ended since the last poll, by key (a rejected one as a failure)."""
+        ended: dict[str, GoalEnd] = {}
+        for key, future in list(self._sent.items()):
+            if not future.done():
+                continue
+            del self._sent[key]
+            handle = future.result() if future.exception() is None else None
+            if handle is not None and handle.accepted:
+                self._results[key] = handle.get_result_async()
+            else:
+                ended[key] = GoalEnd(failure=GoalFailure.GOAL_REJECTED,
+                                     reason=f"goal rejected by {self.action_name}")
+        for key, future in list(self._results.items()):
+            if not future.done():
+                continue
+            del self._results[key]
+            wrapped = future.result() if future.exception() is None else None
+            ended[key] = GoalEnd(status=int(getattr(wrapped, "status", 0)),
+                                 result=getattr(wrapped, "result", None))
+        return ended
+
+    def drop(self) -> None:
+        """Forget the goals that have not ended (their answers, if any come, are ignored)."""
+        self._sent, self._results = {}, {}
+
+    def destroy(self) -> None:
+        """Destroy the client."""
+        self._client.destroy()

@@ -121,7 +121,8 @@ class ServiceLeaf(RosLeaf):
             response: The service's response.
 
         Returns:
-            The leaf's verdict, usually through :meth:`succeed` or :meth:`fail`.
+            The leaf's verdict, usually through :meth:`~sar_framework.leaves.RosLeaf.succeed` or
+            :meth:`~sar_framework.leaves.RosLeaf.fail`.
         """
         return self.succeed(f"{self.service_name} answered", log=False)
 

@@ -18,6 +18,7 @@ import pytest
 from sar_framework import load_spec
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.registry import default_registry
+from sar_framework.leaves import action_params, service_params, topic_params
 from sar_framework.orchestrate.inputs import node_parameters
 
 REPO = Path(__file__).resolve().parents[2]
@@ -53,6 +54,8 @@ def leaf_durations() -> dict[str, set[str]]:
 def all_parameter_names() -> set[str]:
     names = {p.name for table in node_parameters().values() for p in table}
     names |= {p.name for plugin in default_registry() for p in plugin.params}
+    toolkit = (*action_params("a"), *service_params("s"), *topic_params("t"))
+    names |= {p.name for p in toolkit}  # what the leaf toolkit's bases read
     return names
 
 

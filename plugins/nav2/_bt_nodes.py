@@ -54,6 +54,8 @@ class Nav2ActionLeaf(ActionLeaf):
     """
 
     SERVER = ""
+    #: A planner's output port for the result's path, emptied when it fails ("": none).
+    PATH_OUTPUT = ""
 
     def __init__(self, name: str, *, ports: Any) -> None:
         super().__init__(name, ports=ports)
@@ -68,18 +70,31 @@ class Nav2ActionLeaf(ActionLeaf):
 
     def on_success(self) -> Status:
         """The goal succeeded (``self.result`` holds the result): ``error_code_id`` 0."""
+        self.set_path(self.result.path if self.PATH_OUTPUT else None)
         self.set_error_code(0)
         return Status.SUCCESS
 
     def on_aborted(self) -> Status:
         """The goal was aborted: ``error_code_id`` is the result's code."""
+        self.set_path(None)
         self.set_error_code(self.result_error_code())
         return Status.FAILURE
 
     def on_cancelled(self) -> Status:
         """The goal was cancelled by someone else, or this leaf was halted."""
+        self.set_path(None)
         self.set_error_code(0)
         return Status.SUCCESS
+
+    def set_path(self, path: Any) -> None:
+        """Write ``path`` (None: an empty path) to :attr:`PATH_OUTPUT`, if the leaf has one."""
+        if not self.PATH_OUTPUT:
+            return
+        if path is None:
+            from nav_msgs.msg import Path
+
+            path = Path()
+        self.ports.set(self.PATH_OUTPUT, path)
 
     def set_error_code(self, code: int) -> None:
         """Write ``error_code_id`` when the leaf has that output."""

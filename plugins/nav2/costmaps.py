@@ -25,11 +25,10 @@ class ClearEntireCostmap(Nav2ServiceLeaf):
     service_type = "nav2_msgs/srv/ClearEntireCostmap"
 
 
-class _ClearRegion(Nav2ServiceLeaf):
-    def on_tick(self) -> bool:
-        """Fill the goal from the ports (False: fail without sending)."""
-        self.request.reset_distance = float(optional_input(self.ports, "reset_distance", 1.0))
-        return True
+def fill_reset_distance(leaf: Nav2ServiceLeaf) -> bool:
+    """Fill a region-clearing request from the ``reset_distance`` port."""
+    leaf.request.reset_distance = float(optional_input(leaf.ports, "reset_distance", 1.0))
+    return True
 
 
 @leaf(ports=[
@@ -38,10 +37,14 @@ class _ClearRegion(Nav2ServiceLeaf):
                           "be cleared on the costmap (all the rest of the costmap will)."),
     _SERVICE, timeout_port(),
 ])
-class ClearCostmapExceptRegion(_ClearRegion):
+class ClearCostmapExceptRegion(Nav2ServiceLeaf):
     """Nav2's ClearCostmapExceptRegion: clear a costmap except a square around the robot."""
 
     service_type = "nav2_msgs/srv/ClearCostmapExceptRegion"
+
+    def on_tick(self) -> bool:
+        """Fill the request from the ports."""
+        return fill_reset_distance(self)
 
 
 @leaf(ports=[
@@ -50,7 +53,11 @@ class ClearCostmapExceptRegion(_ClearRegion):
                           "cleared on the costmap (the rest of the costmap won't)."),
     _SERVICE, timeout_port(),
 ])
-class ClearCostmapAroundRobot(_ClearRegion):
+class ClearCostmapAroundRobot(Nav2ServiceLeaf):
     """Nav2's ClearCostmapAroundRobot: clear a square of a costmap around the robot."""
 
     service_type = "nav2_msgs/srv/ClearCostmapAroundRobot"
+
+    def on_tick(self) -> bool:
+        """Fill the request from the ports."""
+        return fill_reset_distance(self)

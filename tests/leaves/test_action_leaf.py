@@ -170,3 +170,38 @@ def test_the_result_code_reaches_on_result(ros) -> None:
                    server_timeout_s=10.0, result_timeout_s=60.0)
     assert tick_until_done(executor, trees(leaf), OUTER_S) == Status.SUCCESS
     assert seen == [STATUS_ABORTED]
+
+
+def test_the_acceptance_bound_is_not_judged_on_one_slow_tick_alone(ros) -> None:
+    """Nav2's ``server_timeout`` (here 50 ms of wall time for the acceptance): the server
+    accepts after 150 ms, but the next tick comes 300 ms after the goal, before the executor
+    took the acceptance in. That tick sees the bound passed and gives the executor its turn;
+    the tick after it sees the goal accepted."""
+    _node, executor, server, trees = ros
+    serve_wait(server, "wait_ack", WaitServerLog(accept_delay_wall_s=0.15))
+    leaf = make_leaf("wait_ack")
+    leaf.ack_timeout_wall_s = 0.05
+    tree = trees(leaf)
+    assert spin_until(executor, leaf._goals()._client.server_is_ready, OUTER_S)
+
+    def slow_tick() -> None:
+        time.sleep(0.3)  # a loaded machine: the tick after the sending comes late
+        tree.tick()
+
+    tree.tick()
+    assert leaf._goals().in_flight
+    assert spin_until(executor, lambda: leaf.status != Status.RUNNING, OUTER_S, step=slow_tick)
+    assert leaf.status == Status.SUCCESS, leaf.feedback_message
+
+
+def test_a_goal_never_accepted_fails_after_the_acceptance_bound(ros) -> None:
+    _node, executor, server, trees = ros
+    log = WaitServerLog(accept_delay_wall_s=3.0, outcome="hang")
+    serve_wait(server, "wait_no_ack", log)
+    leaf = make_leaf("wait_no_ack")
+    leaf.ack_timeout_wall_s = 0.05
+    assert tick_until_done(executor, trees(leaf), OUTER_S) == Status.FAILURE
+    assert leaf.failures == [GoalFailure.SEND_GOAL_TIMEOUT]
+    assert leaf.feedback_message == "wait_no_ack did not accept the goal within 0.05 s"
+    assert spin_until(executor, lambda: log.cancels == 1, OUTER_S), (
+        "the goal accepted after the bound was not cancelled")

@@ -55,6 +55,19 @@ def make_leaf(action_name: str, **values: Any) -> WaitFor:
     return WaitFor(name="WaitFor", **declared)
 
 
+def tick_slowly(executor: Any, tree: Any, leaf: WaitFor) -> None:
+    """Once the server is known, tick 300 ms apart (a loaded machine) until the leaf ends."""
+    assert spin_until(executor, leaf._goals()._client.server_is_ready, OUTER_S)
+
+    def slow_tick() -> None:
+        time.sleep(0.3)
+        tree.tick()
+
+    tree.tick()
+    assert leaf._goals().in_flight  # sent on the first tick
+    assert spin_until(executor, lambda: leaf.status != Status.RUNNING, OUTER_S, step=slow_tick)
+
+
 def test_the_goal_comes_from_set_goal_and_success_from_the_result(ros) -> None:
     _node, executor, server, trees = ros
     log = WaitServerLog()
@@ -104,15 +117,7 @@ def test_a_slow_acceptance_is_not_judged_by_the_server_bound(ros) -> None:
     log = WaitServerLog(accept_delay_wall_s=0.6)
     serve_wait(server, "wait_slow", log)
     leaf = make_leaf("wait_slow", server_timeout_s=0.2)
-    tree = trees(leaf)
-    assert spin_until(executor, leaf._goals()._client.server_is_ready, OUTER_S)
-
-    def slow_tick() -> None:
-        time.sleep(0.3)  # a loaded machine: ticks further apart than the server bound
-        tree.tick()
-
-    tree.tick()
-    assert spin_until(executor, lambda: leaf.status != Status.RUNNING, OUTER_S, step=slow_tick)
+    tick_slowly(executor, trees(leaf), leaf)  # ticks further apart than the server bound
     assert leaf.status == Status.SUCCESS, leaf.feedback_message
     assert leaf.failures == []
 
@@ -181,16 +186,7 @@ def test_the_acceptance_bound_is_not_judged_on_one_slow_tick_alone(ros) -> None:
     serve_wait(server, "wait_ack", WaitServerLog(accept_delay_wall_s=0.15))
     leaf = make_leaf("wait_ack")
     leaf.ack_timeout_wall_s = 0.05
-    tree = trees(leaf)
-    assert spin_until(executor, leaf._goals()._client.server_is_ready, OUTER_S)
-
-    def slow_tick() -> None:
-        time.sleep(0.3)  # a loaded machine: the tick after the sending comes late
-        tree.tick()
-
-    tree.tick()
-    assert leaf._goals().in_flight
-    assert spin_until(executor, lambda: leaf.status != Status.RUNNING, OUTER_S, step=slow_tick)
+    tick_slowly(executor, trees(leaf), leaf)
     assert leaf.status == Status.SUCCESS, leaf.feedback_message
 
 

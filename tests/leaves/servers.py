@@ -76,9 +76,11 @@ def serve_wait(server: Any, name: str, log: WaitServerLog) -> Any:
             handle.publish_feedback(feedback)
             time.sleep(0.05)
         if log.outcome == "hang":
-            deadline = time.monotonic() + 30.0  # outer safety bound: a test's cancel ends it
-            while not handle.is_cancel_requested and time.monotonic() < deadline:
+            deadline = time.monotonic() + 30.0  # a test's cancel ends the goal before
+            cancelled = handle.is_cancel_requested
+            while not cancelled and time.monotonic() < deadline:  # outer safety bound
                 time.sleep(0.02)
+                cancelled = handle.is_cancel_requested
             handle.canceled()
             return result
         if log.outcome == "abort":

@@ -40,6 +40,8 @@ nitpick_ignore_regex = [
     (r"py:.*", r"sar_framework\.(engine\.(ports|registry|diagnostics|spec|checking\.validate)|"
                r"testing\.mission_stack)\..*"),
     (r"py:.*", r"(sar_framework\.engine\.plugin\._T|LIST_TYPES|REQUIRED|TreeSpec|Registry)"),
+    # rclpy's node (ROS is not imported to build the docs) and the runner's event emitter
+    (r"py:class", r"(Node|sar_framework\.events\.emitter\.EventEmitter)"),
 ]
 
 autodoc_member_order = "bysource"

@@ -12,8 +12,7 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param
-
-from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
+from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -50,13 +49,13 @@ class FinishZoneLeaf(ServiceLeaf):
     OUTCOME = 0
     VERB = "searched"
 
-    def __init__(self, name: str, *, zone_manager: ZoneManager,
-                 server_name: str = COORDINATOR, server_timeout_s: float = 10.0,
-                 response_timeout_s: float = 10.0) -> None:
-        super().__init__(name, service_name=f"{server_name.rstrip('/')}/finish_zone",
-                         server_timeout_s=server_timeout_s,
-                         response_timeout_s=response_timeout_s)
-        self.zone_manager = zone_manager
+    service_type = "sar_interfaces/srv/FinishZone"
+
+    def __init__(self, name: str, *, zone_manager: ZoneManager, server_name: str,
+                 server_timeout_s: float, response_timeout_s: float) -> None:
+        super().__init__(name, zone_manager=zone_manager,
+                         service_name=f"{server_name.rstrip('/')}/finish_zone",
+                         server_timeout_s=server_timeout_s, response_timeout_s=response_timeout_s)
         self._zone_id = ""
 
     def initialise(self) -> None:
@@ -65,29 +64,25 @@ class FinishZoneLeaf(ServiceLeaf):
         try:
             self._zone_id = self.zone_manager.current_zone()["id"]
         except IndexError as err:
-            self._latch(False, f"no zone to report: {err}")
+            self.latch(False, f"no zone to report: {err}")
 
-    def _srv(self) -> Any:
-        from sar_interfaces.srv import FinishZone
-
-        return FinishZone
-
-    def _request(self) -> Any:
-        request = self._srv_type.Request()
+    def set_request(self, request: Any) -> None:
+        """Say which zone this robot finished, and how."""
         request.robot = robot_name(self.node)
         request.zone_id = self._zone_id
         request.outcome = self.OUTCOME
-        return request
 
-    def _awaiting(self) -> str:
+    def waiting_message(self) -> str:
+        """What the leaf says while the answer is due."""
         return f"telling {self.service_name} that {self._zone_id} is {self.VERB}"
 
-    def _verdict_on(self, response: Any) -> Status:
+    def on_response(self, response: Any) -> Status:
+        """Judge the answer."""
         if response.accepted:
-            return self._latch(True, f"{self._zone_id} {self.VERB} (coordinator told)")
-        return self._latch(False, f"the coordinator refused {self._zone_id} "
+            return self.latch(True, f"{self._zone_id} {self.VERB} (coordinator told)")
+        return self.latch(False, f"the coordinator refused {self._zone_id} "
                                   f"{self.VERB}: {response.reason}")
 
 
-FINISH_PARAMS: tuple[Param, ...] = (COORDINATOR_PARAM, *SERVICE_TIMEOUT_PARAMS)
+FINISH_PARAMS: tuple[Param, ...] = (COORDINATOR_PARAM, *service_timeout_params())
 """The params CompleteZone and ReleaseZone declare."""

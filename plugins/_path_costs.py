@@ -17,7 +17,9 @@ import time
 from collections.abc import Mapping
 from typing import Any
 
-from ._navigation import yaw_to_quaternion
+from sar_framework.leaves import STATUS_SUCCEEDED, GoalBatch
+
+from ._pose_target import yaw_to_quaternion
 
 
 def path_length(poses: Any) -> float:
@@ -32,27 +34,26 @@ class PathCosts:
     """The planner costs of one round's zones.
 
     Args:
-        client: An ``ActionClient`` for ``nav2_msgs/action/ComputePathToPose``.
-        action_type: ``ComputePathToPose``.
+        planner: The robot's ``ComputePathToPose`` goals
+            (:class:`~sar_framework.leaves.GoalBatch`).
         frame_id: The goals' frame.
         zones: Zone id -> ``{"x", "y", "yaw"}``.
         bound_wall_s: Zones without an answer after this many wall seconds get no cost.
         stamp: The goals' header stamp (``builtin_interfaces/Time``).
     """
 
-    def __init__(self, client: Any, action_type: Any, frame_id: str, *,
+    def __init__(self, planner: GoalBatch, frame_id: str, *,
                  zones: Mapping[str, Mapping[str, float]], bound_wall_s: float,
                  stamp: Any) -> None:
-        self._client = client
+        self._planner = planner
         self._started = time.monotonic()
         self._bound = bound_wall_s
         self.costs: dict[str, float] = {}
-        self._sent: dict[str, Any] = {}
-        self._results: dict[str, Any] = {}
-        if not client.server_is_ready():
+        planner.drop()  # a previous round's unanswered goals count no more
+        if not planner.server_is_ready():
             return  # nothing known: no costs
         for zone_id, pose in zones.items():
-            goal = action_type.Goal()
+            goal = planner.action_type.Goal()
             goal.goal.header.frame_id = frame_id
             goal.goal.header.stamp = stamp
             goal.goal.pose.position.x = float(pose["x"])
@@ -60,31 +61,20 @@ class PathCosts:
             q = goal.goal.pose.orientation
             q.x, q.y, q.z, q.w = yaw_to_quaternion(float(pose["yaw"]))
             goal.use_start = False
-            self._sent[zone_id] = client.send_goal_async(goal)
+            planner.send(zone_id, goal)
 
     def poll(self) -> dict[str, float] | None:
         """Return the zones' costs once every answer came (or the bound passed), else None.
 
-        Zones without an answer are left out of the result.
+        Zones without an answer (or whose goal was not accepted) are left out of the result.
         """
-        for zone_id, future in list(self._sent.items()):
-            if not future.done():
-                continue
-            del self._sent[zone_id]
-            handle = future.result() if future.exception() is None else None
-            if handle is not None and handle.accepted:
-                self._results[zone_id] = handle.get_result_async()
-        for zone_id, future in list(self._results.items()):
-            if not future.done():
-                continue
-            del self._results[zone_id]
-            wrapped = future.result() if future.exception() is None else None
-            from action_msgs.msg import GoalStatus
-
-            ok = wrapped is not None and wrapped.status == GoalStatus.STATUS_SUCCEEDED
-            self.costs[zone_id] = path_length(wrapped.result.path.poses) if ok else math.inf
-        if self._sent or self._results:
+        for zone_id, end in self._planner.poll().items():
+            if end.failure is not None:
+                continue  # not accepted: not knowing is not "cannot reach"
+            ok = end.status == STATUS_SUCCEEDED and end.result is not None
+            self.costs[zone_id] = path_length(end.result.path.poses) if ok else math.inf
+        if self._planner.pending:
             if time.monotonic() - self._started < self._bound:
                 return None
-            self._sent, self._results = {}, {}  # unanswered: no cost
+            self._planner.drop()  # unanswered: no cost
         return dict(self.costs)

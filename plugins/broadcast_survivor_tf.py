@@ -8,8 +8,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.event import EventKind
-
-from ._ros_leaf import RosLeaf
+from sar_framework.leaves import RosLeaf
 
 if TYPE_CHECKING:
     from sar_framework.mission.zone_manager import ZoneManager
@@ -52,7 +51,7 @@ class BroadcastSurvivorTF(RosLeaf):
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager, detector: DetectSurvivor,
-                 parent_frame: str = "map", registrar: RegisterSurvivor | None = None) -> None:
+                 parent_frame: str, registrar: RegisterSurvivor | None) -> None:
         super().__init__(name)
         self.zone_manager = zone_manager
         self.detector = detector
@@ -78,15 +77,15 @@ class BroadcastSurvivorTF(RosLeaf):
 
     def initialise(self) -> None:
         """Reset the latch for a new broadcast."""
-        self._reset_latch()
+        self.reset_latch()
 
     def update(self) -> Status:
         """Allocate an id, send the frame and return SUCCESS (FAILURE without a survivor)."""
         if self._done:
-            return self._verdict()
+            return self.verdict()
         pose = self.detector.survivor_pose()
         if not self.detector.was_found() or pose is None:
-            return self._latch(False, "no survivor detected to broadcast")
+            return self.latch(False, "no survivor detected to broadcast")
         if self._broadcaster is None:
             raise RuntimeError(f"BroadcastSurvivorTF '{self.name}' used before setup(node=...)")
         from geometry_msgs.msg import TransformStamped
@@ -96,7 +95,7 @@ class BroadcastSurvivorTF(RosLeaf):
         else:
             fleet_id = self.registrar.survivor_id()
             if fleet_id is None:
-                return self._latch(False, f"no fleet survivor id from {self.registrar.name} "
+                return self.latch(False, f"no fleet survivor id from {self.registrar.name} "
                                           "to broadcast")
             child = fleet_id
         transform = TransformStamped()
@@ -111,4 +110,4 @@ class BroadcastSurvivorTF(RosLeaf):
                    f"({pose[0]:.2f}, {pose[1]:.2f}).")
         self.events.emit(EventKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
                          message=message, position=pose)
-        return self._latch(True, message)
+        return self.latch(True, message)

@@ -15,12 +15,10 @@ from typing import TYPE_CHECKING, Any
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
+from sar_framework.leaves import GoalBatch, PolledServiceCall, RosLeaf, service_timeout_params
 
-from ._fleet import COORDINATOR, COORDINATOR_PARAM, robot_name
+from ._fleet import COORDINATOR_PARAM, robot_name
 from ._path_costs import PathCosts
-from ._ros_leaf import RosLeaf
-from ._service_call import PolledServiceCall
-from ._service_leaf import SERVICE_TIMEOUT_PARAMS
 
 if TYPE_CHECKING:
     from sar_framework.mission.zone_manager import ZoneManager
@@ -39,7 +37,7 @@ NO_WORK = "no work left: every zone is searched or abandoned"
         Param("action_name", str, default="compute_path_to_pose",
               description="This robot's Nav2 ComputePathToPose action (relative)."),
         Param("frame_id", str, default="map", description="Frame of the zone poses."),
-        *SERVICE_TIMEOUT_PARAMS,
+        *service_timeout_params(),
     ],
     context=["zone_manager"],
 )
@@ -65,9 +63,9 @@ class ClaimZone(RosLeaf):
     """
 
     def __init__(self, name: str, *, zone_manager: ZoneManager,
-                 server_name: str = COORDINATOR, action_name: str = "compute_path_to_pose",
-                 frame_id: str = "map", heartbeat_period_wall_s: float = HEARTBEAT_PERIOD_WALL_S,
-                 server_timeout_s: float = 10.0, response_timeout_s: float = 10.0) -> None:
+                 server_name: str, action_name: str, frame_id: str, server_timeout_s: float,
+                 response_timeout_s: float,
+                 heartbeat_period_wall_s: float = HEARTBEAT_PERIOD_WALL_S) -> None:
         super().__init__(name)
         self.zone_manager = zone_manager
         self.prefix = server_name.rstrip("/")
@@ -98,7 +96,6 @@ class ClaimZone(RosLeaf):
         """
         super().setup(**kwargs)
         from nav2_msgs.action import ComputePathToPose
-        from rclpy.action import ActionClient
         from rclpy.clock import Clock, ClockType
         from sar_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
         from sar_interfaces.srv import BidZones, RequestZone
@@ -118,8 +115,7 @@ class ClaimZone(RosLeaf):
             heartbeat.publish(FleetHeartbeat(robot=self.robot))
 
         self._ros = {
-            "action_type": ComputePathToPose,
-            "planner": ActionClient(node, ComputePathToPose, self.action_name),
+            "planner": GoalBatch(node, ComputePathToPose, self.action_name),
             "heartbeat": heartbeat,
             "timer": node.create_timer(self.heartbeat_period_wall_s, beat,
                                        clock=Clock(clock_type=ClockType.STEADY_TIME)),
@@ -141,12 +137,12 @@ class ClaimZone(RosLeaf):
 
     def initialise(self) -> None:
         """Start asking for work."""
-        self._reset_latch()
+        self.reset_latch()
         self._phase = "request"
         self._round = self._costs = None
         self._bid_rounds = set()
         if self._complete:  # decided at once, so a reactive parent does not halt the way home
-            self._latch(False, NO_WORK, log=False)
+            self.latch(False, NO_WORK, log=False)
             return
         self._calls()[0].start()
         self.feedback_message = f"{self.robot} asking for work"
@@ -154,26 +150,26 @@ class ClaimZone(RosLeaf):
     def update(self) -> Status:
         """Advance the request, the bids and the wait for an award without blocking."""
         if self._done:
-            return self._verdict()
+            return self.verdict()
         request, bid = self._calls()
         if self._phase == "request":
             result = request.poll(lambda: self._ros["request_type"].Request(robot=self.robot))
             if result is None:
                 return Status.RUNNING
             if result.error is not None:
-                return self._latch(False, f"cannot ask for work: {result.error}")
+                return self.latch(False, f"cannot ask for work: {result.error}")
             if result.response.done:
                 self._complete = True
-                return self._latch(False, NO_WORK)
+                return self.latch(False, NO_WORK)
             if not result.response.accepted:
-                return self._latch(False, f"the coordinator refused: {result.response.reason}")
+                return self.latch(False, f"the coordinator refused: {result.response.reason}")
             self._phase = "wait"
             self.feedback_message = f"{self.robot} waiting for an auction"
         won = self._won()
         if won is not None:
             return won
         if self._complete:
-            return self._latch(False, NO_WORK)
+            return self.latch(False, NO_WORK)
         if self._phase == "wait":
             self._maybe_plan()
         if self._phase == "plan":
@@ -238,7 +234,7 @@ class ClaimZone(RosLeaf):
         for award in awards:
             if award.robot == self.robot and award.auction_id in self._bid_rounds:
                 self.zone_manager.claim(award.zone_id)
-                return self._latch(True, f"{self.robot} won {award.zone_id} in auction "
+                return self.latch(True, f"{self.robot} won {award.zone_id} in auction "
                                          f"{award.auction_id} ({award.cost:.2f} m)")
         return None
 
@@ -259,7 +255,7 @@ class ClaimZone(RosLeaf):
                 self.node.get_logger().warning(f"auction {self._round.auction_id}: "
                                                f"{zone_id} is not in this robot's mission")
         bound = max(0.1, 0.75 * float(self._round.bid_window_s))
-        self._costs = PathCosts(self._ros["planner"], self._ros["action_type"], self.frame_id,
+        self._costs = PathCosts(self._ros["planner"], self.frame_id,
                                 zones=zones, bound_wall_s=bound,
                                 stamp=self.node.get_clock().now().to_msg())
         self._phase = "plan"

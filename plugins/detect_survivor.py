@@ -8,8 +8,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.event import EventKind
-
-from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
+from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
     from sar_framework.mission.zone_manager import ZoneManager
@@ -19,7 +18,7 @@ if TYPE_CHECKING:
     params=[
         Param("service_name", str, default="detect_survivor",
               description="Name of the sar_interfaces/srv/DetectSurvivor service."),
-        *SERVICE_TIMEOUT_PARAMS,
+        *service_timeout_params(),
     ],
     context=["zone_manager"],
 )
@@ -40,12 +39,12 @@ class DetectSurvivor(ServiceLeaf):
         response_timeout_s: Bound on waiting for the answer.
     """
 
-    def __init__(self, name: str, *, zone_manager: ZoneManager,
-                 service_name: str = "detect_survivor", server_timeout_s: float = 10.0,
-                 response_timeout_s: float = 10.0) -> None:
-        super().__init__(name, service_name=service_name, server_timeout_s=server_timeout_s,
-                         response_timeout_s=response_timeout_s)
-        self.zone_manager = zone_manager
+    service_type = "sar_interfaces/srv/DetectSurvivor"
+
+    def __init__(self, name: str, *, zone_manager: ZoneManager, service_name: str,
+                 server_timeout_s: float, response_timeout_s: float) -> None:
+        super().__init__(name, zone_manager=zone_manager, service_name=service_name,
+                         server_timeout_s=server_timeout_s, response_timeout_s=response_timeout_s)
         self._zone_id: str | None = None
         self._found = False
         self._pose: tuple[float, float] | None = None
@@ -71,20 +70,18 @@ class DetectSurvivor(ServiceLeaf):
             self._zone_id = self.zone_manager.current_zone()["id"]
         except IndexError:
             self._zone_id = None
-            self._latch(False, "no current zone to search: every zone has been visited")
+            self.latch(False, "no current zone to search: every zone has been visited")
 
-    def _srv(self) -> Any:
-        from sar_interfaces.srv import DetectSurvivor as DetectSurvivorSrv
+    def set_request(self, request: Any) -> None:
+        """Ask about the current zone."""
+        request.zone_id = self._zone_id
 
-        return DetectSurvivorSrv
-
-    def _request(self) -> Any:
-        return self._srv_type.Request(zone_id=self._zone_id)
-
-    def _awaiting(self) -> str:
+    def waiting_message(self) -> str:
+        """What the leaf says while the answer is due."""
         return f"asked {self.service_name} about {self._zone_id}"
 
-    def _verdict_on(self, response: Any) -> Status:
+    def on_response(self, response: Any) -> Status:
+        """Judge the answer."""
         self._found = bool(response.found)
         if self._found:
             self._pose = (float(response.survivor_x), float(response.survivor_y))
@@ -98,4 +95,4 @@ class DetectSurvivor(ServiceLeaf):
                          status="FOUND" if self._found else "NONE",
                          message=f"Detection request for {self._zone_id}: {said}",
                          position=self._pose)
-        return self._latch(True, message, log=False)
+        return self.latch(True, message, log=False)

@@ -38,7 +38,7 @@ class Dwell(py_trees.behaviour.Behaviour):
         rng: Where the jitter is drawn from (a fresh ``random.Random`` by default).
     """
 
-    def __init__(self, name: str, *, duration: float, jitter: float = 0.0,
+    def __init__(self, name: str, *, duration: float, jitter: float,
                  rng: random.Random | None = None) -> None:
         super().__init__(name=name)
         self.duration = duration

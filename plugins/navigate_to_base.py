@@ -5,11 +5,11 @@ from __future__ import annotations
 from sar_framework.engine.plugin import leaf
 from sar_framework.events.event import EventKind
 
-from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
+from ._pose_target import NAVIGATION_PARAMS, NavigateToTarget, NavigationTarget
 
 
 @leaf(params=NAVIGATION_PARAMS, context=["zone_manager"])
-class NavigateToBase(NavigateToPoseLeaf):
+class NavigateToBase(NavigateToTarget):
     """Send a Nav2 NavigateToPose goal to the base station and wait for the result.
 
     Same behaviour and bounds as NavigateToZone, with the ZoneManager's base pose as the
@@ -19,11 +19,13 @@ class NavigateToBase(NavigateToPoseLeaf):
     (ON_COMPLETION) under a reactive Selector so the goal is sent only once.
     """
 
-    def _reached(self, target: NavigationTarget) -> None:
+    def reached(self, target: NavigationTarget) -> None:
+        """Tell that the target was reached."""
         self.events.emit(EventKind.BASE_REACHED, source=self, message=target.reached,
                          position=(target.x, target.y))
 
-    def _target(self) -> NavigationTarget:
+    def target(self) -> NavigationTarget:
+        """Where to go now."""
         base = self.zone_manager.base_pose()
         remaining = self.zone_manager.total_zones() - self.zone_manager.current_index()
         skipped = self.zone_manager.skipped_zones()

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from sar_framework.engine.plugin import leaf
 
-from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
+from ._pose_target import NAVIGATION_PARAMS, NavigateToTarget, NavigationTarget
 
 
 @leaf(params=NAVIGATION_PARAMS, context=["zone_manager"])
-class NavigateToZone(NavigateToPoseLeaf):
+class NavigateToZone(NavigateToTarget):
     """Send a Nav2 NavigateToPose goal to the current zone and wait for the result.
 
     RUNNING while Nav2 drives, SUCCESS when the goal succeeds, FAILURE when it is rejected,
@@ -18,10 +18,12 @@ class NavigateToZone(NavigateToPoseLeaf):
     halted first. Logs ``Reached zone_a.`` on success. Fails when no zone is left.
     """
 
-    def _reached(self, target: NavigationTarget) -> None:
+    def reached(self, target: NavigationTarget) -> None:
+        """Tell that the target was reached."""
         self.zone_manager.mark_reached(target.zone_id)  # the zone manager tells the events
 
-    def _target(self) -> NavigationTarget:
+    def target(self) -> NavigationTarget:
+        """Where to go now."""
         zone = self.zone_manager.current_zone()  # IndexError (a LookupError) when exhausted
         index, total = self.zone_manager.current_index() + 1, self.zone_manager.total_zones()
         where = f"({zone['x']:.2f}, {zone['y']:.2f})"

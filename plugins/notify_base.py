@@ -8,8 +8,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.event import EventKind
-
-from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
+from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
     from .broadcast_survivor_tf import BroadcastSurvivorTF
@@ -26,7 +25,7 @@ if TYPE_CHECKING:
               description="Name of the sar_interfaces/srv/ReportSurvivor service."),
         Param("frame_id", str, default="map",
               description="Frame of the reported location."),
-        *SERVICE_TIMEOUT_PARAMS,
+        *service_timeout_params(),
     ],
 )
 class NotifyBase(ServiceLeaf):
@@ -49,14 +48,14 @@ class NotifyBase(ServiceLeaf):
         response_timeout_s: Bound on waiting for the answer.
     """
 
+    service_type = "sar_interfaces/srv/ReportSurvivor"
+
     def __init__(self, name: str, *, detector: DetectSurvivor, broadcaster: BroadcastSurvivorTF,
-                 service_name: str = "/report_survivor", frame_id: str = "map",
-                 server_timeout_s: float = 10.0, response_timeout_s: float = 10.0) -> None:
-        super().__init__(name, service_name=service_name, server_timeout_s=server_timeout_s,
-                         response_timeout_s=response_timeout_s)
-        self.detector = detector
-        self.broadcaster = broadcaster
-        self.frame_id = frame_id
+                 service_name: str, frame_id: str, server_timeout_s: float,
+                 response_timeout_s: float) -> None:
+        super().__init__(name, detector=detector, broadcaster=broadcaster,
+                         service_name=service_name, frame_id=frame_id,
+                         server_timeout_s=server_timeout_s, response_timeout_s=response_timeout_s)
         self._survivor_id: str | None = None
         self._pose: tuple[float, float] | None = None
         self._failure: str | None = None
@@ -68,9 +67,9 @@ class NotifyBase(ServiceLeaf):
         self._survivor_id = self.broadcaster.survivor_id()
         self._pose = self.detector.survivor_pose() if self.detector.was_found() else None
         if self._pose is None:
-            self._latch(False, "no survivor detected to report")
+            self.latch(False, "no survivor detected to report")
         elif self._survivor_id is None:
-            self._latch(False, "no survivor frame broadcast yet: nothing to report")
+            self.latch(False, "no survivor frame broadcast yet: nothing to report")
 
     def update(self) -> Status:
         """Poll the report; note why a report that was made failed.
@@ -97,24 +96,20 @@ class NotifyBase(ServiceLeaf):
             return None
         return self._failure
 
-    def _srv(self) -> Any:
-        from sar_interfaces.srv import ReportSurvivor
-
-        return ReportSurvivor
-
-    def _request(self) -> Any:
+    def set_request(self, request: Any) -> None:
+        """Report the survivor's id and location."""
         assert self._pose is not None and self._survivor_id is not None
-        request = self._srv_type.Request()
         request.survivor_id = self._survivor_id
         request.location.header.frame_id = self.frame_id
         request.location.header.stamp = self.node.get_clock().now().to_msg()
         request.location.point.x, request.location.point.y = self._pose
-        return request
 
-    def _awaiting(self) -> str:
+    def waiting_message(self) -> str:
+        """What the leaf says while the answer is due."""
         return f"reported {self._survivor_id}, awaiting acknowledgement"
 
-    def _verdict_on(self, response: Any) -> Status:
+    def on_response(self, response: Any) -> Status:
+        """Judge the answer."""
         assert self._pose is not None
         where = f"{self._survivor_id} at ({self._pose[0]:.2f}, {self._pose[1]:.2f})"
         fields = {"source": self, "survivor_id": self._survivor_id or "",
@@ -125,8 +120,8 @@ class NotifyBase(ServiceLeaf):
             self._failure = f"Report for {self._survivor_id} refused by base: {why}"
             self.events.emit(EventKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
                              **fields)
-            return self._latch(False, f"report of {where} not acknowledged"
+            return self.latch(False, f"report of {where} not acknowledged"
                                       + (f": {reason}" if reason else ""))
         self.events.emit(EventKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
                          message=f"Report received: {where}. Acknowledged.", **fields)
-        return self._latch(True, f"Reported {where}: acknowledged.")
+        return self.latch(True, f"Reported {where}: acknowledged.")

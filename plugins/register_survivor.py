@@ -8,8 +8,7 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.event import EventKind
-
-from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
+from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
     from .detect_survivor import DetectSurvivor
@@ -22,7 +21,7 @@ if TYPE_CHECKING:
         Param("service_name", str, default="/zone_coordinator/register_survivor",
               description="Name of the sar_interfaces/srv/RegisterSurvivor service (the "
                           "fleet's one registry, hosted by the zone coordinator)."),
-        *SERVICE_TIMEOUT_PARAMS,
+        *service_timeout_params(),
     ],
 )
 class RegisterSurvivor(ServiceLeaf):
@@ -47,12 +46,12 @@ class RegisterSurvivor(ServiceLeaf):
         response_timeout_s: Bound on waiting for the answer.
     """
 
-    def __init__(self, name: str, *, detector: DetectSurvivor,
-                 service_name: str = "/zone_coordinator/register_survivor",
-                 server_timeout_s: float = 10.0, response_timeout_s: float = 10.0) -> None:
-        super().__init__(name, service_name=service_name, server_timeout_s=server_timeout_s,
-                         response_timeout_s=response_timeout_s)
-        self.detector = detector
+    service_type = "sar_interfaces/srv/RegisterSurvivor"
+
+    def __init__(self, name: str, *, detector: DetectSurvivor, service_name: str,
+                 server_timeout_s: float, response_timeout_s: float) -> None:
+        super().__init__(name, detector=detector, service_name=service_name,
+                         server_timeout_s=server_timeout_s, response_timeout_s=response_timeout_s)
         self.robot = ""
         self._pose: tuple[float, float] | None = None
         self._zone_id = ""
@@ -88,7 +87,7 @@ class RegisterSurvivor(ServiceLeaf):
         self._pose = self.detector.survivor_pose() if self.detector.was_found() else None
         self._zone_id = self.detector.zone_id() or ""
         if self._pose is None:
-            self._latch(False, "no survivor detected to register")
+            self.latch(False, "no survivor detected to register")
 
     def update(self) -> Status:
         """Poll the registration; note why one that was asked for failed.
@@ -111,31 +110,29 @@ class RegisterSurvivor(ServiceLeaf):
         assert self._pose is not None
         return f"({self._pose[0]:.2f}, {self._pose[1]:.2f})"
 
-    def _srv(self) -> Any:
-        from sar_interfaces.srv import RegisterSurvivor as RegisterSurvivorSrv
-
-        return RegisterSurvivorSrv
-
-    def _request(self) -> Any:
+    def set_request(self, request: Any) -> None:
+        """Register the detected location for this robot."""
         assert self._pose is not None
-        return self._srv_type.Request(robot=self.robot, zone_id=self._zone_id,
-                                      x=self._pose[0], y=self._pose[1])
+        request.robot, request.zone_id = self.robot, self._zone_id
+        request.x, request.y = self._pose
 
-    def _awaiting(self) -> str:
+    def waiting_message(self) -> str:
+        """What the leaf says while the answer is due."""
         return f"registered the survivor at {self._where()}, awaiting its fleet id"
 
-    def _verdict_on(self, response: Any) -> Status:
+    def on_response(self, response: Any) -> Status:
+        """Judge the answer."""
         if not response.survivor_id:
             why = response.reason or "no id given"
             self._failure = f"Survivor at {self._where()} not registered: {why}"
-            return self._latch(False, self._failure)
+            return self.latch(False, self._failure)
         if response.report:
             self._survivor_id = response.survivor_id
-            return self._latch(True, f"Registered the survivor at {self._where()} as "
+            return self.latch(True, f"Registered the survivor at {self._where()} as "
                                      f"{response.survivor_id}: {self.robot} reports it.")
         self._duplicate = (f"Survivor at {self._where()} is {response.survivor_id}, found by "
                            f"{response.found_by}: not reported again ({response.reason}).")
         self.events.emit(EventKind.NOTE, source=self, message=self._duplicate,
                          zone_id=self._zone_id, survivor_id=response.survivor_id,
                          position=self._pose)
-        return self._latch(False, self._duplicate)
+        return self.latch(False, self._duplicate)

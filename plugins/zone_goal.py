@@ -63,7 +63,7 @@ class SetZoneGoal(LoggingLeaf):
     """
 
     def __init__(self, name: str, *, ports: Any, zone_manager: ZoneManager,
-                 frame_id: str = "map") -> None:
+                 frame_id: str) -> None:
         super().__init__(name)
         self.ports = ports
         self.zone_manager = zone_manager

@@ -16,7 +16,8 @@ Run by ``make`` before every target; it does real work only when an input change
 With a sourced ROS 2 Jazzy (``/opt/ros/jazzy/setup.bash``) the venv is made with its python3
 and sees its packages; steps 3 and 4 and the stand-ins are skipped and only the requirements
 it lacks are installed (tools/sourced_ros.py).
-    5. interfaces      build interfaces/sar_interfaces into the venv; build the
+    5. interfaces      build interfaces/sar_interfaces and the plugin tutorial's
+                       interfaces/tutorial_interfaces into the venv; build the
                        stand-ins nav2_msgs / tf2_msgs only where step 4 did not provide
                        the real package and the import fails
     6. project         pip install -e . (console script sar-tree)
@@ -208,6 +209,10 @@ def fix_wheel_cmake_paths(venv: Path, stamps: Stamps) -> None:
 
 
 # ---------------------------------------------------------------- 5. interfaces
+#: Our interface packages, built from interfaces/ in this order.
+OWN_INTERFACES = ("sar_interfaces", "tutorial_interfaces")
+
+
 def build_interface_package(venv: Path, source: Path, stamps: Stamps,
                             sourced: SourcedRos | None = None) -> None:
     """Configure, build and install one ament_cmake interface package into the venv."""
@@ -235,7 +240,10 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
 
 def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(),
                      sourced: SourcedRos | None = None) -> None:
-    """Build sar_interfaces, and the stand-ins only where the real packages are missing.
+    """Build our interface packages, and the stand-ins only where the real ones are missing.
+
+    Ours: sar_interfaces (the mission's) and tutorial_interfaces (the plugin tutorial's
+    Countdown action, a user's own small interface package).
 
     Args:
         venv: The venv.
@@ -251,7 +259,8 @@ def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(
         if stamps.data.get(f"interface:{name}") is None and importable(venv, name):
             continue  # a real installation provides it: never shadow it
         build_interface_package(venv, source, stamps, sourced)
-    build_interface_package(venv, ROOT / "interfaces" / "sar_interfaces", stamps, sourced)
+    for name in OWN_INTERFACES:
+        build_interface_package(venv, ROOT / "interfaces" / name, stamps, sourced)
 
 
 # ---------------------------------------------------------------- 6. project

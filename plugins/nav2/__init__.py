@@ -5,8 +5,9 @@ types and defaults (a test compares them with the palette), talking to Nav2's se
 Nav2's default names (``server_name`` / ``service_name`` change them). No leaf knows
 whether the embedded simulator or a real Nav2 answers. Modules, by family:
 
-- ``_action``, ``_service``: the asynchronous bases (goal or request sent once, polled,
-  cancelled on a halt, verdict latched); ``_common``: the navigator's defaults, ports;
+- ``_bt_nodes``: Nav2's action and service bases on the leaf toolkit (goal or request
+  sent once, polled, cancelled on a halt, verdict latched); ``_common``: the navigator's
+  defaults, ports;
   ``_tf``: the robot's pose;
 - ``planning``: ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath;
 - ``behaviors``: Spin, BackUp, DriveOnHeading, Wait;

@@ -15,7 +15,7 @@ from __future__ import annotations
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 
-from ._action import Nav2ActionLeaf
+from ._bt_nodes import Nav2ActionLeaf
 from ._common import count_recovery, duration_msg, optional_input, server_ports
 
 _ALLOWANCE = InputPort("time_allowance", float, default=10.0,
@@ -25,15 +25,12 @@ _ERROR = OutputPort("error_code_id", int, description="The behaviour server's er
                                                       "(0, NONE, when it succeeded).")
 
 
-class _Behavior(Nav2ActionLeaf):
-    """A behaviour client (``error_code_id`` is written by the base class)."""
-
-    def fill_straight(self, distance_port: str, speed_port: str) -> None:
-        """Fill a BackUp/DriveOnHeading goal: x distance, speed, time allowance."""
-        self.goal.target.x = float(self.ports.get(distance_port))
-        self.goal.target.y = self.goal.target.z = 0.0
-        self.goal.speed = float(self.ports.get(speed_port))
-        self.goal.time_allowance = duration_msg(float(self.ports.get("time_allowance")))
+def fill_straight(leaf: Nav2ActionLeaf, distance_port: str, speed_port: str) -> None:
+    """Fill a BackUp/DriveOnHeading goal: x distance, speed, time allowance."""
+    leaf.goal.target.x = float(leaf.ports.get(distance_port))
+    leaf.goal.target.y = leaf.goal.target.z = 0.0
+    leaf.goal.speed = float(leaf.ports.get(speed_port))
+    leaf.goal.time_allowance = duration_msg(float(leaf.ports.get("time_allowance")))
 
 
 @leaf(ports=[
@@ -44,10 +41,10 @@ class _Behavior(Nav2ActionLeaf):
     *server_ports("spin"),
     _ERROR,
 ])
-class Spin(_Behavior):
+class Spin(Nav2ActionLeaf):
     """Nav2's Spin: turn in place by ``spin_dist`` radians."""
 
-    ACTION = ("nav2_msgs.action", "Spin")
+    action_type = "nav2_msgs/action/Spin"
     SERVER = "spin"
 
     def on_tick(self) -> bool:
@@ -66,15 +63,15 @@ class Spin(_Behavior):
     *server_ports("backup"),
     _ERROR,
 ])
-class BackUp(_Behavior):
+class BackUp(Nav2ActionLeaf):
     """Nav2's BackUp: drive straight backwards ``backup_dist`` metres."""
 
-    ACTION = ("nav2_msgs.action", "BackUp")
+    action_type = "nav2_msgs/action/BackUp"
     SERVER = "backup"
 
     def on_tick(self) -> bool:
         """Fill the goal from the ports (False: fail without sending)."""
-        self.fill_straight("backup_dist", "backup_speed")
+        fill_straight(self, "backup_dist", "backup_speed")
         count_recovery()
         return True
 
@@ -86,15 +83,15 @@ class BackUp(_Behavior):
     *server_ports("drive_on_heading"),
     _ERROR,
 ])
-class DriveOnHeading(_Behavior):
+class DriveOnHeading(Nav2ActionLeaf):
     """Nav2's DriveOnHeading: drive straight ahead ``dist_to_travel`` metres."""
 
-    ACTION = ("nav2_msgs.action", "DriveOnHeading")
+    action_type = "nav2_msgs/action/DriveOnHeading"
     SERVER = "drive_on_heading"
 
     def on_tick(self) -> bool:
         """Fill the goal from the ports (False: fail without sending)."""
-        self.fill_straight("dist_to_travel", "speed")
+        fill_straight(self, "dist_to_travel", "speed")
         return True
 
 
@@ -102,13 +99,13 @@ class DriveOnHeading(_Behavior):
     InputPort("wait_duration", float, default=1.0, description="Wait time (s)."),
     *server_ports("wait"),
 ])
-class Wait(_Behavior):
+class Wait(Nav2ActionLeaf):
     """Nav2's Wait: the ``wait`` behaviour server waits ``wait_duration`` seconds.
 
     Not a dwell on this node's clock: that is ``Dwell``.
     """
 
-    ACTION = ("nav2_msgs.action", "Wait")
+    action_type = "nav2_msgs/action/Wait"
     SERVER = "wait"
 
     def on_tick(self) -> bool:

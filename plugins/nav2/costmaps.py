@@ -2,7 +2,7 @@
 
 ClearEntireCostmap, ClearCostmapAroundRobot, ClearCostmapExceptRegion.
 
-Service clients (:class:`~._service.Nav2ServiceLeaf`) of a costmap's clearing service,
+Service clients (:class:`~._bt_nodes.Nav2ServiceLeaf`) of a costmap's clearing service,
 named by ``service_name`` as in Nav2's trees (``local_costmap/clear_entirely_local_costmap``).
 """
 
@@ -11,8 +11,8 @@ from __future__ import annotations
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort
 
+from ._bt_nodes import Nav2ServiceLeaf
 from ._common import optional_input, timeout_port
-from ._service import Nav2ServiceLeaf
 
 _SERVICE = InputPort("service_name", str, optional=True,
                      description="Costmap service name responsible for clearing the costmap.")
@@ -22,14 +22,13 @@ _SERVICE = InputPort("service_name", str, optional=True,
 class ClearEntireCostmap(Nav2ServiceLeaf):
     """Nav2's ClearEntireCostmap: clear every layer of a costmap."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearEntireCostmap")
+    service_type = "nav2_msgs/srv/ClearEntireCostmap"
 
 
-class _ClearRegion(Nav2ServiceLeaf):
-    def on_tick(self) -> bool:
-        """Fill the goal from the ports (False: fail without sending)."""
-        self.request.reset_distance = float(optional_input(self.ports, "reset_distance", 1.0))
-        return True
+def fill_reset_distance(leaf: Nav2ServiceLeaf) -> bool:
+    """Fill a region-clearing request from the ``reset_distance`` port."""
+    leaf.request.reset_distance = float(optional_input(leaf.ports, "reset_distance", 1.0))
+    return True
 
 
 @leaf(ports=[
@@ -38,10 +37,14 @@ class _ClearRegion(Nav2ServiceLeaf):
                           "be cleared on the costmap (all the rest of the costmap will)."),
     _SERVICE, timeout_port(),
 ])
-class ClearCostmapExceptRegion(_ClearRegion):
+class ClearCostmapExceptRegion(Nav2ServiceLeaf):
     """Nav2's ClearCostmapExceptRegion: clear a costmap except a square around the robot."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearCostmapExceptRegion")
+    service_type = "nav2_msgs/srv/ClearCostmapExceptRegion"
+
+    def on_tick(self) -> bool:
+        """Fill the request from the ports."""
+        return fill_reset_distance(self)
 
 
 @leaf(ports=[
@@ -50,7 +53,11 @@ class ClearCostmapExceptRegion(_ClearRegion):
                           "cleared on the costmap (the rest of the costmap won't)."),
     _SERVICE, timeout_port(),
 ])
-class ClearCostmapAroundRobot(_ClearRegion):
+class ClearCostmapAroundRobot(Nav2ServiceLeaf):
     """Nav2's ClearCostmapAroundRobot: clear a square of a costmap around the robot."""
 
-    SERVICE = ("nav2_msgs.srv", "ClearCostmapAroundRobot")
+    service_type = "nav2_msgs/srv/ClearCostmapAroundRobot"
+
+    def on_tick(self) -> bool:
+        """Fill the request from the ports."""
+        return fill_reset_distance(self)

@@ -6,7 +6,6 @@ these, and CancelControl cancels every goal of the controller server (``follow_p
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 from py_trees.common import Status
@@ -14,9 +13,8 @@ from py_trees.common import Status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 
-from .._ros_leaf import RosLeaf
-from ._action import Nav2ActionLeaf
-from ._common import optional_input, server_ports, server_timeout_s
+from ._bt_nodes import Nav2ActionLeaf, Nav2ServiceLeaf
+from ._common import optional_input, server_ports
 
 _TREE = ("Behavior tree absolute path. If none is specified, the action server uses a "
          "default behavior tree.")
@@ -34,7 +32,7 @@ _ERROR = OutputPort("error_code_id", int, description="The navigator's error cod
 class NavigateToPose(Nav2ActionLeaf):
     """Nav2's NavigateToPose: the navigator drives to ``goal``."""
 
-    ACTION = ("nav2_msgs.action", "NavigateToPose")
+    action_type = "nav2_msgs/action/NavigateToPose"
     SERVER = "navigate_to_pose"
 
     def on_tick(self) -> bool:
@@ -57,7 +55,7 @@ class NavigateToPose(Nav2ActionLeaf):
 class NavigateThroughPoses(Nav2ActionLeaf):
     """Nav2's NavigateThroughPoses: the navigator drives through every pose of ``goals``."""
 
-    ACTION = ("nav2_msgs.action", "NavigateThroughPoses")
+    action_type = "nav2_msgs/action/NavigateThroughPoses"
     SERVER = "navigate_through_poses"
 
     def on_tick(self) -> bool:
@@ -72,58 +70,34 @@ class NavigateThroughPoses(Nav2ActionLeaf):
 
 
 @leaf(ports=server_ports("follow_path"))
-class CancelControl(RosLeaf):
+class CancelControl(Nav2ServiceLeaf):
     """Nav2's CancelControl: cancel every goal of the controller server, then SUCCESS.
 
-    As Nav2's ``BtCancelActionNode``: the cancel request (all goals) is sent on the first
-    tick; the leaf succeeds when it is answered, and also, with an error logged, when no
-    answer came within ``server_timeout``.
+    As Nav2's ``BtCancelActionNode``: the cancel request (all goals: a zero goal id and
+    stamp) goes to the action's cancel service; the leaf succeeds when it is answered, and
+    also, with an error logged, when no answer came within ``server_timeout``.
 
     Args:
         name: The behaviour's name.
         ports: ``server_name`` (``follow_path``), ``server_timeout``.
     """
 
-    def __init__(self, name: str, *, ports: Any) -> None:
-        super().__init__(name)
-        self.ports = ports
-        self.server_name = "follow_path"
-        self._client: Any = None
-        self._future: Any = None
-        self._sent = 0.0
+    service_type = "action_msgs/srv/CancelGoal"
+    SERVER = "follow_path"
 
-    def setup(self, **kwargs: Any) -> None:
-        """Take the node; a client of the action's cancel service (cancel all goals)."""
-        super().setup(**kwargs)
-        from action_msgs.srv import CancelGoal
+    def service_from_ports(self) -> str:
+        """The cancel service of the ``server_name`` action."""
+        server = optional_input(self.ports, "server_name") or self.SERVER
+        return f"{server.rstrip('/')}/_action/cancel_goal"
 
-        self.server_name = optional_input(self.ports, "server_name") or "follow_path"
-        self._client = self.node.create_client(
-            CancelGoal, f"{self.server_name.rstrip('/')}/_action/cancel_goal")
+    def on_response(self, response: Any) -> Status:
+        """Every goal is cancelled."""
+        return self.succeed(f"goals of {self._server()} cancelled")
 
-    def initialise(self) -> None:
-        """Send the cancel-all request (a zero goal id and stamp)."""
-        from action_msgs.srv import CancelGoal
+    def on_failure(self, reason: str) -> Status:
+        """No answer: SUCCESS all the same, with an error logged (as Nav2)."""
+        self.node.get_logger().error(f"Failed to cancel action server for {self._server()}")
+        return self.succeed(f"no answer from {self._server()} to the cancel request")
 
-        self._reset_latch()
-        self._future = self._client.call_async(CancelGoal.Request())
-        self._sent = time.monotonic()
-
-    def update(self) -> Status:
-        """SUCCESS once answered, or once ``server_timeout`` passed (logged as an error)."""
-        if self._done:
-            return self._verdict()
-        if self._future.done():
-            return self._latch(True, f"goals of {self.server_name} cancelled")
-        if time.monotonic() - self._sent < server_timeout_s(self._node, self.ports):
-            return Status.RUNNING
-        self._future.cancel()
-        self.node.get_logger().error(f"Failed to cancel action server for {self.server_name}")
-        return self._latch(True, f"no answer from {self.server_name} to the cancel request",
-                           log=False)
-
-    def shutdown(self) -> None:
-        """Destroy the client."""
-        if self._client is not None:
-            self.node.destroy_client(self._client)
-            self._client = None
+    def _server(self) -> str:
+        return self.service_name.removesuffix("/_action/cancel_goal")

@@ -16,8 +16,8 @@ from py_trees.common import Status
 
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
+from sar_framework.leaves import RosLeaf
 
-from .._ros_leaf import RosLeaf
 from ._common import navigator_setting, optional_input, planar_distance
 from ._tf import robot_pose, tf_buffer
 

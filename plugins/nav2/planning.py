@@ -2,7 +2,7 @@
 
 ComputePathToPose, ComputePathThroughPoses, SmoothPath, FollowPath.
 
-Each is a :class:`~._action.Nav2ActionLeaf` with Nav2's ports (nav2_tree_nodes.xml) and
+Each is a :class:`~._bt_nodes.Nav2ActionLeaf` with Nav2's ports (nav2_tree_nodes.xml) and
 Nav2 Jazzy's semantics: a path output is cleared (an empty ``nav_msgs/Path``) when the
 planner fails or is cancelled; ``error_code_id`` is 0 (NONE) on success and the server's
 code on failure; FollowPath sends its goal again when ``path`` or an id port changes while
@@ -18,7 +18,7 @@ from py_trees.common import Status
 from sar_framework.engine.plugin import leaf
 from sar_framework.engine.ports import InputPort, OutputPort
 
-from ._action import Nav2ActionLeaf
+from ._bt_nodes import Nav2ActionLeaf
 from ._common import duration_msg, optional_input, server_ports
 
 POSE = "geometry_msgs/msg/PoseStamped"
@@ -27,36 +27,12 @@ ERROR_CODE = OutputPort("error_code_id", int,
                         description="The server's error code (0, NONE, when it succeeded).")
 
 
-def _empty_path() -> Any:
-    from nav_msgs.msg import Path
-
-    return Path()
-
-
-class _Planner(Nav2ActionLeaf):
-    """A planner client: ``path`` and ``error_code_id`` out, cleared on failure."""
-
-    def on_success(self) -> Status:
-        """Write the outputs of a success."""
-        self.ports.set("path", self.result.result.path)
-        self.set_error_code(0)
-        return Status.SUCCESS
-
-    def on_aborted(self) -> Status:
-        self.ports.set("path", _empty_path())
-        self.set_error_code(self.result_error_code())
-        return Status.FAILURE
-
-    def on_cancelled(self) -> Status:
-        self.ports.set("path", _empty_path())
-        self.set_error_code(0)
-        return Status.SUCCESS
-
-    def fill_start(self) -> None:
-        start = optional_input(self.ports, "start")
-        if start is not None:
-            self.goal.start = start
-            self.goal.use_start = bool(optional_input(self.ports, "use_start", True))
+def fill_start(leaf: Nav2ActionLeaf) -> None:
+    """A planner's optional ``start`` (and ``use_start``) into its goal."""
+    start = optional_input(leaf.ports, "start")
+    if start is not None:
+        leaf.goal.start = start
+        leaf.goal.use_start = bool(optional_input(leaf.ports, "use_start", True))
 
 
 @leaf(ports=[
@@ -73,11 +49,12 @@ class _Planner(Nav2ActionLeaf):
     OutputPort("path", PATH, description="Path created by action server."),
     ERROR_CODE,
 ])
-class ComputePathToPose(_Planner):
+class ComputePathToPose(Nav2ActionLeaf):
     """Nav2's ComputePathToPose: a path from the robot (or ``start``) to ``goal``."""
 
-    ACTION = ("nav2_msgs.action", "ComputePathToPose")
+    action_type = "nav2_msgs/action/ComputePathToPose"
     SERVER = "compute_path_to_pose"
+    PATH_OUTPUT = "path"
 
     def on_tick(self) -> bool:
         """Fill the goal from the ports (False: fail without sending)."""
@@ -87,7 +64,7 @@ class ComputePathToPose(_Planner):
             return False
         self.goal.goal = goal
         self.goal.planner_id = optional_input(self.ports, "planner_id", "")
-        self.fill_start()
+        fill_start(self)
         return True
 
 
@@ -101,11 +78,12 @@ class ComputePathToPose(_Planner):
     OutputPort("path", PATH, description="Path created by action server."),
     ERROR_CODE,
 ])
-class ComputePathThroughPoses(_Planner):
+class ComputePathThroughPoses(Nav2ActionLeaf):
     """Nav2's ComputePathThroughPoses: a path through every pose of ``goals``, in order."""
 
-    ACTION = ("nav2_msgs.action", "ComputePathThroughPoses")
+    action_type = "nav2_msgs/action/ComputePathThroughPoses"
     SERVER = "compute_path_through_poses"
+    PATH_OUTPUT = "path"
 
     def on_tick(self) -> bool:
         """Fill the goal from the ports (False: fail without sending)."""
@@ -115,7 +93,7 @@ class ComputePathThroughPoses(_Planner):
             return False
         self.goal.goals = list(goals)
         self.goal.planner_id = optional_input(self.ports, "planner_id", "")
-        self.fill_start()
+        fill_start(self)
         return True
 
 
@@ -136,7 +114,7 @@ class ComputePathThroughPoses(_Planner):
 class SmoothPath(Nav2ActionLeaf):
     """Nav2's SmoothPath: the smoother server's version of ``unsmoothed_path``."""
 
-    ACTION = ("nav2_msgs.action", "SmoothPath")
+    action_type = "nav2_msgs/action/SmoothPath"
     SERVER = "smooth_path"
 
     def on_tick(self) -> bool:
@@ -155,7 +133,7 @@ class SmoothPath(Nav2ActionLeaf):
 
     def on_success(self) -> Status:
         """Write the outputs of a success."""
-        result = self.result.result
+        result = self.result
         self.ports.set("smoothed_path", result.path)
         duration = result.smoothing_duration
         self.ports.set("smoothing_duration", duration.sec + duration.nanosec / 1e9)
@@ -178,7 +156,7 @@ class SmoothPath(Nav2ActionLeaf):
 class FollowPath(Nav2ActionLeaf):
     """Nav2's FollowPath: the controller drives ``path``; a new path while it runs is sent."""
 
-    ACTION = ("nav2_msgs.action", "FollowPath")
+    action_type = "nav2_msgs/action/FollowPath"
     SERVER = "follow_path"
     IDS = ("controller_id", "goal_checker_id", "progress_checker_id")
 

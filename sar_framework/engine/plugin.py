@@ -27,6 +27,7 @@ node, when the plugin needs one, arrives the py_trees_ros way, in
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TypeVar
@@ -34,7 +35,8 @@ from typing import TypeVar
 from sar_framework.engine.param import PARAM_TYPES, REQUIRED, Param
 from sar_framework.engine.ports import Port
 
-__all__ = ["PARAM_TYPES", "PLUGIN_ATTRIBUTE", "REQUIRED", "Param", "PluginSpec", "leaf"]
+__all__ = ["PARAM_TYPES", "PLUGIN_ATTRIBUTE", "REQUIRED", "Param", "PluginSpec",
+           "constructor_problems", "leaf"]
 
 #: The attribute :func:`leaf` sets on a class; discovery looks for it.
 PLUGIN_ATTRIBUTE = "__sar_plugin__"
@@ -141,3 +143,34 @@ def leaf(
         return cls
 
     return mark
+
+
+def constructor_problems(spec: PluginSpec) -> list[str]:
+    """What a leaf's ``__init__`` says against its declaration: defaults live in ``@leaf`` only.
+
+    Each declared param, context object and ``ports`` (when the leaf has ports) must be a
+    keyword argument of ``__init__`` without a default (or reach a ``**kwargs``): the loader
+    always passes the declared value, so a default there is a second copy that can drift.
+
+    Args:
+        spec: The leaf's declaration.
+
+    Returns:
+        One sentence per problem; empty when the constructor agrees.
+    """
+    try:
+        parameters = inspect.signature(spec.cls.__init__).parameters
+    except (TypeError, ValueError):
+        return []
+    takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values())
+    names = [p.name for p in spec.params] + list(spec.context) + (["ports"] if spec.ports else [])
+    problems = []
+    for name in names:
+        parameter = parameters.get(name)
+        if parameter is None:
+            if not takes_any:
+                problems.append(f"__init__ does not take the declared {name!r}")
+        elif parameter.default is not inspect.Parameter.empty:
+            problems.append(f"__init__ repeats a default for {name!r} ({parameter.default!r}); "
+                            "the @leaf declaration is where defaults live")
+    return problems

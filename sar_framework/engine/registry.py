@@ -32,7 +32,7 @@ from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, display
 from sar_framework.engine.kind_plugin import KIND_ATTRIBUTE, KindSpec
 from sar_framework.engine.nodes.kind_model import NodeKind
 from sar_framework.engine.nodes.node_kinds import RESERVED_KINDS
-from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec
+from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, PluginSpec, constructor_problems
 from sar_framework.engine.plugin_import import (
     class_location,
     exception_text,
@@ -137,6 +137,10 @@ class Registry:
             return
         else:
             self._plugins[spec.name] = dataclasses.replace(spec, source=source)
+            for problem in constructor_problems(spec):  # a warning: such plugins still work
+                where = class_location(cls) or fallback_location(location, source)
+                self.diagnostics.append(Diagnostic(where, f"plugin '{spec.name}': {problem}",
+                                                   severity="warning"))
             return
         # Finding the class's line reads its file: only for a problem to report.
         where = class_location(cls) or fallback_location(location, source)

@@ -22,7 +22,13 @@ ROS modules import ROS, lazily.
 """
 
 from sar_framework.testing.assertions import assert_feedback, assert_status, assert_statuses
-from sar_framework.testing.trees import TickRecord, TreeRun, leaf_run, tree_from_yaml
+from sar_framework.testing.trees import (
+    TickRecord,
+    TreeRun,
+    declared_leaf,
+    leaf_run,
+    tree_from_yaml,
+)
 
 __all__ = ["TickRecord", "TreeRun", "assert_feedback", "assert_status", "assert_statuses",
-           "leaf_run", "tree_from_yaml"]
+           "declared_leaf", "leaf_run", "tree_from_yaml"]

@@ -177,3 +177,29 @@ def leaf_run(plugin: str, params: Mapping[str, Any] | None = None, **kwargs: Any
     """
     node = yaml.safe_dump({plugin: dict(params or {})}, default_flow_style=True, width=10**6)
     return tree_from_yaml(node, **kwargs)
+
+
+def declared_leaf(cls: type, name: str | None = None, **values: Any) -> Any:
+    """Construct a leaf plugin's class as the loader does: declared defaults, then ``values``.
+
+    For tests that build a leaf by hand (to hand it a context object or another leaf):
+    the defaults come from the class's ``@leaf`` declaration, the one place they are written.
+
+    Args:
+        cls: A class marked with ``@leaf``.
+        name: The behaviour's name; the plugin's name by default.
+        **values: Params, context objects and references, overriding the defaults.
+
+    Returns:
+        The constructed behaviour.
+
+    Raises:
+        TypeError: ``cls`` is not a leaf plugin.
+    """
+    from sar_framework.engine.plugin import PLUGIN_ATTRIBUTE, REQUIRED
+
+    spec = getattr(cls, PLUGIN_ATTRIBUTE, None)
+    if spec is None or spec.cls is not cls:
+        raise TypeError(f"{cls.__name__} carries no @leaf declaration of its own")
+    kwargs = {p.name: p.default for p in spec.params if p.default is not REQUIRED}
+    return cls(name=name or spec.name, **{**kwargs, **values})

@@ -32,7 +32,9 @@ def test_the_site_builds_without_warnings(tmp_path: Path) -> None:
         assert (html / f"{page}.html").is_file(), page
     api = (html / "reference" / "api.html").read_text()
     for name in ("sar_framework.engine.api.load_tree", "sar_framework.engine.plugin.PluginSpec",
-                 "sar_framework.testing.assert_statuses"):
+                 "sar_framework.testing.assert_statuses", "sar_framework.leaves.ActionLeaf",
+                 "sar_framework.leaves.ActionLeaf.set_goal", "sar_framework.leaves.ServiceLeaf",
+                 "sar_framework.leaves.TopicCondition", "sar_framework.leaves.StatefulLeaf"):
         assert f'id="{name}"' in api, f"the API reference does not document {name}"
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from sar_framework.engine.registry import ENTRY_POINT_GROUP, discover
+from sar_framework.engine.registry import ENTRY_POINT_GROUP, Registry, discover
 
 from .conftest import GENERIC_PLUGINS, VENV_BIN, write
 
@@ -21,6 +21,9 @@ from sar_framework.engine.plugin import Param, leaf
 @leaf(params=[Param("speed", float, default=1.0)])
 class {name}(py_trees.behaviour.Behaviour):
     \"\"\"A test leaf.\"\"\"
+
+    def __init__(self, name, *, speed):
+        super().__init__(name)
 """
 
 
@@ -68,7 +71,8 @@ BAD_PLUGIN_FILES = {
 
             @leaf(params=[Param("target", ref="Nowhere")])
             class Refers(py_trees.behaviour.Behaviour):
-                pass
+                def __init__(self, name, *, target):
+                    super().__init__(name)
         """), "refs.py",
         "refs.py:4:1: error: param 'target' of plugin 'Refers' refers to unknown plugin "
         "'Nowhere'"),
@@ -210,3 +214,27 @@ def test_validate_imports_installed_plugins_and_reports_their_failures(tmp_path:
         "1 error",
     ]
     assert run.stdout.splitlines()[-1] == "FromSite"  # imported, not read
+
+
+def test_a_constructor_that_repeats_a_default_or_misses_a_name_is_a_warning(tmp_path) -> None:
+    """Plugins written before defaults lived only in @leaf keep working, with a warning."""
+    path = write(tmp_path, "old.py", """
+        import py_trees
+        from sar_framework.engine.plugin import Param, leaf
+
+        @leaf(params=[Param("speed", float, default=1.0), Param("lane", int, default=0)])
+        class Old(py_trees.behaviour.Behaviour):
+            def __init__(self, name, *, speed=1.0):
+                super().__init__(name)
+    """)
+    registry = Registry()
+    registry.import_path(str(path), tmp_path)
+    assert [d.severity for d in registry.diagnostics] == ["warning", "warning"]
+    assert [str(d).split(": warning: ")[1] for d in registry.diagnostics] == [
+        "plugin 'Old': __init__ repeats a default for 'speed' (1.0); the @leaf declaration "
+        "is where defaults live",
+        "plugin 'Old': __init__ does not take the declared 'lane'",
+    ]
+    where = str(registry.diagnostics[0]).split(": warning: ")[0]
+    assert where.endswith("old.py:4:1"), where  # the file and the class's line
+    assert registry.get("Old") is not None  # registered all the same

@@ -21,6 +21,8 @@ from sar_plugins.release_zone import ReleaseZone
 from sar_testing.leaf_harness import spec_zone_manager, tick_until_done, tree_on
 from sar_testing.spin import ros_node, spin_until
 
+from sar_framework.testing import declared_leaf
+
 pytestmark = pytest.mark.ros
 
 @pytest.fixture
@@ -62,20 +64,20 @@ def test_claim_wins_the_nearest_zone_then_complete_reports_it(coordinator: Path,
     server = planner(node)
     zones = spec_zone_manager([{"id": "zone_a", "x": -3.0, "y": 3.0, "yaw": 0.0},
                                {"id": "zone_b", "x": 3.5, "y": 3.0, "yaw": 1.57}])
-    claim = ClaimZone("ClaimZone", zone_manager=zones)
+    claim = declared_leaf(ClaimZone, "ClaimZone", zone_manager=zones)
     tree = tree_on(node, claim)
     assert tick_until_done(executor, tree, 20.0) == Status.SUCCESS, claim.feedback_message
     # a loaded machine may deliver the first round's bid after its window: the next round
     assert re.fullmatch(r"robot7 won zone_a in auction \d+ \(4\.24 m\)",
                         claim.feedback_message), claim.feedback_message
     assert zones.current_zone()["id"] == "zone_a"
-    complete = CompleteZone("CompleteZone", zone_manager=zones)
+    complete = declared_leaf(CompleteZone, "CompleteZone", zone_manager=zones)
     assert tick_until_done(executor, tree_on(node, complete), 20.0) == Status.SUCCESS
     assert complete.feedback_message == "zone_a searched (coordinator told)"
     zones.advance()
     assert tick_until_done(executor, tree, 20.0) == Status.SUCCESS
     assert zones.current_zone()["id"] == "zone_b"
-    release = ReleaseZone("ReleaseZone", zone_manager=zones)
+    release = declared_leaf(ReleaseZone, "ReleaseZone", zone_manager=zones)
     assert tick_until_done(executor, tree_on(node, release), 20.0) == Status.SUCCESS
     # Given back by the only robot: abandoned; no work is left, at once from now on.
     assert tick_until_done(executor, tree, 20.0) == Status.FAILURE
@@ -95,7 +97,7 @@ def test_without_a_planner_answer_the_robot_does_not_bid_and_the_zones_stay_open
     # Not knowing (no planner yet, or a busy one) is not "cannot reach": before the fix every
     # bid was inf and an only robot abandoned every zone in its first round.
     node, executor = robot
-    claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(),
+    claim = declared_leaf(ClaimZone, "ClaimZone", zone_manager=spec_zone_manager(),
                       action_name="no_planner")
     tree = tree_on(node, claim)
 
@@ -122,7 +124,7 @@ def test_a_planner_that_finds_no_path_bids_inf_and_the_zones_are_abandoned(
 
     node, executor = robot
     server = ActionServer(node, ComputePathToPose, "compute_path_to_pose", no_path)
-    claim = ClaimZone("ClaimZone", zone_manager=spec_zone_manager())
+    claim = declared_leaf(ClaimZone, "ClaimZone", zone_manager=spec_zone_manager())
     assert tick_until_done(executor, tree_on(node, claim), 20.0) == Status.FAILURE
     assert claim.feedback_message == "no work left: every zone is searched or abandoned"
     bid = next(e for e in read_events(coordinator) if e["kind"] == "bid")
@@ -133,7 +135,7 @@ def test_a_planner_that_finds_no_path_bids_inf_and_the_zones_are_abandoned(
 def test_finishing_a_zone_not_held_is_refused_with_the_reason(coordinator: Path,
                                                              robot: tuple) -> None:
     node, executor = robot
-    leaf = ReleaseZone("ReleaseZone", zone_manager=spec_zone_manager())
+    leaf = declared_leaf(ReleaseZone, "ReleaseZone", zone_manager=spec_zone_manager())
     assert tick_until_done(executor, tree_on(node, leaf), 20.0) == Status.FAILURE
     assert leaf.feedback_message == ("the coordinator refused zone_a given back: robot7 "
                                      "does not hold zone_a (it is open)")
@@ -142,7 +144,7 @@ def test_finishing_a_zone_not_held_is_refused_with_the_reason(coordinator: Path,
 def test_no_current_zone_fails_without_asking(robot: tuple) -> None:
     node, executor = robot
     zones = spec_zone_manager([])
-    leaf = CompleteZone("CompleteZone", zone_manager=zones, server_timeout_s=0.5)
+    leaf = declared_leaf(CompleteZone, "CompleteZone", zone_manager=zones, server_timeout_s=0.5)
     assert tick_until_done(executor, tree_on(node, leaf), 5.0) == Status.FAILURE
     assert leaf.feedback_message.startswith("no zone to report: no current zone")
 
@@ -157,8 +159,9 @@ def test_without_a_coordinator_claim_fails_after_its_bound_and_beats_from_setup(
     beats: list[str] = []
     node.create_subscription(FleetHeartbeat, "/nowhere/heartbeat",
                              lambda m: beats.append(m.robot), 10)
-    leaf = ClaimZone("ClaimZone", zone_manager=spec_zone_manager(), server_name="/nowhere",
-                     server_timeout_s=1.0, heartbeat_period_wall_s=0.1)
+    leaf = declared_leaf(ClaimZone, "ClaimZone", zone_manager=spec_zone_manager(),
+                         server_name="/nowhere",
+                         server_timeout_s=1.0, heartbeat_period_wall_s=0.1)
     tree = tree_on(node, leaf)
     assert spin_until(executor, lambda: len(beats) >= 3, 10.0)  # before any tick
     assert set(beats) == {"robot7"}

@@ -35,6 +35,7 @@ from sar_framework import load_tree
 from sar_framework.events.emitter import EventEmitter
 from sar_framework.events.event import EventKind
 from sar_framework.ros.tf_topics import TF_REMAP_ARGS
+from sar_framework.testing import declared_leaf
 
 pytestmark = pytest.mark.ros
 BRANCH = Path(__file__).resolve().parent / "fixtures" / "survivor_branch.yaml"
@@ -178,8 +179,8 @@ def test_a_survivor_whose_reporter_is_lost_is_reported_by_the_next_finder(
 
     # robot1 detects and registers, then "dies" before it broadcasts or reports
     zones = spec_zone_manager()
-    detect = DetectSurvivor("detect", zone_manager=zones)
-    register = RegisterSurvivor("register", detector=detect)
+    detect = declared_leaf(DetectSurvivor, "detect", zone_manager=zones)
+    register = declared_leaf(RegisterSurvivor, "register", detector=detect)
     dying = tree_on(fleet.nodes["robot1"], py_trees.composites.Sequence(
         "DetectAndRegister", memory=True, children=[detect, register]))
     fleet.trees.append(dying)
@@ -219,7 +220,7 @@ def test_a_refused_registration_is_logged_and_not_broadcast(fleet: Fleet) -> Non
         def zone_id(self) -> str:
             return "zone_a"
 
-    register = RegisterSurvivor("register", detector=NotFinite())  # type: ignore[arg-type]
+    register = declared_leaf(RegisterSurvivor, "register", detector=NotFinite())  # type: ignore[arg-type]
     log = LogSurvivorNotRegistered("NotOursToReport?", registrar=register)
     tree = tree_on(fleet.nodes["robot1"], py_trees.composites.Selector(
         "Handle", memory=False, children=[register, log]), fleet.events["robot1"])
@@ -258,8 +259,8 @@ def test_a_broadcaster_whose_registrar_gave_no_id_broadcasts_nothing(fleet: Flee
             return None
 
     zones = spec_zone_manager()
-    broadcast = BroadcastSurvivorTF(
-        "broadcast", zone_manager=zones,
+    broadcast = declared_leaf(
+        BroadcastSurvivorTF, "broadcast", zone_manager=zones,
         detector=Found(),  # type: ignore[arg-type]
         registrar=NoId())  # type: ignore[arg-type]
     tree = tree_on(fleet.nodes["robot1"], broadcast)

@@ -17,6 +17,8 @@ from sar_testing.leaf_harness import (
 )
 from sar_testing.processes import NodeProcess
 
+from sar_framework.testing import declared_leaf
+
 pytestmark = pytest.mark.ros
 
 LEAF_RUN_S = 60.0
@@ -33,7 +35,7 @@ def detect_server(tmp_path) -> Iterator[NodeProcess]:
 
 def test_missing_service_keeps_running_then_fails_after_its_bound(ros: tuple) -> None:
     node, executor = ros
-    leaf = DetectSurvivor("DetectSurvivor", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(DetectSurvivor, "DetectSurvivor", zone_manager=spec_zone_manager(),
                           service_name="/no_such_detect", server_timeout_s=1.0)
     tree = tree_on(node, leaf)
 
@@ -58,7 +60,7 @@ def test_success_with_and_without_a_survivor(ros: tuple, detect_server: NodeProc
 
     node, executor = ros
     zones = spec_zone_manager()
-    leaf = DetectSurvivor("DetectSurvivor", zone_manager=zones)
+    leaf = declared_leaf(DetectSurvivor, "DetectSurvivor", zone_manager=zones)
     events = EventEmitter(nodes={"0": (leaf, "DetectSurvivor")})
     tree = tree_on(node, leaf, events)
     wait_for_service(node, executor, DetectSurvivorSrv, "/detect_survivor")

@@ -29,6 +29,8 @@ from sar_testing.leaf_harness import (
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
+from sar_framework.testing import declared_leaf
+
 pytestmark = pytest.mark.ros
 
 LEAF_RUN_S = 60.0
@@ -63,7 +65,7 @@ def goals(text: str) -> list[tuple[str, ...]]:
 def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
                                                              capfd: pytest.CaptureFixture) -> None:
     make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager())
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager())
     tree = make_tree(leaf)
 
     assert tick_until_done(executor, tree, LEAF_RUN_S) == Status.SUCCESS
@@ -86,7 +88,7 @@ def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
 def test_an_aborted_or_rejected_goal_fails_saying_why(nav: tuple, behavior_tree: str, why: str,
                                                       server_says: str) -> None:
     make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
                           behavior_tree=behavior_tree)
     tree = make_tree(leaf)
 
@@ -97,7 +99,7 @@ def test_an_aborted_or_rejected_goal_fails_saying_why(nav: tuple, behavior_tree:
 
 def test_goal_that_never_finishes_fails_after_its_bound_and_is_cancelled(nav: tuple) -> None:
     make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
                           behavior_tree="hang", navigation_timeout_s=1.0)
     tree = make_tree(leaf)
 
@@ -111,7 +113,7 @@ def test_goal_that_never_finishes_fails_after_its_bound_and_is_cancelled(nav: tu
 
 def test_missing_server_keeps_running_then_fails_after_its_bound(ros: tuple) -> None:
     node, executor = ros
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
                           action_name="no_such_navigate", server_timeout_s=1.0)
     tree = tree_on(node, leaf)
 
@@ -126,7 +128,7 @@ def test_missing_server_keeps_running_then_fails_after_its_bound(ros: tuple) -> 
 def test_second_zone_sends_a_fresh_goal(nav: tuple) -> None:
     make_tree, executor, mark = nav
     zones = spec_zone_manager()
-    leaf = NavigateToZone("NavigateToZone", zone_manager=zones)
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=zones)
     tree = make_tree(leaf)
     assert tick_until_done(executor, tree, LEAF_RUN_S) == Status.SUCCESS
 
@@ -142,7 +144,7 @@ def test_second_zone_sends_a_fresh_goal(nav: tuple) -> None:
 
 def test_halting_the_tree_mid_goal_cancels_it(nav: tuple) -> None:
     make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
                           behavior_tree="hang")
     root = py_trees.composites.Sequence("Patrol", memory=True, children=[leaf])
     tree = make_tree(root)
@@ -169,7 +171,7 @@ def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
     patrol = py_trees.composites.Sequence("Patrol", memory=True,
                                           children=[ZonesRemaining("ZonesRemaining?",
                                                                    zone_manager=zones)])
-    base = NavigateToBase("NavigateToBase", zone_manager=zones)
+    base = declared_leaf(NavigateToBase, "NavigateToBase", zone_manager=zones)
     oneshot = py_trees.decorators.OneShot(name="NavigateToBaseOneShot", child=base,
                                           policy=OneShotPolicy.ON_COMPLETION)
     root = py_trees.composites.Selector("MissionOrReturnToBase", memory=False,
@@ -197,7 +199,7 @@ def test_the_base_goal_names_the_zones_not_reached(nav: tuple,
         if zones.current_zone()["id"] != "zone_b":
             zones.mark_reached(zones.current_zone()["id"])
         zones.advance()
-    tree = make_tree(NavigateToBase("NavigateToBase", zone_manager=zones))
+    tree = make_tree(declared_leaf(NavigateToBase, "NavigateToBase", zone_manager=zones))
     assert tick_until_done(executor, tree, LEAF_RUN_S) == Status.SUCCESS
     err = capfd.readouterr().err
     assert "Zones done, not reached: zone_b. Returning to base." in err
@@ -206,7 +208,7 @@ def test_the_base_goal_names_the_zones_not_reached(nav: tuple,
 
 def test_halting_before_the_goal_is_accepted_still_cancels_it(nav: tuple) -> None:
     make_tree, executor, mark = nav
-    leaf = NavigateToZone("NavigateToZone", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
                           behavior_tree="hang")
     tree = make_tree(leaf)
     tree.tick()  # the goal is sent; its acceptance has not been spun in yet

@@ -10,6 +10,8 @@ from sar_plugins.log_no_detection import LogNoDetection
 from sar_plugins.zones_remaining import ZonesRemaining
 from sar_testing.leaf_harness import FixedDetector, spec_zone_manager
 
+from sar_framework.testing import declared_leaf
+
 
 def test_zones_remaining_follows_the_zone_manager() -> None:
     zones = spec_zone_manager()
@@ -82,13 +84,13 @@ def test_dwell_with_jitter_waits_a_fresh_random_extra_at_each_start() -> None:
         assert leaf.update() == Status.RUNNING
         return float(re.fullmatch(r"waiting: \S+ s of (\S+) s left", leaf.feedback_message)[1])
 
-    leaf = Dwell("GiveWay", duration=1.0, jitter=8.0, rng=random.Random(7))
+    leaf = declared_leaf(Dwell, "GiveWay", duration=1.0, jitter=8.0, rng=random.Random(7))
     waits = [drawn_wait(leaf) for _ in range(20)]
     assert all(1.0 <= w <= 9.0 for w in waits)
     assert len(set(waits)) >= 15  # drawn anew each time (one decimal shown)
     assert max(waits) - min(waits) > 4.0  # spread over the range, not stuck at one end
-    assert drawn_wait(Dwell("Fixed", duration=2.0)) == 2.0  # no jitter: the duration
-    short = Dwell("Short", duration=0.0, jitter=0.05)
+    assert drawn_wait(declared_leaf(Dwell, "Fixed", duration=2.0)) == 2.0  # no jitter: the duration
+    short = declared_leaf(Dwell, "Short", duration=0.0, jitter=0.05)
     short.initialise()
     time.sleep(0.06)
     assert short.update() == Status.SUCCESS

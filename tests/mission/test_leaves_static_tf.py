@@ -17,6 +17,8 @@ from sar_testing.leaf_harness import (
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
+from sar_framework.testing import declared_leaf
+
 pytestmark = pytest.mark.ros
 
 
@@ -110,7 +112,7 @@ def test_ros2_topic_echo_once_shows_every_survivor(ros: tuple) -> None:
         pytest.skip("the ros2 command line is not installed here")
     node, _executor = ros
     detector = FixedDetector((-2.5, 3.2))
-    leaf = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=spec_zone_manager(),
+    leaf = declared_leaf(BroadcastSurvivorTF, zone_manager=spec_zone_manager(),
                                detector=detector)
     tree = tree_on(node, leaf)
     tree.tick()
@@ -126,7 +128,7 @@ def test_survivor_frames_reach_a_subscriber_that_joins_later(ros: tuple, tmp_pat
     node, executor = ros
     zones = spec_zone_manager()
     detector = FixedDetector((-2.5, 3.2))
-    leaf = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones, detector=detector)
+    leaf = declared_leaf(BroadcastSurvivorTF, zone_manager=zones, detector=detector)
     tree = tree_on(node, leaf)
     tree.tick()
     assert leaf.status == Status.SUCCESS
@@ -147,7 +149,7 @@ def test_survivor_frames_reach_a_subscriber_that_joins_later(ros: tuple, tmp_pat
 def test_no_survivor_fails_without_allocating(ros: tuple) -> None:
     node, _executor = ros
     zones = spec_zone_manager()
-    leaf = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones,
+    leaf = declared_leaf(BroadcastSurvivorTF, "BroadcastSurvivorTF", zone_manager=zones,
                                detector=FixedDetector(None))
     tree_on(node, leaf).tick()
     assert leaf.status == Status.FAILURE

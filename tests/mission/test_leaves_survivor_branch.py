@@ -36,6 +36,7 @@ from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
 from sar_framework.mission.zone_manager import ZoneManager
+from sar_framework.testing import declared_leaf
 
 pytestmark = pytest.mark.ros
 REPORT_DELAY_S = 1.0
@@ -70,9 +71,9 @@ def branch_env(module_ros: tuple, servers: tuple) -> Iterator[tuple]:
 def build_branch(zones: ZoneManager, *, memory: bool,
                  response_timeout_s: float = 10.0) -> tuple[py_trees.composites.Sequence,
                                                             NotifyBase]:
-    detect = DetectSurvivor("DetectSurvivor", zone_manager=zones)
-    broadcast = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones, detector=detect)
-    notify = NotifyBase("NotifyBase", detector=detect, broadcaster=broadcast,
+    detect = declared_leaf(DetectSurvivor, "DetectSurvivor", zone_manager=zones)
+    broadcast = declared_leaf(BroadcastSurvivorTF, zone_manager=zones, detector=detect)
+    notify = declared_leaf(NotifyBase, "NotifyBase", detector=detect, broadcaster=broadcast,
                         response_timeout_s=response_timeout_s)
     found = py_trees.composites.Sequence("SurvivorFound", memory=memory, children=[
         IsSurvivorDetected("IsSurvivorDetected?", detector=detect), broadcast, notify,
@@ -136,7 +137,8 @@ def test_an_unanswered_request_is_sent_again_and_the_first_answer_wins(
     """A reply lost right after discovery must not stall a leaf until its bound: the call
     re-sends, keeping the earlier request pending, so a slow server's answer still counts."""
     from sar_interfaces.srv import ReportSurvivor
-    from sar_plugins._service_call import PolledServiceCall
+
+    from sar_framework.leaves import PolledServiceCall
 
     node, _make_tree, executor, report = branch_env
     call = PolledServiceCall(node, ReportSurvivor, "/report_survivor", server_timeout_s=5.0,
@@ -168,9 +170,9 @@ def test_unanswered_report_fails_after_its_bound(branch_env: tuple) -> None:
 def test_nothing_to_report_without_a_detection(ros: tuple) -> None:
     node, _executor = ros
     zones = spec_zone_manager()
-    detect = DetectSurvivor("DetectSurvivor", zone_manager=zones)
-    broadcast = BroadcastSurvivorTF("BroadcastSurvivorTF", zone_manager=zones, detector=detect)
-    notify = NotifyBase("NotifyBase", detector=detect, broadcaster=broadcast)
+    detect = declared_leaf(DetectSurvivor, "DetectSurvivor", zone_manager=zones)
+    broadcast = declared_leaf(BroadcastSurvivorTF, zone_manager=zones, detector=detect)
+    notify = declared_leaf(NotifyBase, "NotifyBase", detector=detect, broadcaster=broadcast)
     tree = tree_on(node, py_trees.composites.Sequence("S", memory=True,
                                                       children=[broadcast, notify]))
     tree.tick()

@@ -11,6 +11,7 @@ from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_tree
 from sar_framework.engine.building.control_build import CLOCK_KEY, ClockTimeout
+from sar_framework.testing import declared_leaf
 
 TREE = """\
 format: 1
@@ -75,13 +76,13 @@ class FakeClient:
         return False
 
 
-def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall() -> None:
+def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall(monkeypatch) -> None:
     """Regression: server_timeout_s, navigation_timeout_s and response_timeout_s counted wall
     seconds while timeout decorators counted ROS time, so which fired first changed with
     --speed (at 10x a 10 s detect bound beat a 180 s visit timeout; at 20x it did not)."""
-    from sar_plugins._service_call import PolledServiceCall
     from sar_plugins.navigate_to_zone import NavigateToZone
 
+    from sar_framework.leaves import PolledServiceCall
     from sar_framework.mission.zone_manager import ZoneManager
 
     clock = ManualClock(1000.0)
@@ -100,8 +101,11 @@ def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall() -> None:
 
     zones = ZoneManager([{"id": "zone_a", "x": 1.0, "y": 2.0, "yaw": 0.0}],
                         {"x": 0.0, "y": 0.0, "yaw": 0.0})
-    leaf = NavigateToZone("Go", zone_manager=zones, server_timeout_s=10.0)
-    leaf._node, leaf._client = node, FakeClient()  # what setup(node=...) gives it
+    leaf = declared_leaf(NavigateToZone, "Go", zone_manager=zones, server_timeout_s=10.0)
+    import rclpy.action
+
+    monkeypatch.setattr(rclpy.action, "ActionClient", lambda *_args: FakeClient())
+    leaf.setup(node=node)
     leaf.tick_once()
     clock.now += 9.9
     leaf.tick_once()

@@ -8,6 +8,7 @@ tree put the tick's p99 far over 2 ms (benchmarks/bench_nav2_ticks.py).
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -45,8 +46,9 @@ class Done:
 
 
 class Client:
-    def __init__(self, srv_type: Any) -> None:
+    def __init__(self, srv_type: Any, name: str) -> None:
         self.srv_type = srv_type
+        self.service_name = f"/{name}"  # rclpy's Client gives the resolved name
 
     def service_is_ready(self) -> bool:
         return True
@@ -64,8 +66,11 @@ class Node:
     def get_logger(self) -> Logger:
         return self.logger
 
-    def create_client(self, srv_type: Any, _name: str) -> Client:
-        return Client(srv_type)
+    def create_client(self, srv_type: Any, name: str) -> Client:
+        return Client(srv_type, name)
+
+    def get_clock(self) -> Any:
+        return SimpleNamespace(now=lambda: SimpleNamespace(nanoseconds=0))
 
     def has_parameter(self, _name: str) -> bool:
         return False

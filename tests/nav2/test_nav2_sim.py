@@ -181,7 +181,7 @@ def test_a_halted_follow_path_cancels_its_goal(ros: tuple[Any, Any], trees: Tree
     assert spin_until(executor, lambda: follow.status == Status.RUNNING
                       and follow.feedback_message.startswith("goal sent"), 20.0, step=tree.tick)
     spin_until(executor, lambda: False, 0.3, step=tree.tick)
-    handle = follow._handle
+    handle = follow._goals()._handle
     assert handle is not None
     root.stop(Status.INVALID)  # the parent halts the branch
     assert "goal cancelled" in follow.feedback_message

@@ -1,13 +1,14 @@
 """RosLeaf: the base of leaves that talk to ROS and latch their verdict.
 
-It holds the two things every such leaf shares:
+It holds what every such leaf shares:
 
 * the ROS node, which arrives the py_trees_ros way, ``setup(node=...)``, and the
   runner's event emitter beside it (``setup(events=...)``, :attr:`RosLeaf.events`): what
   a leaf tells other processes goes there, its log lines are for humans;
 * the ``_done`` / ``_success`` terminal latch of the implementation guide: reset in
-  ``initialise()``, written together exactly once per active period by :meth:`_latch`,
-  read first in ``update()`` through :meth:`_verdict`.
+  ``initialise()``, written together exactly once per active period by :meth:`latch`,
+  read first in ``update()`` through :meth:`verdict`;
+* its declared params and context objects, kept as attributes of the same names.
 
 Not a plugin itself (it carries no ``@leaf`` mark), and it imports no ROS package.
 """
@@ -20,6 +21,7 @@ import py_trees
 from py_trees.common import Status
 
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
+from sar_framework.leaves.declared import keep_declared
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -30,14 +32,17 @@ class RosLeaf(py_trees.behaviour.Behaviour):
 
     Args:
         name: The behaviour's name.
+        **declared: The declared params, context objects and ``ports``, kept as
+            attributes of the same names.
     """
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, **declared: Any) -> None:
         super().__init__(name=name)
         self._node: Node | None = None
         self.events: EventEmitter = NO_EVENTS
         self._done = False
         self._success = False
+        keep_declared(self, declared)
 
     def setup(self, **kwargs: Any) -> None:
         """Take the ROS node from ``kwargs["node"]`` and the event emitter, if any.
@@ -75,12 +80,12 @@ class RosLeaf(py_trees.behaviour.Behaviour):
         """
         return self.node.get_clock().now().nanoseconds / 1e9
 
-    def _reset_latch(self) -> None:
+    def reset_latch(self) -> None:
         """Forget the previous verdict; call first in ``initialise()``."""
         self._done = False
         self._success = False
 
-    def _latch(self, success: bool, message: str, *, log: bool = True) -> Status:
+    def latch(self, success: bool, message: str, *, log: bool = True) -> Status:
         """Record the verdict of this active period and return it.
 
         Args:
@@ -97,9 +102,26 @@ class RosLeaf(py_trees.behaviour.Behaviour):
         self.feedback_message = message
         if log and self._node is not None:
             self._node.get_logger().info(message)
-        return self._verdict()
+        return self.verdict()
 
-    def _verdict(self) -> Status:
+    def succeed(self, message: str, *, log: bool = False) -> Status:
+        """Latch SUCCESS with ``message`` as ``feedback_message`` and return it.
+
+        Args:
+            message: What was achieved.
+            log: Whether to log it too (a success is quiet by default).
+        """
+        return self.latch(True, message, log=log)
+
+    def fail(self, message: str) -> Status:
+        """Latch FAILURE with ``message`` (logged, and kept in ``feedback_message``).
+
+        Args:
+            message: Why the leaf failed.
+        """
+        return self.latch(False, message)
+
+    def verdict(self) -> Status:
         """Return the latched status: SUCCESS or FAILURE once done, RUNNING before."""
         if not self._done:
             return Status.RUNNING

@@ -12,9 +12,10 @@ A request still unanswered after ``resend_after_wall_s`` is sent once more, and 
 interval, keeping the earlier ones pending: the first answer to any of them wins. DDS can
 lose the reply to a request sent just after discovery, because ``service_is_ready()``
 proves only the request path, not that the server has matched the client's reply reader
-(ros2/rmw_cyclonedds#74); a slow server's first answer still counts. Our services are
-idempotent (a detection is a lookup; a repeated report is acknowledged but recorded once),
-so a resend is safe. ``response_timeout_s`` still counts from the first send.
+(ros2/rmw_cyclonedds#74); a slow server's first answer still counts. Resend only to an
+idempotent service (a detection is a lookup; a repeated report is acknowledged but recorded
+once); ``resend_after_wall_s=None`` sends once. ``response_timeout_s`` still counts from the
+first send.
 """
 
 from __future__ import annotations
@@ -53,18 +54,25 @@ class PolledServiceCall:
         server_timeout_s: Seconds the server may take to become ready.
         response_timeout_s: Seconds the server may take to answer a request.
         resend_after_wall_s: Wall seconds without an answer after which the request is sent
-            again.
+            again (None: never).
+        response_timeout_wall_s: A bound on the answer in wall seconds too (None: none),
+            for a round trip that is transport, not work (Nav2's ``server_timeout``). Like
+            :class:`~.goal_call.PolledGoal`'s acceptance bound, it fails a request only once
+            it had already passed at an earlier poll.
     """
 
     def __init__(self, node: Node, srv_type: Any, service_name: str, *,
                  server_timeout_s: float, response_timeout_s: float,
-                 resend_after_wall_s: float = 2.0) -> None:
+                 resend_after_wall_s: float | None = 2.0,
+                 response_timeout_wall_s: float | None = None) -> None:
         self._node = node
         self._client = node.create_client(srv_type, service_name)
         self.service_name: str = self._client.service_name  # resolved: /robot1/detect_survivor
         self._server_timeout_s = server_timeout_s
         self._response_timeout_s = response_timeout_s
         self._resend_after_wall_s = resend_after_wall_s
+        self._response_timeout_wall_s = response_timeout_wall_s
+        self._overdue = False
         clock = node.get_clock()
         self._now: Callable[[], float] = lambda: clock.now().nanoseconds / 1e9
         self._pending: list[Future] = []  # the request and its resends, oldest first
@@ -82,7 +90,8 @@ class PolledServiceCall:
         """Advance the request by one tick.
 
         Args:
-            make_request: Builds the request; called once, when the server is ready.
+            make_request: Builds the request; called once, when the server is ready
+                (None: send nothing).
 
         Returns:
             None while waiting (for the server or its answer), else the :class:`CallResult`.
@@ -95,9 +104,12 @@ class PolledServiceCall:
                                             f"after {self._server_timeout_s:.1f} s")
                 return None
             self._request = make_request()
+            if self._request is None:  # the caller refused to send: nothing to wait for
+                return None
             self._pending.append(self._client.call_async(self._request))
             self._sent = now
             self._sent_wall = time.monotonic()
+            self._overdue = False
             return None
         answered = next((f for f in self._pending if f.done()), None)
         if answered is None:
@@ -105,7 +117,16 @@ class PolledServiceCall:
                 self.abandon()
                 return CallResult(error=f"no response from {self.service_name} "
                                         f"within {self._response_timeout_s:.1f} s")
-            if time.monotonic() - self._sent_wall > self._resend_after_wall_s * len(self._pending):
+            waited_wall = time.monotonic() - self._sent_wall
+            wall_bound = self._response_timeout_wall_s
+            if wall_bound is not None and waited_wall > wall_bound:
+                if self._overdue:
+                    self.abandon()
+                    return CallResult(error=f"no response from {self.service_name} "
+                                            f"within {wall_bound:.3g} s (wall)")
+                self._overdue = True  # first seen late: give the executor its turn
+            resend = self._resend_after_wall_s
+            if resend is not None and waited_wall > resend * len(self._pending):
                 self._pending.append(self._client.call_async(self._request))
             return None
         self._pending.remove(answered)

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import py_trees
 from py_trees.common import Status
+from sar_plugins.nav2.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 
 from sar_framework.engine.api import LoadedTree, load_spec, load_tree
 from sar_framework.engine.building.control_build import CLOCK_KEY
-from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry

@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
+from sar_plugins.nav2.decorators import GoalUpdatedController
 
 from sar_framework.engine.api import load_spec, load_tree
-from sar_framework.engine.nodes.decorators.nav2_decorators import GoalUpdatedController
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.ports import Direction
 from sar_framework.engine.registry import Registry

@@ -35,7 +35,7 @@ _RECOVERY = control_kind(
     "RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), then the "
     "first again.",
     int_port("number_of_retries", "Recoveries allowed before failing.", default=1, minimum=0),
-    children=children_attr(2, 2, "The action, then its recovery."))
+    children=children_attr(2, 2, "The action, then its recovery."), symbol="{o}")
 
 
 @node_kind(_RECOVERY, build=reading_ports(_recovery, ("number_of_retries",), True))
@@ -105,7 +105,7 @@ class RecoveryNode(BtControl):
 
 
 @node_kind(control_kind("PipelineSequence", "Nav2: every tick, re-tick the earlier children "
-                        "while a later one runs."))
+                        "while a later one runs.", symbol="[-]"))
 class PipelineSequence(BtControl):
     """Nav2 ``PipelineSequence``: re-tick every earlier child while a later one runs.
 
@@ -145,7 +145,7 @@ class PipelineSequence(BtControl):
 
 
 @node_kind(control_kind("RoundRobin", "Nav2: one child at a time, the next one after each "
-                        "completion."))
+                        "completion.", symbol="{o}"))
 class RoundRobin(BtControl):
     """Nav2 ``RoundRobin``: one child at a time, the next one after each completion.
 

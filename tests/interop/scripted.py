@@ -67,8 +67,13 @@ class ScriptedLeaf(py_trees.behaviour.Behaviour):
 
 
 def scripted_registry(plugins: Iterable[PluginSpec]) -> Registry:
-    """A registry with a scripted leaf for each plugin: same name, params, context, ports."""
+    """A registry with a scripted leaf for each plugin: same name, params, context, ports.
+
+    A registry's controls and decorators (Nav2's...) are kept as they are.
+    """
     registry = Registry()
+    for kind in plugins.kind_plugins() if isinstance(plugins, Registry) else ():
+        registry.add(kind.cls, kind.source)
     for plugin in plugins:
         cls = type(plugin.name, (ScriptedLeaf,), {"__module__": __name__})
         leaf(plugin.name, params=plugin.params, context=plugin.context,

@@ -147,6 +147,7 @@ def test_a_changed_leaf_changes_the_palette(tmp_path: Path) -> None:
 
     class Changed:
         names = registry.names
+        kind_plugins = registry.kind_plugins
 
         def __iter__(self):
             return iter(changed)

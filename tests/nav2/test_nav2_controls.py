@@ -11,6 +11,7 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from engine.scripted_leaves import Clock, Log, Scripted, tick
 from py_trees.common import Status
 from sar_plugins.nav2.controls import (
     PipelineSequence,
@@ -25,8 +26,6 @@ from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.controls.conditionals import WhileDoElse
 from sar_framework.engine.nodes.controls.sequences import Sequence
 from sar_framework.engine.registry import Registry
-
-from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_recovery_node_recovers_up_to_number_of_retries() -> None:

@@ -10,6 +10,8 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
+from engine.script_variables import DictVariables
+from engine.scripted_leaves import Log, Scripted, tick
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from sar_plugins.nav2.controls import PipelineSequence
@@ -21,9 +23,6 @@ from sar_plugins.nav2.decorators import (
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.registry import Registry
-
-from ..script_variables import DictVariables
-from ..scripted_leaves import Log, Scripted, tick
 
 
 def path(*points: tuple[float, float]) -> SimpleNamespace:

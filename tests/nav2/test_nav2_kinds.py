@@ -11,9 +11,10 @@ from pathlib import Path
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 
-from sar_framework.engine.api import load_tree
+from sar_framework.engine.api import load_spec, load_tree
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.registry import Registry, discover
+from sar_framework.engine.rendering.text_tree import render_text
 
 REPO = Path(__file__).resolve().parents[2]
 GENERIC = REPO / "tests" / "engine" / "plugins_for_tests" / "generic"
@@ -64,3 +65,12 @@ def test_recovery_node_reads_number_of_retries_from_an_entry(tmp_path: Path) -> 
     Blackboard.set("/n", 0)
     root.tick_once()
     assert root.status == Status.FAILURE and root.number_of_retries == 0
+
+
+def test_render_shows_the_symbol_the_declaration_gives(tmp_path: Path) -> None:
+    path = tmp_path / "tree.yaml"
+    path.write_text("format: 1\nroot:\n  RecoveryNode:\n    children:\n"
+                    "      - PipelineSequence: {children: [Fixed: {status: success}]}\n"
+                    "      - Fixed: {status: success}\n", encoding="utf-8")
+    text = render_text(load_spec(path, registry=_registry()), unicode=False)
+    assert "{o} RecoveryNode" in text and "[-] PipelineSequence" in text, text

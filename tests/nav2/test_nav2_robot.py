@@ -11,6 +11,8 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
+from engine.script_variables import DictVariables
+from engine.scripted_leaves import Clock, Log, Scripted, tick
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
 from sar_plugins.nav2.controls import PipelineSequence
@@ -28,9 +30,6 @@ from sar_plugins.nav2.robot_decorators import (
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.building.control_build import CLOCK_KEY
 from sar_framework.engine.registry import Registry
-
-from ..script_variables import DictVariables
-from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 class Robot:

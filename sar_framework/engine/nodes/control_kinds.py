@@ -35,11 +35,6 @@ from sar_framework.engine.nodes.kind_model import (
 from sar_framework.engine.ports import NO_DEFAULT, Direction, Naming, Port
 from sar_framework.engine.spec import Category
 
-#: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
-SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
-           "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
-           "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
-           "ParallelAll": "/_/"}
 #: LoopInt..LoopString: the type of their items, in words and as a port type.
 LOOP_ITEMS = {"LoopInt": "integer", "LoopBool": "boolean", "LoopDouble": "number",
               "LoopString": "string"}
@@ -89,10 +84,15 @@ def _entry() -> Attr:
                  naming=Naming.NAME)
 
 
-def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
-    """A control node's declaration: its key, one line of docs, its attributes, children."""
+def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None,
+                 symbol: str = "[-]") -> NodeKind:
+    """A control node's declaration: its key, one line of docs, its attributes, children.
+
+    ``symbol``: its text symbol in diagrams (see :class:`~.kind_model.NodeKind`).
+    """
     return NodeKind(key, Category.COMPOSITE, key, text,
-                    (name_attr(key), *attrs, children or children_attr(), *CONDITION_ATTRS))
+                    (name_attr(key), *attrs, children or children_attr(), *CONDITION_ATTRS),
+                    symbol=symbol)
 
 
 def decorator_kind(key: str, text: str, *attrs: Attr) -> NodeKind:
@@ -139,25 +139,29 @@ _BRANCHES = children_attr(2, 3, "The condition, the then-branch and an optional 
 _THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
 
 CONTROL_KINDS: tuple[NodeKind, ...] = (
-    control_kind("Sequence", "Children in order until one fails; resumes at a running child."),
+    control_kind("Sequence", "Children in order until one fails; resumes at a running child.",
+                 symbol="{-}"),
     control_kind("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
-             "time instead of the first."),
+             "time instead of the first.", symbol="{-}"),
     control_kind("ReactiveSequence", "Every tick from the first child; a failure stops, a "
              "running child halts the others."),
     control_kind("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "
-             "succeeds on its first tick."),
+             "succeeds on its first tick.", symbol="{-}"),
     control_kind("AsyncFallback", "Like Fallback, but returns RUNNING after each child that fails "
-             "on its first tick."),
-    control_kind("Fallback", "Children in order until one succeeds; resumes at a running child."),
+             "on its first tick.", symbol="{o}"),
+    control_kind("Fallback", "Children in order until one succeeds; resumes at a running child.",
+                 symbol="{o}"),
     control_kind("ReactiveFallback", "Every tick from the first child; a success stops, a running "
-             "child halts the others."),
+             "child halts the others.", symbol="[o]"),
     control_kind("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
              "threshold is reached.",
              int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
-             int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
+             int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1),
+             symbol="/_/"),
     control_kind("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
              "when max_failures failed.",
-             int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
+             int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1),
+             symbol="/_/"),
     control_kind("IfThenElse", "The condition once, then the branch it chose until that "
              "completes.", children=_BRANCHES),
     control_kind("WhileDoElse", "The condition every tick, then its branch; switching halts the "

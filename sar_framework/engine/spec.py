@@ -108,6 +108,8 @@ class NodeSpec:
             ...}``) when it has pre/post-conditions; its ``scripts`` and ``script_keys``,
             resolved in the parent's scope, wrap the inserted subtree (BT.CPP's SubTree
             node).
+        symbol: A composite's text symbol in diagrams, as its kind declares it ("": worked
+            out from the node).
     """
 
     kind: str
@@ -127,6 +129,7 @@ class NodeSpec:
     script_keys: dict[str, str] = field(default_factory=dict)
     insertion: dict[str, Any] = field(default_factory=dict)
     use: NodeSpec | None = None
+    symbol: str = ""
 
     def walk(self) -> Iterator[NodeSpec]:
         """Yield this node and every descendant, depth first, parents before children."""

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from sar_framework.engine.nodes.control_kinds import NAV2_KINDS
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
@@ -69,7 +68,7 @@ class _Exporter:
         kind = KINDS.get(node.kind) or plugin_kind
         builtin = same_ids(kind) if plugin_kind is not None else builtin_for(node.kind,
                                                                              node.attrs)
-        if node.kind in NAV2_KINDS or plugin_kind is not None:  # declared in the models
+        if plugin_kind is not None:  # a plugin's kind: declared in the models
             self.own_models.add(node.kind)
         if builtin is not None:
             tag, ports = builtin.btcpp_id, builtin.to_ports(node.attrs)

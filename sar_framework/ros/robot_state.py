@@ -1,7 +1,7 @@
 """The robot's pose, speed and goal updates from a ROS node, for Nav2's robot-aware decorators.
 
 :func:`robot_context` returns the build-context entries of
-:mod:`sar_framework.engine.nodes.robot_context` for a node. Each source subscribes when it is
+:mod:`sar_plugins.nav2.robot_context` for a node. Each source subscribes when it is
 started (when a tree node that reads it is built), so a tree without those decorators
 costs nothing:
 
@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from sar_framework.engine.nodes.robot_context import (
+from sar_plugins.nav2.robot_context import (
     GOAL_UPDATE_KEY,
     ROBOT_POSE_KEY,
     ROBOT_SPEED_KEY,

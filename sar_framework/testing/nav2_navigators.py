@@ -182,7 +182,8 @@ class NavigatorBench:
     """
 
     def __init__(self, node: Any, executor: Any) -> None:
-        from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY
+        from sar_plugins.nav2.robot_context import ROBOT_POSE_KEY
+
         from sar_framework.ros.robot_state import robot_context
 
         self.node = node

@@ -128,7 +128,8 @@ def test_parameter_names_quoted_in_the_docs_exist() -> None:
 def test_defaults_quoted_beside_a_parameter_are_its_defaults() -> None:
     defaults = {p.name: p.default for table in node_parameters().values() for p in table}
     defaults |= {p.name: p.default for plugin in default_registry() for p in plugin.params}
-    for kind in KINDS.values():  # the composites' and decorators' attributes
+    plugged = [spec.kind for spec in default_registry().kind_plugins()]  # Nav2's
+    for kind in (*KINDS.values(), *plugged):  # the composites' and decorators' attributes
         defaults |= {a.name: a.default for a in kind.attrs if a.default is not None}
     beside = re.compile(r"`([a-z][a-z0-9_]*)`,? \(?default:? `?(-?[\d.]+)")
     checked = 0

@@ -114,11 +114,14 @@ def test_plugins_lists_params(tmp_path: Path) -> None:
 
 def test_plugins_kinds_lists_every_node_kind(tmp_path: Path) -> None:
     from sar_framework.engine.nodes.node_kinds import KINDS
+    from sar_framework.engine.registry import default_registry
 
     run = sar_tree("plugins", "--kinds", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     listed = [line.split("  [")[0] for line in run.stdout.splitlines() if "  [" in line]
-    assert listed == sorted(KINDS)
+    plugged = [spec.name for spec in default_registry().kind_plugins()]  # Nav2's, among them
+    assert "RecoveryNode" in plugged
+    assert listed == sorted(KINDS) + plugged
     assert "RecoveryNode  [composite]" in run.stdout
     assert ("    - number_of_retries: input port int = 1  Recoveries allowed before "
             "failing.") in run.stdout

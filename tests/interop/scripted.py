@@ -17,10 +17,10 @@ from pathlib import Path
 
 import py_trees
 from py_trees.common import Status
+from sar_plugins.nav2.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 
 from sar_framework.engine.api import LoadedTree, load_spec, load_tree
 from sar_framework.engine.building.control_build import CLOCK_KEY
-from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
 from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.plugin import PluginSpec, leaf
 from sar_framework.engine.registry import Registry
@@ -67,8 +67,13 @@ class ScriptedLeaf(py_trees.behaviour.Behaviour):
 
 
 def scripted_registry(plugins: Iterable[PluginSpec]) -> Registry:
-    """A registry with a scripted leaf for each plugin: same name, params, context, ports."""
+    """A registry with a scripted leaf for each plugin: same name, params, context, ports.
+
+    A registry's controls and decorators (Nav2's...) are kept as they are.
+    """
     registry = Registry()
+    for kind in plugins.kind_plugins() if isinstance(plugins, Registry) else ():
+        registry.add(kind.cls, kind.source)
     for plugin in plugins:
         cls = type(plugin.name, (ScriptedLeaf,), {"__module__": __name__})
         leaf(plugin.name, params=plugin.params, context=plugin.context,

@@ -94,8 +94,9 @@ RUNS: dict[str, list[Run]] = {
 
 
 def registry() -> Any:
-    """Tick and Probe (and the other test plugins), without the built-in plugins."""
-    return discover([str(p) for p in PLUGINS], builtins=False, entry_points=False)
+    """Tick and Probe (and the other test plugins), and Nav2's controls and decorators."""
+    return discover([*(str(p) for p in PLUGINS), "sar_plugins.nav2"], builtins=False,
+                    entry_points=False)
 
 
 def shape(node: NodeSpec) -> tuple[Any, ...]:

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from sar_framework.cli import main
-from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS, NAV2_KINDS
+from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
 from sar_framework.engine.nodes.kind_model import AttrType
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS
 from sar_framework.engine.param import REQUIRED
@@ -41,13 +41,14 @@ def read_back(text: str, tmp_path: Path) -> dict:
     return models
 
 
-#: The IDs of the palette's node kinds: BT.CPP's and Nav2's, then the custom ``Sar...``.
+#: The IDs of the engine's node kinds in the palette: BT.CPP's, then the custom ``Sar...``.
 KIND_IDS = {*(k.key for k in (*CONTROL_KINDS, *SCRIPT_KINDS)),
             *(custom_id(k) for k in PY_TREES_KINDS.values() if not always_builtin(k))}
 
 
 def assert_same(registry: Registry, models: dict) -> None:
-    assert sorted(set(models) - KIND_IDS) == registry.names()
+    assert sorted(set(models) - KIND_IDS) == sorted(
+        [*registry.names(), *(k.name for k in registry.kind_plugins())])
     for plugin in registry:
         model = models[plugin.name]
         assert model.category == ("Condition" if plugin.condition else "Action"), plugin.name
@@ -73,10 +74,11 @@ def assert_same(registry: Registry, models: dict) -> None:
 
 
 def test_every_kind_is_in_the_palette_with_its_ports(tmp_path: Path) -> None:
-    models = read_back(palette_text(discover(entry_points=False)), tmp_path)
+    registry = discover(entry_points=False)
+    models = read_back(palette_text(registry), tmp_path)
     assert set(models) >= KIND_IDS
     categories = {AttrType.NODES: "Control", AttrType.NODE: "Decorator"}
-    for kind in (*CONTROL_KINDS, *SCRIPT_KINDS):
+    for kind in (*CONTROL_KINDS, *SCRIPT_KINDS, *(k.kind for k in registry.kind_plugins())):
         model = models[kind.key]
         shape = next((categories[a.type] for a in kind.attrs if a.type in categories), None)
         assert model.category == (shape or ("Condition" if kind.key == "ScriptCondition"
@@ -101,8 +103,10 @@ def test_nav2s_controls_and_decorators_are_nav2s_palettes(tmp_path: Path) -> Non
     theirs, problems = read_palette(str(nav2_share("nav2_behavior_tree", "nav2_tree_nodes.xml")))
     assert not problems
     theirs = {key: m for key, m in theirs.items() if m.category in ("Control", "Decorator")}
-    ours = read_back(palette_text(discover(entry_points=False)), tmp_path)
-    assert sorted(theirs) == sorted(NAV2_KINDS)
+    registry = discover(entry_points=False)
+    ours = read_back(palette_text(registry), tmp_path)
+    assert sorted(theirs) == sorted(k.name for k in registry.kind_plugins()
+                                    if k.cls.__module__.startswith("sar_plugins.nav2."))
     for key, model in theirs.items():
         mine = ours[key]
         assert mine.category == model.category, key
@@ -143,6 +147,7 @@ def test_a_changed_leaf_changes_the_palette(tmp_path: Path) -> None:
 
     class Changed:
         names = registry.names
+        kind_plugins = registry.kind_plugins
 
         def __iter__(self):
             return iter(changed)

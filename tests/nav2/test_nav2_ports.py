@@ -18,7 +18,7 @@ from sar_framework.interop.btcpp_file import read_palette
 from sar_framework.interop.btcpp_models import literal_default
 
 OVERLAY = Path("/work/shared/ros-overlay/src")
-#: Nav2's leaves (the decorators are not leaves).
+#: Nav2's leaves (its controls and decorators are node kinds, tests/interop/test_palette.py).
 REQUIRED = {
     "ComputePathToPose", "ComputePathThroughPoses", "FollowPath", "Spin", "BackUp",
     "DriveOnHeading", "Wait", "ClearEntireCostmap", "ClearCostmapAroundRobot",
@@ -42,6 +42,7 @@ PALETTE, PROBLEMS = read_palette(str(palette_path()))
 LEAVES: dict[str, PluginSpec] = {
     getattr(nav2, name).__dict__[PLUGIN_ATTRIBUTE].name:
         getattr(nav2, name).__dict__[PLUGIN_ATTRIBUTE] for name in nav2.__all__
+    if PLUGIN_ATTRIBUTE in getattr(nav2, name).__dict__  # the controls and decorators are kinds
 }
 
 

@@ -215,7 +215,8 @@ def test_distance_controller_replans_on_the_runners_robot_state(
     FollowPath follows each replanned path: before the fix, the simulator's follower never
     finished a path swapped in mid-drive that starts behind the robot.
     """
-    from sar_framework.engine.nodes.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+    from sar_plugins.nav2.robot_context import ROBOT_POSE_KEY, ROBOT_SPEED_KEY
+
     from sar_framework.ros.robot_state import robot_context
 
     node, executor = ros

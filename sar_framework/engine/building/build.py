@@ -294,7 +294,7 @@ class _Builder:
 
     def make_node(self, node: NodeSpec) -> Behaviour | None:
         """Build ``node`` and its children, without its pre/post-conditions."""
-        if node.kind in CONTROL_BUILDERS:  # BT.CPP's and Nav2's nodes, leaves included
+        if node.kind in CONTROL_BUILDERS:  # BT.CPP's nodes, leaves included
             return self.control(node, CONTROL_BUILDERS[node.kind])
         kind_plugin = self.registry.kind_plugin(node.kind)
         if kind_plugin is not None:  # a plugin's control or decorator

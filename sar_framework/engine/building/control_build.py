@@ -1,4 +1,4 @@
-"""Build the behaviours of BT.CPP's and Nav2's node kinds (:mod:`.control_kinds`).
+"""Build the behaviours of BT.CPP's node kinds (:mod:`.control_kinds`).
 
 One builder per kind, called as ``builder(node, children, context)``. The clock-driven
 ones, and every ``timeout`` (:class:`ClockTimeout`), read the build context's ``clock``
@@ -22,24 +22,9 @@ from py_trees.common import Status
 
 from sar_framework.engine.building.port_values import PortValues
 from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS, READ_PORTS, SWITCH_CASES
-from sar_framework.engine.nodes.controls import (
-    conditionals,
-    leaves,
-    nav2_controls,
-    parallels,
-    sequences,
-)
+from sar_framework.engine.nodes.controls import conditionals, leaves, parallels, sequences
 from sar_framework.engine.nodes.controls.read_ports import PortReader
-from sar_framework.engine.nodes.decorators import (
-    converters,
-    loops,
-    nav2_decorators,
-    nav2_robot,
-    queues,
-    timing,
-    updated,
-)
-from sar_framework.engine.nodes.robot_context import pose_source, speed_source, update_source
+from sar_framework.engine.nodes.decorators import converters, loops, queues, timing, updated
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import Category, NodeSpec
 from sar_framework.engine.variables import BlackboardVariables
@@ -106,7 +91,8 @@ def bound_variables(node: NodeSpec, *ports: str) -> BlackboardVariables:
     return BlackboardVariables(node.name, keys, writable)
 
 
-def _bound(node: NodeSpec, port: str) -> bool:
+def is_bound(node: NodeSpec, port: str) -> bool:
+    """Whether ``node``'s ``port`` is bound to a blackboard entry (not a literal)."""
     binding = node.bindings.get(port)
     return binding is not None and binding.key is not None
 
@@ -120,7 +106,8 @@ def _literal_text(value: Any) -> str:
     return str(value)
 
 
-def _clock(context: Mapping[str, Any]) -> Callable[[], float]:
+def clock_of(context: Mapping[str, Any]) -> Callable[[], float]:
+    """The build context's clock (:data:`CLOCK_KEY`), else ``time.monotonic``."""
     clock = context.get(CLOCK_KEY)
     return clock if callable(clock) else time.monotonic
 
@@ -145,7 +132,7 @@ def _clocked(cls: type) -> ControlBuilder:
     def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
               ) -> Behaviour:
         head = [children[0]] if children else []
-        return cls(node.name, *head, **node.attrs, clock=_clock(context))
+        return cls(node.name, *head, **node.attrs, clock=clock_of(context))
 
     return build
 
@@ -154,8 +141,8 @@ def _switch(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any
             ) -> Behaviour:
     names = [f"case_{i}" for i in range(1, SWITCH_CASES[node.kind] + 1)]
     ports = PortValues(node.name, {n: node.bindings[n] for n in ("variable", *names)})
-    cases = ["" if _bound(node, n) else node.bindings[n].value for n in names]
-    reads = [n if _bound(node, n) else None for n in names]
+    cases = ["" if is_bound(node, n) else node.bindings[n].value for n in names]
+    reads = [n if is_bound(node, n) else None for n in names]
     return conditionals.Switch(node.name, children, cases, "variable",
                                ports,  # type: ignore[arg-type]  # reads only
                                case_variables=reads)
@@ -171,12 +158,12 @@ def _updated(cls: type) -> ControlBuilder:
 
 def _loop(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
           ) -> Behaviour:
-    shared = _bound(node, "queue")
+    shared = is_bound(node, "queue")
     literal = None if shared else _literal_text(node.bindings["queue"].value)
     return queues.Loop(node.name, children[0], literal, bound_variables(node, "queue", "value"),
                        item=queues.ITEM_TYPES[node.kind],
                        queue_variable="queue" if shared else None,
-                       value="value" if _bound(node, "value") else None,
+                       value="value" if is_bound(node, "value") else None,
                        if_empty=node.attrs["if_empty"])
 
 
@@ -185,56 +172,9 @@ def _was_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str
     return updated.WasEntryUpdated(node.name, "entry", bound_variables(node, "entry"))
 
 
-def _goal_variables(node: NodeSpec) -> BlackboardVariables:
-    """``goal`` and ``goals`` as bound, else the root's entries (``getInputOrBlackboard``)."""
-    keys: dict[str, str] = {}
-    for name in ("goal", "goals"):
-        binding = node.bindings.get(name)
-        if binding is None or (binding.key is None and binding.value is NO_DEFAULT):
-            keys[name] = f"/{name}"
-        elif binding.key is not None:
-            keys[name] = binding.key
-    return BlackboardVariables(node.name, keys, [])
-
-
-def _goal_updated(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
-                  ) -> Behaviour:
-    return nav2_decorators.GoalUpdatedController(node.name, children[0], "goal", "goals",
-                                                 _goal_variables(node))
-
-
-def _path_longer(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
-                 ) -> Behaviour:
-    return nav2_decorators.PathLongerOnApproach(
-        node.name, children[0], "path", bound_variables(node, "path"),
-        prox_len=node.attrs["prox_len"], length_factor=node.attrs["length_factor"])
-
-
-def _distance(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
-              ) -> Behaviour:
-    return nav2_robot.DistanceController(node.name, children[0], pose_source(context),
-                                         **node.attrs)
-
-
-def _speed(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
-           ) -> Behaviour:
-    attrs = {k: v for k, v in node.attrs.items() if k not in ("goal", "goals")}
-    return nav2_robot.SpeedController(
-        node.name, children[0], speed_source(context), _goal_variables(node),
-        goal="goal", goals="goals", clock=_clock(context), **attrs)
-
-
-def _goal_updater(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
-                  ) -> Behaviour:
-    return nav2_robot.GoalUpdater(
-        node.name, children[0], update_source(context),
-        bound_variables(node, "input_goal", "output_goal"), input_goal="input_goal",
-        output_goal="output_goal")
-
-
 def _set_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
                     ) -> Behaviour:
-    value = "{value}" if _bound(node, "value") else node.bindings["value"].value
+    value = "{value}" if is_bound(node, "value") else node.bindings["value"].value
     variables = bound_variables(node, "value", "output_key")
     return leaves.SetBlackboard(node.name, value, "output_key", variables)
 
@@ -249,18 +189,24 @@ def _unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mappin
 _DEFAULT_WHEN_UNSET = frozenset({"RunOnce"})
 
 
-def _with_read_port(base: ControlBuilder) -> ControlBuilder:
-    """``base``, reading the ports of :data:`.control_kinds.READ_PORTS` bound to entries.
+def reading_ports(base: ControlBuilder, ports: tuple[str, ...], each_tick: bool
+                  ) -> ControlBuilder:
+    """``base``, reading those of ``ports`` bound to entries when BT.CPP reads them.
 
-    Such a port is read from its entry when BT.CPP reads it (the node's
-    :class:`~.controls.read_ports.PortReader`), not passed as a literal.
+    Such a port is read from its entry (the node's
+    :class:`~.controls.read_ports.PortReader`) on every tick (``each_tick``) or when the
+    node starts, not passed as a literal.
+
+    Args:
+        base: Builds the node from its attributes.
+        ports: The integer (or boolean) ports BT.CPP reads with ``getInput``.
+        each_tick: Read on every tick, else when the node starts.
     """
 
     def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
               ) -> Behaviour:
-        ports, each_tick = READ_PORTS[node.kind]
         attrs = dict(node.attrs)
-        bound = [port for port in ports if _bound(node, port)]
+        bound = [port for port in ports if is_bound(node, port)]
         for port in ports:
             binding = node.bindings.get(port)  # a literal converted ('450' -> 450)
             if port in bound:
@@ -292,7 +238,6 @@ _BUILDERS: dict[str, ControlBuilder] = {
     **_each(_plain, parallels, "Parallel", "ParallelAll"),
     **_each(_plain, conditionals, "IfThenElse", "WhileDoElse"),
     **{key: _switch for key in SWITCH_CASES},
-    **_each(_plain, nav2_controls, "RecoveryNode", "PipelineSequence", "RoundRobin"),
     **_each(_plain, converters, "Inverter", "ForceSuccess", "ForceFailure",
             "KeepRunningUntilFailure"),
     **_each(_plain, loops, "Repeat", "RetryUntilSuccessful", "RunOnce"),
@@ -300,13 +245,6 @@ _BUILDERS: dict[str, ControlBuilder] = {
     **{key: _loop for key in queues.ITEM_TYPES},
     "WasEntryUpdated": _was_updated,
     **_each(_updated, updated, "SkipUnlessUpdated", "WaitValueUpdate"),
-    "RateController": _clocked(nav2_decorators.RateController),
-    "SingleTrigger": _plain(nav2_decorators.SingleTrigger),
-    "GoalUpdatedController": _goal_updated,
-    "PathLongerOnApproach": _path_longer,
-    "DistanceController": _distance,
-    "SpeedController": _speed,
-    "GoalUpdater": _goal_updater,
     **_each(_plain, leaves, "AlwaysSuccess", "AlwaysFailure"),
     "Sleep": _clocked(leaves.Sleep),
     "SetBlackboard": _set_blackboard,
@@ -314,6 +252,6 @@ _BUILDERS: dict[str, ControlBuilder] = {
 }
 #: Each kind's builder; the kinds with ports BT.CPP reads (READ_PORTS) read them from entries.
 CONTROL_BUILDERS: dict[str, ControlBuilder] = {
-    kind: _with_read_port(build) if kind in READ_PORTS else build
+    kind: reading_ports(build, *READ_PORTS[kind]) if kind in READ_PORTS else build
     for kind, build in _BUILDERS.items()}
 assert set(CONTROL_BUILDERS) == {k.key for k in CONTROL_KINDS}, "a kind without a builder"

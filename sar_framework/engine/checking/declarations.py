@@ -30,6 +30,7 @@ class Declaration:
         defaults: The values of the attributes a tree may leave out (ports excluded).
         ref_params: A plugin's reference params.
         ports: Its blackboard ports (a plugin's, or those of a BT.CPP node kind).
+        symbol: A composite's text symbol in diagrams (see :class:`~.kind_model.NodeKind`).
     """
 
     key: str
@@ -39,6 +40,7 @@ class Declaration:
     defaults: dict[str, Any]
     ref_params: tuple[Param, ...] = ()
     ports: tuple[Port, ...] = ()
+    symbol: str = ""
 
 
 def _defaults(attrs: tuple[Attr, ...], skipped: tuple[str, ...]) -> dict[str, Any]:
@@ -57,7 +59,8 @@ def declaration_of(key: str, registry: Registry) -> Declaration | None:
     if kind is not None:
         ports = tuple(a.port for a in kind.attrs if a.port is not None)
         return Declaration(key, kind.category, kind.class_name, kind.attrs,
-                           _defaults(kind.attrs, ("name", "selected")), ports=ports)
+                           _defaults(kind.attrs, ("name", "selected")), ports=ports,
+                           symbol=kind.symbol)
     plugin = registry.get(key)
     if plugin is None:
         return None

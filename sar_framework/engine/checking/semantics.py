@@ -228,7 +228,7 @@ class Semantics:
         spec = NodeSpec(key, decl.category, name if isinstance(name, str) else decl.default_name,
                         uid, where, {**decl.defaults, **values}, children,
                         ident if isinstance(ident, str) else None, {}, None, frozenset(values),
-                        ports)
+                        ports, symbol=decl.symbol)
         spec.scripts = scripts
         if not complete:
             self.incomplete.add(id(spec))

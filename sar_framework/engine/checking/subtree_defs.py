@@ -62,4 +62,4 @@ def copy_spec(node: NodeSpec) -> NodeSpec:
     """Return a fresh copy of a subtree definition's spec (uids, refs, bindings cleared)."""
     return NodeSpec(node.kind, node.category, node.name, "", node.location, dict(node.attrs),
                     [copy_spec(c) for c in node.children], node.id, {}, node.subtree,
-                    node.written, node.ports, {}, node.scripts)
+                    node.written, node.ports, {}, node.scripts, symbol=node.symbol)

@@ -1,7 +1,7 @@
-"""BehaviorTree.CPP 4's and Nav2's nodes as node kinds, keyed by their BT.CPP IDs.
+"""BehaviorTree.CPP 4's nodes as node kinds, keyed by their BT.CPP IDs.
 
 A tree file writes them as BT.CPP names them (``SequenceWithMemory``, ``Parallel``,
-``RecoveryNode``), with BT.CPP's port names as attributes; each builds the behaviour of
+``Timeout``), with BT.CPP's port names as attributes; each builds the behaviour of
 :mod:`sar_framework.engine.nodes.controls` that ticks like the original. The snake_case kinds
 of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' own
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
@@ -17,10 +17,10 @@ remapping) and checked with them: Switch's ``variable`` and cases, SetBlackboard
 of a shared list) and ``value`` (``{name}``, written), and the ports BT.CPP reads as an
 entry's *name* (:class:`~.ports.Naming`): SetBlackboard's ``output_key`` and
 UnsetBlackboard's ``key`` (``name``), the ``entry`` of SkipUnlessUpdated, WaitValueUpdate
-and WasEntryUpdated (``name`` or ``{name}``). Nav2's decorators' ``goal`` and ``goals``
-(optional: unbound, the root's entry of that name is read, as Nav2's
-``getInputOrBlackboard``), ``path``, ``input_goal`` and ``output_goal`` (written) are
-ports too, typed as Nav2's palette types them.
+and WasEntryUpdated (``name`` or ``{name}``).
+
+:func:`control_kind`, :func:`decorator_kind`, :func:`int_port` and :func:`port_attr` are
+how a plugin declares its own controls and decorators too (:mod:`~..kind_plugin`).
 """
 
 from __future__ import annotations
@@ -35,21 +35,9 @@ from sar_framework.engine.nodes.kind_model import (
 from sar_framework.engine.ports import NO_DEFAULT, Direction, Naming, Port
 from sar_framework.engine.spec import Category
 
-#: Where a kind comes from, for the docs and the export.
-NAV2_KINDS = frozenset({"RecoveryNode", "PipelineSequence", "RoundRobin", "RateController",
-                        "SingleTrigger", "GoalUpdatedController", "PathLongerOnApproach",
-                        "DistanceController", "SpeedController", "GoalUpdater"})
-#: py_trees-style text symbols of the composites (``{-}`` resumes, ``[-]`` re-evaluates).
-SYMBOLS = {"Sequence": "{-}", "SequenceWithMemory": "{-}", "AsyncSequence": "{-}",
-           "AsyncFallback": "{o}", "ReactiveSequence": "[-]",
-           "Fallback": "{o}", "ReactiveFallback": "[o]", "Parallel": "/_/",
-           "ParallelAll": "/_/", "PipelineSequence": "[-]", "RecoveryNode": "{o}",
-           "RoundRobin": "{o}"}
 #: LoopInt..LoopString: the type of their items, in words and as a port type.
 LOOP_ITEMS = {"LoopInt": "integer", "LoopBool": "boolean", "LoopDouble": "number",
               "LoopString": "string"}
-#: The ROS message types of Nav2's decorators' ports (by name: the engine imports no ROS).
-POSE, PATH = "geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Path"
 LOOP_TYPES = {"LoopInt": "int", "LoopBool": "bool", "LoopDouble": "float", "LoopString": "str"}
 #: Switch2..Switch6: the number of cases of each.
 SWITCH_CASES = {f"Switch{n}": n for n in range(2, 7)}
@@ -64,8 +52,8 @@ def children_attr(minimum: int = 1, maximum: int | None = None, text: str = "") 
 _CHILD = Attr("child", AttrType.NODE, required=True, description="The decorated node.")
 
 
-def _int_port(name: str, text: str, *, default: int | None = None,
-              minimum: int | None = None) -> Attr:
+def int_port(name: str, text: str, *, default: int | None = None,
+             minimum: int | None = None) -> Attr:
     """An integer BT.CPP reads with ``getInput``: a literal (range-checked) or ``{name}``."""
     port = Port(name, "int", NO_DEFAULT if default is None else default, text)
     return Attr(name, AttrType.PORT, required=default is None, default=default,
@@ -78,43 +66,33 @@ def _bool_port(name: str, text: str, *, default: bool) -> Attr:
                 port=Port(name, "bool", default, text))
 
 
-def _number(name: str, default: float, text: str) -> Attr:
-    return Attr(name, AttrType.NUMBER, default=default, minimum=0.0, description=text)
-
-
-def _frame(name: str, text: str) -> Attr:
-    return Attr(name, AttrType.STRING, default="", description=text)
-
-
-def _port(name: str, type_: str, text: str, *, direction: Direction = Direction.INPUT,
-          naming: Naming = Naming.VALUE, required: bool = True, optional: bool = False
-          ) -> Attr:
+def port_attr(name: str, type_: str, text: str, *, direction: Direction = Direction.INPUT,
+              naming: Naming = Naming.VALUE, required: bool = True, optional: bool = False
+              ) -> Attr:
     """An attribute that is a blackboard port of the node (see the module docstring).
 
-    ``optional``: an input the tree may leave unbound (Nav2's ``getInputOrBlackboard``).
+    ``optional``: an input the tree may leave unbound (its builder then reads a default
+    entry, as BT.CPP's ``getInputOrBlackboard``).
     """
     port = Port(name, type_, NO_DEFAULT, text, direction, naming=naming, optional=optional)
     return Attr(name, AttrType.PORT, required=required and not optional, description=text,
                 port=port)
 
 
-def _goal_ports(text: str = "") -> tuple[Attr, Attr]:
-    """Nav2's ``goal`` and ``goals`` inputs, read with ``getInputOrBlackboard``."""
-    return (_port("goal", POSE, "Destination to check: '{name}'; unbound, the root's "
-                  f"'goal' entry{text}.", optional=True),
-            _port("goals", "list", "Vector of goals to check: '{name}'; unbound, the root's "
-                  "'goals' entry.", optional=True))
-
-
 def _entry() -> Attr:
-    return _port("entry", "any", "The watched entry, by name: 'name' or '{name}'.",
+    return port_attr("entry", "any", "The watched entry, by name: 'name' or '{name}'.",
                  naming=Naming.NAME)
 
 
-def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None) -> NodeKind:
-    """A control node's declaration: its key, one line of docs, its attributes, children."""
+def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None,
+                 symbol: str = "[-]") -> NodeKind:
+    """A control node's declaration: its key, one line of docs, its attributes, children.
+
+    ``symbol``: its text symbol in diagrams (see :class:`~.kind_model.NodeKind`).
+    """
     return NodeKind(key, Category.COMPOSITE, key, text,
-                    (name_attr(key), *attrs, children or children_attr(), *CONDITION_ATTRS))
+                    (name_attr(key), *attrs, children or children_attr(), *CONDITION_ATTRS),
+                    symbol=symbol)
 
 
 def decorator_kind(key: str, text: str, *attrs: Attr) -> NodeKind:
@@ -128,12 +106,12 @@ def _leaf(key: str, text: str, *attrs: Attr) -> NodeKind:
 
 
 def _switch(key: str, cases: int) -> NodeKind:
-    case_attrs = [_port(f"case_{i}", "any", f"The value that selects child {i}: a literal, "
+    case_attrs = [port_attr(f"case_{i}", "any", f"The value that selects child {i}: a literal, "
                         "or '{name}' to read that entry.") for i in range(1, cases + 1)]
     return control_kind(
         key, f"Tick the child of the first of {cases} cases the variable matches, else the "
         "last child.",
-        _port("variable", "any", "The value compared (as text) with the cases: '{name}' "
+        port_attr("variable", "any", "The value compared (as text) with the cases: '{name}' "
               "reads that entry; a literal is compared as it is."),
         *case_attrs,
         children=children_attr(cases + 1, cases + 1, f"One child per case, then the default "
@@ -161,116 +139,79 @@ _BRANCHES = children_attr(2, 3, "The condition, the then-branch and an optional 
 _THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
 
 CONTROL_KINDS: tuple[NodeKind, ...] = (
-    control_kind("Sequence", "Children in order until one fails; resumes at a running child."),
+    control_kind("Sequence", "Children in order until one fails; resumes at a running child.",
+                 symbol="{-}"),
     control_kind("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
-             "time instead of the first."),
+             "time instead of the first.", symbol="{-}"),
     control_kind("ReactiveSequence", "Every tick from the first child; a failure stops, a "
              "running child halts the others."),
     control_kind("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "
-             "succeeds on its first tick."),
+             "succeeds on its first tick.", symbol="{-}"),
     control_kind("AsyncFallback", "Like Fallback, but returns RUNNING after each child that fails "
-             "on its first tick."),
-    control_kind("Fallback", "Children in order until one succeeds; resumes at a running child."),
+             "on its first tick.", symbol="{o}"),
+    control_kind("Fallback", "Children in order until one succeeds; resumes at a running child.",
+                 symbol="{o}"),
     control_kind("ReactiveFallback", "Every tick from the first child; a success stops, a running "
-             "child halts the others."),
+             "child halts the others.", symbol="[o]"),
     control_kind("Parallel", "Every unfinished child each tick; SUCCESS or FAILURE once a "
              "threshold is reached.",
-             _int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
-             _int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1)),
+             int_port("success_count", "Successes needed" + _THRESHOLD, default=-1),
+             int_port("failure_count", "Failures that fail it" + _THRESHOLD, default=1),
+             symbol="/_/"),
     control_kind("ParallelAll", "Every unfinished child each tick until all finished; FAILURE "
              "when max_failures failed.",
-             _int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1)),
+             int_port("max_failures", "Failures that make it fail" + _THRESHOLD, default=1),
+             symbol="/_/"),
     control_kind("IfThenElse", "The condition once, then the branch it chose until that "
              "completes.", children=_BRANCHES),
     control_kind("WhileDoElse", "The condition every tick, then its branch; switching halts the "
              "other branch.", children=_BRANCHES),
     *(_switch(key, cases) for key, cases in SWITCH_CASES.items()),
-    control_kind("RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), "
-             "then the first again.",
-             _int_port("number_of_retries", "Recoveries allowed before failing.", default=1,
-                       minimum=0),
-             children=children_attr(2, 2, "The action, then its recovery.")),
-    control_kind("PipelineSequence", "Nav2: every tick, re-tick the earlier children while a "
-             "later one runs."),
-    control_kind("RoundRobin", "Nav2: one child at a time, the next one after each completion."),
     decorator_kind("Inverter", "SUCCESS becomes FAILURE and FAILURE SUCCESS."),
     decorator_kind("ForceSuccess", "A completed child gives SUCCESS."),
     decorator_kind("ForceFailure", "A completed child gives FAILURE."),
     decorator_kind("KeepRunningUntilFailure", "RUNNING until the child fails."),
     decorator_kind("Repeat", "Tick a succeeding child num_cycles times; a failure fails.",
-               _int_port("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
+               int_port("num_cycles", "Successes needed; -1 repeats forever.", minimum=-1)),
     decorator_kind("RetryUntilSuccessful", "Tick a failing child up to num_attempts times.",
-               _int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
+               int_port("num_attempts", "Attempts allowed; -1 retries forever.", minimum=-1)),
     decorator_kind("RunOnce", "Tick the child until it completes once; then skip, or repeat "
                "that result.",
                _bool_port("then_skip", "After the first completion: SKIPPED (true) or the "
                           "same result (false).", default=True)),
     decorator_kind("Delay", "RUNNING for delay_msec, then tick the child.",
-               _int_port("delay_msec", "Milliseconds before the child's first tick.",
+               int_port("delay_msec", "Milliseconds before the child's first tick.",
                          minimum=0)),
     decorator_kind("Timeout", "Halt the child and fail if it still runs after msec.",
-               _int_port("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
+               int_port("msec", "Milliseconds the child may run (0: no limit).", minimum=0)),
     decorator_kind("SkipUnlessUpdated", "SKIPPED unless the entry was written since the last "
                "tick of the child.", _entry()),
     decorator_kind("WaitValueUpdate", "RUNNING until the entry was written since the last tick "
                "of the child.", _entry()),
     *(decorator_kind(key, f"Pop the next {kind} of queue into value and tick the child; RUNNING "
                  "while values remain, if_empty once the queue is empty.",
-                 _port("queue", "list", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared "
+                 port_attr("queue", "list", f"The {kind}s: 'a;b;c', or '{{name}}' of a shared "
                        "list (its values are popped from it)."),
                  Attr("if_empty", AttrType.STRING, default="SUCCESS",
                       enum=("SUCCESS", "FAILURE", "SKIPPED"),
                       description="What to return once the queue is empty."),
-                 _port("value", LOOP_TYPES[key], "The entry each value is written to: "
+                 port_attr("value", LOOP_TYPES[key], "The entry each value is written to: "
                        "'{name}'.", direction=Direction.OUTPUT, required=False))
       for key, kind in LOOP_ITEMS.items()),
-    decorator_kind("RateController", "Nav2: tick the child at most hz times a second (a running "
-               "child every tick).",
-               Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
-                    description="Child ticks per second.")),
-    decorator_kind("SingleTrigger", "Nav2: tick the child to one completion, then FAILURE until "
-               "the node is reset."),
-    decorator_kind("GoalUpdatedController", "Nav2: tick the child when goal or goals changed "
-               "(starting counts) and while it runs; else RUNNING.",
-               *_goal_ports()),
-    decorator_kind("PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal "
-               "is length_factor times longer while the old one was shorter than prox_len; "
-               "else SUCCESS.",
-               _port("path", PATH, "The path created by the planner: '{name}'."),
-               Attr("prox_len", AttrType.NUMBER, default=3.0, minimum=0.0,
-                    description="Proximity length (m) for the path to be longer on approach."),
-               Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
-                    description="How many times longer the new path must be.")),
-    decorator_kind("DistanceController", "Nav2: tick the child each time the robot travelled "
-               "distance metres (and on the first tick, and while it runs); else RUNNING.",
-               _number("distance", 1.0, "Metres travelled between ticks of the child."),
-               _frame("global_frame", "Reference frame ('': the navigator's, map)."),
-               _frame("robot_base_frame", "Robot frame ('': the navigator's, base_link).")),
-    decorator_kind("SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate "
-               "as the robot's speed goes from min_speed to max_speed; else RUNNING.",
-               _number("min_rate", 0.1, "Hz at min_speed and below."),
-               _number("max_rate", 1.0, "Hz at max_speed and above."),
-               _number("min_speed", 0.0, "m/s."), _number("max_speed", 0.5, "m/s."),
-               *_goal_ports(" (a new goal ticks the child)")),
-    decorator_kind("GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on "
-               "the goal_update topic; then tick the child.",
-               _port("input_goal", POSE, "The original goal: '{name}'."),
-               _port("output_goal", POSE, "The goal to use (input_goal or a newer one): "
-                     "'{name}'.", direction=Direction.OUTPUT)),
     _leaf("WasEntryUpdated", "SUCCESS if the entry was written since the last tick, else "
           "FAILURE.", _entry()),
     _leaf("AlwaysSuccess", "SUCCESS."),
     _leaf("AlwaysFailure", "FAILURE."),
     _leaf("Sleep", "RUNNING for msec milliseconds, then SUCCESS.",
-          _int_port("msec", "Milliseconds to wait.", minimum=0)),
+          int_port("msec", "Milliseconds to wait.", minimum=0)),
     _leaf("SetBlackboard", "Write value (a literal, or '{entry}' to copy one) to output_key.",
-          _port("value", "any", "The value written: a literal, or '{name}' to copy that "
+          port_attr("value", "any", "The value written: a literal, or '{name}' to copy that "
                 "entry's value."),
-          _port("output_key", "any", "The entry written, by name: 'name' (BT.CPP reads "
+          port_attr("output_key", "any", "The entry written, by name: 'name' (BT.CPP reads "
                 "'{name}' as the entry whose name that entry holds).",
                 direction=Direction.OUTPUT, naming=Naming.BARE_NAME)),
     _leaf("UnsetBlackboard", "Remove the entry key.",
-          _port("key", "any", "The entry removed, by name: 'name' (BT.CPP reads '{name}' as "
+          port_attr("key", "any", "The entry removed, by name: 'name' (BT.CPP reads '{name}' as "
                 "the entry whose name that entry holds).", direction=Direction.OUTPUT,
                 naming=Naming.BARE_NAME)),
 )
@@ -282,7 +223,7 @@ COPIES = {"SetBlackboard": ("value", "output_key")}
 #: kind -> its ports, and whether they are read on every tick (else when the node starts).
 READ_PORTS: dict[str, tuple[tuple[str, ...], bool]] = {
     "Repeat": (("num_cycles",), True), "RetryUntilSuccessful": (("num_attempts",), True),
-    "RecoveryNode": (("number_of_retries",), True), "Timeout": (("msec",), False),
+    "Timeout": (("msec",), False),
     "Delay": (("delay_msec",), False), "Sleep": (("msec",), False),
     "Parallel": (("success_count", "failure_count"), True),
     "ParallelAll": (("max_failures",), True), "RunOnce": (("then_skip",), True)}

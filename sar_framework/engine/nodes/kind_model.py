@@ -1,7 +1,7 @@
 """The shape of a node kind: its attributes, their types and the rules between them.
 
 :mod:`.node_kinds` (py_trees' composites and decorators) and :mod:`.control_kinds`
-(BT.CPP's and Nav2's nodes) declare their kinds with these classes; the validator, the
+(BT.CPP's nodes) and node-kind plugins declare their kinds with these classes; the validator, the
 schema and the docs read them.
 """
 
@@ -114,6 +114,9 @@ class NodeKind:
         description: One line for docs and the schema.
         attrs: Every attribute, ``name`` and ``child``/``children`` included.
         rules: Conditional rules between attributes.
+        symbol: A composite's py_trees-style text symbol in diagrams (``{-}`` resumes at
+            a running child, ``[-]`` starts from the first, ``{o}``/``[o]`` the same for a
+            fallback, ``/_/`` parallel); empty: worked out from the node (``memory``).
     """
 
     key: str
@@ -122,6 +125,7 @@ class NodeKind:
     description: str
     attrs: tuple[Attr, ...]
     rules: tuple[Rule, ...] = ()
+    symbol: str = ""
 
     def attr(self, name: str) -> Attr | None:
         """Return the attribute called ``name``, or None."""

@@ -208,7 +208,7 @@ SCRIPT_KINDS: tuple[NodeKind, ...] = (
     ),
 )  # fmt: skip
 
-#: Composite, decorator and script kinds by key, then BT.CPP's and Nav2's
+#: Composite, decorator and script kinds by key, then BT.CPP's
 #: (:mod:`.control_kinds`).
 KINDS: dict[str, NodeKind] = {k.key: k for k in (*_KIND_LIST, *SCRIPT_KINDS, *CONTROL_KINDS)}
 #: The kinds that build py_trees' own composites and decorators (the snake_case keys).

@@ -11,7 +11,6 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from sar_framework.engine.nodes.control_kinds import SYMBOLS
 from sar_framework.engine.ports import NO_DEFAULT, entry_ref
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 
@@ -64,8 +63,8 @@ def symbol(node: NodeSpec) -> str:
         return "-->"
     if node.category is Category.DECORATOR:
         return "-^-"
-    if node.kind in SYMBOLS:
-        return SYMBOLS[node.kind]
+    if node.symbol:  # the kind's declaration gives it
+        return node.symbol
     if node.kind == "parallel":
         return "/_/"
     bar = "o" if node.kind == "selector" else "-"

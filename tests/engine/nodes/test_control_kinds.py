@@ -182,7 +182,7 @@ root:
   Sequence:
     children:
       - SetBlackboard: {value: "1", output_key: flag}
-      - RecoveryNode:
+      - SequenceWithMemory:
           _skipIf: "flag == 1"
           children: [Fixed: {name: R1, status: failure}, Fixed: {name: R2}]
       - Parallel:
@@ -208,12 +208,12 @@ def test_pre_and_post_conditions_work_on_bt_cpp_controls(tmp_path: Path,
     ticked = set()
     for behaviour in tree.root.tick():  # every behaviour ticked, as it finishes its tick
         ticked.add(behaviour.name)
-        if behaviour.name in ("RecoveryNode", "Parallel", "Switch2"):
+        if behaviour.name in ("SequenceWithMemory", "Parallel", "Switch2"):
             skipped.append((behaviour.name, was_skipped(behaviour)))
     assert tree.root.status == Status.FAILURE  # the Fallback's _failureIf
     assert {"R1", "R2", "P1", "P2", "Two", "Other", "Never"}.isdisjoint(ticked)
     assert {"One", "Switch2"} <= ticked
-    assert ("RecoveryNode", True) in skipped and ("Parallel", True) in skipped
+    assert ("SequenceWithMemory", True) in skipped and ("Parallel", True) in skipped
     assert ("Switch2", True) not in skipped
     assert Blackboard.storage["/done"] is True
 

@@ -231,8 +231,6 @@ def test_clock_driven_kinds_use_the_context_clock(tmp_path: Path, registry: Regi
      "Switch2 is missing required attribute 'case_2'"),
     ("  Repeat: {num_cycles: -2, child: {Fixed: {status: success}}}\n",
      "'num_cycles' must be >= -1, got -2"),
-    ("  RateController: {hz: 0, child: {Fixed: {status: success}}}\n",
-     "'hz' must be > 0, got 0"),
 ])
 def test_bad_bt_cpp_kinds_are_located_errors(tmp_path: Path, registry: Registry, root: str,
                                              message: str) -> None:

@@ -1,6 +1,6 @@
 """The integers BT.CPP's control nodes read with ``getInput``, bound to entries.
 
-Timeout's ``msec``, Repeat's ``num_cycles``, Nav2's RecoveryNode ``number_of_retries``...
+Timeout's ``msec``, Repeat's ``num_cycles``...
 (``control_kinds.READ_PORTS``) take a literal (range-checked as before) or ``{name}``,
 resolved in scope, type-checked and read when BT.CPP reads it.
 """
@@ -41,19 +41,6 @@ def _load(tmp_path: Path, registry: Registry, text: str, context: dict | None = 
     path = tmp_path / "tree.yaml"
     path.write_text("format: 1\n" + text)
     return load_tree(path, context or {}, registry=registry).root
-
-
-def test_recovery_node_reads_number_of_retries_from_an_entry(tmp_path: Path,
-                                                              registry: Registry) -> None:
-    root = _load(tmp_path, registry,
-                 "blackboard:\n  n: {type: int, initial: 2}\nroot:\n  RecoveryNode:\n"
-                 "    number_of_retries: '{n}'\n    children:\n"
-                 "      - Fixed: {status: failure}\n      - Fixed: {status: success}\n")
-    root.tick_once()
-    assert root.status == Status.FAILURE and root.number_of_retries == 2
-    Blackboard.set("/n", 0)
-    root.tick_once()
-    assert root.status == Status.FAILURE and root.number_of_retries == 0
 
 
 def test_repeat_reads_num_cycles_and_timeout_msec_from_entries(tmp_path: Path,

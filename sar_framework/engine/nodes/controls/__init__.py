@@ -1,4 +1,4 @@
-"""BehaviorTree.CPP 4.7.3's controls and built-in leaves (and Nav2's controls) in py_trees.
+"""BehaviorTree.CPP 4.7.3's controls and built-in leaves in py_trees.
 
 Each class ticks its children exactly as its BT.CPP counterpart does (tick order,
 halting and resetting of children, SKIPPED handling: see :mod:`.base`), so a tree
@@ -9,7 +9,6 @@ the real library). The decorators are in :mod:`..decorators`. One concept per mo
 - :mod:`.parallels`: Parallel, ParallelAll.
 - :mod:`.conditionals`: IfThenElse, WhileDoElse, Switch2..Switch6.
 - :mod:`.leaves`: AlwaysSuccess, AlwaysFailure, Sleep, SetBlackboard, UnsetBlackboard.
-- :mod:`.nav2_controls`: RecoveryNode, PipelineSequence, RoundRobin.
 - :mod:`.read_ports`: the ports bound to entries (Timeout's ``msec: "{t}"``...), read by
   the node when BT.CPP reads them.
 """

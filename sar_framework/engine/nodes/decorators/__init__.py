@@ -1,4 +1,4 @@
-"""BehaviorTree.CPP 4.7.3's decorators (and Nav2's ROS-free ones) in py_trees.
+"""BehaviorTree.CPP 4.7.3's decorators in py_trees.
 
 Each ticks its child as its BT.CPP counterpart does (:mod:`..controls.base`):
 
@@ -7,5 +7,4 @@ Each ticks its child as its BT.CPP counterpart does (:mod:`..controls.base`):
 - :mod:`.timing`: Delay, Timeout (on a given clock).
 - :mod:`.updated`: SkipUnlessUpdated, WaitValueUpdate, WasEntryUpdated.
 - :mod:`.queues`: LoopInt, LoopBool, LoopDouble, LoopString.
-- :mod:`.nav2_decorators`: RateController...; :mod:`.nav2_robot`: those reading the robot.
 """

@@ -2,7 +2,7 @@
 
 Behaviour read from ``nav2_behavior_tree/plugins/decorator`` (Jazzy); the robot's pose,
 speed and goal updates are callables given in the build context
-(:mod:`sar_framework.engine.nodes.robot_context`).
+(:mod:`sar_plugins.nav2.robot_context`).
 """
 
 from __future__ import annotations
@@ -11,26 +11,25 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
+from engine.script_variables import DictVariables
+from engine.scripted_leaves import Clock, Log, Scripted, tick
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
-
-from sar_framework.engine.api import load_tree
-from sar_framework.engine.building.control_build import CLOCK_KEY
-from sar_framework.engine.nodes.controls.nav2_controls import PipelineSequence
-from sar_framework.engine.nodes.decorators.nav2_robot import (
-    DistanceController,
-    GoalUpdater,
-    SpeedController,
-)
-from sar_framework.engine.nodes.robot_context import (
+from sar_plugins.nav2.controls import PipelineSequence
+from sar_plugins.nav2.robot_context import (
     GOAL_UPDATE_KEY,
     ROBOT_POSE_KEY,
     ROBOT_SPEED_KEY,
 )
-from sar_framework.engine.registry import Registry
+from sar_plugins.nav2.robot_decorators import (
+    DistanceController,
+    GoalUpdater,
+    SpeedController,
+)
 
-from ..script_variables import DictVariables
-from ..scripted_leaves import Clock, Log, Scripted, tick
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.building.control_build import CLOCK_KEY
+from sar_framework.engine.registry import Registry
 
 
 class Robot:

@@ -11,22 +11,21 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from engine.scripted_leaves import Clock, Log, Scripted, tick
 from py_trees.common import Status
+from sar_plugins.nav2.controls import (
+    PipelineSequence,
+    RecoveryNode,
+    RoundRobin,
+)
+from sar_plugins.nav2.decorators import RateController, SingleTrigger
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.building.control_build import CLOCK_KEY
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.controls.conditionals import WhileDoElse
-from sar_framework.engine.nodes.controls.nav2_controls import (
-    PipelineSequence,
-    RecoveryNode,
-    RoundRobin,
-)
 from sar_framework.engine.nodes.controls.sequences import Sequence
-from sar_framework.engine.nodes.decorators.nav2_decorators import RateController, SingleTrigger
 from sar_framework.engine.registry import Registry
-
-from ..scripted_leaves import Clock, Log, Scripted, tick
 
 
 def test_recovery_node_recovers_up_to_number_of_retries() -> None:

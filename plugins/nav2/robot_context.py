@@ -1,7 +1,7 @@
-"""What Nav2's robot-aware decorators read, given by the caller in the build context (no ROS).
+"""What Nav2's robot-aware decorators read, given by the caller in the tree's context (no ROS).
 
 DistanceController, SpeedController and GoalUpdater need the robot's pose, its speed and
-goals sent on a topic: ROS things the engine never imports. A runner passes them to
+goals sent on a topic: ROS things these modules never import. A runner passes them to
 ``load_tree(context=...)`` as callables (``sar_framework.ros.robot_state`` makes them from
 a node: TF, odometry, the ``goal_update`` topic):
 

@@ -1,4 +1,4 @@
-"""Nav2's ROS-free decorators (``nav2_behavior_tree``, Jazzy).
+"""Nav2's ROS-free decorators (``nav2_behavior_tree``, Jazzy), each with its declaration.
 
 RateController, SingleTrigger, GoalUpdatedController, PathLongerOnApproach (the last two
 read messages from the blackboard without importing them: fields by name).
@@ -6,6 +6,10 @@ read messages from the blackboard without importing them: fields by name).
 RateController, SingleTrigger and GoalUpdatedController restart when their status was reset
 to IDLE by their parent (BT.CPP's ``isStatusActive``), which is how Nav2 trees re-arm them
 between runs.
+
+Their ``goal`` and ``goals`` (optional: unbound, the root's entry of that name is read, as
+Nav2's ``getInputOrBlackboard``) and ``path`` are ports, typed as Nav2's palette types
+them (by name: no ROS message is imported).
 """
 
 from __future__ import annotations
@@ -13,10 +17,14 @@ from __future__ import annotations
 import itertools
 import math
 import time
+from collections.abc import Mapping
 from typing import Any
 
 from py_trees.common import Status
 
+from sar_framework.engine.building.control_build import bound_variables, clock_of
+from sar_framework.engine.kind_plugin import decorator_kind, node_kind
+from sar_framework.engine.nodes.control_kinds import port_attr
 from sar_framework.engine.nodes.controls.base import (
     Behaviour,
     BtDecorator,
@@ -25,9 +33,55 @@ from sar_framework.engine.nodes.controls.base import (
     Steps,
     bt_status,
 )
-from sar_framework.engine.variables import Variables, value_or_none
+from sar_framework.engine.nodes.kind_model import Attr, AttrType
+from sar_framework.engine.ports import NO_DEFAULT
+from sar_framework.engine.spec import NodeSpec
+from sar_framework.engine.variables import BlackboardVariables, Variables, value_or_none
+
+#: The ROS message types of the decorators' ports (by name: no ROS is imported).
+POSE, PATH = "geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Path"
 
 
+def goal_ports(text: str = "") -> tuple[Attr, Attr]:
+    """Nav2's ``goal`` and ``goals`` inputs, read with ``getInputOrBlackboard``."""
+    return (port_attr("goal", POSE, "Destination to check: '{name}'; unbound, the root's "
+                      f"'goal' entry{text}.", optional=True),
+            port_attr("goals", "list", "Vector of goals to check: '{name}'; unbound, the "
+                      "root's 'goals' entry.", optional=True))
+
+
+def goal_variables(node: NodeSpec) -> BlackboardVariables:
+    """``goal`` and ``goals`` as bound, else the root's entries (``getInputOrBlackboard``)."""
+    keys: dict[str, str] = {}
+    for name in ("goal", "goals"):
+        binding = node.bindings.get(name)
+        if binding is None or (binding.key is None and binding.value is NO_DEFAULT):
+            keys[name] = f"/{name}"
+        elif binding.key is not None:
+            keys[name] = binding.key
+    return BlackboardVariables(node.name, keys, [])
+
+
+def _rate(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return RateController(node.name, children[0], **node.attrs, clock=clock_of(context))
+
+
+def _goal_updated(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return GoalUpdatedController(node.name, children[0], "goal", "goals",
+                                 goal_variables(node))
+
+
+def _path_longer(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return PathLongerOnApproach(
+        node.name, children[0], "path", bound_variables(node, "path"),
+        prox_len=node.attrs["prox_len"], length_factor=node.attrs["length_factor"])
+
+
+@node_kind(decorator_kind(
+    "RateController", "Nav2: tick the child at most hz times a second (a running child every "
+    "tick).",
+    Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
+         description="Child ticks per second.")), build=_rate)
 class RateController(BtDecorator):
     """Nav2 ``RateController``: tick the child at most ``hz`` times a second.
 
@@ -68,6 +122,8 @@ class RateController(BtDecorator):
         return Outcome.RUNNING
 
 
+@node_kind(decorator_kind("SingleTrigger", "Nav2: tick the child to one completion, then "
+                          "FAILURE until the node is reset."))
 class SingleTrigger(BtDecorator):
     """Nav2 ``SingleTrigger``: tick the child to one completion, then FAILURE until reset.
 
@@ -92,6 +148,9 @@ class SingleTrigger(BtDecorator):
         return result
 
 
+@node_kind(decorator_kind("GoalUpdatedController", "Nav2: tick the child when goal or goals "
+                          "changed (starting counts) and while it runs; else RUNNING.",
+                          *goal_ports()), build=_goal_updated)
 class GoalUpdatedController(BtDecorator):
     """Nav2 ``GoalUpdatedController``: tick the child when the goal changed, or while it runs.
 
@@ -131,6 +190,14 @@ def path_length(path: Any) -> float:
     return sum(math.dist(a, b) for a, b in itertools.pairwise(points))
 
 
+@node_kind(decorator_kind(
+    "PathLongerOnApproach", "Nav2: tick the child when a new path to the same goal is "
+    "length_factor times longer while the old one was shorter than prox_len; else SUCCESS.",
+    port_attr("path", PATH, "The path created by the planner: '{name}'."),
+    Attr("prox_len", AttrType.NUMBER, default=3.0, minimum=0.0,
+         description="Proximity length (m) for the path to be longer on approach."),
+    Attr("length_factor", AttrType.NUMBER, default=2.0, minimum=0.0,
+         description="How many times longer the new path must be.")), build=_path_longer)
 class PathLongerOnApproach(BtDecorator):
     """Nav2 ``PathLongerOnApproach``: tick the child when a new path is much longer near the goal.
 

@@ -1,4 +1,4 @@
-"""Nav2's ROS-free control nodes (``nav2_behavior_tree``, Jazzy).
+"""Nav2's ROS-free control nodes (``nav2_behavior_tree``, Jazzy), each with its declaration.
 
 RecoveryNode, PipelineSequence and RoundRobin:
 
@@ -12,11 +12,33 @@ RecoveryNode, PipelineSequence and RoundRobin:
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from collections.abc import Sequence as Children
+from typing import Any
 
+from sar_framework.engine.building.control_build import reading_ports
+from sar_framework.engine.kind_plugin import (
+    children_attr,
+    control_kind,
+    node_kind,
+)
+from sar_framework.engine.nodes.control_kinds import int_port
 from sar_framework.engine.nodes.controls.base import Behaviour, BtControl, Outcome, Steps
+from sar_framework.engine.spec import NodeSpec
 
 
+def _recovery(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return RecoveryNode(node.name, children, **node.attrs)
+
+
+_RECOVERY = control_kind(
+    "RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), then the "
+    "first again.",
+    int_port("number_of_retries", "Recoveries allowed before failing.", default=1, minimum=0),
+    children=children_attr(2, 2, "The action, then its recovery."), symbol="{o}")
+
+
+@node_kind(_RECOVERY, build=reading_ports(_recovery, ("number_of_retries",), True))
 class RecoveryNode(BtControl):
     """Nav2 ``RecoveryNode``: the first child, recovered by the second up to N times.
 
@@ -82,6 +104,8 @@ class RecoveryNode(BtControl):
         self.index = 0
 
 
+@node_kind(control_kind("PipelineSequence", "Nav2: every tick, re-tick the earlier children "
+                        "while a later one runs.", symbol="[-]"))
 class PipelineSequence(BtControl):
     """Nav2 ``PipelineSequence``: re-tick every earlier child while a later one runs.
 
@@ -120,6 +144,8 @@ class PipelineSequence(BtControl):
         self.last_ticked = 0
 
 
+@node_kind(control_kind("RoundRobin", "Nav2: one child at a time, the next one after each "
+                        "completion.", symbol="{o}"))
 class RoundRobin(BtControl):
     """Nav2 ``RoundRobin``: one child at a time, the next one after each completion.
 

@@ -1,18 +1,21 @@
 """Nav2's decorators that read the robot: DistanceController, SpeedController, GoalUpdater.
 
 Nav2 Jazzy's behaviour (``nav2_behavior_tree/plugins/decorator``), on data given as
-callables (:mod:`sar_framework.engine.nodes.robot_context`), so the engine imports no ROS.
+callables the tree's context gives (:mod:`.robot_context`), so no ROS is imported here.
 "Starting" is BT.CPP's ``!isStatusActive``: the node was IDLE (reset by its parent).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from py_trees.common import Status
 
+from sar_framework.engine.building.control_build import bound_variables, clock_of
+from sar_framework.engine.kind_plugin import decorator_kind, node_kind
+from sar_framework.engine.nodes.control_kinds import port_attr
 from sar_framework.engine.nodes.controls.base import (
     Behaviour,
     BtDecorator,
@@ -21,10 +24,46 @@ from sar_framework.engine.nodes.controls.base import (
     Steps,
     bt_status,
 )
-from sar_framework.engine.nodes.robot_context import PoseSource
+from sar_framework.engine.nodes.kind_model import Attr, AttrType
+from sar_framework.engine.ports import Direction
+from sar_framework.engine.spec import NodeSpec
 from sar_framework.engine.variables import Variables, value_or_none
 
+from .decorators import POSE, goal_ports, goal_variables
+from .robot_context import PoseSource, pose_source, speed_source, update_source
 
+
+def _number(name: str, default: float, text: str) -> Attr:
+    return Attr(name, AttrType.NUMBER, default=default, minimum=0.0, description=text)
+
+
+def _frame(name: str, text: str) -> Attr:
+    return Attr(name, AttrType.STRING, default="", description=text)
+
+
+def _distance(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return DistanceController(node.name, children[0], pose_source(context), **node.attrs)
+
+
+def _speed(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    attrs = {k: v for k, v in node.attrs.items() if k not in ("goal", "goals")}
+    return SpeedController(node.name, children[0], speed_source(context), goal_variables(node),
+                           goal="goal", goals="goals", clock=clock_of(context), **attrs)
+
+
+def _goal_updater(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
+    return GoalUpdater(node.name, children[0], update_source(context),
+                       bound_variables(node, "input_goal", "output_goal"),
+                       input_goal="input_goal", output_goal="output_goal")
+
+
+@node_kind(decorator_kind(
+    "DistanceController", "Nav2: tick the child each time the robot travelled distance metres "
+    "(and on the first tick, and while it runs); else RUNNING.",
+    _number("distance", 1.0, "Metres travelled between ticks of the child."),
+    _frame("global_frame", "Reference frame ('': the navigator's, map)."),
+    _frame("robot_base_frame", "Robot frame ('': the navigator's, base_link).")),
+    build=_distance)
 class DistanceController(BtDecorator):
     """Nav2 ``DistanceController``: tick the child each time the robot travelled ``distance``.
 
@@ -73,6 +112,13 @@ class DistanceController(BtDecorator):
         return Outcome.RUNNING
 
 
+@node_kind(decorator_kind(
+    "SpeedController", "Nav2: tick the child at a rate from min_rate to max_rate as the "
+    "robot's speed goes from min_speed to max_speed; else RUNNING.",
+    _number("min_rate", 0.1, "Hz at min_speed and below."),
+    _number("max_rate", 1.0, "Hz at max_speed and above."),
+    _number("min_speed", 0.0, "m/s."), _number("max_speed", 0.5, "m/s."),
+    *goal_ports(" (a new goal ticks the child)")), build=_speed)
 class SpeedController(BtDecorator):
     """Nav2 ``SpeedController``: tick the child at a rate that grows with the robot's speed.
 
@@ -145,6 +191,12 @@ def _stamp(message: Any) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+@node_kind(decorator_kind(
+    "GoalUpdater", "Nav2: output_goal is input_goal, or a newer goal received on the "
+    "goal_update topic; then tick the child.",
+    port_attr("input_goal", POSE, "The original goal: '{name}'."),
+    port_attr("output_goal", POSE, "The goal to use (input_goal or a newer one): '{name}'.",
+              direction=Direction.OUTPUT)), build=_goal_updater)
 class GoalUpdater(BtDecorator):
     """Nav2 ``GoalUpdater``: ``output_goal`` is the newest of ``input_goal`` and a goal update.
 

@@ -11,28 +11,26 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from engine.conftest import load_problems
+from engine.port_setup import (
+    clean_blackboard,  # noqa: F401 (pytest fixtures)
+    write_tree,
+)
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
+from sar_plugins.nav2.decorators import GoalUpdatedController
 
 from sar_framework.engine.api import load_spec, load_tree
-from sar_framework.engine.nodes.decorators.nav2_decorators import GoalUpdatedController
-from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.ports import Direction
 from sar_framework.engine.registry import Registry
 from sar_framework.interop.btcpp_export import export_btcpp
 
-from ..conftest import load_problems
-from ..port_setup import (
-    clean_blackboard,  # noqa: F401 (pytest fixtures)
-    write_tree,
-)
-
 POSE, PATH = "geometry_msgs/msg/PoseStamped", "nav_msgs/msg/Path"
 
 
-def test_the_entry_attributes_are_ports_typed_as_nav2s_palette() -> None:
-    ports = {(key, a.name): a.port for key, kind in KINDS.items() for a in kind.attrs
-             if a.port is not None}
+def test_the_entry_attributes_are_ports_typed_as_nav2s_palette(registry: Registry) -> None:
+    ports = {(spec.name, a.name): a.port for spec in registry.kind_plugins()
+             for a in spec.kind.attrs if a.port is not None}
     for kind in ("GoalUpdatedController", "SpeedController"):
         assert ports[(kind, "goal")].type == POSE and ports[(kind, "goal")].optional
         assert ports[(kind, "goals")].type == "list" and not ports[(kind, "goals")].required

@@ -10,20 +10,19 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
+from engine.script_variables import DictVariables
+from engine.scripted_leaves import Log, Scripted, tick
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
-
-from sar_framework.engine.api import load_tree
-from sar_framework.engine.nodes.controls.nav2_controls import PipelineSequence
-from sar_framework.engine.nodes.decorators.nav2_decorators import (
+from sar_plugins.nav2.controls import PipelineSequence
+from sar_plugins.nav2.decorators import (
     GoalUpdatedController,
     PathLongerOnApproach,
     path_length,
 )
-from sar_framework.engine.registry import Registry
 
-from ..script_variables import DictVariables
-from ..scripted_leaves import Log, Scripted, tick
+from sar_framework.engine.api import load_tree
+from sar_framework.engine.registry import Registry
 
 
 def path(*points: tuple[float, float]) -> SimpleNamespace:

@@ -4,6 +4,7 @@
         [tree:=...] [params_file:=...] [tick_rate_hz:=...] [map:=...]
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
         [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE] [reload:=true]
+        [set:="NAME=VALUE ..."]
 
 ``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
 ``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
@@ -112,6 +113,10 @@ ARGUMENTS = [
     DeclareLaunchArgument("reload", default_value="false",
                           description="Swap the tree in between ticks whenever its file or an "
                           "include changes (the runner's watch_tree; docs/how-to/hot-reload.md)."),
+    DeclareLaunchArgument("set", default_value="",
+                          description="Initial values of entries the tree declares, "
+                          "NAME=VALUE each, separated by spaces (set:=\"battery=50 "
+                          "label='two words'\"; sar-tree run --set)."),
     DeclareLaunchArgument("record", default_value="",
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
@@ -153,6 +158,8 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     files = {name: str(folder / file) for name, file in RUN_FILES.items()}
     servers: dict[str, dict[str, ParamValue]] = {
         "detect": {"survivors_file": package_file(arg("survivors_file"))}}
+    if arg("set"):
+        servers["runner"] = {"set": arg("set")}
     if arg("report_file"):
         servers["report"] = {"report_file": str(Path(arg("report_file")).expanduser().absolute())}
     tree = package_file(arg("tree"), "trees")

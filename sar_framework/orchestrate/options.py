@@ -49,6 +49,7 @@ class RunConfig:
         reload: Reload the tree when its file changes (the runner's ``watch_tree``).
         robots: Run a fleet of this many robots near the base (``--robots N``), or None.
         fleet: Run the fleet of this fleet file (``--fleet FILE``), or None.
+        sets: ``NAME=VALUE`` initial values of entries the tree declares (``--set``).
     """
 
     tree: str
@@ -71,6 +72,7 @@ class RunConfig:
     reload: bool = False
     robots: int | None = None
     fleet: str | None = None
+    sets: list[str] = field(default_factory=list)
 
     @property
     def is_fleet(self) -> bool:
@@ -138,6 +140,10 @@ def configure(parser: argparse.ArgumentParser) -> None:
                             "docs/reference/parameters.md lists each node's)")
     parser.add_argument("--plugin-path", action="append", default=[], metavar="P",
                         help="extra plugin .py file, directory or module name (repeatable)")
+    parser.add_argument("--set", dest="sets", action="append", default=[],
+                        metavar="NAME=VALUE",
+                        help="the initial value of an entry the tree declares under "
+                        "'blackboard:', checked against its type (repeatable)")
     parser.add_argument("--record", metavar="FILE.mcap",
                         help="record the mission into a rosbag2-compatible MCAP file")
     parser.add_argument("--watch", action="store_true",
@@ -178,4 +184,5 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
         disabled=list(getattr(args, "disabled", None) or []),
         plugin_paths=list(args.plugin_path), record=args.record,
         watch=args.watch, reload=args.reload, robots=args.robots, fleet=args.fleet,
+        sets=list(args.sets),
     )

@@ -5,6 +5,7 @@
         [nav2_params_file:=...] [use_sim_time:=true|false] [rviz:=true|false] [speed:=...]
         [record:=FILE.mcap] [report_dir:=DIR] [report_file:=FILE] [reload:=true]
         [robots:=N | fleet_file:=FILE]
+        [set:="NAME=VALUE ..."]
 
 ``nav2:=bringup`` (the default, for the robot or Gazebo) includes nav2_bringup's
 ``bringup_launch.py`` with our map and Nav2 parameters; ``nav2:=embedded`` starts this
@@ -128,6 +129,10 @@ ARGUMENTS = [
     DeclareLaunchArgument("reload", default_value="false",
                           description="Swap the tree in between ticks whenever its file or an "
                           "include changes (the runner's watch_tree; docs/how-to/hot-reload.md)."),
+    DeclareLaunchArgument("set", default_value="",
+                          description="Initial values of entries the tree declares, "
+                          "NAME=VALUE each, separated by spaces (set:=\"battery=50 "
+                          "label='two words'\"; sar-tree run --set)."),
     DeclareLaunchArgument("record", default_value="",
                           description="Record the mission into this MCAP file "
                           "(rosbag2-compatible; sar-mission-recorder); empty: no recording."),
@@ -220,6 +225,8 @@ def mission_settings(context: LaunchContext) -> MissionSettings:
     files = {name: str(folder / file) for name, file in RUN_FILES.items()}
     servers: dict[str, dict[str, ParamValue]] = {
         "detect": {"survivors_file": package_file(arg("survivors_file"))}}
+    if arg("set"):
+        servers["runner"] = {"set": arg("set")}
     if arg("report_file"):
         servers["report"] = {"report_file": str(Path(arg("report_file")).expanduser().absolute())}
     if embedded and (arg("map") or arg("spawn")):

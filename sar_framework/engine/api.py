@@ -64,9 +64,11 @@ def load_error(path: str | Path, result: ValidationResult) -> TreeLoadError:
 
 
 def _validated(path: str | Path, registry: Registry | None,
-               plugin_paths: Sequence[str | Path]) -> tuple[TreeSpec, Registry]:
+               plugin_paths: Sequence[str | Path],
+               initial_values: Mapping[str, Any] | None = None) -> tuple[TreeSpec, Registry]:
     """The validated tree and its registry; raises when there is no tree to build."""
-    result = validate(path, registry=registry, plugin_paths=plugin_paths)
+    result = validate(path, registry=registry, plugin_paths=plugin_paths,
+                      initial_values=initial_values)
     if result.spec is not None:
         return result.spec, result.registry
     raise load_error(path, result)
@@ -100,6 +102,7 @@ def load_tree(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    initial_values: Mapping[str, Any] | None = None,
 ) -> LoadedTree:
     """Read, validate and build a tree file.
 
@@ -108,6 +111,8 @@ def load_tree(
         context: Shared objects plugins declared they need (e.g. ``zone_manager``).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
+        initial_values: Initial values of the main tree's declared entries that replace
+            the file's (``sar-tree run --set``), converted to their declared types.
 
     Returns:
         The built tree.
@@ -116,7 +121,7 @@ def load_tree(
         TreeLoadError: With every problem found (validation, a missing context
             object, a plugin constructor that raised).
     """
-    spec, used = _validated(path, registry, plugin_paths)
+    spec, used = _validated(path, registry, plugin_paths, initial_values)
     from sar_framework.engine.building.build import build  # py_trees' composites: only to build
 
     root, behaviours = build(spec, used, context)

@@ -12,11 +12,14 @@ the declared default, and a leaf's ``name`` when it is not the plugin name (BT.C
 default too); reference params carry the referenced leaf's ``id``. Each scope's
 ``blackboard:`` section is written as :mod:`.btcpp_blackboard` says: a run-once ``Script``
 of its initial values before its root, and a ``<Blackboard>`` element of its declarations.
+The tree's ``plugins:`` become a ``<Plugins>`` element (:mod:`.btcpp_plugins`).
 """
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
 
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.plugin import REQUIRED, PluginSpec
@@ -25,6 +28,7 @@ from sar_framework.engine.registry import Registry
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
 from sar_framework.interop.btcpp_blackboard import declarations_element, with_initial
 from sar_framework.interop.btcpp_palette import kind_model, leaf_model
+from sar_framework.interop.btcpp_plugins import plugins_element
 from sar_framework.interop.btcpp_scripts import condition_scripts
 from sar_framework.interop.mapping import (
     builtin_for,
@@ -119,12 +123,17 @@ def insertion_ports(node: NodeSpec) -> dict[str, str]:
     return ports
 
 
-def export_btcpp(spec: TreeSpec, registry: Registry) -> str:
+def export_btcpp(spec: TreeSpec, registry: Registry, *, folder: Path | None = None,
+                 extra_plugins: Sequence[str] = ()) -> str:
     """Return the tree as BehaviorTree.CPP 4 XML text.
 
     Args:
         spec: A validated tree.
         registry: The plugins it was validated against (for the leaf port models).
+        folder: Where the XML goes: the tree's plugin files are written relative to it
+            (:mod:`.btcpp_plugins`); None writes them absolute.
+        extra_plugins: Plugins the tree was validated with besides its own (absolute
+            paths or module names, as ``--plugin-path`` gave them).
 
     Returns:
         The XML document, indented, with an XML declaration.
@@ -132,6 +141,9 @@ def export_btcpp(spec: TreeSpec, registry: Registry) -> str:
     exporter = _Exporter(registry, spec)
     main = with_initial(exporter.element(spec.root), spec.declarations.get("", {}))
     root = ET.Element("root", {"BTCPP_format": "4", "main_tree_to_execute": spec.name})
+    plugins = plugins_element([*spec.plugin_paths, *extra_plugins], folder)
+    if plugins is not None:
+        root.append(plugins)
     tree = ET.SubElement(root, "BehaviorTree", {"ID": spec.name})
     if spec.description:
         tree.set("_description", spec.description)

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from sar_framework.interop.btcpp_blackboard import DECLARATIONS_TAG
 from sar_framework.interop.btcpp_models import NodeModel, read_models
+from sar_framework.interop.btcpp_plugins import PLUGINS_TAG
 from sar_framework.interop.xml_source import Element, Problem, XmlError, read_xml
 
 
@@ -112,11 +113,12 @@ class _Reader:
         for element in root.children:
             if element.tag == DECLARATIONS_TAG and element.attrs.get("ID"):
                 self.result.declarations[element.attrs["ID"]] = element
-            elif element.tag not in ("include", "TreeNodesModel", "BehaviorTree"):
+            elif element.tag not in ("include", "TreeNodesModel", "BehaviorTree", PLUGINS_TAG):
                 self.result.problems.append(_at(file, element, f"unexpected <{element.tag}> "
                                                 "under <root> (BT.CPP reads only "
                                                 "<BehaviorTree>, <TreeNodesModel> and "
-                                                "<include>; ours also <Blackboard ID=...>)"))
+                                                "<include>; ours also <Blackboard ID=...> "
+                                                "and <Plugins>)"))
 
     def add_models(self, element: Element, file: str) -> None:
         models, problems = read_models(element, file)

@@ -67,8 +67,10 @@ def run_export(args: argparse.Namespace) -> int:
         if result.library is not None and not result.diagnostics:
             _complain(f"{args.tree}: a library of subtrees has no root to export")
         return EXIT_ERRORS
+    folder = Path(args.output).resolve().parent if args.output else Path.cwd()
+    extra = [str(Path(p).resolve()) if Path(p).exists() else p for p in args.plugin_path]
     try:
-        text = export_btcpp(result.spec, result.registry)
+        text = export_btcpp(result.spec, result.registry, folder=folder, extra_plugins=extra)
     except ValueError as exc:  # a value BT.CPP's XML cannot carry, located
         _complain(str(exc))
         return EXIT_ERRORS
@@ -110,6 +112,7 @@ def run_import(args: argparse.Namespace) -> int:
     from sar_framework.engine.registry import default_registry, extend
     from sar_framework.interop.btcpp_file import read_palette
     from sar_framework.interop.btcpp_import import import_btcpp
+    from sar_framework.interop.btcpp_plugins import read_plugins
     from sar_framework.interop.btcpp_scaffold import scaffold_module
     from sar_framework.interop.xml_source import XmlError, read_xml
 
@@ -123,13 +126,18 @@ def run_import(args: argparse.Namespace) -> int:
             _complain(str(problem))
         if problems:
             return EXIT_ERRORS
-    registry = extend(default_registry().copy(), args.plugin_path)
     try:
-        result = import_btcpp(read_xml(args.xml), args.xml, registry, main=args.main,
-                              models=models)
+        root = read_xml(args.xml)
     except XmlError as exc:
         _complain(str(exc.problem))
         return EXIT_ERRORS
+    own, problems = read_plugins(root, args.xml)  # the file's own <Plugins>
+    for problem in problems:
+        _complain(str(problem))
+    if problems:
+        return EXIT_ERRORS
+    registry = extend(default_registry().copy(), [*args.plugin_path, *own])
+    result = import_btcpp(root, args.xml, registry, main=args.main, models=models)
     for problem in [*result.problems, *result.warnings]:
         _complain(str(problem))
     if result.document is None:
@@ -138,7 +146,7 @@ def run_import(args: argparse.Namespace) -> int:
     stem = Path(args.xml).stem.replace("-", "_").replace(".", "_")
     drafts = list(result.drafts.values())
     with tempfile.TemporaryDirectory() as scratch:
-        plugins = list(args.plugin_path)
+        plugins = [*own, *args.plugin_path]
         module: Path | None = None
         if drafts:
             module = Path(args.scaffold or scratch) / f"{stem}_leaves.py"
@@ -161,7 +169,8 @@ def run_import(args: argparse.Namespace) -> int:
                               f"provides <{draft.tag}>{did_you_mean(draft.tag, known)}; "
                               "--scaffold DIR writes one to fill in")
         if plugins:
-            result.document = {"format": 1, "plugins": [_relative(p, folder) for p in plugins],
+            entries = list(dict.fromkeys(_relative(p, folder) for p in plugins))
+            result.document = {"format": 1, "plugins": entries,
                                **result.document}
         text = _document_yaml(result.document, Path(args.xml).name)
         check_paths = [str(module)] if module is not None and not args.scaffold else []

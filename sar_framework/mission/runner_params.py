@@ -40,6 +40,9 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("tree", str, DEFAULT_TREE, "the tree file"),
     Param("plugin_path", str | list[str], "", "extra plugin files, directories or modules "
           "(a list, or one string separated by the OS path separator)"),
+    Param("set", str | list[str], "", "initial values of entries the tree declares, "
+          "NAME=VALUE each (a list, or one string split as a shell splits words; "
+          "sar-tree run --set, the launch argument set:=)"),
     Param("exit_on_completion", bool, False,
           "end the runner once the mission is complete: exit 0 on SUCCESS, 1 on FAILURE"),
     Param("print_tree", bool, False, "log the tree whenever a status changes"),

@@ -165,6 +165,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
         extra={**extra, "sim": entry_values(config.sim_entries, zones),
                "runner": {**({} if config.sim_timeout_s is None
                              else {"sim_timeout_s": config.sim_timeout_s}),
+                          **({"set": list(config.sets)} if config.sets else {}),
                           **entry_values(config.runner_params)}},
         robots=tuple(robots), node_kinds=node_kinds,
         fleet_file=str(fleet_file(config, report_dir)) if any(r.name for r in robots) else "")

@@ -201,6 +201,7 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
         ``(inputs, problems)``: ``inputs`` is None when a problem stops the run.
     """
     from sar_framework.engine.api import validate
+    from sar_framework.engine.checking.initial_values import SetError, parse_settings
     from sar_framework.mission.params_file import read_params_file
     problems = _option_problems(config)
     overrides = {who: _entries(config, who, problems)
@@ -210,8 +211,13 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     problems += _map_problems(config, overrides["sim"])
     spec = None
     apps: list[App] = []
+    try:
+        initial = parse_settings(config.sets)
+    except SetError as err:
+        problems.append(str(err))
+        initial = {}
     if Path(config.tree).is_file():
-        result = validate(config.tree, plugin_paths=config.plugin_paths)
+        result = validate(config.tree, plugin_paths=config.plugin_paths, initial_values=initial)
         problems += [str(d) for d in result.diagnostics if d.severity == "error"]
         spec = result.spec
         try:

@@ -53,6 +53,7 @@ class RunConfig:
         map: The simulator's map (``--map``, a map_server yaml), or None: its default.
         spawn: Where the robot starts, ``(x, y, yaw)`` (``--spawn``), or None: the
             simulator's default.
+        sets: ``NAME=VALUE`` initial values of entries the tree declares (``--set``).
     """
 
     tree: str
@@ -77,6 +78,7 @@ class RunConfig:
     fleet: str | None = None
     map: str | None = None
     spawn: tuple[float, float, float] | None = None
+    sets: list[str] = field(default_factory=list)
 
     @property
     def names_robots(self) -> bool:
@@ -165,6 +167,10 @@ def configure(parser: argparse.ArgumentParser) -> None:
                             "docs/reference/parameters.md lists each node's)")
     parser.add_argument("--plugin-path", action="append", default=[], metavar="P",
                         help="extra plugin .py file, directory or module name (repeatable)")
+    parser.add_argument("--set", dest="sets", action="append", default=[],
+                        metavar="NAME=VALUE",
+                        help="the initial value of an entry the tree declares under "
+                        "'blackboard:', checked against its type (repeatable)")
     parser.add_argument("--record", metavar="FILE.mcap",
                         help="record the mission into a rosbag2-compatible MCAP file")
     parser.add_argument("--watch", action="store_true",
@@ -205,4 +211,5 @@ def config_from_args(args: argparse.Namespace) -> RunConfig:
         plugin_paths=list(args.plugin_path), record=args.record,
         watch=args.watch, reload=args.reload, robots=args.robots, fleet=args.fleet,
         map=args.map, spawn=args.spawn,
+        sets=list(args.sets),
     )

@@ -203,7 +203,8 @@ def run(argv: Sequence[str] | None = None) -> int:
             nonlocal runner
             try:
                 loaded = load_tree(settings.tree, context=context,
-                                   plugin_paths=settings.plugin_paths)
+                                   plugin_paths=settings.plugin_paths,
+                                   initial_values=settings.initial_values)
             except TreeLoadError as err:
                 lines = "\n".join(str(d) for d in err.diagnostics) or str(err)
                 raise _StartupError(EXIT_CONFIG, "tree",

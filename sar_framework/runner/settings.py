@@ -15,11 +15,13 @@ tree reaches its declared end; ``once`` the first tick the root is SUCCESS or FA
 from __future__ import annotations
 
 import os
+import shlex
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from sar_framework.engine.checking.initial_values import SetError, parse_settings
 from sar_framework.mission.params_file import KeyLocation, ParamsError
 from sar_framework.mission.runner_params import DEFAULT_TREE, RUNNER_PARAMETERS
 from sar_framework.ros.parameters import declare_table
@@ -51,6 +53,8 @@ class RunnerSettings:
         initial_pose: The AMCL seed.
         use_sim_time: Whether the node follows ``/clock``.
         tick_rate_hz: How often the tree ticks (ROS time).
+        initial_values: Entry name -> initial value given from outside the tree file
+            (``set``), not yet checked against the tree.
     """
 
     tree: str
@@ -67,6 +71,7 @@ class RunnerSettings:
     initial_pose: InitialPose
     use_sim_time: bool
     tick_rate_hz: float
+    initial_values: dict[str, Any] = field(default_factory=dict)
 
 
 def default_tree() -> str:
@@ -102,6 +107,13 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
     paths = values["plugin_path"]
     if isinstance(paths, str):
         paths = paths.split(os.pathsep)
+    sets = values["set"]
+    try:
+        initial = parse_settings(shlex.split(sets) if isinstance(sets, str) else sets)
+    except (SetError, ValueError) as err:
+        at = (locations or {}).get("set")
+        raise ParamsError(at.file if at else source, "set", str(err),
+                          at.line if at else None, at.col if at else None) from None
     return RunnerSettings(
         tree=tree,
         plugin_paths=tuple(p for p in paths if p),
@@ -118,4 +130,5 @@ def read_runner_settings(node: Node, *, source: str = "runner parameters",
                                    for k in ("x", "y", "yaw"))),
         use_sim_time=bool(values["use_sim_time"]),
         tick_rate_hz=float(values["tick_rate_hz"]),
+        initial_values=initial,
     )

@@ -10,7 +10,9 @@ pytest, so a plugin package's tests get the fixtures ``sar_tree``, ``sar_leaf``,
         run = sar_leaf("Countdown", {"ticks": 2})
         run.tick(3)
         assert_statuses(run, ["RUNNING", "RUNNING", "SUCCESS"])
-        assert_feedback(run, "done")
+        assert_feedback(run, "done")            # a regular expression, searched
+        assert_feedback_text(run, "done")       # plain text
+        run.entries()                           # the tree's blackboard entries
 
 Modules: :mod:`.trees` (load YAML text, tick, record), :mod:`.assertions`,
 :mod:`.ros_env` (a private ROS domain), :mod:`.spin` (rclpy node and bounded spinning),
@@ -21,7 +23,12 @@ imported and run one after another against one simulator, reset between runs). O
 ROS modules import ROS, lazily.
 """
 
-from sar_framework.testing.assertions import assert_feedback, assert_status, assert_statuses
+from sar_framework.testing.assertions import (
+    assert_feedback,
+    assert_feedback_text,
+    assert_status,
+    assert_statuses,
+)
 from sar_framework.testing.trees import (
     TickRecord,
     TreeRun,
@@ -30,5 +37,5 @@ from sar_framework.testing.trees import (
     tree_from_yaml,
 )
 
-__all__ = ["TickRecord", "TreeRun", "assert_feedback", "assert_status", "assert_statuses",
-           "declared_leaf", "leaf_run", "tree_from_yaml"]
+__all__ = ["TickRecord", "TreeRun", "assert_feedback", "assert_feedback_text", "assert_status",
+           "assert_statuses", "declared_leaf", "leaf_run", "tree_from_yaml"]

@@ -14,6 +14,10 @@
 
     run = leaf_run("Countdown", {"ticks": 1}, blackboard={"/goal": 3})
 
+    run.entries()               # the tree's blackboard entries now: {'goal': ..., ...}
+    run.entry("goal")           # one of them (KeyError, with did-you-mean, if undeclared)
+    run.history[0].entries      # as they were after the first tick
+
 The text is a node (the tree's ``root``) or a whole tree file (with ``format: 1``). It is
 loaded by the engine's loader, so it is validated exactly like a tree file; a problem
 raises :class:`~sar_framework.engine.api.TreeLoadError` with every diagnostic (located in
@@ -36,6 +40,7 @@ import yaml
 from py_trees.common import Status
 
 from sar_framework.engine.api import LoadedTree, load_tree
+from sar_framework.engine.diagnostics import did_you_mean
 from sar_framework.engine.registry import Registry
 
 Blackboard = Mapping[str, Any] | Sequence[Mapping[str, Any]] | None
@@ -49,11 +54,13 @@ class TickRecord:
         tick: 1 for the first tick.
         statuses: Behaviour name -> status.
         feedback: Behaviour name -> feedback message.
+        entries: The tree's blackboard entries that were set: name -> value.
     """
 
     tick: int
     statuses: dict[str, Status] = field(default_factory=dict)
     feedback: dict[str, str] = field(default_factory=dict)
+    entries: dict[str, Any] = field(default_factory=dict)
 
 
 class TreeRun:
@@ -92,6 +99,7 @@ class TreeRun:
             for behaviour in self.root.iterate():
                 record.statuses[behaviour.name] = behaviour.status
                 record.feedback[behaviour.name] = behaviour.feedback_message
+            record.entries = self.entries()
             self.history.append(record)
         return self.root.status
 
@@ -119,6 +127,32 @@ class TreeRun:
         """The feedback message of ``name`` (default: the root) after each tick so far."""
         key = self.root.name if name is None else self.node(name).name
         return [record.feedback[key] for record in self.history]
+
+    def entries(self) -> dict[str, Any]:
+        """The tree's blackboard entries that are set now: name -> value.
+
+        Names as the tree writes them (``goal``, a subtree's ``Follow@0_2/path``); entries
+        declared but never written are left out.
+        """
+        storage = py_trees.blackboard.Blackboard.storage
+        return {name: storage[key] for name, key in self.loaded.entries.items()
+                if key in storage}
+
+    def entry(self, name: str) -> Any:
+        """The current value of the tree's entry ``name``.
+
+        Raises:
+            KeyError: The tree has no such entry (with the names it has, and the closest),
+                or it is not set yet.
+        """
+        keys = self.loaded.entries
+        if name not in keys:
+            raise KeyError(f"the tree has no entry {name!r}{did_you_mean(name, list(keys))}; "
+                           f"entries: {sorted(keys)}")
+        storage = py_trees.blackboard.Blackboard.storage
+        if keys[name] not in storage:
+            raise KeyError(f"entry {name!r} is not set yet")
+        return storage[keys[name]]
 
     def table(self) -> str:
         """The history as text: one line per tick, ``name=STATUS`` for every node."""

@@ -73,3 +73,31 @@ def test_bad_sim_timeout(value: str, problem: str, tmp_path: Path) -> None:
                                 "--report-dir", str(tmp_path / "r")))
     assert problem in err
     assert not (tmp_path / "r").exists()
+
+
+SET_TREE = ("format: 1\nname: drain\nblackboard:\n  battery: {type: float, initial: 60.0}\n"
+            "root:\n  Script: {code: \"battery := battery - 1\"}\n")
+
+
+def test_a_set_value_of_the_wrong_type_is_located_at_the_declaration(tmp_path: Path) -> None:
+    tree = tmp_path / "drain.yaml"
+    tree.write_text(SET_TREE)
+    err = _assert_rejected(_run(str(tree), "--set", "battery=full",
+                                "--report-dir", str(tmp_path / "r")))
+    assert (f"{tree}:4:3: error: --set battery=full: expected a float, got 'full' "
+            "(the entry is declared here as float)") in err, err
+    assert not (tmp_path / "r").exists()
+
+
+def test_a_set_of_an_unknown_entry_gets_a_did_you_mean(tmp_path: Path) -> None:
+    tree = tmp_path / "drain.yaml"
+    tree.write_text(SET_TREE)
+    err = _assert_rejected(_run(str(tree), "--set", "batery=5"))
+    assert "the tree declares no entry 'batery' (did you mean 'battery'?)" in err, err
+
+
+def test_a_set_without_a_value_is_refused(tmp_path: Path) -> None:
+    tree = tmp_path / "drain.yaml"
+    tree.write_text(SET_TREE)
+    err = _assert_rejected(_run(str(tree), "--set", "battery"))
+    assert "--set 'battery': expected NAME=VALUE (e.g. battery=50)" in err, err

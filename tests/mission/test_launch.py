@@ -72,7 +72,8 @@ def test_declared_arguments_and_their_defaults():
     assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
                              "report_dir", "tick_rate_hz", "map", "spawn", "nav2_params_file",
                              "use_sim_time",
-                             "speed", "rviz", "record", "reload", "robots", "fleet_file"}
+                             "speed", "rviz", "record", "reload", "robots", "fleet_file",
+                             "set"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
     assert declared["record"] == ""  # no recorder unless asked
     assert declared["reload"] == "false"  # the tree file is not watched unless asked

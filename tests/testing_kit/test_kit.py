@@ -9,7 +9,12 @@ import pytest
 from sar_testing.leaf_harness import spec_zone_manager
 
 from sar_framework.engine.api import TreeLoadError
-from sar_framework.testing import assert_feedback, assert_status, assert_statuses
+from sar_framework.testing import (
+    assert_feedback,
+    assert_feedback_text,
+    assert_status,
+    assert_statuses,
+)
 from sar_framework.testing.ros_harness import tick_until_done, tree_on
 
 HERE = Path(__file__).parent
@@ -83,3 +88,69 @@ def test_the_mission_stack_serves_a_real_detect_leaf(sar_mission_stack, sar_ros_
         tree.shutdown()
     assert "Detection request for zone_a" in sar_mission_stack.output("detect")
     assert "ready" in sar_mission_stack.output("sim")
+
+
+def test_a_run_shows_the_trees_blackboard_entries(sar_tree) -> None:
+    run = sar_tree("""
+        format: 1
+        name: counts
+        blackboard:
+          count: {type: int, initial: 0}
+          label: {type: str}
+        root:
+          sequence:
+            memory: true
+            children:
+              - Script: {code: "count := count + 1"}
+              - SetBlackboard: {value: "seen", output_key: label}
+    """)
+    assert run.entries() == {"count": 0}  # written before the first tick; label not yet
+    run.tick()
+    assert run.entries() == {"count": 1, "label": "seen"}
+    run.tick()
+    assert run.entry("count") == 2
+    assert [record.entries["count"] for record in run.history] == [1, 2]
+    with pytest.raises(KeyError, match="no entry 'cuont' \\(did you mean 'count'\\?\\)"):
+        run.entry("cuont")
+
+
+def test_an_entry_not_set_yet_is_a_key_error(sar_tree) -> None:
+    run = sar_tree("""
+        format: 1
+        name: later
+        blackboard:
+          label: {type: str}
+        root:
+          SetBlackboard: {value: "x", output_key: label}
+    """)
+    with pytest.raises(KeyError, match="'label' is not set yet"):
+        run.entry("label")
+
+
+def test_feedback_as_plain_text_beside_the_regular_expression(sar_leaf) -> None:
+    run = sar_leaf("Countdown", {"ticks": 0}, plugin_paths=[TUTORIAL_LEAVES])
+    run.tick()
+    assert run.feedback() == ["done (SUCCESS)"]
+    assert_feedback_text(run, "done (SUCCESS)")
+    assert_feedback_text(run, "done (SUCCESS)", exact=True)
+    assert_feedback(run, r"done \(SUCCESS\)")  # today's calls: a regular expression
+    with pytest.raises(AssertionError, match=r"feedback 'done \(SUCCESS\)' is not 'done'"):
+        assert_feedback_text(run, "done", exact=True)
+    with pytest.raises(AssertionError, match="does not hold 'to go'"):
+        assert_feedback_text(run, "to go")
+
+
+def test_a_regular_expression_that_fails_says_it_is_one(sar_leaf) -> None:
+    run = sar_leaf("Countdown", {"ticks": 0}, plugin_paths=[TUTORIAL_LEAVES])
+    run.tick()
+    with pytest.raises(AssertionError) as failed:
+        assert_feedback(run, "done (SUCCESS)")
+    assert ("note: 'done (SUCCESS)' is read as a regular expression and holds "
+            "regular-expression characters (as plain text it is in the message); "
+            "assert_feedback_text compares plain text") in str(failed.value)
+    with pytest.raises(AssertionError) as failed:
+        assert_feedback(run, "to go")  # nothing special in it: no note
+    assert "note:" not in str(failed.value)
+    with pytest.raises(AssertionError) as failed:
+        assert_feedback(run, "done [(")
+    assert "'done [(' is not a regular expression" in str(failed.value)

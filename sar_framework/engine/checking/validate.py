@@ -6,10 +6,11 @@ Every layer collects all of its diagnostics; errors in an included file point in
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sar_framework.engine.checking.initial_values import override_initial
 from sar_framework.engine.checking.semantics import TOO_DEEP, Semantics
 from sar_framework.engine.checking.structure import StructureCheck
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation
@@ -103,6 +104,7 @@ def validate_file(
     *,
     registry: Registry | None = None,
     plugin_paths: Sequence[str | Path] = (),
+    initial_values: Mapping[str, object] | None = None,
 ) -> ValidationResult:
     """Validate a tree file and the files it includes.
 
@@ -110,6 +112,8 @@ def validate_file(
         path: The tree file, as the user named it (diagnostics print it that way).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules (like ``--plugin-path``).
+        initial_values: Initial values of the main tree's declared entries, given from
+            outside the file (``sar-tree run --set``), checked against their types.
 
     Returns:
         The result; ``spec`` is None when there were errors.
@@ -159,6 +163,9 @@ def validate_file(
             declarations=checker.entries.scopes,
             completion=str(main.value.get("completion") or "") if main is not None else "",
         )
+        overridden = override_initial(spec, initial_values or {})
+        if overridden:
+            diagnostics, spec = in_order([*diagnostics, *overridden]), None
     return ValidationResult(
         spec, diagnostics, in_order(checker.structural), reg,
         len(checker.subtrees) if library else None,

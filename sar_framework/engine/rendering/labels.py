@@ -162,6 +162,23 @@ def info_and_params(node: NodeSpec, glyphs: Glyphs, all_params: bool, *, id_sep:
     return info, leaf_params(node, glyphs, all_params)
 
 
+def insertion_ports(node: NodeSpec, glyphs: Glyphs) -> list[str]:
+    """A subtree use's port values as written (``goal={goal}``, ``shelf=nw``), on its top node.
+
+    Args:
+        node: Any node; only the top node of an inserted subtree has ports.
+        glyphs: The ellipsis of a long value.
+
+    Returns:
+        One ``name=value`` per port the use sets, in the file's order.
+    """
+    ports = node.insertion.get("ports") if node.subtree is not None else None
+    if not isinstance(ports, dict):
+        return []
+    return [f"{name}={value if isinstance(value, str) else format_value(value, glyphs)}"
+            for name, value in ports.items()]
+
+
 def data_edges(spec: TreeSpec) -> list[tuple[str, str, str]]:
     """Return ``(writer uid, reader uid, entry)`` for every entry a node writes and one reads.
 

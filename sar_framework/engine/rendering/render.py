@@ -34,11 +34,13 @@ from typing import Any
 
 import graphviz
 
+from sar_framework.engine.rendering.data_flow import draw_data_edges
 from sar_framework.engine.rendering.labels import (
     UNICODE,
     clean,
     data_edges,
     info_and_params,
+    insertion_ports,
     symbol,
 )
 from sar_framework.engine.rendering.text_tree import render_text
@@ -162,6 +164,10 @@ def _dot_label(node: NodeSpec, status: str | None, all_params: bool) -> str:
     lines: list[str] = []
     if node.subtree is not None:
         lines.append(f"{small}<I>subtree: {_html(node.subtree)}</I></FONT><BR/>")
+        ports = insertion_ports(node, glyphs)
+        if ports:  # the values this use gives the subtree
+            body = "".join(f'{_html(port)}<BR ALIGN="LEFT"/>' for port in ports)
+            lines.append(f'{small}<I>{body}</I></FONT>')
     lines.append(f"<B>{_html(node.name)}</B><BR/>")
     info, params = info_and_params(node, glyphs, all_params, id_sep=": ",
                                    kind=f"{symbol(node)} {node.kind}")
@@ -295,20 +301,13 @@ def render_dot(
             }
             edges.append((node_id(node.uid), node_id(target.uid), attrs))
 
+    hubs: set[str] = set()
     if data:
-        order = {node.uid: index for index, node in enumerate(spec.root.walk())}
-        for writer, reader, entry in data_edges(spec):
-            attrs = {"style": "dotted", "color": "darkgreen", "fontcolor": "darkgreen",
-                     "xlabel": _plain(entry), "constraint": "false"}
-            tail, head = writer, reader
-            if order[writer] < order[reader]:
-                # dot lays a same-rank edge's head left of its tail, which would swap
-                # the children: draw it from the later node, arrow turned back
-                tail, head, attrs = reader, writer, {**attrs, "dir": "back"}
-            edges.append((node_id(tail), node_id(head), attrs))
+        data_flow, hubs = draw_data_edges(graph, spec, node_id)
+        edges.extend(data_flow)
     # A reference to a node outside the tree (never in a validated tree) keeps
     # its label text but gets no edge, rather than a stray node.
-    known = {node_id(uid) for uid in seen}
+    known = {node_id(uid) for uid in seen} | hubs
     for tail, head, attrs in edges:
         if head in known:
             graph.edge(tail, head, **attrs)

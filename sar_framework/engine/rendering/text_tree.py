@@ -10,6 +10,7 @@ from sar_framework.engine.rendering.labels import (
     Glyphs,
     clean,
     info_and_params,
+    insertion_ports,
     symbol,
 )
 from sar_framework.engine.spec import NodeSpec, TreeSpec
@@ -26,7 +27,8 @@ def text_line(
     if params:
         line += " " + ", ".join(params)
     if node.subtree is not None:
-        line += f" {glyphs.subtree_open}subtree: {node.subtree}{glyphs.subtree_close}"
+        ports = "".join(f", {port}" for port in insertion_ports(node, glyphs))
+        line += f" {glyphs.subtree_open}subtree: {node.subtree}{ports}{glyphs.subtree_close}"
     return to_text(clean(line))
 
 

@@ -146,13 +146,19 @@ def test_labels_show_pre_and_post_conditions(tmp_path: Path, registry: Registry)
     ]
 
 
-def test_data_edges_keep_the_children_in_order(tmp_path: Path, registry: Registry) -> None:
+def _laid_out(dot_source: str) -> str:
+    """Graphviz's ``-Tplain`` layout of a diagram (skips where dot is not installed)."""
     import shutil
 
     import pytest
 
     if shutil.which("dot") is None:
         pytest.skip("Graphviz dot not installed")
+    return subprocess.run(["dot", "-Tplain"], input=dot_source, text=True,
+                          capture_output=True, check=True).stdout
+
+
+def test_data_edges_keep_the_children_in_order(tmp_path: Path, registry: Registry) -> None:
     spec = validate_file(write(tmp_path, "tree.yaml", """
         format: 1
         root:
@@ -167,10 +173,80 @@ def test_data_edges_keep_the_children_in_order(tmp_path: Path, registry: Registr
                     - Script: {code: "k := m + n; n := 1"}
     """), registry=registry).spec
     assert spec is not None
-    plain = subprocess.run(["dot", "-Tplain"], input=render_dot(spec, data=True), text=True,
-                           capture_output=True, check=True).stdout
+    plain = _laid_out(render_dot(spec, data=True))
     x = {line.split()[1]: float(line.split()[2]) for line in plain.splitlines()
          if line.startswith("node ")}
     first, second = node_id("0.1.0"), node_id("0.1.1")
     assert x[node_id("0.0")] < x[node_id("0.1")] and x[first] < x[second], x
     assert "dir=back" in render_dot(spec, data=True)  # the arrow still points at the reader
+
+
+def _plain_layout(dot_source: str) -> tuple[set[str], list[tuple[str, str]]]:
+    """Nodes and edges of the laid-out diagram, as Graphviz's ``-Tplain`` writes them."""
+    plain = _laid_out(dot_source)
+    nodes = {line.split()[1] for line in plain.splitlines() if line.startswith("node ")}
+    edges = [(line.split()[1], line.split()[2]) for line in plain.splitlines()
+             if line.startswith("edge ")]
+    return nodes, edges
+
+
+def test_an_entry_many_nodes_share_is_drawn_once(tmp_path: Path, registry: Registry) -> None:
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        root:
+          sequence:
+            memory: true
+            children:
+              - Emit: {value: "{n}", number: 1}
+              - Emit: {value: "{n}", number: 2}
+              - Gauge: {value: "{n}"}
+              - Gauge: {value: "{n}"}
+              - Gauge: {value: "{n}"}
+              - Emit: {value: "{k}"}
+              - Gauge: {value: "{k}"}
+    """), registry=registry).spec
+    assert spec is not None
+    assert len([e for e in data_edges(spec) if e[2] == "n"]) == 6  # 2 writers x 3 readers
+    nodes, edges = _plain_layout(render_dot(spec, data=True))
+    assert "entry0" in nodes  # n: one note of its own
+    writers, readers = [node_id("0.0"), node_id("0.1")], [node_id(f"0.{i}") for i in (2, 3, 4)]
+    assert sorted(t for t, h in edges if h == "entry0") == writers
+    assert sorted(h for t, h in edges if t == "entry0") == readers
+    assert not any((t in writers and h in readers) or (t in readers and h in writers)
+                   for t, h in edges)  # no writer-reader edge of n is left
+    # k, shared by two nodes only, keeps its direct, labelled edge
+    assert (node_id("0.6"), node_id("0.5")) in edges
+    assert "entry1" not in nodes
+
+
+def test_a_subtree_use_shows_its_port_values(tmp_path: Path, registry: Registry) -> None:
+    spec = validate_file(write(tmp_path, "tree.yaml", """
+        format: 1
+        subtrees:
+          Visit:
+            ports:
+              shelf: {type: str}
+              count: {type: int}
+            root:
+              Emit: {value: "{count}"}
+        root:
+          sequence:
+            memory: true
+            children:
+              - subtree: {tree: Visit, ports: {shelf: nw, count: "{a}"}}
+              - subtree: {tree: Visit, ports: {shelf: se, count: "{b}"}}
+        blackboard:
+          a: {type: int}
+          b: {type: int}
+    """), registry=registry).spec
+    assert spec is not None
+    source = render_dot(spec)
+    first = next(x for x in source.splitlines() if x.strip().startswith(node_id("0.0") + " "))
+    second = next(x for x in source.splitlines() if x.strip().startswith(node_id("0.1") + " "))
+    assert "shelf=nw" in first and "count={a}" in first and "shelf=se" not in first
+    assert "shelf=se" in second and "count={b}" in second
+    from sar_framework.engine.rendering.render import render_text
+
+    lines = render_text(spec, unicode=False).splitlines()
+    assert lines[1].endswith("<<subtree: Visit, shelf=nw, count={a}>>"), lines
+    assert lines[2].endswith("<<subtree: Visit, shelf=se, count={b}>>"), lines

@@ -184,7 +184,7 @@ def _map_problems(config: RunConfig, values: dict[str, Any]) -> list[str]:
     except MapError as err:
         return [f"{flag}: {err}"]
     x, y = (values.get(name, sim_default(name)) for name in ("spawn_x", "spawn_y"))
-    if config.is_fleet or not all(isinstance(v, (int, float)) for v in (x, y)):
+    if config.names_robots or not all(isinstance(v, (int, float)) for v in (x, y)):
         return []  # a fleet's spawn poses are checked with the fleet; a bad type already was
     problem = spawn_problem(grid, float(x), float(y))
     where = "--spawn" if config.spawn is not None else "--sim-param spawn_x, spawn_y"

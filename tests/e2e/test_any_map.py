@@ -218,7 +218,7 @@ def test_ros2_launch_refuses_a_bad_map_naming_file_and_field(tmp_path: Path) -> 
 
 
 def test_a_fleets_picture_is_drawn_on_the_map_its_robots_drove_on(tmp_path: Path) -> None:
-    from sar_framework.report_fleet import draw_fleet
+    from sar_framework.report_robots import draw_fleet
 
     room = write_map(tmp_path / "map")
     for name, x in (("robot1", 0.0), ("robot2", 4.0)):
@@ -227,7 +227,7 @@ def test_a_fleets_picture_is_drawn_on_the_map_its_robots_drove_on(tmp_path: Path
             json.dumps({"sim_s": 0.0, "event": "start", "x": x, "y": 0.0, "yaw": 0.0,
                         "map": str(room)}) + "\n", encoding="utf-8")
     fleet = {"robots": {"robot1": {}, "robot2": {}}, "outcome": "SUCCESS"}
-    out = draw_fleet(tmp_path, fleet, "", [], tmp_path / "fleet.png")
+    out = draw_fleet(tmp_path, fleet, [], tmp_path / "fleet.png")
     with Image.open(out) as png:
         assert png.size[0] == 120 * 3 + 420  # this map's 120 cells, then the legend
         assert png.getpixel((int((2.05 - ORIGIN[0]) / RESOLUTION * 3), 44 + 3 * 70)) == \

@@ -259,3 +259,35 @@ def _stamped(type_: str, fields: dict[str, Any]) -> dict[str, Any]:
     header.setdefault("frame_id", "map")
     header.setdefault("stamp", "now")
     return {"header": header, **{k: v for k, v in fields.items() if k != "header"}}
+
+
+def message_text(literal: MessageLiteral) -> str:
+    """A literal as BT.CPP reads it in XML: Nav2's text form of its type, else ``json:``.
+
+    A ``PoseStamped`` is ``stamp_ns;frame;x;y;z;qx;qy;qz;qw`` (a ``now`` stamp is written
+    0, which Nav2 reads as "the latest"), a ``Point`` ``x;y;z``, a ``Quaternion``
+    ``x;y;z;w``; another type is BT.CPP's ``json:`` form of its fields, which a BT.CPP
+    node reads only when its type has a JSON converter.
+    """
+    import json
+
+    fields = literal.fields
+    if literal.type == "geometry_msgs/msg/PoseStamped":
+        header, pose = fields.get("header", {}), fields.get("pose", {})
+        stamp = header.get("stamp")
+        nanoseconds = (stamp.get("sec", 0) * 10**9 + stamp.get("nanosec", 0)
+                       if isinstance(stamp, dict) else 0)
+        numbers = [*_ordered(pose.get("position", {}), "xyz"),
+                   *_ordered(pose.get("orientation", {}), "xyzw")]
+        return ";".join([str(nanoseconds), header.get("frame_id", ""), *numbers])
+    if literal.type == "geometry_msgs/msg/Point":
+        return ";".join(_ordered(fields, "xyz"))
+    if literal.type == "geometry_msgs/msg/Quaternion":
+        return ";".join(_ordered(fields, "xyzw"))
+    return "json:" + json.dumps(fields, separators=(",", ":"))
+
+
+def _ordered(fields: dict[str, Any], names: str) -> list[str]:
+    """The numbers of ``names`` in order (a quaternion's ``w`` defaults to 1, as in its .msg)."""
+    return [repr(float(fields.get(n, 1.0 if n == "w" and names == "xyzw" else 0.0)))
+            for n in names]

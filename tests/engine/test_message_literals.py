@@ -6,7 +6,12 @@ import math
 
 import pytest
 
-from sar_framework.engine.message_literals import LiteralError, MessageLiteral, message_literal
+from sar_framework.engine.message_literals import (
+    LiteralError,
+    MessageLiteral,
+    message_literal,
+    message_text,
+)
 
 POSE = "geometry_msgs/msg/PoseStamped"
 
@@ -71,3 +76,13 @@ def test_what_does_not_fit_is_said(type_: str, value: object, message: str) -> N
     with pytest.raises(LiteralError) as error:
         message_literal(type_, value)
     assert message in str(error.value)
+
+
+def test_the_text_bt_cpp_reads() -> None:
+    assert message_text(message_literal(POSE, {"header": {"frame_id": "odom", "stamp": {
+        "sec": 2, "nanosec": 5}}, "pose": {"position": {"x": 1}}})) == (
+        "2000000005;odom;1.0;0.0;0.0;0.0;0.0;0.0;1.0")
+    assert message_text(message_literal(POSE, "1;2;0")).startswith("0;map;1.0;2.0;")
+    assert message_text(message_literal("geometry_msgs/msg/Point", {"y": 2})) == "0.0;2.0;0.0"
+    assert message_text(message_literal("geometry_msgs/msg/Pose2D", {"x": 1, "y": 2})) == (
+        'json:{"x":1,"y":2}')

@@ -30,6 +30,7 @@ from sar_framework.engine.ports import (
     compatible,
     convert,
     entry_ref,
+    is_message,
     valid_type,
 )
 from sar_framework.engine.reading.document import DocPath, Document
@@ -358,7 +359,8 @@ class Bindings:
 
         As BT.CPP parses a literal into a destination entry of another type than a
         string, a literal is converted to the declared type (reported when it does not
-        convert); a copied entry's declared type must agree with the destination's.
+        convert; a message's text form, ``1.0;2.0;0.0``, becomes a message literal); a
+        copied entry's declared type must agree with the destination's.
         """
         for spec in self.copies:
             source, destination = COPIES[spec.kind]
@@ -370,7 +372,8 @@ class Bindings:
                 continue
             type_ = declared[0].type
             where = locs.get((spec.location, PORT_LOC + source), spec.location)
-            if value.key is None and value.value is not NO_DEFAULT and type_ in BASIC_TYPES:
+            if value.key is None and value.value is not NO_DEFAULT and (
+                    type_ in BASIC_TYPES or is_message(type_)):
                 converted = self.literal(type_, value.value, where, f"port '{source}' of "
                                          f"{spec.kind}, written to '{target.key[1:]}' "
                                          f"(declared {type_})")

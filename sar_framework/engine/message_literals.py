@@ -83,7 +83,31 @@ class MessageLiteral:
     fields: dict[str, Any]
 
     def __str__(self) -> str:
-        return f"{self.type.rpartition('/')[2]}{self.fields}"
+        """Compact: a pose as ``PoseStamped(x=1, y=2, yaw=0)`` (``@frame`` unless ``map``)."""
+        name = self.type.rpartition("/")[2]
+        pose = _planar(self)
+        if pose is None:
+            return f"{name}{self.fields}"
+        (x, y, yaw), frame = pose
+        where = f"@{frame}" if frame not in (None, "map") else ""
+        return f"{name}{where}(x={x:g}, y={y:g}, yaw={yaw:.3g})"
+
+
+def _planar(literal: MessageLiteral) -> tuple[tuple[float, float, float], Any] | None:
+    """A pose literal's ``(x, y, yaw)`` and frame (None for another type)."""
+    if literal.type == _PLANAR:
+        f = literal.fields
+        return (f.get("x", 0.0), f.get("y", 0.0), f.get("theta", 0.0)), None
+    if literal.type not in POSE_AT:
+        return None
+    pose: Any = literal.fields
+    for name in POSE_AT[literal.type]:
+        pose = pose.get(name, {})
+    position, q = pose.get("position", {}), pose.get("orientation", {})
+    qx, qy, qz, qw = (q.get(k, 1.0 if k == "w" else 0.0) for k in "xyzw")
+    yaw = math.atan2(2 * (qw * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz))
+    frame = literal.fields.get("header", {}).get("frame_id")
+    return (position.get("x", 0.0), position.get("y", 0.0), yaw), frame
 
 
 def message_literal(type_: str, value: Any) -> MessageLiteral:

@@ -86,3 +86,11 @@ def test_the_text_bt_cpp_reads() -> None:
     assert message_text(message_literal("geometry_msgs/msg/Point", {"y": 2})) == "0.0;2.0;0.0"
     assert message_text(message_literal("geometry_msgs/msg/Pose2D", {"x": 1, "y": 2})) == (
         'json:{"x":1,"y":2}')
+
+
+def test_a_pose_literal_reads_compactly() -> None:
+    assert str(message_literal(POSE, {"x": 1, "y": 2, "yaw": math.pi / 2})) == (
+        "PoseStamped(x=1, y=2, yaw=1.57)")
+    assert str(message_literal(POSE, "0;odom;1;2;0;0;0;0;1")) == "PoseStamped@odom(x=1, y=2, yaw=0)"
+    assert str(message_literal("geometry_msgs/msg/Point", "1;2;3")) == (
+        "Point{'x': 1.0, 'y': 2.0, 'z': 3.0}")

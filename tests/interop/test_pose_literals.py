@@ -57,3 +57,21 @@ def test_a_literal_exports_as_nav2s_text_and_comes_back(
         capsys.readouterr().err)
     (back,) = goals(tmp_path / "back.yaml")
     assert back.fields["pose"] == goals(tmp_path / "t.yaml")[0].fields["pose"]
+
+
+def test_an_initial_pose_exports_as_a_script_of_nav2s_text(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "t.yaml").write_text(
+        "format: 1\nname: main\nblackboard:\n"
+        "  home: {type: geometry_msgs/msg/PoseStamped, initial: {x: 1.0, y: 2.0, yaw: 0.0}}\n"
+        "root:\n  NavigateToPose: {goal: '{home}'}\n")
+    assert main(["export", str(tmp_path / "t.yaml"), "-o", str(tmp_path / "t.xml")]) == 0, (
+        capsys.readouterr().err)
+    assert "home := '0;map;1.0;2.0;0.0;0.0;0.0;0.0;1.0'" in (tmp_path / "t.xml").read_text()
+    assert main(["import", str(tmp_path / "t.xml"), "-o", str(tmp_path / "back.yaml")]) == 0, (
+        capsys.readouterr().err)
+    result = validate(tmp_path / "back.yaml")
+    assert result.ok and result.spec is not None, [str(d) for d in result.diagnostics]
+    assert result.spec.entries["/home"].initial.fields["pose"]["position"] == {
+        "x": 1.0, "y": 2.0, "z": 0.0}

@@ -75,3 +75,26 @@ def test_an_initial_pose_exports_as_a_script_of_nav2s_text(
     assert result.ok and result.spec is not None, [str(d) for d in result.diagnostics]
     assert result.spec.entries["/home"].initial.fields["pose"]["position"] == {
         "x": 1.0, "y": 2.0, "z": 0.0}
+
+
+def test_a_scaffolded_leaf_keeps_a_models_pose_default_as_text(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "t.xml").write_text("""\
+<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><Park/></BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="Park">
+      <input_port name="spot" type="geometry_msgs::msg::PoseStamped" default="1.0;2.0;0.0"/>
+    </Action>
+  </TreeNodesModel>
+</root>
+""")
+    assert main(["import", str(tmp_path / "t.xml"), "--scaffold", str(tmp_path / "leaves"),
+                 "-o", str(tmp_path / "t.yaml")]) == 0, capsys.readouterr().err
+    source = (tmp_path / "leaves" / "t_leaves.py").read_text()
+    assert "InputPort('spot', 'geometry_msgs/msg/PoseStamped', default='1.0;2.0;0.0'" in source
+    result = validate(tmp_path / "t.yaml")
+    assert result.ok and result.spec is not None, [str(d) for d in result.diagnostics]
+    (park,) = [n for n in result.spec.nodes() if n.kind == "Park"]
+    assert park.bindings["spot"].value.fields["pose"]["position"]["y"] == 2.0

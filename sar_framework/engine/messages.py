@@ -79,6 +79,20 @@ def _scalar_problem(type_: str, value: Any) -> str | None:
     return None if ok else f"expected a {type_}, got {value!r}"
 
 
+#: A place in a literal: field names and list indices from its top.
+LiteralPath = tuple[str | int, ...]
+#: The type of a header's stamp, which also takes ``now`` (as ``ros2 topic pub`` does).
+TIME = "builtin_interfaces/msg/Time"
+
+
+def dotted(path: LiteralPath) -> str:
+    """A literal path as text: ``pose.position.x``, ``poses[1].pose``."""
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else f".{part}" if out else str(part)
+    return out
+
+
 def literal_problems(type_name: str, value: Any, at: str = "") -> list[str]:
     """What in a literal of ``type_name`` does not fit its fields (empty when it fits).
 
@@ -88,31 +102,48 @@ def literal_problems(type_name: str, value: Any, at: str = "") -> list[str]:
     Raises:
         MessageNotFoundError: A type's ``.msg`` file is not installed.
     """
-    where = f"{at}: " if at else ""
+    prefix = f"{at}: " if at else ""
+    return [f"{dotted(path)}: {text}" if path else f"{prefix}{text}"
+            for path, text, _key in located_problems(type_name, value, (at,) if at else ())]
+
+
+def located_problems(
+    type_name: str, value: Any, at: LiteralPath = ()
+) -> list[tuple[LiteralPath, str, bool]]:
+    """:func:`literal_problems` with each problem's path kept apart, to locate it in a file.
+
+    Returns:
+        ``(path, text, at_key)`` per problem: ``at_key`` when the field's name is wrong
+        (point at the key), else its value is.
+    """
     if not isinstance(value, dict):
-        return [f"{where}a {type_name} is written as a mapping of its fields "
-                f"({', '.join(message_fields(type_name))}), got {value!r}"]
+        return [(at, f"a {type_name} is written as a mapping of its fields "
+                     f"({', '.join(message_fields(type_name))}), got {value!r}", False)]
     fields = message_fields(type_name)
-    problems: list[str] = []
+    problems: list[tuple[LiteralPath, str, bool]] = []
     for name, given in value.items():
-        path = f"{at}.{name}" if at else str(name)
+        path = (*at, str(name))
         type_ = fields.get(str(name))
         if type_ is None:
-            problems.append(f"{path}: not a field of {type_name}"
-                            f"{did_you_mean(str(name), fields)} (fields: {', '.join(fields)})")
+            problems.append((path, f"not a field of {type_name}{did_you_mean(str(name), fields)}"
+                                   f" (fields: {', '.join(fields)})", True))
         elif type_.endswith("[]"):
             if not isinstance(given, list):
-                problems.append(f"{path}: expected a list of {type_[:-2]}, got {given!r}")
+                problems.append((path, f"expected a list of {type_[:-2]}, got {given!r}", False))
             else:
                 for index, item in enumerate(given):
-                    problems += _field_problems(type_[:-2], item, f"{path}[{index}]")
+                    problems += _field_problems(type_[:-2], item, (*path, index))
         else:
             problems += _field_problems(type_, given, path)
     return problems
 
 
-def _field_problems(type_: str, value: Any, path: str) -> list[str]:
+def _field_problems(
+    type_: str, value: Any, path: LiteralPath
+) -> list[tuple[LiteralPath, str, bool]]:
+    if type_ == TIME and value == "now":
+        return []
     if "/" in type_:
-        return literal_problems(type_, value, path)
+        return located_problems(type_, value, path)
     problem = _scalar_problem(type_, value)
-    return [f"{path}: {problem}"] if problem else []
+    return [(path, problem, False)] if problem else []

@@ -17,8 +17,9 @@ ROS message type by name, ``pkg/msg/Type``; the engine never imports the message
 Literals convert as BT.CPP's ``convertFromString`` does for the basic types: an ``int``
 from decimal digits (the whole text, stricter than ``from_chars``), a ``float`` from any
 number text, a ``bool`` from ``true/True/TRUE/1`` or ``false/False/FALSE/0``, a ``list``
-from ``a;b;c``. A message type takes no literal (there is no clean text form): bind it
-to an entry. Types are compatible when equal, when either is ``any``, or ``int -> float``.
+from ``a;b;c``. A message type's literal is its fields as a mapping, a pose shorthand or
+a text form (:mod:`.message_literals`), kept as a :class:`.MessageLiteral`. Types are
+compatible when equal, when either is ``any``, or ``int -> float``.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ import re
 from dataclasses import dataclass
 from enum import Enum
 from typing import Any
+
+from sar_framework.engine.message_literals import message_literal
 
 #: The basic port type names, in the order the docs list them.
 BASIC_TYPES: tuple[str, ...] = ("str", "int", "float", "bool", "list", "any")
@@ -130,7 +133,7 @@ _INT = re.compile(r"^[+-]?[0-9]+$")
 
 
 def convert(type_: str, value: Any) -> Any:
-    """Convert a literal (a YAML scalar or list) to a port type.
+    """Convert a literal (a YAML scalar, list or, for a message, mapping) to a port type.
 
     Args:
         type_: The port type name.
@@ -140,12 +143,13 @@ def convert(type_: str, value: Any) -> Any:
         The value, of the port's type.
 
     Raises:
-        ValueError: With the reason, when the literal does not convert.
+        ValueError: With the reason, when the literal does not convert (for a message, a
+            :class:`.LiteralError` with each problem's path).
     """
     if type_ == "any":
         return value
     if is_message(type_):
-        raise ValueError(f"a {type_} takes no literal: bind it to an entry ('{{key}}')")
+        return message_literal(type_, value)
     if type_ == "list":
         if isinstance(value, list):
             return value

@@ -30,6 +30,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 from typing import Any
 
+from sar_framework.engine.message_literals import MessageLiteral, message_text
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import Declared
 from sar_framework.interop.btcpp_models import convert_literal
@@ -53,7 +54,12 @@ def script_literal(value: Any) -> str:
         return "true" if value else "false"
     if isinstance(value, (int, float)):
         return repr(value)
-    text = ";".join(str(v) for v in value) if isinstance(value, (list, tuple)) else str(value)
+    if isinstance(value, MessageLiteral):  # as BT.CPP's convertFromString reads it back
+        text = message_text(value)
+    elif isinstance(value, (list, tuple)):
+        text = ";".join(str(v) for v in value)
+    else:
+        text = str(value)
     if "'" not in text:
         return f"'{text}'"
     if '"' not in text:

@@ -17,7 +17,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from sar_framework.engine.ports import convert, entry_ref
+from sar_framework.engine.ports import convert, entry_ref, is_message
 from sar_framework.interop.btcpp_entries import entry_key
 from sar_framework.interop.btcpp_models import (
     NodeModel,
@@ -133,10 +133,12 @@ def _port_source(port: PortModel) -> str:
     if default is not None and port.direction != "output":
         try:
             if entry_ref(default) is None:
-                default = convert(port.type, default)
+                converted = convert(port.type, default)
+                if not is_message(port.type):  # a message's text stays, read as a literal
+                    default = converted
             parts.append(f"default={default!r}")
         except ValueError:
-            pass  # a default the port type cannot hold (a message type): none
+            pass  # a default the port type cannot hold: none
     if port.description:
         parts.append(f"description={port.description!r}")
     return f"    {PORT_CLASSES[port.direction]}({', '.join(parts)}),"

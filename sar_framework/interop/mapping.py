@@ -15,6 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from sar_framework.engine.message_literals import MessageLiteral, message_text
 from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
 from sar_framework.engine.nodes.kind_model import Attr
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
@@ -50,6 +51,8 @@ def port_text(value: Any) -> str:
         return "true" if value else "false"
     if isinstance(value, (list, tuple)):
         return ";".join(str(v) for v in value)
+    if isinstance(value, MessageLiteral):
+        return message_text(value)
     return str(value)
 
 

@@ -8,13 +8,15 @@ It holds what every such leaf shares:
 * the ``_done`` / ``_success`` terminal latch of the implementation guide: reset in
   ``initialise()``, written together exactly once per active period by :meth:`latch`,
   read first in ``update()`` through :meth:`verdict`;
-* its declared params and context objects, kept as attributes of the same names.
+* its declared params and context objects, kept as attributes of the same names;
+* its ports' message literals, read as messages (:mod:`.message_literal`).
 
 Not a plugin itself (it carries no ``@leaf`` mark), and it imports no ROS package.
 """
 
 from __future__ import annotations
 
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import py_trees
@@ -22,6 +24,7 @@ from py_trees.common import Status
 
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 from sar_framework.leaves.declared import keep_declared
+from sar_framework.leaves.message_literal import to_message
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -47,6 +50,9 @@ class RosLeaf(py_trees.behaviour.Behaviour):
     def setup(self, **kwargs: Any) -> None:
         """Take the ROS node from ``kwargs["node"]`` and the event emitter, if any.
 
+        From then on a message literal bound to a port is read as the message, its ``now``
+        stamps on the node's clock.
+
         Args:
             **kwargs: Must hold ``node``, an ``rclpy.node.Node``; may hold ``events``.
 
@@ -60,6 +66,9 @@ class RosLeaf(py_trees.behaviour.Behaviour):
             )
         self._node = node
         self.events = events_from(kwargs)
+        read_messages_with = getattr(getattr(self, "ports", None), "read_messages_with", None)
+        if read_messages_with is not None:
+            read_messages_with(partial(to_message, clock=node.get_clock()))
 
     @property
     def node(self) -> Node:

@@ -20,6 +20,8 @@ from typing import Any
 
 import py_trees
 
+from sar_framework.engine.message_literals import MessageLiteral
+
 #: Longest value text, in characters (longer ones end with ``…``).
 TEXT_MAX = 100
 #: How deep nested messages and containers are shown before ``…``.
@@ -36,6 +38,8 @@ _SCALARS = (bool, int, float, str, bytes, type(None))
 def type_text(value: Any) -> str:
     """The type of ``value`` as a port type names it (``int``, ``geometry_msgs/msg/Pose``)."""
     cls = type(value)
+    if cls is MessageLiteral:  # a literal from the tree file, not built into a message yet
+        return value.type
     if hasattr(cls, "get_fields_and_field_types"):
         package = cls.__module__.split(".", 1)[0]
         return f"{package}/msg/{cls.__name__}"
@@ -49,6 +53,8 @@ def _text(value: Any, depth: int) -> str:
         return repr(value if not isinstance(value, (str, bytes)) else value[:TEXT_MAX + 1])
     if depth >= DEPTH_MAX:
         return "…"
+    if isinstance(value, MessageLiteral):
+        return f"{value.type.rpartition('/')[2]}{_text(value.fields, depth)}"
     fields = getattr(type(value), "get_fields_and_field_types", None)
     if fields is not None:
         names = list(fields())

@@ -56,7 +56,7 @@ def test_convert(type_: str, literal: object, value: object) -> None:
         ("float", "fast", "expected a float, got 'fast'"),
         ("bool", "yes", "expected a bool (true/false/1/0), got 'yes'"),
         ("str", None, "expected a str, got null"),
-        ("nav_msgs/msg/Path", "x", "a nav_msgs/msg/Path takes no literal"),
+        ("nav_msgs/msg/Path", "x", "a nav_msgs/msg/Path has no text form"),
     ],
 )
 def test_convert_refuses(type_: str, literal: object, message: str) -> None:

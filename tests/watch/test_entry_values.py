@@ -83,6 +83,14 @@ def test_ros_messages_are_compact() -> None:
     assert value_text(geometry.Point(x=1.0, y=0.5)) == "Point(x=1, y=0.5, z=0)"
 
 
+def test_a_message_literal_reads_as_its_type_and_fields() -> None:
+    from sar_framework.engine.message_literals import message_literal
+
+    literal = message_literal("geometry_msgs/msg/Point", "1;2;3")
+    assert value_text(literal) == "Point{'x': 1, 'y': 2, 'z': 3}"
+    assert type_text(literal) == "geometry_msgs/msg/Point"
+
+
 def test_the_tracker_returns_changes_only_and_everything_on_request() -> None:
     board = py_trees.blackboard.Client(name="Writer")
     board.register_key("count", access=py_trees.common.Access.WRITE)

@@ -12,15 +12,20 @@ While py_trees' activity stream is off (its default), a read or write goes strai
 does then, once its access checks have passed, and those are settled when the client is
 made (a port reads what it may read, ``set`` writes only outputs). With the stream on,
 every access goes through the client, so py_trees records it.
+
+A message literal (:class:`~.message_literals.MessageLiteral`, from the file or in an
+entry) is plain data here; a leaf that can make messages (the toolkit's ROS leaves) sets
+:meth:`PortValues.read_messages_with`, and ``get`` then returns the message.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from py_trees.blackboard import Blackboard
 
+from sar_framework.engine.message_literals import MessageLiteral
 from sar_framework.engine.ports import NO_DEFAULT, PortBinding, convert
 from sar_framework.engine.variables import BlackboardVariables, count_write
 
@@ -35,7 +40,7 @@ class PortValues:
         bindings: Every declared port's resolved binding, by name.
     """
 
-    __slots__ = ("bindings", "keys", "literals", "owner", "variables")
+    __slots__ = ("bindings", "build_message", "keys", "literals", "owner", "variables")
 
     def __init__(self, owner: str, bindings: Mapping[str, PortBinding]) -> None:
         self.owner = owner
@@ -45,19 +50,28 @@ class PortValues:
                          if b.key is None and b.value is not NO_DEFAULT}
         writable = [n for n in self.keys if bindings[n].port.direction.writes]
         self.variables = BlackboardVariables(owner, self.keys, writable) if self.keys else None
+        self.build_message: Callable[[MessageLiteral], Any] | None = None
+
+    def read_messages_with(self, build: Callable[[MessageLiteral], Any]) -> None:
+        """Have ``get`` return ``build(literal)`` for a message literal (once per read)."""
+        self.build_message = build
 
     def get(self, name: str) -> Any:
         """Return the port's literal or its entry's value.
 
         A string found in an entry read by an ``int``, ``float``, ``bool`` or ``list``
-        port is converted as a literal would be (BT.CPP does the same).
+        port is converted as a literal would be (BT.CPP does the same). A message literal
+        is built by :meth:`read_messages_with`'s function, when one is set.
 
         Raises:
             KeyError: The port is unknown, bound to nothing, or its entry has no value.
         """
         literals = self.literals
         if name in literals:
-            return literals[name]
+            value = literals[name]
+            if type(value) is MessageLiteral and self.build_message is not None:
+                return self.build_message(value)
+            return value
         key = self.keys.get(name)
         if key is None:
             what = "is not bound" if name in self.bindings else "is not a port of this leaf"
@@ -73,6 +87,8 @@ class PortValues:
             type_ = self.bindings[name].port.type
             if type_ in _CONVERTED:
                 return convert(type_, value)
+        elif type(value) is MessageLiteral and self.build_message is not None:
+            return self.build_message(value)
         return value
 
     def set(self, name: str, value: Any) -> None:

@@ -9,11 +9,14 @@ leaf's ports in its scope, and the scope of each subtree insertion from its rema
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from typing import Any
 
 from sar_framework.engine.checking.entries import DataScope, Entries, Report
 from sar_framework.engine.checking.schema import fits_port
 from sar_framework.engine.diagnostics import SourceLocation, did_you_mean
+from sar_framework.engine.message_literals import LiteralError
+from sar_framework.engine.messages import LiteralPath, dotted
 from sar_framework.engine.nodes.control_kinds import COPIES
 from sar_framework.engine.nodes.node_kinds import SUBTREE
 from sar_framework.engine.ports import (
@@ -35,6 +38,8 @@ from sar_framework.engine.spec import Category, Declared, NodeSpec
 
 #: What a key prefix may not hold ('.' reads as an attribute in py_trees, '/' as a level).
 _UNSAFE = re.compile(r"[^A-Za-z0-9_-]")
+#: Where a part of a literal stands: its path in the literal, and whether its key is meant.
+Locate = Callable[[LiteralPath, bool], SourceLocation]
 #: ``value_locs`` key of a leaf port's value, and of a subtree use's port value.
 PORT_LOC = "port."
 USE_LOC = "ports."
@@ -59,6 +64,13 @@ def _declarations(doc: Document, path: DocPath) -> list[tuple[str, dict[str, Any
         return None
     return [(name, decl) for name, decl in section.items()
             if isinstance(decl, dict) and ENTRY_NAME.match(name)]
+
+
+def located(doc: Document, at: DocPath) -> Locate:
+    """Where a part of the literal at ``at`` in ``doc`` stands (its key, or its value)."""
+    def locate(path: LiteralPath, at_key: bool) -> SourceLocation:
+        return (doc.key_where if at_key else doc.where)((*at, *path))
+    return locate
 
 
 class Bindings:
@@ -119,12 +131,10 @@ class Bindings:
         for name, decl in declarations:
             type_ = self.type_of(doc, (*path, name, "type"), decl.get("type"))
             initial = NO_DEFAULT
-            if "initial" in decl and is_message(type_):
-                self.report(doc.where((*path, name, "initial")), f"'{name}' is a {type_}: a "
-                            "message takes no initial value (the caller or a node sets it)")
-            elif "initial" in decl:
-                initial = self.literal(type_, decl["initial"], doc.where((*path, name, "initial")),
-                                       f"initial value of '{name}'")
+            if "initial" in decl:
+                at = (*path, name, "initial")
+                initial = self.literal(type_, decl["initial"], doc.where(at),
+                                       f"initial value of '{name}'", located(doc, at))
             text = decl.get("description")
             out[name] = Declared(name, type_, initial, text if isinstance(text, str) else "",
                                  doc.key_where((*path, name)), caller_sets)
@@ -153,10 +163,21 @@ class Bindings:
                 self.report(doc.where((*path, name)), str(exc))
         return out
 
-    def literal(self, type_: str, value: Any, where: SourceLocation, what: str) -> Any:
-        """Return ``value`` converted to ``type_``; report it (NO_DEFAULT) when it does not."""
+    def literal(
+        self, type_: str, value: Any, where: SourceLocation, what: str, locate: Locate | None = None
+    ) -> Any:
+        """Return ``value`` converted to ``type_``; report it (NO_DEFAULT) when it does not.
+
+        A message literal's problems are each reported where ``locate`` puts them (at the
+        wrong field), else at ``where``.
+        """
         try:
             return convert(type_, value)
+        except LiteralError as exc:
+            for path, text, at_key in exc.problems:
+                at = locate(path, at_key) if locate is not None and path else where
+                self.report(at, f"{what}: {dotted(path)}: {text}" if path else f"{what}: {text}")
+            return NO_DEFAULT
         except ValueError as exc:
             self.report(where, f"{what}: {exc}")
             return NO_DEFAULT
@@ -178,8 +199,13 @@ class Bindings:
                 locs[(where, USE_LOC + inner)] = doc.where((*path, "ports", inner))
         return placeholder
 
-    def port_value(self, port: Port, given: Any, where: SourceLocation) -> Any:
-        """Check one port binding as written; return what the spec keeps (NO_DEFAULT: bad)."""
+    def port_value(
+        self, port: Port, given: Any, where: SourceLocation, locate: Locate | None = None
+    ) -> Any:
+        """Check one port binding as written; return what the spec keeps (NO_DEFAULT: bad).
+
+        ``locate`` places a message literal's problems at their fields (see :meth:`literal`).
+        """
         if not fits_port(port, given):
             return NO_DEFAULT  # the schema check words it (an unquoted {key}, a 1.5 for an int)
         if port.naming is not Naming.VALUE:
@@ -196,7 +222,7 @@ class Bindings:
                 self.report(where, f"{port.direction.value} port '{port.name}' must be bound "
                             f"to an entry ('{{key}}'), got '{given}'")
             return NO_DEFAULT
-        return self.literal(port.type, given, where, f"port '{port.name}'")
+        return self.literal(port.type, given, where, f"port '{port.name}'", locate)
 
     def entry_name(self, port: Port, given: str, where: SourceLocation) -> Any:
         """Check a port whose text names an entry; return it as ``{name}`` (NO_DEFAULT: bad)."""
@@ -333,7 +359,8 @@ class Bindings:
 
         As BT.CPP parses a literal into a destination entry of another type than a
         string, a literal is converted to the declared type (reported when it does not
-        convert); a copied entry's declared type must agree with the destination's.
+        convert; a message's text form, ``1.0;2.0;0.0``, becomes a message literal); a
+        copied entry's declared type must agree with the destination's.
         """
         for spec in self.copies:
             source, destination = COPIES[spec.kind]
@@ -345,7 +372,8 @@ class Bindings:
                 continue
             type_ = declared[0].type
             where = locs.get((spec.location, PORT_LOC + source), spec.location)
-            if value.key is None and value.value is not NO_DEFAULT and type_ in BASIC_TYPES:
+            if value.key is None and value.value is not NO_DEFAULT and (
+                    type_ in BASIC_TYPES or is_message(type_)):
                 converted = self.literal(type_, value.value, where, f"port '{source}' of "
                                          f"{spec.kind}, written to '{target.key[1:]}' "
                                          f"(declared {type_})")

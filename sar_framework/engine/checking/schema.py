@@ -17,6 +17,7 @@ import json
 from collections.abc import Iterable
 from typing import Any
 
+from sar_framework.engine.message_literals import MessageLiteral
 from sar_framework.engine.nodes.kind_model import CONDITION_ATTRS
 from sar_framework.engine.nodes.node_kinds import (
     FORMAT_VERSION,
@@ -28,14 +29,23 @@ from sar_framework.engine.nodes.node_kinds import (
     NodeKind,
     leaf_attrs,
 )
-from sar_framework.engine.ports import BASIC_TYPES, ENTRY_NAME, NO_DEFAULT, Direction, Naming, Port
+from sar_framework.engine.ports import (
+    BASIC_TYPES,
+    ENTRY_NAME,
+    NO_DEFAULT,
+    Direction,
+    Naming,
+    Port,
+    is_message,
+)
 from sar_framework.engine.registry import Registry
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
 SCHEMA_ID = "https://github.com/sar-framework/sar_framework/schema/tree.schema.json"
 _NODE_REF = {"$ref": "#/$defs/node"}
 #: The JSON types of a literal each basic input port type accepts (a string may be an
-#: entry); a message type's input and every output take a string only.
+#: entry); a message type's input takes a mapping (its fields, or a pose shorthand) or a
+#: string (an entry or a text form); every output a string only.
 PORT_JSON_TYPES: dict[str, list[str]] = {
     "str": ["string", "number", "boolean"],
     "int": ["integer", "string"],
@@ -44,6 +54,9 @@ PORT_JSON_TYPES: dict[str, list[str]] = {
     "list": ["array", "string"],
     "any": ["string", "number", "boolean", "array"],
 }
+_MESSAGE_JSON_TYPES = ["string", "object"]
+_MESSAGE_LITERAL = ("A literal: the message's fields as a mapping; a pose also "
+                    "{x, y, yaw} or 'x;y;yaw'.")
 _BINDING = "Bind an entry with '{key}' (this scope), '{@key}' (the root) or '{=}'."
 _ENTRY_NAMES = {"type": "string", "pattern": ENTRY_NAME.pattern}
 _TYPE_NAME = {
@@ -55,7 +68,7 @@ _TYPE_NAME = {
 
 _JSON_TYPES: dict[str, tuple[type, ...]] = {
     "string": (str,), "integer": (int,), "number": (int, float), "boolean": (bool,),
-    "array": (list,),
+    "array": (list,), "object": (dict,),
 }  # fmt: skip
 
 
@@ -63,7 +76,7 @@ def fits_port(port: Port, value: Any) -> bool:
     """Whether the schema lets ``value`` bind ``port`` (so other checks do not repeat it)."""
     allowed = ["string"]
     if port.direction is Direction.INPUT and port.naming is Naming.VALUE:
-        allowed = PORT_JSON_TYPES.get(port.type, allowed)
+        allowed = _literal_types(port.type) or allowed
     for name in allowed:
         if isinstance(value, bool) and name != "boolean":
             continue
@@ -87,14 +100,21 @@ def port_schema(port: Port) -> dict[str, Any]:
     text = f"{head}: {port.description}" if port.description else head
     if port.naming is not Naming.VALUE:
         return {"description": text, "type": "string", "minLength": 1}
+    if port.direction is Direction.INPUT and is_message(port.type):
+        text += f" {_MESSAGE_LITERAL}"
     out: dict[str, Any] = {"description": f"{text} {_BINDING}"}
-    if port.direction is Direction.INPUT and port.type in PORT_JSON_TYPES:
-        out["type"] = PORT_JSON_TYPES[port.type]
-    else:
-        out["type"] = "string"
-    if port.default is not NO_DEFAULT:
+    literal = _literal_types(port.type) if port.direction is Direction.INPUT else None
+    out["type"] = literal or "string"
+    if isinstance(port.default, MessageLiteral):
+        out["default"] = port.default.fields
+    elif port.default is not NO_DEFAULT:
         out["default"] = port.default
     return out
+
+
+def _literal_types(type_: str) -> list[str] | None:
+    """The JSON types of an input port's literal (None: a string only)."""
+    return _MESSAGE_JSON_TYPES if is_message(type_) else PORT_JSON_TYPES.get(type_)
 
 
 def _declarations(what: str, props: dict[str, Any], required: list[str]) -> dict[str, Any]:

@@ -13,7 +13,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from sar_framework.engine.checking.bindings import PORT_LOC, Bindings
+from sar_framework.engine.checking.bindings import PORT_LOC, Bindings, located
 from sar_framework.engine.checking.declarations import Declaration, declaration_of
 from sar_framework.engine.checking.entries import DataScope, Entries
 from sar_framework.engine.checking.references import resolve_references
@@ -182,7 +182,7 @@ class Semantics:
             at = (*path, attr.name)
             if attr.port is not None:
                 self.value_locs[(where, PORT_LOC + attr.name)] = value_at = doc.where(at)
-                kept = self.bindings.port_value(attr.port, given, value_at)
+                kept = self.bindings.port_value(attr.port, given, value_at, located(doc, at))
                 if isinstance(given, str) and _below(attr, kept):  # the schema bounds a number
                     self.bindings.report(value_at, f"port '{attr.name}': {kept} is less than "
                                          f"the minimum of {attr.minimum}")

@@ -189,8 +189,8 @@ def test_bindings_as_written(check: Checker) -> None:
         "tree.yaml:8:9: error: port 'start' of Plan (default {start}) reads 'start', but "
         "nothing writes it and it has no initial value (declare it under 'blackboard:' if the "
         "caller sets it)",
-        "tree.yaml:8:22: error: port 'goal' must be bound to an entry ('{key}'), got a mapping "
-        "(quote it: '\"{goal}\"'; unquoted, YAML reads {goal} as a mapping)",
+        "tree.yaml:8:22: error: port 'goal': got a mapping {goal: null}: to bind the entry, "
+        "quote it: '\"{goal}\"' (unquoted, YAML reads {goal} as a mapping)",
         "tree.yaml:8:36: error: output port 'path' must be bound to an entry ('{key}'), got "
         "'nowhere'",
         "tree.yaml:9:23: error: port 'value': '{a.b}' is not a valid entry name (letters, "
@@ -219,8 +219,8 @@ def test_blackboard_section(check: Checker) -> None:
         "starting with a digit)",
         "tree.yaml:7:3: error: entry 'f' needs a 'type' (one of str, int, float, bool, list, "
         "any, or pkg/msg/Type)",
-        "tree.yaml:8:47: error: 'g' is a geometry_msgs/msg/Point: a message takes no initial "
-        "value (the caller or a node sets it)",
+        "tree.yaml:8:47: error: initial value of 'g': a geometry_msgs/msg/Point is written as "
+        "a mapping of its fields (x, y, z), got 1",
     ]
 
 

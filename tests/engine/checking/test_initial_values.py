@@ -64,9 +64,14 @@ def test_a_wrong_type_is_located_at_the_declaration(tree: Path) -> None:
         "'maybe' (the entry is declared here as bool)"]
 
 
-def test_a_message_entry_takes_no_value_yet(tree: Path) -> None:
+def test_a_message_entry_takes_a_literal(tree: Path) -> None:
     result = validate(tree, initial_values={"goal": "1;2;0"})
-    assert f"{tree}:7:3: error: --set goal=1;2;0:" in str(result.diagnostics[0])
+    assert result.ok, [str(d) for d in result.diagnostics]
+    goal = result.spec.entries["/goal"].initial  # type: ignore[union-attr]
+    assert goal.fields["pose"]["position"] == {"x": 1.0, "y": 2.0, "z": 0.0}
+    result = validate(tree, initial_values={"goal": {"x": 1, "yew": 0}})
+    assert f"{tree}:7:3: error: --set goal={{'x': 1, 'yew': 0}}: yew: not a key" in str(
+        result.diagnostics[0])
 
 
 def test_an_unknown_entry_gets_a_did_you_mean(tree: Path) -> None:

@@ -263,3 +263,20 @@ root:
     copy = text.replace('value: "7"', 'value: "{s}"')
     assert "SetBlackboard copies 's' (declared str) to 'n' (declared int)" in _problems(
         tmp_path, registry, copy)
+
+
+def test_set_blackboard_writes_a_pose_literal(tmp_path: Path, registry: Registry) -> None:
+    text = """\
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+root:
+  SetBlackboard: {value: "1.0;2.0;0.0", output_key: goal}
+"""
+    tree = load_tree(write_tree(tmp_path, text), {}, registry=registry)
+    tree.root.tick_once()
+    goal = Blackboard.storage["/goal"]
+    assert goal.type == "geometry_msgs/msg/PoseStamped"
+    assert goal.fields["pose"]["position"] == {"x": 1.0, "y": 2.0, "z": 0.0}
+    assert ("tree.yaml:5:26: error: port 'value' of SetBlackboard, written to 'goal' (declared "
+            "geometry_msgs/msg/PoseStamped): '1.0;2.0' is not a geometry_msgs/msg/PoseStamped"
+            ) in _problems(tmp_path, registry, text.replace("1.0;2.0;0.0", "1.0;2.0"))

@@ -28,6 +28,7 @@ from launch.actions import (
 from launch.event_handlers import OnProcessExit
 from launch.events import Shutdown
 from launch.substitutions import LaunchConfiguration
+from sar_plugins.sar.params import zone_positions
 
 from launch import LaunchContext, LaunchDescription
 from sar_framework.app import tree_apps
@@ -38,7 +39,6 @@ from sar_framework.mission.fleet_processes import (
     fleet_processes,
     tree_uses_coordinator,
 )
-from sar_framework.mission.params_check import zone_positions
 from sar_framework.mission.params_file import read_params_file
 from sar_framework.mission.processes import RUN_FILES, MissionSettings, new_run_folder
 from sar_framework.orchestrate.fleet_inputs import read_members

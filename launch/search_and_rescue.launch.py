@@ -55,6 +55,7 @@ from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from sar_plugins.sar.processes import REPORT_FILE as REPORTS_IN_RUN_FOLDER
+from sar_plugins.sar.servers.params import REPORT_PARAMETERS
 
 from launch import LaunchContext, LaunchDescription
 from sar_framework.app import tree_apps
@@ -68,7 +69,6 @@ from sar_framework.mission.processes import (
 )
 from sar_framework.orchestrate.launch_report import write_launch_report
 from sar_framework.ros.launch_nodes import package_file, process_node
-from sar_framework.servers.params import REPORT_PARAMETERS
 from sar_framework.sim.params import SPEED
 
 REPORT_FILE = next(p for p in REPORT_PARAMETERS if p.name == "report_file")

@@ -17,8 +17,7 @@ from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
 if TYPE_CHECKING:
     from rclpy.node import Node
-
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 COORDINATOR = "/zone_coordinator"
 

@@ -31,8 +31,7 @@ if TYPE_CHECKING:
     from rclpy.action import ActionClient
     from rclpy.action.client import ClientGoalHandle
     from rclpy.task import Future
-
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 #: The params NavigateToZone and NavigateToBase both declare.
 NAVIGATION_PARAMS: tuple[Param, ...] = (

@@ -12,7 +12,8 @@ from sar_framework.events.event import EventKind
 from ._ros_leaf import RosLeaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
+
     from sar_framework.ros.static_tf import StaticBroadcaster
 
     from .detect_survivor import DetectSurvivor

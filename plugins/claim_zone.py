@@ -23,7 +23,7 @@ from ._service_call import PolledServiceCall
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 #: Notices, awards and events a late subscriber still receives (the coordinator's depths).
 HISTORY_DEPTH = 100

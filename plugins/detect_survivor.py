@@ -12,7 +12,7 @@ from sar_framework.events.event import EventKind
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 
 @leaf(

@@ -15,21 +15,20 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from sar_plugins.sar.figure import mission_figure
+from sar_plugins.sar.params import MISSION_PARAMETERS, mission_problems, zone_positions
 from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
 from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
 
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
 from sar_framework.events.event import EventKind
-from sar_framework.mission.params_check import mission_problems
-from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
 if TYPE_CHECKING:
     from rclpy.node import Node
+    from sar_plugins.sar.zone_manager import ZoneManager
 
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.mission.params_file import KeyLocation
-    from sar_framework.mission.zone_manager import ZoneManager
 
 PARAMS_FILE = "config/mission_params.yaml"
 """The mission parameter file when none is named (the checkout's when the folder has none)."""
@@ -57,7 +56,7 @@ def zone_of(zone_manager: ZoneManager) -> dict[str, Any] | None:
 
 def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> AppRun:
     """Read the zones from the runner's node: the ZoneManager, its events, its status."""
-    from sar_framework.mission.params import read_mission_params
+    from sar_plugins.sar.params import read_mission_params
 
     mission_file = locations.get("zone_order")
     source = mission_file.file if mission_file else source
@@ -89,6 +88,7 @@ APP = App(
     processes=server_processes,
     process_kinds=PROCESS_KINDS,
     options=OPTIONS,
+    places=zone_positions,
     recorded_topics=RECORDED_TOPICS,
     event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
     progress=progress_line,

@@ -9,27 +9,28 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from sar_plugins.sar.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
+
 from sar_framework.app import AppOption, AppProcess
 from sar_framework.mission.processes import MissionSettings, ParamValue, Process
-from sar_framework.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
 
 REPORT_FILE = "reports.jsonl"
 """The report server's acknowledged reports, in the run's folder."""
 
 PROCESS_KINDS = (
     AppProcess("detect", "the detect server", DETECT_PARAMETERS,
-               "sar_framework/servers/params.py", "--no-detect-server",
+               "plugins/sar/servers/params.py", "--no-detect-server",
                "do not start the search-and-rescue detect server (fault injection)",
                per_robot=True),
     AppProcess("report", "the report server", REPORT_PARAMETERS,
-               "sar_framework/servers/params.py", "--no-report-server",
+               "plugins/sar/servers/params.py", "--no-report-server",
                "do not start the report server (fault injection)"),
 )
 """What ``sar-tree run`` and the docs know of the two servers."""
 
 
 def _check_survivors(path: str) -> str | None:
-    from sar_framework.servers.survivors import SurvivorsFileError, load_survivors
+    from sar_plugins.sar.servers.survivors import SurvivorsFileError, load_survivors
 
     try:
         load_survivors(path)
@@ -56,7 +57,7 @@ def _server(settings: MissionSettings, label: str, executable: str) -> Process:
     parameters: dict[str, ParamValue] = {"use_sim_time": settings.use_sim_time}
     if label == "report" and settings.run_folder:
         parameters["report_file"] = str(Path(settings.run_folder) / REPORT_FILE)
-    module = "sar_framework.servers." + label + "_survivor_server"
+    module = "sar_plugins.sar.servers." + label + "_survivor_server"
     return Process(label, executable, module, (), parameters)
 
 

@@ -100,6 +100,8 @@ class App:
         process_kinds: What the core's command line, checks and docs know of those processes
             (their labels, parameter tables, flags).
         options: ``sar-tree run`` options that set a parameter of one of them to a file.
+        places: Its named places in the run's parameters, name -> ``(x, y)`` in the map
+            frame (the simulator's area faults may name them: ``blocked_zones``).
         recorded_topics: ``(topic, type)`` pairs a recording keeps beside the core's (its
             services' ``_service_event`` topics).
         event_kinds: Its event kinds, each with what it means.
@@ -123,6 +125,7 @@ class App:
     processes: Callable[[MissionSettings], list[Process]] | None = None
     process_kinds: tuple[AppProcess, ...] = ()
     options: tuple[AppOption, ...] = ()
+    places: Callable[[Mapping[str, Any]], dict[str, tuple[float, float]]] | None = None
     recorded_topics: tuple[tuple[str, str], ...] = ()
     event_kinds: Mapping[str, str] = field(default_factory=dict)
     progress: Callable[[MissionEvent], str | None] | None = None

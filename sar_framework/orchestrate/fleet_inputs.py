@@ -15,13 +15,14 @@ import importlib.util
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_plugins.sar.params import zone_positions
+
 from sar_framework.mission.fleet_processes import (
     COORDINATOR_MODULE,
     FLEET_LEAVES,
     FleetMember,
     tree_uses_coordinator,
 )
-from sar_framework.mission.params_check import zone_positions
 from sar_framework.sim.params import sim_default
 
 if TYPE_CHECKING:

@@ -29,7 +29,7 @@ from sar_framework.app import App, AppError, AppOption, apps_for, discover_apps,
 from sar_framework.engine.param import Param
 from sar_framework.fleet.params import COORDINATOR_PARAMETERS
 from sar_framework.mission.fleet_processes import FleetMember
-from sar_framework.mission.params_check import check_values, zone_positions
+from sar_framework.mission.params_check import check_values
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.fleet_inputs import fleet_problems
 from sar_framework.recording.params import RECORDER_PARAMETERS
@@ -229,7 +229,8 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     elif apps:
         problems += [str(p) for app in apps if app.check is not None
                      for p in app.check(values, {}, "--runner-param")]
-    zones = zone_positions(values)
+    zones = {name: xy for app in apps if app.places is not None
+             for name, xy in app.places(values).items()}
     blocked = _blocked_areas(overrides["sim"], zones, problems)
     _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
     for option, path in app_options(config, apps):

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from sar_plugins.sar.zone_manager import ZoneManager
 
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 from sar_framework.events.event import (
@@ -22,7 +23,6 @@ from sar_framework.events.jsonl import (
     JsonLinesFollower,
     read_events,
 )
-from sar_framework.mission.zone_manager import ZoneManager
 
 REPO = Path(__file__).resolve().parents[2]
 MSG = REPO / "interfaces" / "sar_interfaces" / "msg" / "MissionEvent.msg"

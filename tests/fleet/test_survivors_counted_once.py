@@ -50,7 +50,7 @@ def detect_servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     table = folder / "robot2_survivors.yaml"
     table.write_text(f"survivors:\n  zone_a: {{x: {ROBOT2_SEES[0]}, y: {ROBOT2_SEES[1]}}}\n")
     # the server's default name is relative: in /robot1 it serves /robot1/detect_survivor
-    module = ["-m", "sar_framework.servers.detect_survivor_server", "--ros-args"]
+    module = ["-m", "sar_plugins.sar.servers.detect_survivor_server", "--ros-args"]
     with (NodeProcess([*module, "-r", "__ns:=/robot1"], "detect1", log_dir=folder) as one,
           NodeProcess([*module, "-r", "__ns:=/robot2", "-p", f"survivors_file:={table}"],
                       "detect2", log_dir=folder) as two):
@@ -63,7 +63,7 @@ def detect_servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
 def base(tmp_path: Path) -> Iterator[Path]:
     """The real base station; yields its report file."""
     reports = tmp_path / "reports.jsonl"
-    with NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+    with NodeProcess(["-m", "sar_plugins.sar.servers.report_survivor_server", "--ros-args",
                       "-p", f"report_file:={reports}"], "base", log_dir=tmp_path) as process:
         process.wait_for_output("ready")
         yield reports

@@ -330,7 +330,7 @@ def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_dif
 def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, monkeypatch):
     def twin(settings: processes.MissionSettings) -> processes.Process:
         return processes.Process("twin", "sar-detect-survivor-server",
-                                 "sar_framework.servers.detect_survivor_server", (),
+                                 "sar_plugins.sar.servers.detect_survivor_server", (),
                                  {"service_name": "/detect_again"})
 
     def simulator(settings: processes.MissionSettings) -> processes.Process | None:

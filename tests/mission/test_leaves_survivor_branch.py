@@ -22,6 +22,7 @@ from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
 from sar_plugins.detect_survivor import DetectSurvivor
 from sar_plugins.is_survivor_detected import IsSurvivorDetected
 from sar_plugins.notify_base import NotifyBase
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import (
     NODES,
     OutputMark,
@@ -34,8 +35,6 @@ from sar_testing.leaf_harness import (
 )
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
-
-from sar_framework.mission.zone_manager import ZoneManager
 
 pytestmark = pytest.mark.ros
 REPORT_DELAY_S = 1.0

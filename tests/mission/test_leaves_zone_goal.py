@@ -8,12 +8,12 @@ from pathlib import Path
 import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import spec_zone_manager
 
 from sar_framework.engine.api import LoadedTree, load_tree
 from sar_framework.events.emitter import EventEmitter
 from sar_framework.events.event import EventKind
-from sar_framework.mission.zone_manager import ZoneManager
 
 pytest.importorskip("geometry_msgs.msg", reason="the goal is a geometry_msgs/PoseStamped")
 

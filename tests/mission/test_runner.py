@@ -501,9 +501,9 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     reports = tmp_path / "reports.jsonl"
     status = tmp_path / "status.json"
     nav = NodeProcess([str(NODES / "quick_navigate_server.py")], "nav", log_dir=tmp_path)
-    detect = NodeProcess(["-m", "sar_framework.servers.detect_survivor_server"], "detect",
+    detect = NodeProcess(["-m", "sar_plugins.sar.servers.detect_survivor_server"], "detect",
                          log_dir=tmp_path)
-    report = NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+    report = NodeProcess(["-m", "sar_plugins.sar.servers.report_survivor_server", "--ros-args",
                           "-p", f"report_file:={reports}"], "report", log_dir=tmp_path)
     with nav, detect, report:
         for server in (nav, detect, report):

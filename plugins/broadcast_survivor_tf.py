@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 
 from ._ros_leaf import RosLeaf
 
@@ -110,6 +110,6 @@ class BroadcastSurvivorTF(RosLeaf):
         self._survivor_id = child
         message = (f"Broadcast static TF {self.parent_frame} -> {child} at "
                    f"({pose[0]:.2f}, {pose[1]:.2f}).")
-        self.events.emit(EventKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
+        self.events.emit(SarKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
                          message=message, position=pose)
         return self._latch(True, message)

@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
@@ -94,7 +94,7 @@ class DetectSurvivor(ServiceLeaf):
             message = f"{self._zone_id}: no survivor"
         said = (f"FOUND at ({self._pose[0]:.2f}, {self._pose[1]:.2f})" if self._pose
                 else "no survivor")
-        self.events.emit(EventKind.DETECTION, source=self, zone_id=self._zone_id or "",
+        self.events.emit(SarKind.DETECTION, source=self, zone_id=self._zone_id or "",
                          status="FOUND" if self._found else "NONE",
                          message=f"Detection request for {self._zone_id}: {said}",
                          position=self._pose)

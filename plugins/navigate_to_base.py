@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from sar_plugins.sar.events import SarKind
+
 from sar_framework.engine.plugin import leaf
-from sar_framework.events.event import EventKind
 
 from ._navigation import NAVIGATION_PARAMS, NavigateToPoseLeaf, NavigationTarget
 
@@ -20,7 +21,7 @@ class NavigateToBase(NavigateToPoseLeaf):
     """
 
     def _reached(self, target: NavigationTarget) -> None:
-        self.events.emit(EventKind.BASE_REACHED, source=self, message=target.reached,
+        self.events.emit(SarKind.BASE_REACHED, source=self, message=target.reached,
                          position=(target.x, target.y))
 
     def _target(self) -> NavigationTarget:

@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 
 from ._service_leaf import SERVICE_TIMEOUT_PARAMS, ServiceLeaf
 
@@ -123,10 +123,10 @@ class NotifyBase(ServiceLeaf):
             reason = str(getattr(response, "reason", ""))  # the server's word, if it gave one
             why = reason or "not acknowledged"
             self._failure = f"Report for {self._survivor_id} refused by base: {why}"
-            self.events.emit(EventKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
+            self.events.emit(SarKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
                              **fields)
             return self._latch(False, f"report of {where} not acknowledged"
                                       + (f": {reason}" if reason else ""))
-        self.events.emit(EventKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
+        self.events.emit(SarKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
                          message=f"Report received: {where}. Acknowledged.", **fields)
         return self._latch(True, f"Reported {where}: acknowledged.")

@@ -106,7 +106,7 @@ def draw_fleet(run_dir: Path, fleet: dict[str, Any], params_file: str,
     Returns:
         ``out``.
     """
-    from sar_framework.report import read_mission_layout
+    from sar_plugins.sar.report import mission_layout as read_mission_layout
 
     canvas = map_canvas(map_yaml, _LEGEND_W)
     draw, to_px, limit = canvas.draw, canvas.to_px, canvas.map_img.width

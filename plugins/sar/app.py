@@ -5,7 +5,9 @@
 - parameters: those, checked whole (:func:`~sar_framework.mission.params_check.mission_problems`),
   from ``config/mission_params.yaml`` when ``sar-tree run`` names no file;
 - processes: the detect and report servers, started before the runner;
-- events: the zone and survivor kinds, and the status's current zone.
+- events: the zone and survivor kinds (:mod:`.events`), and the status's current zone;
+- the report, ``mission.png``, the studio and ``sar-tree watch``: :mod:`.report`,
+  :mod:`.figure`, :mod:`.studio`.
 """
 
 from __future__ import annotations
@@ -14,10 +16,12 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_plugins.sar.events import SAR_KINDS, SarKind
 from sar_plugins.sar.figure import mission_figure
 from sar_plugins.sar.params import MISSION_PARAMETERS, mission_problems, zone_positions
 from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
-from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
+from sar_plugins.sar.report import mission_report, progress_line, summary_parts
+from sar_plugins.sar.studio import MARKS, frame, layout, status_text
 
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
@@ -68,7 +72,7 @@ def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> App
 
     def observe(emitter: EventEmitter) -> None:
         def zone_event(kind: EventKind, zone: dict[str, Any]) -> None:
-            said = (f"Reached {zone['id']}." if kind == EventKind.ZONE_REACHED
+            said = (f"Reached {zone['id']}." if kind == SarKind.ZONE_REACHED
                     else f"{zone['id']} not reached; the mission moves on.")
             position = (zone["x"], zone["y"]) if "x" in zone else None
             emitter.emit(kind, zone_id=zone["id"], message=said, position=position)
@@ -94,6 +98,10 @@ APP = App(
     progress=progress_line,
     summary=summary_parts,
     report=mission_report,
+    layout=layout,
+    marks=MARKS,
+    frame=frame,
+    status_text=status_text,
     figure=mission_figure,
 )
 """The search-and-rescue app."""

@@ -110,6 +110,15 @@ class App:
             (an app's words replace the core's list of goals).
         report: Its keys of ``mission.json``: ``report(inputs, events, document) -> dict``
             ({} when the run has nothing of the app).
+        layout: Its places and base in a parameter file, as the studio draws them:
+            ``layout(params_file) -> {"places": [{"id", "x", "y"}...], "base": {"x", "y"}}``
+            (places in the order the mission takes them).
+        marks: Its event kinds that mark the studio's timeline, and the mark: ``reached``
+            (a place), ``found`` (something found) or ``failure``.
+        frame: Its keys of a studio frame, from the events so far: ``reached`` (the ids of
+            the places reached) and ``found`` (``[{"id", "position"}]``).
+        status_text: Its words in a status line (``sar-tree watch``, the studio's header),
+            from a tree status document ("" when it has none).
         figure: Draws its part of ``mission.png``: ``figure(canvas, document)`` returns a
             :class:`~sar_framework.report_map.MapLayer` (its title, legend and lines), or
             None when ``mission.json`` has nothing of it.
@@ -132,6 +141,10 @@ class App:
     summary: Callable[[Mapping[str, Any]], list[str]] | None = None
     report: Callable[[Any, Sequence[MissionEvent], dict[str, Any]],
                      dict[str, Any]] | None = None
+    layout: Callable[[str], dict[str, Any]] | None = None
+    marks: Mapping[str, str] = field(default_factory=dict)
+    frame: Callable[[Sequence[MissionEvent]], dict[str, Any]] | None = None
+    status_text: Callable[[Mapping[str, Any]], str] | None = None
     figure: Callable[[Any, dict[str, Any]], Any] | None = None
 
     def default_params_file(self) -> str:

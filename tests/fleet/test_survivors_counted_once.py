@@ -22,6 +22,7 @@ import pytest
 from py_trees.common import Status
 from sar_plugins.log_survivor_not_registered import LogSurvivorNotRegistered
 from sar_plugins.register_survivor import RegisterSurvivor
+from sar_plugins.sar.events import SarKind
 from sar_testing.leaf_harness import TfStaticRecorder, spec_zone_manager, tree_on
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import call_service, spin_until
@@ -160,9 +161,9 @@ def test_the_same_survivor_from_two_robots_gets_one_id_one_frame_one_report(
     assert notes(fleet, other) == [register.feedback_message]
     assert not any("No survivor found" in n for robot in ROBOTS for n in notes(fleet, robot))
     broadcasts = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
-                          if e.kind == EventKind.SURVIVOR_BROADCAST] for robot in ROBOTS}
+                          if e.kind == SarKind.SURVIVOR_BROADCAST] for robot in ROBOTS}
     reported = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
-                        if e.kind == EventKind.SURVIVOR_REPORTED] for robot in ROBOTS}
+                        if e.kind == SarKind.SURVIVOR_REPORTED] for robot in ROBOTS}
     assert broadcasts == {reporter: ["survivor_1"], other: []}
     assert reported == {reporter: ["survivor_1"], other: []}
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import spec_zone_manager
 
@@ -70,7 +71,7 @@ def test_announces_the_zone_and_marks_it_reached(tmp_path: Path) -> None:
         behaviour.setup(events=events)
     loaded.root.tick_once()
     assert loaded.root.status == Status.SUCCESS
-    assert told == [(EventKind.ZONE_REACHED, "zone_a")]
+    assert told == [(SarKind.ZONE_REACHED, "zone_a")]
     navigation = [(e.kind, e.value("zone_id"), e.message, e.position) for e in events.emitted]
     assert navigation == [(EventKind.NAVIGATION, "zone_a", "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
                            (-3.0, 3.0, 0.0))]

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from sar_plugins.sar.events import SarKind
 from sar_testing.processes import NodeProcess
 
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
@@ -539,10 +540,10 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     assert reasons(status) == []
     told = [(e.kind, e.value("zone_id"), e.value("survivor_id"))
             for e in read_events(status.with_name(EVENTS_FILE))
-            if e.kind in (EventKind.ZONE_REACHED, EventKind.SURVIVOR_REPORTED,
-                          EventKind.BASE_REACHED)]
+            if e.kind in (SarKind.ZONE_REACHED, SarKind.SURVIVOR_REPORTED,
+                          SarKind.BASE_REACHED)]
     assert told == [
-        (EventKind.ZONE_REACHED, "zone_a", ""), (EventKind.SURVIVOR_REPORTED, "", "survivor_1"),
-        (EventKind.ZONE_REACHED, "zone_b", ""), (EventKind.ZONE_REACHED, "zone_c", ""),
-        (EventKind.SURVIVOR_REPORTED, "", "survivor_2"), (EventKind.ZONE_REACHED, "zone_d", ""),
-        (EventKind.BASE_REACHED, "", "")]
+        (SarKind.ZONE_REACHED, "zone_a", ""), (SarKind.SURVIVOR_REPORTED, "", "survivor_1"),
+        (SarKind.ZONE_REACHED, "zone_b", ""), (SarKind.ZONE_REACHED, "zone_c", ""),
+        (SarKind.SURVIVOR_REPORTED, "", "survivor_2"), (SarKind.ZONE_REACHED, "zone_d", ""),
+        (SarKind.BASE_REACHED, "", "")]

@@ -19,7 +19,14 @@ from typing import TYPE_CHECKING, Any
 from sar_plugins.sar.events import SAR_KINDS, SarKind
 from sar_plugins.sar.figure import mission_figure
 from sar_plugins.sar.params import MISSION_PARAMETERS, mission_problems, zone_positions
-from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
+from sar_plugins.sar.processes import (
+    OPTIONS,
+    PROCESS_KINDS,
+    RECORDED_TOPICS,
+    RUN_FILES,
+    replayed_reports,
+    server_processes,
+)
 from sar_plugins.sar.report import mission_report, progress_line, summary_parts
 from sar_plugins.sar.studio import MARKS, frame, layout, status_text
 
@@ -94,6 +101,8 @@ APP = App(
     options=OPTIONS,
     places=zone_positions,
     recorded_topics=RECORDED_TOPICS,
+    run_files=RUN_FILES,
+    replayed=replayed_reports,
     event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
     progress=progress_line,
     summary=summary_parts,

@@ -7,11 +7,13 @@ Both start before the runner, on its clock. The detect server reads ``survivors_
 
 from __future__ import annotations
 
+import json
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from sar_plugins.sar.servers.params import DETECT_PARAMETERS, REPORT_PARAMETERS
 
-from sar_framework.app import AppOption, AppProcess
+from sar_framework.app import AppOption, AppProcess, ServiceCall
 from sar_framework.mission.processes import MissionSettings, ParamValue, Process
 
 REPORT_FILE = "reports.jsonl"
@@ -46,11 +48,30 @@ OPTIONS = (
 )
 """``sar-tree run --survivors FILE``: the detect server's table."""
 
+REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
 RECORDED_TOPICS = (
     ("/detect_survivor/_service_event", "sar_interfaces/srv/DetectSurvivor_Event"),
-    ("/report_survivor/_service_event", "sar_interfaces/srv/ReportSurvivor_Event"),
+    (REPORT_EVENTS_TOPIC, "sar_interfaces/srv/ReportSurvivor_Event"),
 )
 """The servers' introspection events, kept by a recording."""
+RUN_FILES = (REPORT_FILE,)
+"""What the servers write in the run's folder."""
+
+
+def replayed_reports(calls: Mapping[str, Sequence[ServiceCall]], folder: Path) -> None:
+    """``reports.jsonl`` rebuilt from a recording: the report server's acknowledged calls.
+
+    Args:
+        calls: The recording's service calls, by ``_service_event`` topic.
+        folder: The replay's report folder.
+    """
+    lines = [{"survivor_id": call.request.survivor_id,
+              "frame_id": call.request.location.header.frame_id,
+              "x": call.request.location.point.x, "y": call.request.location.point.y,
+              "stamp": call.stamp_s}
+             for call in calls.get(REPORT_EVENTS_TOPIC, ()) if call.response.acknowledged]
+    (folder / REPORT_FILE).write_text("".join(json.dumps(line) + "\n" for line in lines),
+                                      encoding="utf-8")
 
 
 def _server(settings: MissionSettings, label: str, executable: str) -> Process:

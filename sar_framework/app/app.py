@@ -21,6 +21,21 @@ if TYPE_CHECKING:
     from sar_framework.mission.processes import MissionSettings, Process
 
 
+@dataclass(frozen=True)
+class ServiceCall:
+    """One call of a service, as a recording holds it (its request and its answer).
+
+    Attributes:
+        request: The request message.
+        response: The answer message.
+        stamp_s: When the server answered (its clock, seconds).
+    """
+
+    request: Any
+    response: Any
+    stamp_s: float
+
+
 @dataclass
 class AppRun:
     """What an app gives the runner once its parameters are read.
@@ -101,9 +116,14 @@ class App:
             (their labels, parameter tables, flags).
         options: ``sar-tree run`` options that set a parameter of one of them to a file.
         places: Its named places in the run's parameters, name -> ``(x, y)`` in the map
-            frame (the simulator's area faults may name them: ``blocked_zones``).
+            frame (the simulator's area faults may name them).
         recorded_topics: ``(topic, type)`` pairs a recording keeps beside the core's (its
             services' ``_service_event`` topics).
+        run_files: The files its processes write in the run's folder (``reports.jsonl``):
+            removed before a run, rebuilt by a replay.
+        replayed: Rebuilds those files from a recording: ``replayed(calls, folder)``, with
+            ``calls`` each recorded service's :class:`ServiceCall` list by its
+            ``_service_event`` topic.
         event_kinds: Its event kinds, each with what it means.
         progress: One progress line for one of its events, or None (``sar-tree run``).
         summary: Its words in ``sar-tree run``'s summary line, from ``mission.json``
@@ -136,6 +156,8 @@ class App:
     options: tuple[AppOption, ...] = ()
     places: Callable[[Mapping[str, Any]], dict[str, tuple[float, float]]] | None = None
     recorded_topics: tuple[tuple[str, str], ...] = ()
+    run_files: tuple[str, ...] = ()
+    replayed: Callable[[Mapping[str, Sequence[ServiceCall]], Path], None] | None = None
     event_kinds: Mapping[str, str] = field(default_factory=dict)
     progress: Callable[[MissionEvent], str | None] | None = None
     summary: Callable[[Mapping[str, Any]], list[str]] | None = None

@@ -165,9 +165,11 @@ class Orchestrator:
     def prepare(self) -> None:
         """Create the report folder and remove the previous run's outputs from it."""
         self.report_dir.mkdir(parents=True, exist_ok=True)
-        for name in ("status.json", EVENTS_FILE, "trace.jsonl", "reports.jsonl", "mission.json",
-                     "mission.png", "tree.svg", "sim.log", "detect.log", "report.log",
-                     "runner.log"):
+        apps = self.inputs.apps
+        for name in ("status.json", EVENTS_FILE, "trace.jsonl", "mission.json", "mission.png",
+                     "tree.svg", "sim.log", "runner.log",
+                     *(name for app in apps for name in app.run_files),
+                     *(f"{kind.label}.log" for app in apps for kind in app.process_kinds)):
             (self.report_dir / name).unlink(missing_ok=True)
         if self.config.record:
             Path(self.config.record).unlink(missing_ok=True)

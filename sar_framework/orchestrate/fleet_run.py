@@ -92,7 +92,7 @@ class FleetOrchestrator(Orchestrator):
 
     def child_specs(self) -> list[ChildSpec]:
         """The fleet's processes (:mod:`sar_framework.mission.fleet_processes`)."""
-        return child_specs(self.config, self.report_dir, self.inputs.zones,
+        return child_specs(self.config, self.report_dir, self.inputs.places,
                            fleet=self.inputs.fleet, coordinator=self.inputs.coordinator,
                            zone_order=list(self.inputs.runner_values.get("zone_order") or []),
                            apps=self.inputs.apps)
@@ -213,7 +213,7 @@ class FleetOrchestrator(Orchestrator):
     def _write_fleet(self, outcome: Outcome, wall: float) -> list[Path]:
         events_path = self.report_dir / COORDINATOR_EVENTS_FILE
         bids = read_json_lines(events_path) if self.inputs.coordinator else None
-        searched = zone_searchers(list(self.inputs.zones), self.summaries, bids)
+        searched = zone_searchers(list(self.inputs.places), self.summaries, bids)
         self.outcomes = {name: self.outcomes[name] for name in self.robots
                          if name in self.outcomes}  # fleet order, for fleet.json's colours
         verdict = fleet_outcome(self.outcomes, self.summaries, searched,

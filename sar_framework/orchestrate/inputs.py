@@ -4,11 +4,11 @@ Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule), ``--time
 ``--sim-timeout``; the tree (every diagnostic) and the apps it uses
 (:mod:`sar_framework.app`); the mission parameter file, the apps' default when none is named
 (rcl's structure, then each key's name, type and value against the runner's table and its
-apps', then each app's own checks); the apps' file options (``--survivors``: the file
+apps', then each app's own checks); the apps' file options (a file option: the file
 exists, the app's check of it); and each ``--sim-param``/``--runner-param`` and app
 process's ``--LABEL-param NAME:=VALUE`` (known name, did-you-mean, type and range, from each
-node's table, :func:`node_parameters`; ``blocked_zones`` entries parsed, with the mission's
-zone names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
+node's table, :func:`node_parameters`; ``blocked_zones`` entries parsed, with the apps' place
+names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
 position is known).
 
 No ROS is imported here: the tables live in ROS-free modules, so a bad input is reported
@@ -83,7 +83,7 @@ class CheckedInputs:
     Attributes:
         spec: The tree's ``TreeSpec``.
         runner_values: The runner's parameters: the file's, then ``--runner-param``.
-        zones: Mission zone id -> ``(x, y)``.
+        places: The apps' place name -> ``(x, y)``.
         blocked_areas: The ``blocked_zones`` fault as ``(x, y, radius)`` circles, metres.
         fleet: The fleet's robots (``--robots``/``--fleet``); empty for one robot.
         coordinator: The zone coordinator starts (a fleet whose tree bids for zones).
@@ -94,7 +94,7 @@ class CheckedInputs:
 
     spec: Any
     runner_values: dict[str, Any]
-    zones: dict[str, tuple[float, float]]
+    places: dict[str, tuple[float, float]]
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
     fleet: tuple[FleetMember, ...] = ()
     coordinator: bool = False
@@ -110,7 +110,7 @@ def params_file(config: RunConfig, apps: Sequence[App]) -> str:
 
 
 def app_options(config: RunConfig, apps: Sequence[App]) -> list[tuple[AppOption, str]]:
-    """The apps' file options given (``--survivors FILE``), each with its file.
+    """The apps' file options given (``--table FILE``), each with its file.
 
     The installed apps' options count beside ``apps``: an option of an app the tree does
     not use is still checked.
@@ -150,10 +150,10 @@ def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]
     return values
 
 
-def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]],
+def _blocked_areas(values: dict[str, Any], places: dict[str, tuple[float, float]],
                    problems: list[str], name: str = "blocked_zones"
                    ) -> tuple[tuple[float, float, float], ...]:
-    """The circles of a zone-list fault (``blocked_zones``, ``phantom_obstacles``)."""
+    """The circles of an area-list fault (``blocked_zones``, ``phantom_obstacles``)."""
     from sar_framework.sim.faults import FaultConfigError, parse_blocked_zone
     from sar_framework.sim.world import WorldError, load_world
 
@@ -170,11 +170,11 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
         if not str(entry).strip():
             continue  # [''] means none (a ROS list cannot be empty)
         try:
-            zone = parse_blocked_zone(str(entry), {**markers, **zones}, name)
+            area = parse_blocked_zone(str(entry), {**markers, **places}, name)
         except FaultConfigError as err:
             problems.append(f"--sim-param {err}")
         else:
-            areas.append((zone.x, zone.y, zone.radius))
+            areas.append((area.x, area.y, area.radius))
     return tuple(areas)
 
 
@@ -229,10 +229,10 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     elif apps:
         problems += [str(p) for app in apps if app.check is not None
                      for p in app.check(values, {}, "--runner-param")]
-    zones = {name: xy for app in apps if app.places is not None
+    places = {name: xy for app in apps if app.places is not None
              for name, xy in app.places(values).items()}
-    blocked = _blocked_areas(overrides["sim"], zones, problems)
-    _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
+    blocked = _blocked_areas(overrides["sim"], places, problems)
+    _blocked_areas(overrides["sim"], places, problems, "phantom_obstacles")  # checked only
     for option, path in app_options(config, apps):
         problem = (option.check(path) if option.check is not None and Path(path).is_file()
                    else None)
@@ -243,5 +243,5 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     problems += fleet_issues
     if problems or spec is None:
         return None, problems
-    return CheckedInputs(spec, values, zones, blocked, fleet, coordinator, tuple(apps),
+    return CheckedInputs(spec, values, places, blocked, fleet, coordinator, tuple(apps),
                          file), problems

@@ -56,7 +56,7 @@ class Orchestrator:
 
     Args:
         config: The checked configuration.
-        inputs: What the checks found (the tree's spec, the runner's parameters, zones).
+        inputs: What the checks found (the tree's spec, the runner's parameters, the apps' places).
         out: Where progress goes (stdout by default).
     """
 
@@ -216,7 +216,7 @@ class Orchestrator:
 
     def child_specs(self) -> list[ChildSpec]:
         """The processes to start, in order."""
-        return child_specs(self.config, self.report_dir, self.inputs.zones,
+        return child_specs(self.config, self.report_dir, self.inputs.places,
                            apps=self.inputs.apps)
 
     def child(self, label: str) -> ChildProcess | None:

@@ -126,7 +126,7 @@ def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
 
 def _specs(config: RunConfig, tmp_path: Path, coordinator: bool = False) -> dict[str, list[str]]:
     inputs = check_config(config)
-    specs = child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
+    specs = child_specs(config, tmp_path, inputs.places, fleet=inputs.fleet,
                         coordinator=coordinator,
                         zone_order=inputs.runner_values["zone_order"], apps=inputs.apps)
     return {s.label: [s.module, *s.ros_args] for s in specs}

@@ -84,7 +84,7 @@ def test_the_launch_and_sar_tree_run_start_the_same_fleet(tmp_path: Path) -> Non
                        app_options={"--survivors": str(SURVIVORS)})
     inputs = check_config(config)
     run = []
-    for spec in child_specs(config, tmp_path, inputs.zones, fleet=inputs.fleet,
+    for spec in child_specs(config, tmp_path, inputs.places, fleet=inputs.fleet,
                             coordinator=inputs.coordinator,
                             zone_order=inputs.runner_values["zone_order"], apps=inputs.apps):
         namespace = spec.label.rpartition("/")[0]

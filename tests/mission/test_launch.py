@@ -287,7 +287,7 @@ def run_children(report_dir: Path, **options: object) -> list[tuple[str, dict]]:
     config = RunConfig(tree=str(TREE), params=str(MISSION), **options)
     inputs = check_config(config)
     return [(spec.executable, parameters(list(spec.ros_args)))
-            for spec in child_specs(config, report_dir, inputs.zones, apps=inputs.apps)]
+            for spec in child_specs(config, report_dir, inputs.places, apps=inputs.apps)]
 
 
 def assert_same_but(launch: list, run: list, *, run_only: dict[str, dict],

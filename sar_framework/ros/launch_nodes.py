@@ -1,6 +1,6 @@
 """What the launch files share: file arguments found in the package share, processes as Nodes.
 
-``launch/search_and_rescue.launch.py`` and ``launch/fleet.launch.py`` turn the process
+``launch/tree.launch.py`` and ``launch/fleet.launch.py`` turn the process
 descriptions of :mod:`sar_framework.mission.processes` and
 :mod:`sar_framework.mission.fleet_processes` into ``launch_ros`` ``Node`` actions here, so a
 process described once starts the same way from both (and from ``sar-tree run``).

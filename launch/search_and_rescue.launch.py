@@ -16,8 +16,9 @@ from __future__ import annotations
 import shlex
 from pathlib import Path
 
-from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription, OpaqueFunction
+from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription
 from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitution import Substitution
 from launch.substitutions import LaunchConfiguration
 from sar_plugins.sar.servers.params import REPORT_PARAMETERS
 
@@ -48,13 +49,20 @@ def app_params(context: LaunchContext) -> str:
     return shlex.join(entries)
 
 
-def include_tree_launch(context: LaunchContext) -> list:
-    """``tree.launch.py`` beside this file, with the app's parameters."""
-    source = PythonLaunchDescriptionSource(str(Path(__file__).with_name("tree.launch.py")))
-    return [IncludeLaunchDescription(source, launch_arguments=[
-        ("app_params", app_params(context))])]
+class AppParams(Substitution):
+    """:func:`app_params`, performed once the arguments are known."""
+
+    def perform(self, context: LaunchContext) -> str:
+        """The ``app_params`` text."""
+        return app_params(context)
+
+    def describe(self) -> str:
+        """How ``ros2 launch --print`` shows it."""
+        return "AppParams(survivors_file, report_file)"
 
 
 def generate_launch_description() -> LaunchDescription:
-    """The app's arguments, then ``tree.launch.py`` with them."""
-    return LaunchDescription([*ARGUMENTS, OpaqueFunction(function=include_tree_launch)])
+    """The app's arguments, then ``tree.launch.py`` (beside this file) with them."""
+    source = PythonLaunchDescriptionSource(str(Path(__file__).with_name("tree.launch.py")))
+    return LaunchDescription([*ARGUMENTS, IncludeLaunchDescription(
+        source, launch_arguments=[("app_params", AppParams())])])

@@ -19,8 +19,8 @@ Like ``sar-tree run``, every launch writes its run's files (the runner's status 
 the simulator's trace, the apps' processes' files) into a folder of its own: ``report_dir``,
 or by default a new ``$ROS_HOME/sar_runs/<UTC time>/``, and the report ``sar-tree run``
 writes beside them. A tree without an app needs no parameter file. ``app_params`` sets
-parameters of the apps' processes (``detect.survivors_file:=FILE``: the process labelled
-``detect``), as ``sar-tree run --detect-param`` does; an app's own launch file fills it
+parameters of the apps' processes (``LABEL.NAME:=VALUE``: NAME of the process labelled
+LABEL), as ``sar-tree run --LABEL-param`` does; an app's own launch file fills it
 (``search_and_rescue.launch.py``). Process output carries colour codes only when the
 launch's own output is a terminal.
 

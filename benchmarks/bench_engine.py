@@ -42,11 +42,11 @@ from pathlib import Path
 from typing import Any
 
 import py_trees
+from sar_plugins.sar.zone_manager import ZoneManager
 
 from sar_framework.engine.api import load_tree
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.engine.registry import Registry
-from sar_framework.mission.zone_manager import ZoneManager
 
 Status = py_trees.common.Status
 Behaviour = py_trees.behaviour.Behaviour

@@ -16,8 +16,7 @@ from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
     from rclpy.node import Node
-
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 COORDINATOR = "/zone_coordinator"
 

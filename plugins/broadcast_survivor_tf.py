@@ -5,13 +5,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 from sar_framework.leaves import RosLeaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
+
     from sar_framework.ros.static_tf import StaticBroadcaster
 
     from .detect_survivor import DetectSurvivor
@@ -108,6 +109,6 @@ class BroadcastSurvivorTF(RosLeaf):
         self._survivor_id = child
         message = (f"Broadcast static TF {self.parent_frame} -> {child} at "
                    f"({pose[0]:.2f}, {pose[1]:.2f}).")
-        self.events.emit(EventKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
+        self.events.emit(SarKind.SURVIVOR_BROADCAST, source=self, survivor_id=child,
                          message=message, position=pose)
         return self.latch(True, message)

@@ -1,6 +1,6 @@
 """ClaimZone: win the robot's next zone in the fleet's auction.
 
-The robot's side of the coordinator's protocol (:mod:`sar_framework.fleet.coordinator_node`):
+The robot's side of the coordinator's protocol (:mod:`sar_plugins.sar.fleet.coordinator_node`):
 ask for work, bid the robot's own Nav2 path cost for every zone each round announces, and
 take the zone once awarded. From ``setup()`` on, a wall timer publishes the robot's
 heartbeat on ``/zone_coordinator/heartbeat``, so the coordinator knows the robot is alive
@@ -21,7 +21,7 @@ from ._fleet import COORDINATOR_PARAM, robot_name
 from ._path_costs import PathCosts
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 #: Notices, awards and events a late subscriber still receives (the coordinator's depths).
 HISTORY_DEPTH = 100

@@ -5,13 +5,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 
 @leaf(
@@ -91,7 +91,7 @@ class DetectSurvivor(ServiceLeaf):
             message = f"{self._zone_id}: no survivor"
         said = (f"FOUND at ({self._pose[0]:.2f}, {self._pose[1]:.2f})" if self._pose
                 else "no survivor")
-        self.events.emit(EventKind.DETECTION, source=self, zone_id=self._zone_id or "",
+        self.events.emit(SarKind.DETECTION, source=self, zone_id=self._zone_id or "",
                          status="FOUND" if self._found else "NONE",
                          message=f"Detection request for {self._zone_id}: {said}",
                          position=self._pose)

@@ -11,7 +11,7 @@ from sar_framework.engine.plugin import leaf
 from ._logging_leaf import LoggingLeaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 
 @leaf(context=["zone_manager"])

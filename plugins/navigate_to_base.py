@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from sar_plugins.sar.events import SarKind
+
 from sar_framework.engine.plugin import leaf
-from sar_framework.events.event import EventKind
 
 from ._pose_target import NAVIGATION_PARAMS, NavigateToTarget, NavigationTarget
 
@@ -21,7 +22,7 @@ class NavigateToBase(NavigateToTarget):
 
     def reached(self, target: NavigationTarget) -> None:
         """Tell that the target was reached."""
-        self.events.emit(EventKind.BASE_REACHED, source=self, message=target.reached,
+        self.events.emit(SarKind.BASE_REACHED, source=self, message=target.reached,
                          position=(target.x, target.y))
 
     def target(self) -> NavigationTarget:

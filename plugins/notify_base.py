@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.engine.plugin import Param, leaf
-from sar_framework.events.event import EventKind
 from sar_framework.leaves import ServiceLeaf, service_timeout_params
 
 if TYPE_CHECKING:
@@ -118,10 +118,10 @@ class NotifyBase(ServiceLeaf):
             reason = str(getattr(response, "reason", ""))  # the server's word, if it gave one
             why = reason or "not acknowledged"
             self._failure = f"Report for {self._survivor_id} refused by base: {why}"
-            self.events.emit(EventKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
+            self.events.emit(SarKind.SURVIVOR_REFUSED, status="REFUSED", message=why,
                              **fields)
             return self.latch(False, f"report of {where} not acknowledged"
                                       + (f": {reason}" if reason else ""))
-        self.events.emit(EventKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
+        self.events.emit(SarKind.SURVIVOR_REPORTED, status="ACKNOWLEDGED",
                          message=f"Report received: {where}. Acknowledged.", **fields)
         return self.latch(True, f"Reported {where}: acknowledged.")

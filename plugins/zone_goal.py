@@ -26,7 +26,7 @@ from sar_framework.events.event import EventKind
 from ._logging_leaf import LoggingLeaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 
 def pose_stamped(x: float, y: float, yaw: float, frame_id: str, stamp: Any = None) -> Any:

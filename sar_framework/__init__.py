@@ -3,7 +3,7 @@
 The public Python API::
 
     from sar_framework import load_tree
-    tree = load_tree("trees/search_and_rescue.yaml", context={"zone_manager": zm})
+    tree = load_tree("my_tree.yaml", context=objects)  # the context objects its leaves need
     tree.root   # the py_trees root behaviour
     tree.spec   # the validated TreeSpec (for rendering)
 

@@ -10,9 +10,8 @@ report folder:
 - ``trace.jsonl``: the simulator's trace (robot poses, goal events, path length), if any.
 
 Every simulated time counts from one origin, the first tick (``sim_start_s``). Each app the
-tree uses adds its own keys (:attr:`sar_framework.app.App.report`; the search-and-rescue
-app: zones, base station, survivors). ``mission.png`` draws the occupancy map, the goals,
-blocked areas and the robot's path, and what the apps' keys show
+tree uses adds its own keys (:attr:`sar_framework.app.App.report`). ``mission.png`` draws
+the occupancy map, the goals, blocked areas and the robot's path, and what the apps' keys show
 (:mod:`sar_framework.report_map`). ``tree.svg`` is the tree coloured by each node's last
 status (:func:`sar_framework.engine.rendering.render.render_to_file`).
 """
@@ -88,33 +87,30 @@ def _merge(target: dict[str, Any], source: dict[str, Any]) -> None:
             target[key] = value
 
 
-def read_mission_layout(params_file: str | Path) -> tuple[list[dict[str, Any]], dict[str, Any]]:
-    """Read the planned zones and the base station from a ROS 2 parameter file.
+def read_ros_parameters(params_file: str | Path) -> dict[str, Any]:
+    """Every section's ``ros__parameters`` of a ROS 2 parameter file, merged (nested).
 
     Args:
-        params_file: The file (``/**: ros__parameters: {zone_order, zones, base_station}``).
+        params_file: The file.
 
     Returns:
-        ``(zones, base)``: zones as ``{id, x, y, yaw}`` in visiting order, base ``{x, y, yaw}``.
-        Missing pieces come back empty; the runner has already validated the file.
+        The values ({} when the file cannot be read; the runner has already validated it).
     """
     try:
         doc = yaml.safe_load(Path(params_file).read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError):
-        return [], {}
+        return {}
     params: dict[str, Any] = {}
     for section in (doc or {}).values() if isinstance(doc, dict) else ():
         if isinstance(section, dict) and isinstance(section.get("ros__parameters"), dict):
             _merge(params, section["ros__parameters"])
-    table = params.get("zones") if isinstance(params.get("zones"), dict) else {}
-    order = params.get("zone_order") or list(table)
-    zones = [{"id": z, **_numbers(table[z])} for z in order if isinstance(table.get(z), dict)]
-    base = params.get("base_station") if isinstance(params.get("base_station"), dict) else {}
-    return zones, _numbers(base)
+    return params
 
 
-def _numbers(pose: dict[str, Any]) -> dict[str, float]:
+def numbers(pose: Any) -> dict[str, float]:
     """The numeric entries of a pose mapping (a bad value is left out, never an error)."""
+    if not isinstance(pose, dict):
+        return {}
     return {k: float(v) for k, v in pose.items()
             if isinstance(v, (int, float)) and not isinstance(v, bool)}
 

@@ -6,8 +6,9 @@
   from ``config/mission_params.yaml`` when ``sar-tree run`` names no file;
 - processes: the detect and report servers, started before the runner; with several robots
   a detect server each, their homes, and the zone coordinator (:mod:`sar_plugins.sar.fleet`);
-- events: the zone and survivor kinds, and the status's current zone;
-- report: zones, base and survivors (a fleet's: who searched which zone, the auction).
+- events: the zone and survivor kinds (:mod:`.events`), and the status's current zone;
+- the report, ``mission.png``, the studio and ``sar-tree watch``: :mod:`.report`,
+  :mod:`.figure`, :mod:`.studio` (a fleet's: who searched which zone, the auction).
 """
 
 from __future__ import annotations
@@ -16,24 +17,32 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_plugins.sar.events import SAR_KINDS, SarKind
 from sar_plugins.sar.figure import mission_figure
 from sar_plugins.sar.fleet.processes import robot_parameters, spawn_around
 from sar_plugins.sar.fleet.report import fleet_figure, fleet_report
-from sar_plugins.sar.processes import OPTIONS, PROCESS_KINDS, RECORDED_TOPICS, server_processes
-from sar_plugins.sar.report import SAR_KINDS, mission_report, progress_line, summary_parts
+from sar_plugins.sar.params import MISSION_PARAMETERS, mission_problems, zone_positions
+from sar_plugins.sar.processes import (
+    OPTIONS,
+    PROCESS_KINDS,
+    RECORDED_TOPICS,
+    RUN_FILES,
+    replayed_reports,
+    server_processes,
+)
+from sar_plugins.sar.report import mission_report, progress_line, summary_parts
+from sar_plugins.sar.studio import MARKS, frame, layout, status_text
 
 from sar_framework.app import App, AppRun
 from sar_framework.app.app import checkout_file
 from sar_framework.events.event import EventKind
-from sar_framework.mission.params_check import mission_problems
-from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
 if TYPE_CHECKING:
     from rclpy.node import Node
+    from sar_plugins.sar.zone_manager import ZoneManager
 
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.mission.params_file import KeyLocation
-    from sar_framework.mission.zone_manager import ZoneManager
 
 PARAMS_FILE = "config/mission_params.yaml"
 """The mission parameter file when none is named (the checkout's when the folder has none)."""
@@ -61,7 +70,7 @@ def zone_of(zone_manager: ZoneManager) -> dict[str, Any] | None:
 
 def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> AppRun:
     """Read the zones from the runner's node: the ZoneManager, its events, its status."""
-    from sar_framework.mission.params import read_mission_params
+    from sar_plugins.sar.params import read_mission_params
 
     mission_file = locations.get("zone_order")
     source = mission_file.file if mission_file else source
@@ -73,7 +82,7 @@ def _start(node: Node, source: str, locations: Mapping[str, KeyLocation]) -> App
 
     def observe(emitter: EventEmitter) -> None:
         def zone_event(kind: EventKind, zone: dict[str, Any]) -> None:
-            said = (f"Reached {zone['id']}." if kind == EventKind.ZONE_REACHED
+            said = (f"Reached {zone['id']}." if kind == SarKind.ZONE_REACHED
                     else f"{zone['id']} not reached; the mission moves on.")
             position = (zone["x"], zone["y"]) if "x" in zone else None
             emitter.emit(kind, zone_id=zone["id"], message=said, position=position)
@@ -93,11 +102,18 @@ APP = App(
     processes=server_processes,
     process_kinds=PROCESS_KINDS,
     options=OPTIONS,
+    places=zone_positions,
     recorded_topics=RECORDED_TOPICS,
+    run_files=RUN_FILES,
+    replayed=replayed_reports,
     event_kinds={kind.value: kind.name.lower().replace("_", " ") for kind in SAR_KINDS},
     progress=progress_line,
     summary=summary_parts,
     report=mission_report,
+    layout=layout,
+    marks=MARKS,
+    frame=frame,
+    status_text=status_text,
     figure=mission_figure,
     robot_parameters=robot_parameters,
     spawn_around=spawn_around,

@@ -1,7 +1,7 @@
 """The search-and-rescue app's part of the report: zones, base station and survivors.
 
 Added to ``mission.json`` by :func:`mission_report` (the app's ``report`` hook), from the
-mission parameter file (:func:`~sar_framework.report.read_mission_layout`), the runner's
+mission parameter file (:func:`mission_layout`), the runner's
 events and the report server's ``reports.jsonl``. Simulated times count from the mission's
 one origin, its first tick (``sim_start_s``), as every figure of the report does.
 """
@@ -14,21 +14,37 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sar_framework.events.event import EventKind, MissionEvent
+from sar_plugins.sar.events import SAR_KINDS, SarKind
+
+from sar_framework.events.event import MissionEvent
 from sar_framework.events.jsonl import read_json_lines
 
 AT_BASE_M = 0.5
 """A robot ending this close to the base station (metres) is at base."""
-SAR_KINDS = frozenset({EventKind.ZONE_REACHED, EventKind.ZONE_UNREACHED,
-                       EventKind.BASE_REACHED, EventKind.DETECTION,
-                       EventKind.SURVIVOR_BROADCAST, EventKind.SURVIVOR_REPORTED,
-                       EventKind.SURVIVOR_REFUSED})
-"""The app's event kinds."""
 
 
 def _natural_key(text: str) -> tuple[str, int]:
     match = re.match(r"^(.*?)(\d+)$", text)
     return (match.group(1), int(match.group(2))) if match else (text, 0)
+
+
+def mission_layout(params_file: str | Path) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Read the planned zones and the base station from a ROS 2 parameter file.
+
+    Args:
+        params_file: The file (``/**: ros__parameters: {zone_order, zones, base_station}``).
+
+    Returns:
+        ``(zones, base)``: zones as ``{id, x, y, yaw}`` in visiting order, base ``{x, y, yaw}``.
+        Missing pieces come back empty; the runner has already validated the file.
+    """
+    from sar_framework.report import numbers, read_ros_parameters
+
+    params = read_ros_parameters(params_file)
+    table = params.get("zones") if isinstance(params.get("zones"), dict) else {}
+    order = params.get("zone_order") or list(table)
+    zones = [{"id": z, **numbers(table[z])} for z in order if isinstance(table.get(z), dict)]
+    return zones, numbers(params.get("base_station"))
 
 
 def survivors(report_dir: Path, events: Sequence[MissionEvent],
@@ -50,15 +66,15 @@ def survivors(report_dir: Path, events: Sequence[MissionEvent],
             "acknowledged": False})
 
     for event in events:
-        if event.kind == EventKind.SURVIVOR_BROADCAST:
+        if event.kind == SarKind.SURVIVOR_BROADCAST:
             survivor = entry(event)
             if survivor["found_sim_s"] is None:
                 survivor["found_sim_s"] = since_start(event.sim_s)
-        elif event.kind == EventKind.SURVIVOR_REPORTED:
+        elif event.kind == SarKind.SURVIVOR_REPORTED:
             survivor = entry(event)
             survivor.pop("refused", None)
             survivor["acknowledged"] = True
-        elif event.kind == EventKind.SURVIVOR_REFUSED:
+        elif event.kind == SarKind.SURVIVOR_REFUSED:
             survivor = entry(event)
             if not survivor["acknowledged"]:
                 survivor["refused"] = event.message
@@ -83,9 +99,9 @@ def mission_report(inputs: Any, events: Sequence[MissionEvent],
     Returns:
         The keys to add ({} when the run has no zones and no event of the app).
     """
-    from sar_framework.report import read_mission_layout, since_start
+    from sar_framework.report import since_start
 
-    zones, base = read_mission_layout(inputs.params_file) if inputs.params_file else ([], {})
+    zones, base = mission_layout(inputs.params_file) if inputs.params_file else ([], {})
     base = dict(inputs.base) if inputs.base is not None else base
     if not zones and not any(e.kind in SAR_KINDS for e in events):
         return {}
@@ -94,11 +110,11 @@ def mission_report(inputs: Any, events: Sequence[MissionEvent],
     base_reached: dict[str, Any] | None = None
     planned = {z["id"]: z for z in zones}
     for event in events:
-        if event.kind not in (EventKind.ZONE_REACHED, EventKind.BASE_REACHED):
+        if event.kind not in (SarKind.ZONE_REACHED, SarKind.BASE_REACHED):
             continue
         times = {"arrival_sim_s": since_start(event.sim_s, origin),
                  "arrival_wall_s": event.wall_s}
-        if event.kind == EventKind.BASE_REACHED:
+        if event.kind == SarKind.BASE_REACHED:
             base_reached = {**base, **times}
         else:
             zone_id = event.value("zone_id")
@@ -122,7 +138,7 @@ def progress_line(event: MissionEvent) -> str | None:
     """The console line of one of the app's events (``sar-tree run``), or None."""
     if event.kind not in SAR_KINDS:
         return None
-    if event.kind == EventKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
+    if event.kind == SarKind.SURVIVOR_REFUSED:  # its message is the base's reason alone
         return f"Report for {event.value('survivor_id')} refused by base: {event.message}"
     return event.message
 

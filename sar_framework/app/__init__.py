@@ -6,7 +6,7 @@ report. A tree uses an app when one of its leaves needs a context object the app
 (:func:`~.discovery.apps_for`); a tree that uses none runs on the core alone.
 """
 
-from sar_framework.app.app import App, AppOption, AppProcess, AppRun
+from sar_framework.app.app import App, AppOption, AppProcess, AppRun, ServiceCall
 from sar_framework.app.discovery import (
     ENTRY_POINT_GROUP,
     AppError,
@@ -17,4 +17,4 @@ from sar_framework.app.discovery import (
 )
 
 __all__ = ["ENTRY_POINT_GROUP", "App", "AppError", "AppOption", "AppProcess", "AppRun",
-           "apps_for", "discover_apps", "installed_apps", "tree_apps"]
+           "ServiceCall", "apps_for", "discover_apps", "installed_apps", "tree_apps"]

@@ -21,6 +21,21 @@ if TYPE_CHECKING:
     from sar_framework.mission.processes import MissionSettings, ParamValue, Process, Robot
 
 
+@dataclass(frozen=True)
+class ServiceCall:
+    """One call of a service, as a recording holds it (its request and its answer).
+
+    Attributes:
+        request: The request message.
+        response: The answer message.
+        stamp_s: When the server answered (its clock, seconds).
+    """
+
+    request: Any
+    response: Any
+    stamp_s: float
+
+
 @dataclass
 class AppRun:
     """What an app gives the runner once its parameters are read.
@@ -100,14 +115,30 @@ class App:
         process_kinds: What the core's command line, checks and docs know of those processes
             (their labels, parameter tables, flags).
         options: ``sar-tree run`` options that set a parameter of one of them to a file.
+        places: Its named places in the run's parameters, name -> ``(x, y)`` in the map
+            frame (the simulator's area faults may name them).
         recorded_topics: ``(topic, type)`` pairs a recording keeps beside the core's (its
             services' ``_service_event`` topics).
+        run_files: The files its processes write in the run's folder (``reports.jsonl``):
+            removed before a run, rebuilt by a replay.
+        replayed: Rebuilds those files from a recording: ``replayed(calls, folder)``, with
+            ``calls`` each recorded service's :class:`ServiceCall` list by its
+            ``_service_event`` topic.
         event_kinds: Its event kinds, each with what it means.
         progress: One progress line for one of its events, or None (``sar-tree run``).
         summary: Its words in ``sar-tree run``'s summary line, from ``mission.json``
             (an app's words replace the core's list of goals).
         report: Its keys of ``mission.json``: ``report(inputs, events, document) -> dict``
             ({} when the run has nothing of the app).
+        layout: Its places and base in a parameter file, as the studio draws them:
+            ``layout(params_file) -> {"places": [{"id", "x", "y"}...], "base": {"x", "y"}}``
+            (places in the order the mission takes them).
+        marks: Its event kinds that mark the studio's timeline, and the mark: ``reached``
+            (a place), ``found`` (something found) or ``failure``.
+        frame: Its keys of a studio frame, from the events so far: ``reached`` (the ids of
+            the places reached) and ``found`` (``[{"id", "position"}]``).
+        status_text: Its words in a status line (``sar-tree watch``, the studio's header),
+            from a tree status document ("" when it has none).
         figure: Draws its part of ``mission.png``: ``figure(canvas, document)`` returns a
             :class:`~sar_framework.report_map.MapLayer` (its title, legend and lines), or
             None when ``mission.json`` has nothing of it.
@@ -135,12 +166,19 @@ class App:
     processes: Callable[[MissionSettings], list[Process]] | None = None
     process_kinds: tuple[AppProcess, ...] = ()
     options: tuple[AppOption, ...] = ()
+    places: Callable[[Mapping[str, Any]], dict[str, tuple[float, float]]] | None = None
     recorded_topics: tuple[tuple[str, str], ...] = ()
+    run_files: tuple[str, ...] = ()
+    replayed: Callable[[Mapping[str, Sequence[ServiceCall]], Path], None] | None = None
     event_kinds: Mapping[str, str] = field(default_factory=dict)
     progress: Callable[[MissionEvent], str | None] | None = None
     summary: Callable[[Mapping[str, Any]], list[str]] | None = None
     report: Callable[[Any, Sequence[MissionEvent], dict[str, Any]],
                      dict[str, Any]] | None = None
+    layout: Callable[[str], dict[str, Any]] | None = None
+    marks: Mapping[str, str] = field(default_factory=dict)
+    frame: Callable[[Sequence[MissionEvent]], dict[str, Any]] | None = None
+    status_text: Callable[[Mapping[str, Any]], str] | None = None
     figure: Callable[[Any, dict[str, Any]], Any] | None = None
     robot_parameters: Callable[[MissionSettings, Robot, int],
                                Mapping[str, ParamValue]] | None = None

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import importlib.metadata
 import sys
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from sar_framework.app.app import App
 
@@ -64,6 +64,11 @@ def installed_apps() -> list[App]:
         return discover_apps()
     except AppError:
         return []
+
+
+def apps_status_text(document: Mapping[str, Any]) -> list[str]:
+    """The installed apps' words about a tree status document (:attr:`App.status_text`)."""
+    return [app.status_text(document) for app in installed_apps() if app.status_text]
 
 
 def _module_apps(modules: Iterable[str]) -> list[App]:

@@ -45,7 +45,10 @@ def in_namespace(relative: str, namespace: str = "") -> str:
 
 
 class EventKind(str, enum.Enum):
-    """What an event says happened (the ``KIND_*`` constants of the message)."""
+    """What an event says happened: the core's kinds (the ``KIND_*`` constants of the message).
+
+    An app's kinds are its own (a ``str`` enum of lower-case names, or plain names).
+    """
 
     STARTED = "started"
     STATUS = "status"
@@ -57,13 +60,6 @@ class EventKind(str, enum.Enum):
     NAVIGATION = "navigation"
     GOAL_REACHED = "goal_reached"
     GOAL_FAILED = "goal_failed"
-    ZONE_REACHED = "zone_reached"
-    ZONE_UNREACHED = "zone_unreached"
-    BASE_REACHED = "base_reached"
-    DETECTION = "detection"
-    SURVIVOR_BROADCAST = "survivor_broadcast"
-    SURVIVOR_REPORTED = "survivor_reported"
-    SURVIVOR_REFUSED = "survivor_refused"
     NOTE = "note"
     COMPLETION = "completion"
     VERDICT = "verdict"

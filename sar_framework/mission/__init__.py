@@ -1,5 +1,1 @@
-"""The search-and-rescue mission in plain Python (no ROS): its state, parameters, processes."""
-
-from sar_framework.mission.zone_manager import ZoneManager
-
-__all__ = ["ZoneManager"]
+"""A mission's parts above the engine in plain Python (no ROS): its parameters, processes, end."""

@@ -15,7 +15,7 @@ With ``end``, ``once`` and ``rest`` the tree is never ticked again once the miss
 complete, so a finished mission cannot start over. "The final path" follows the last child
 of every composite and the child of every decorator from the root. The reference tree's
 root is a reactive selector whose last child is the ``one_shot`` around ``NavigateToBase``:
-its root succeeds after *every* zone (the patrol's branch), and the mission ends only when
+its root succeeds after *every* visit (the patrol's branch), and the mission ends only when
 the one_shot has latched. A memory sequence [time budget around a repeat, then a one_shot
 home] ends when the one_shot home latches; it is never ticked again after that, so the
 robot is not sent off on a second patrol. ``end`` never needs another tick (with its side

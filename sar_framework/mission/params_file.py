@@ -11,7 +11,7 @@ values and where each key is set; :func:`check_params_file` raises the first::
     try:
         keys = check_params_file("config/mission_params.yaml")
     except ParamsError as err:
-        print(err)   # config/mission_params.yaml:3:17: zone_order: empty list (...)
+        print(err)   # config/mission_params.yaml:3:17: tick_rate_hz: must be > 0 (...)
 
 It checks what rcl needs: a mapping of node names (optionally nested in namespaces)
 down to ``ros__parameters``; under it, nested mappings of scalars or non-empty lists of
@@ -250,7 +250,7 @@ def check_params_file(path: str | Path) -> dict[str, KeyLocation]:
         path: The file, as the user named it (messages use it as given).
 
     Returns:
-        Dotted parameter name (``zones.zone_a.x``) -> its location. When several node
+        Dotted parameter name (``initial_pose.x``) -> its location. When several node
         sections set a name, the last one wins (as for overrides).
 
     Raises:

@@ -1,6 +1,6 @@
 """The mission's processes: which programs start, in which order, with which parameters.
 
-The one description both ``sar-tree run`` and ``launch/search_and_rescue.launch.py`` start
+The one description both ``sar-tree run`` and ``launch/tree.launch.py`` start
 from (no ROS imported here). Each caller fills a :class:`MissionSettings` from its own
 options, :func:`mission_processes` turns it into :class:`Process` descriptions, and the
 caller only translates those: ``sar-tree run`` into ``--ros-args`` command lines for its

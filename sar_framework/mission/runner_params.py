@@ -1,14 +1,14 @@
-"""The tree runner's parameters (``sar_mission_runner``): its own, and the mission's, once.
+"""The tree runner's parameters (``sar_mission_runner``): its own, once (an app's are the app's).
 
 No ROS here: :data:`RUNNER_PARAMETERS` is read by the runner
-(:mod:`sar_framework.runner.settings`, :mod:`.params`), by ``sar-tree run``'s
+(:mod:`sar_framework.runner.settings`), by ``sar-tree run``'s
 checks of the parameter file and of ``--runner-param``, and by the documentation
 (docs/reference/parameters.md, checked by a test).
 """
 
 from __future__ import annotations
 
-from sar_framework.engine.param import REQUIRED, Param
+from sar_framework.engine.param import Param
 from sar_framework.mission.completion import COMPLETION_MODES, DEFAULT_COMPLETION
 from sar_framework.mission.params_check import USE_SIM_TIME
 
@@ -16,7 +16,8 @@ DEFAULT_TREE = "trees/search_and_rescue.yaml"
 """The tree file when none is named (the checkout's copy when the working folder has none)."""
 
 
-def _pose(prefix: str, what: str, default: object) -> tuple[Param, ...]:
+def pose_params(prefix: str, what: str, default: object) -> tuple[Param, ...]:
+    """``PREFIX.x``, ``PREFIX.y`` and ``PREFIX.yaw``: a pose in the map frame, as parameters."""
     return (Param(f"{prefix}.x", float, default, f"{what}: x (map frame)", unit="m"),
             Param(f"{prefix}.y", float, default, f"{what}: y (map frame)", unit="m"),
             Param(f"{prefix}.yaw", float, default, f"{what}: heading", unit="rad"))
@@ -24,13 +25,6 @@ def _pose(prefix: str, what: str, default: object) -> tuple[Param, ...]:
 
 TICK_RATE_HZ = Param("tick_rate_hz", float, 2.0, "tree ticks per second (ROS time)",
                      exclusive_minimum=0.0, unit="Hz")
-
-MISSION_PARAMETERS: tuple[Param, ...] = (
-    Param("zone_order", list[str], REQUIRED, "the zone ids to visit, in order"),
-    *_pose("zones.*", "a zone", REQUIRED),
-    *_pose("base_station", "base station", 0.0),
-)
-"""The search-and-rescue app's parameters, read by the runner for a tree that uses it."""
 
 RUNNER_PARAMETERS: tuple[Param, ...] = (
     TICK_RATE_HZ,
@@ -58,7 +52,7 @@ RUNNER_PARAMETERS: tuple[Param, ...] = (
     Param("sim_timeout_s", float, 0.0, "stop the tree and exit 4 once it has ticked this "
           "long on its ROS clock (/clock time with use_sim_time; 0 = no bound; "
           "sar-tree run --sim-timeout)", minimum=0.0, unit="s"),
-    *_pose("initial_pose", "AMCL seed (spawn pose)", 0.0),
+    *pose_params("initial_pose", "AMCL seed (spawn pose)", 0.0),
     USE_SIM_TIME,
 )
 """The runner's own parameters (an app's are its own: :attr:`~sar_framework.app.App.parameters`)."""

@@ -54,7 +54,7 @@ def check_config(config: RunConfig) -> CheckedInputs:
 
     Returns:
         What the checks found (the tree's spec, its apps, the runner's parameters, the
-        zones); ``config.params`` is set to the parameter file used ("" for none).
+        places); ``config.params`` is set to the parameter file used ("" for none).
 
     Raises:
         RunUsageError: One problem or more; the message holds every one, a line each.
@@ -66,32 +66,32 @@ def check_config(config: RunConfig) -> CheckedInputs:
     return inputs
 
 
-def blocked_zone_entry(entry: str, zones: dict[str, tuple[float, float]]) -> str:
-    """A ``blocked_areas`` entry with a mission zone name replaced by ``x:y:radius``.
+def blocked_area_entry(entry: str, places: dict[str, tuple[float, float]]) -> str:
+    """A ``blocked_areas`` entry with an app's place name replaced by ``x:y:radius``.
 
     Args:
-        entry: ``zone_b``, ``zone_b:0.8``, a world marker name or ``x:y:radius``.
-        zones: Mission zone id -> ``(x, y)``.
+        entry: a place (``shelf_nw``, ``shelf_nw:0.8``), a world marker name or ``x:y:radius``.
+        places: The apps' place name -> ``(x, y)``.
     """
     from sar_framework.sim.params import DEFAULT_NAMED_RADIUS
 
     name, _, radius = entry.strip().partition(":")
-    if name not in zones:
+    if name not in places:
         return entry
-    x, y = zones[name]
+    x, y = places[name]
     return f"{x:g}:{y:g}:{radius or f'{DEFAULT_NAMED_RADIUS:g}'}"
 
 
 def entry_values(entries: Sequence[str],
-                 zones: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
+                 places: dict[str, tuple[float, float]] | None = None) -> dict[str, ParamValue]:
     """``NAME:=VALUE`` entries as typed values, read as rcl reads them (the last one wins).
 
-    Mission zone names in a ``blocked_areas`` or ``phantom_obstacles`` list become
-    ``x:y:radius`` (the simulator knows its world's markers, not the mission's zones).
+    The apps' place names in a ``blocked_areas`` or ``phantom_obstacles`` list become
+    ``x:y:radius`` (the simulator knows the map, not the apps' places).
 
     Args:
         entries: ``--sim-param`` (or ``--detect-param``...) entries, already checked.
-        zones: Mission zone id -> ``(x, y)``.
+        places: The apps' place name -> ``(x, y)``.
     """
     values: dict[str, ParamValue] = {}
     for entry in entries:
@@ -100,7 +100,7 @@ def entry_values(entries: Sequence[str],
             continue  # check_config reported it; nothing starts with it
         name, value = parsed
         if name in ("blocked_areas", "phantom_obstacles") and isinstance(value, list):
-            value = [blocked_zone_entry(str(e), zones or {}) for e in value]
+            value = [blocked_area_entry(str(e), places or {}) for e in value]
         values[name] = value
     return values
 
@@ -133,7 +133,7 @@ def ros_environment(base: dict[str, str] | None = None, *,
 
 
 def mission_settings(config: RunConfig, report_dir: Path,
-                     zones: dict[str, tuple[float, float]] | None = None,
+                     places: dict[str, tuple[float, float]] | None = None,
                      apps: Sequence[App] = (), *, robots: Sequence[Robot] = ONE_ROBOT,
                      node_kinds: frozenset[str] = frozenset()) -> MissionSettings:
     """What the mission starts, from ``sar-tree run``'s options.
@@ -145,8 +145,8 @@ def mission_settings(config: RunConfig, report_dir: Path,
     Args:
         config: The configuration.
         report_dir: The report folder.
-        zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
-        apps: The tree's apps (their options, ``--survivors``, set their processes' files).
+        places: The apps' place name -> ``(x, y)`` (``blocked_areas`` may name them).
+        apps: The tree's apps (their file options set their processes' files).
         robots: The robots (named ones read the fleet file, ``--fleet``'s or the folder's).
         node_kinds: The tree's node kinds.
     """
@@ -162,7 +162,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
         exit_on_completion=not config.keep_alive, watch_tree=config.reload,
         status_file=str(report_dir / "status.json"),
         plugin_paths=tuple(config.plugin_paths), record=config.record or "",
-        extra={**extra, "sim": entry_values(config.sim_entries, zones),
+        extra={**extra, "sim": entry_values(config.sim_entries, places),
                "runner": {**({} if config.sim_timeout_s is None
                              else {"sim_timeout_s": config.sim_timeout_s}),
                           **({"set": list(config.sets)} if config.sets else {}),
@@ -172,7 +172,7 @@ def mission_settings(config: RunConfig, report_dir: Path,
 
 
 def child_specs(config: RunConfig, report_dir: Path,
-                zones: dict[str, tuple[float, float]] | None = None, *,
+                places: dict[str, tuple[float, float]] | None = None, *,
                 apps: Sequence[App] = (), robots: Sequence[Robot] = ONE_ROBOT,
                 node_kinds: frozenset[str] = frozenset()) -> list[ChildSpec]:
     """The processes of a mission, in start order (the runners last), as command lines.
@@ -181,7 +181,7 @@ def child_specs(config: RunConfig, report_dir: Path,
         config: The configuration.
         report_dir: The report folder (status, trace and report files go there; a named
             robot's into ``report_dir/<name>/``).
-        zones: Mission zone id -> ``(x, y)`` (``blocked_areas`` may name them).
+        places: The apps' place name -> ``(x, y)`` (``blocked_areas`` may name them).
         apps: The tree's apps (their processes start before the runners).
         robots: The robots.
         node_kinds: The tree's node kinds (which of the apps' processes start).
@@ -190,7 +190,7 @@ def child_specs(config: RunConfig, report_dir: Path,
         One spec per child process (:func:`~sar_framework.mission.processes.mission_processes`
         of :func:`mission_settings`), labelled ``robot1/runner`` in a namespace.
     """
-    settings = mission_settings(config, report_dir, zones, apps, robots=robots,
+    settings = mission_settings(config, report_dir, places, apps, robots=robots,
                                 node_kinds=node_kinds)
     return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)
             for p in mission_processes(settings, apps)]

@@ -4,11 +4,11 @@ Checked: the files exist; ``--speed`` (the simulator's ``speed`` rule), ``--time
 ``--sim-timeout``; the tree (every diagnostic) and the apps it uses
 (:mod:`sar_framework.app`); the mission parameter file, the apps' default when none is named
 (rcl's structure, then each key's name, type and value against the runner's table and its
-apps', then each app's own checks); the apps' file options (``--survivors``: the file
+apps', then each app's own checks); the apps' file options (a file option: the file
 exists, the app's check of it); and each ``--sim-param``/``--runner-param`` and app
 process's ``--LABEL-param NAME:=VALUE`` (known name, did-you-mean, type and range, from each
-node's table, :func:`node_parameters`; ``blocked_areas`` entries parsed, with the mission's
-zone names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
+node's table, :func:`node_parameters`; ``blocked_areas`` entries parsed, with the apps' place
+names accepted). Problems are GCC style, one a line (``file:line:col: key: problem`` where a
 position is known).
 
 No ROS is imported here: the tables live in ROS-free modules, so a bad input is reported
@@ -27,7 +27,7 @@ import yaml
 
 from sar_framework.app import App, AppError, AppOption, apps_for, discover_apps, installed_apps
 from sar_framework.engine.param import Param
-from sar_framework.mission.params_check import check_values, zone_positions
+from sar_framework.mission.params_check import check_values
 from sar_framework.mission.processes import ONE_ROBOT, Robot
 from sar_framework.mission.runner_params import RUNNER_PARAMETERS
 from sar_framework.orchestrate.robots import robot_problems
@@ -81,7 +81,7 @@ class CheckedInputs:
     Attributes:
         spec: The tree's ``TreeSpec``.
         runner_values: The runner's parameters: the file's, then ``--runner-param``.
-        zones: Mission zone id -> ``(x, y)``.
+        places: The apps' place name -> ``(x, y)``.
         blocked_areas: The ``blocked_areas`` fault as ``(x, y, radius)`` circles, metres.
         robots: The robots (``--robots``/``--fleet`` name them; one unnamed by default).
         apps: The apps the tree uses.
@@ -92,7 +92,7 @@ class CheckedInputs:
 
     spec: Any
     runner_values: dict[str, Any]
-    zones: dict[str, tuple[float, float]]
+    places: dict[str, tuple[float, float]]
     blocked_areas: tuple[tuple[float, float, float], ...] = ()
     robots: tuple[Robot, ...] = ONE_ROBOT
     apps: tuple[App, ...] = ()
@@ -108,7 +108,7 @@ def params_file(config: RunConfig, apps: Sequence[App]) -> str:
 
 
 def app_options(config: RunConfig, apps: Sequence[App]) -> list[tuple[AppOption, str]]:
-    """The apps' file options given (``--survivors FILE``), each with its file.
+    """The apps' file options given (``--table FILE``), each with its file.
 
     The installed apps' options count beside ``apps``: an option of an app the tree does
     not use is still checked.
@@ -148,10 +148,10 @@ def _entries(config: RunConfig, who: str, problems: list[str]) -> dict[str, Any]
     return values
 
 
-def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]],
+def _blocked_areas(values: dict[str, Any], places: dict[str, tuple[float, float]],
                    problems: list[str], name: str = "blocked_areas"
                    ) -> tuple[tuple[float, float, float], ...]:
-    """The circles of a zone-list fault (``blocked_areas``, ``phantom_obstacles``)."""
+    """The circles of an area-list fault (``blocked_areas``, ``phantom_obstacles``)."""
     from sar_framework.sim.faults import FaultConfigError, parse_circle
 
     entries = values.get(name)
@@ -162,11 +162,11 @@ def _blocked_areas(values: dict[str, Any], zones: dict[str, tuple[float, float]]
         if not str(entry).strip():
             continue  # [''] means none (a ROS list cannot be empty)
         try:
-            zone = parse_circle(str(entry), zones, name)
+            area = parse_circle(str(entry), places, name)
         except FaultConfigError as err:
             problems.append(f"--sim-param {err}")
         else:
-            areas.append((zone.x, zone.y, zone.radius))
+            areas.append((area.x, area.y, area.radius))
     return tuple(areas)
 
 
@@ -249,9 +249,10 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     elif apps:
         problems += [str(p) for app in apps if app.check is not None
                      for p in app.check(values, {}, "--runner-param")]
-    zones = zone_positions(values)
-    blocked = _blocked_areas(overrides["sim"], zones, problems)
-    _blocked_areas(overrides["sim"], zones, problems, "phantom_obstacles")  # checked only
+    places = {name: xy for app in apps if app.places is not None
+             for name, xy in app.places(values).items()}
+    blocked = _blocked_areas(overrides["sim"], places, problems)
+    _blocked_areas(overrides["sim"], places, problems, "phantom_obstacles")  # checked only
     for option, path in app_options(config, apps):
         problem = (option.check(path) if option.check is not None and Path(path).is_file()
                    else None)
@@ -261,5 +262,5 @@ def check_inputs(config: RunConfig) -> tuple[CheckedInputs | None, list[str]]:
     problems += robot_issues
     if problems or spec is None:
         return None, problems
-    return CheckedInputs(spec, values, zones, blocked, robots, tuple(apps), file,
+    return CheckedInputs(spec, values, places, blocked, robots, tuple(apps), file,
                          frozenset(node.kind for node in spec.nodes())), problems

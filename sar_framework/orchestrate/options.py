@@ -42,7 +42,7 @@ class RunConfig:
         runner_params: Extra ``NAME:=VALUE`` for the runner.
         app_params: An app's process label -> extra ``NAME:=VALUE`` for it
             (``--detect-param``).
-        app_options: An app's file options given, by flag (``--survivors`` -> its file).
+        app_options: An app's file options given, by flag (``--table`` -> its file).
         disabled: Labels of the apps' processes not to start (``--no-detect-server``).
         plugin_paths: Extra plugin locations for the runner.
         record: The MCAP file to record the mission into, or None.

@@ -62,7 +62,7 @@ class Orchestrator:
 
     Args:
         config: The checked configuration.
-        inputs: What the checks found (the tree's spec, the runner's parameters, zones).
+        inputs: What the checks found (the tree's spec, the runner's parameters, the apps' places).
         out: Where progress goes (stdout by default).
     """
 
@@ -187,9 +187,11 @@ class Orchestrator:
         The fleet file is the one ``--robots N`` asks for (named robots only).
         """
         self.report_dir.mkdir(parents=True, exist_ok=True)
-        for name in ("status.json", EVENTS_FILE, "trace.jsonl", "reports.jsonl", "mission.json",
-                     "mission.png", "tree.svg", "sim.log", "detect.log", "report.log",
-                     "runner.log", *RUN_FILES):
+        apps = self.inputs.apps
+        for name in ("status.json", EVENTS_FILE, "trace.jsonl", "mission.json", "mission.png",
+                     "tree.svg", "sim.log", "runner.log", *RUN_FILES,
+                     *(name for app in apps for name in app.run_files),
+                     *(f"{kind.label}.log" for app in apps for kind in app.process_kinds)):
             (self.report_dir / name).unlink(missing_ok=True)
         for robot in self.robots if self.named else ():
             self.robot_dir(robot).mkdir(exist_ok=True)
@@ -231,7 +233,7 @@ class Orchestrator:
 
     def child_specs(self) -> list[ChildSpec]:
         """The processes to start, in order."""
-        return child_specs(self.config, self.report_dir, self.inputs.zones,
+        return child_specs(self.config, self.report_dir, self.inputs.places,
                            apps=self.inputs.apps, robots=self.inputs.robots,
                            node_kinds=self.inputs.node_kinds)
 

@@ -27,14 +27,14 @@ module without ROS, as `sar_framework.engine.param.Param` entries (the type leaf
 declared with too), and read by the node's ROS declarations (descriptors with ranges:
 `ros2 param describe`), by `sar-tree run`'s checks of the parameter file and of `--sim-param`,
 `--detect-param`, `--report-param`, `--runner-param`, by the launch file's defaults, by
-`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (a zone id).
+`sar-tree faults` and `sar-sim --help`. `*` in a name stands for one segment (an id).
 A number accepts an integer (`speed:=20`).
 """
 
 _TITLES = {
     "runner": ("the tree runner", "sar_framework/mission/runner_params.py",
-               "the mission parameter file (zones, base station, tick rate) and the runner's "
-               "own settings"),
+               "its own settings, with the installed apps' parameters (read for a tree that "
+               "uses the app)"),
     "sim": ("the embedded simulator", "sar_framework/sim/params.py",
             "`sar-tree run --speed` and the launch's `speed` set `speed`"),
     "recorder": ("the recorder", "sar_framework/recording/params.py",

@@ -42,11 +42,11 @@ def schema_name(type_name: str) -> str:
     """The name a ROS type is stored under in a recording (see the module docstring).
 
     Args:
-        type_name: A full ROS type name, e.g. ``sar_interfaces/srv/ReportSurvivor_Event``.
+        type_name: A full ROS type name, e.g. ``std_srvs/srv/Trigger_Event``.
 
     Returns:
         ``type_name`` itself for a plain message, else the wrapper's ``pkg/msg/`` name
-        without its underscore (``sar_interfaces/msg/ReportSurvivorEvent``).
+        without its underscore (``std_srvs/msg/TriggerEvent``).
     """
     package, kind, name = type_name.split("/")
     base, _, suffix = name.rpartition("_")

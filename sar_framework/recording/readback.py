@@ -3,12 +3,12 @@
 :func:`read_recording` decodes a recording (the ``mcap`` reader, and rclpy's own CDR
 deserialiser with the installed message classes) into a :class:`Recording`: the tree's
 status per tick, the runner's events, the robot's poses in ``map``, the navigation goals,
-the report service's answers, the map the robot drove on (``/map``), and the tree and
-parameter files attached to it.
-:func:`write_report_inputs` turns it into the files :mod:`sar_framework.report` reads
-(``events.jsonl``, ``status.json``, ``trace.jsonl``, ``reports.jsonl``, and the map as
-``map.pgm`` and ``map.yaml`` named by the trace), so a replayed report is drawn by the same
-code as a live one, on the same map.
+the map the robot drove on (``/map``), every service's calls (from its ``_service_event``
+topic), and the tree and parameter files attached to it. :func:`write_report_inputs` turns it
+into the files :mod:`sar_framework.report` reads (``events.jsonl``, ``status.json``,
+``trace.jsonl``, the map as ``map.pgm`` and ``map.yaml`` named by the trace, and the apps'
+files from their services' calls: :attr:`~sar_framework.app.App.replayed`), so a replayed
+report is drawn by the same code as a live one, on the same map.
 """
 
 from __future__ import annotations
@@ -16,10 +16,13 @@ from __future__ import annotations
 import json
 import math
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from sar_framework.app.app import ServiceCall
+from sar_framework.app.discovery import installed_apps
 from sar_framework.events.event import EVENT_TOPIC, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
 from sar_framework.recording.bag_writer import ROS_TYPE_KEY
@@ -28,15 +31,19 @@ from sar_framework.runner.entry_values import apply_entries
 from sar_framework.runner.tree_status import STATUS_TOPIC, StatusFormatError, decode_status
 from sar_framework.sim.occupancy import OccupancyGrid
 
+if TYPE_CHECKING:
+    from sar_framework.app import App
+
 GOAL_STATUS_TOPIC = "/navigate_to_pose/_action/status"
 MAP_TOPIC = "/map"
-REPORT_EVENTS_TOPIC = "/report_survivor/_service_event"
+SERVICE_EVENTS_SUFFIX = "/_service_event"
+"""A service's introspection topic ends so (``/detect/_service_event``)."""
 GLOBAL_FRAME = "map"
 #: The robot's frame is the one whose name starts so (``base_link``, ``base_footprint``).
 ROBOT_FRAME_PREFIX = "base"
 DECODED_TOPICS = frozenset({STATUS_TOPIC, EVENT_TOPIC, "/tf", "/tf_static",
-                            GOAL_STATUS_TOPIC, REPORT_EVENTS_TOPIC, MAP_TOPIC})
-"""The topics a replay needs (the others stay undecoded)."""
+                            GOAL_STATUS_TOPIC, MAP_TOPIC})
+"""The topics a replay needs (the others stay undecoded), with every service's events."""
 _REQUEST_RECEIVED, _RESPONSE_SENT = 1, 2
 
 
@@ -55,7 +62,8 @@ class Recording:
         events: The runner's events, in order (one this version does not know is left out).
         poses: ``(sim_s, x, y, yaw)`` of the robot in ``map``, from ``/tf``.
         goals: ``(sim_s, goal id hex)`` of each navigation goal, when first seen.
-        reports: The report service's requests with the answer (``acknowledged``).
+        service_calls: Service topic (``/report/_service_event``) -> its calls answered,
+            in order.
         map: The last map latched on ``/map``, or None (a recording without one).
         attachments: Attachment name -> bytes (the tree files, plugin sources and
             parameter file).
@@ -68,7 +76,7 @@ class Recording:
     events: list[MissionEvent] = field(default_factory=list)
     poses: list[tuple[float, float, float, float]] = field(default_factory=list)
     goals: list[tuple[float, str]] = field(default_factory=list)
-    reports: list[dict[str, Any]] = field(default_factory=list)
+    service_calls: dict[str, list[ServiceCall]] = field(default_factory=dict)
     map: OccupancyGrid | None = None
     attachments: dict[str, bytes] = field(default_factory=dict)
     metadata: dict[str, str] = field(default_factory=dict)
@@ -153,7 +161,7 @@ def read_recording(path: str | Path) -> Recording:
     recording = Recording(Path(path))
     tracker = PoseTracker()
     classes: dict[str, Any] = {}
-    requests: dict[tuple[bytes, int], Any] = {}
+    requests: dict[tuple[str, bytes, int], Any] = {}
     seen_goals: set[str] = set()
     first_ns: int | None = None
     last_ns = 0
@@ -161,7 +169,8 @@ def read_recording(path: str | Path) -> Recording:
         with recording.path.open("rb") as stream:
             reader = make_reader(stream)
             for schema, channel, message in reader.iter_messages(log_time_order=True):
-                if schema is None or channel.topic not in DECODED_TOPICS:
+                if schema is None or (channel.topic not in DECODED_TOPICS and not
+                                      channel.topic.endswith(SERVICE_EVENTS_SUFFIX)):
                     continue
                 type_name = channel.metadata.get(ROS_TYPE_KEY, schema.name)
                 if type_name not in classes:
@@ -191,19 +200,15 @@ def read_recording(path: str | Path) -> Recording:
                         if goal not in seen_goals:
                             seen_goals.add(goal)
                             recording.goals.append((_stamp_s(status.goal_info.stamp), goal))
-                elif channel.topic == REPORT_EVENTS_TOPIC:
-                    key = (bytes(msg.info.client_gid), msg.info.sequence_number)
+                elif channel.topic.endswith(SERVICE_EVENTS_SUFFIX):
+                    key = (channel.topic, bytes(msg.info.client_gid), msg.info.sequence_number)
                     if msg.info.event_type == _REQUEST_RECEIVED and msg.request:
                         requests[key] = msg.request[0]
                     elif msg.info.event_type == _RESPONSE_SENT and msg.response and \
                             key in requests:
-                        request = requests.pop(key)
-                        recording.reports.append({
-                            "survivor_id": request.survivor_id,
-                            "frame_id": request.location.header.frame_id,
-                            "x": request.location.point.x, "y": request.location.point.y,
-                            "stamp": _stamp_s(msg.info.stamp),
-                            "acknowledged": bool(msg.response[0].acknowledged)})
+                        recording.service_calls.setdefault(channel.topic, []).append(
+                            ServiceCall(requests.pop(key), msg.response[0],
+                                        _stamp_s(msg.info.stamp)))
             recording.attachments = {a.name: a.data for a in reader.iter_attachments()}
             recording.metadata = next((dict(m.metadata) for m in reader.iter_metadata()
                                        if m.name == METADATA_NAME), {})
@@ -269,12 +274,15 @@ def trace_records(recording: Recording, map_yaml: Path | None = None) -> list[di
     return records
 
 
-def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
+def write_report_inputs(recording: Recording, folder: Path,
+                        apps: Sequence[App] | None = None) -> dict[str, Path]:
     """Write the files :mod:`sar_framework.report` reads, from a recording.
 
     Args:
         recording: The decoded recording.
         folder: The report folder (created).
+        apps: The apps whose files are rebuilt from their services' calls (the installed
+            ones when None).
 
     Returns:
         ``{"params": ...}``: the attached parameter file, written into ``folder`` (none
@@ -289,10 +297,9 @@ def write_report_inputs(recording: Recording, folder: Path) -> dict[str, Path]:
     (folder / "trace.jsonl").write_text(
         "".join(json.dumps(r) + "\n" for r in trace_records(recording, map_yaml)),
         encoding="utf-8")
-    accepted = [r for r in recording.reports if r["acknowledged"]]
-    (folder / "reports.jsonl").write_text(
-        "".join(json.dumps({k: v for k, v in r.items() if k != "acknowledged"}) + "\n"
-                for r in accepted), encoding="utf-8")
+    for app in installed_apps() if apps is None else apps:
+        if app.replayed is not None:
+            app.replayed(recording.service_calls, folder)
     events = EventFileWriter(folder / EVENTS_FILE)
     for event in recording.events:
         events(event)

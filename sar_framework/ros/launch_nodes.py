@@ -1,9 +1,9 @@
 """What the launch files share: file arguments found in the package share, processes as Nodes.
 
-``launch/search_and_rescue.launch.py`` (which ``launch/fleet.launch.py`` includes) turns the
-process descriptions of :mod:`sar_framework.mission.processes` into ``launch_ros`` ``Node``
-actions here, so a process described once starts the same way from a launch and from
-``sar-tree run``.
+``launch/tree.launch.py`` (which ``launch/search_and_rescue.launch.py`` and, through it,
+``launch/fleet.launch.py`` include) turns the process descriptions of
+:mod:`sar_framework.mission.processes` into ``launch_ros`` ``Node`` actions here, so a
+process described once starts the same way from a launch and from ``sar-tree run``.
 """
 
 from __future__ import annotations

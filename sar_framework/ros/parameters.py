@@ -9,7 +9,7 @@ the node starts, so the node rejects what the check rejects, in the same words.
 
 A parameter already declared (from the parameter files, on a node made with
 ``automatically_declare_parameters_from_overrides``) keeps its value and gets the
-descriptor. Entries whose names hold ``*`` (``zones.*.x``) are left to the node.
+descriptor. Entries whose names hold ``*`` (``goals.*.x``) are left to the node.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 ``load_tree(tree, context=tree_context(node, apps))``: the node's clock (timeouts count ROS
 time), the robot's state (:mod:`sar_framework.ros.robot_state`) and each app's context
-objects (the search-and-rescue app's ZoneManager). A reload (:mod:`.reload`) builds its new
+objects (:attr:`~sar_framework.app.AppRun.context`). A reload (:mod:`.reload`) builds its new
 leaves with the same objects, so the mission's shared state is never lost.
 """
 

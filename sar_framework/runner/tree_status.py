@@ -2,9 +2,8 @@
 
 One ``std_msgs/msg/String`` per tick whose ``data`` is a JSON document::
 
-    {"format": 1, "tree": "search_and_rescue", "tick": 12, "sim_s": 31.5, "sim_start_s": 4.2,
+    {"format": 1, "tree": "patrol", "tick": 12, "sim_s": 31.5, "sim_start_s": 4.2,
      "status": "RUNNING", "complete": false,
-     "zone": {"id": "zone_b", "index": 1, "total": 4},
      "nodes": [["0", "MissionOrReturnToBase", "selector", "RUNNING", "", true], ...],
      "blackboard": {"/goal": "..."},
      "entries": [["goal", "/goal", "PoseStamped(header=...)", "geometry_msgs/msg/PoseStamped",
@@ -13,8 +12,8 @@ One ``std_msgs/msg/String`` per tick whose ``data`` is a JSON document::
 ``sim_s`` is the runner's ROS clock after the tick (``/clock`` time with ``use_sim_time``),
 ``sim_start_s`` the same on the first tick. ``nodes`` lists every node depth first as ``[uid,
 name, kind, status, feedback message, visited this tick]`` (a uid's depth is its number of
-dots). An app adds fields of its own (the search-and-rescue app's ``zone``: the zone the
-mission is at, None once every zone is done); ``blackboard`` holds the keys the leaves
+dots). An app adds fields of its own (:attr:`~sar_framework.app.AppRun.status`, shown
+through :attr:`~sar_framework.app.App.status_text`); ``blackboard`` holds the keys the leaves
 write, with their values as text.
 ``complete`` turns true once the mission is over (the runner's own verdict).
 ``entries`` (only for a tree with blackboard entries, :mod:`.entry_values`) lists the

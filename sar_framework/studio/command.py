@@ -61,8 +61,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     live.add_argument("--speed", type=float, metavar="X",
                       help="with --run: the simulator's speed factor")
     live.add_argument("--params", metavar="FILE",
-                      help="mission parameter file (default: the tree's app's, e.g. the "
-                      "search-and-rescue zones and base; none for a tree without an app)")
+                      help="mission parameter file (default: the file of the app the tree "
+                      "uses; none for a tree without an app)")
     replay = modes.add_parser("replay", help="scrub through a recording (.mcap)",
                               description="Open a recording of sar-tree run --record.")
     replay.add_argument("recording", metavar="FILE.mcap")

@@ -5,8 +5,9 @@
 arrive, or all at once from a recording (:func:`timeline_of`). :meth:`Timeline.frame`
 answers "what did the mission look like at ``t``" by bisection over those lists, so a
 scrub through a recording of many minutes costs the same as one at its start: the tick's
-node statuses, blackboard and entries, the robot's pose and path so far, the survivors
-found, the zones reached and the latest reasons. Times are the runner's ROS clock
+node statuses, blackboard and entries, the robot's pose and path so far, what the
+apps add (the places reached, what was found: :attr:`~sar_framework.app.App.frame`) and the
+latest reasons. Times are the runner's ROS clock
 (``sim_s``), the clock the status, the events and the poses share.
 
 No ROS here: the documents are :func:`~sar_framework.runner.tree_status.decode_status`'s
@@ -17,35 +18,33 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from sar_framework.app.discovery import installed_apps
 from sar_framework.events.event import REASON_KINDS, EventKind, MissionEvent, kind_name
 from sar_framework.runner.entry_values import apply_entries
 
 if TYPE_CHECKING:
+    from sar_framework.app import App
     from sar_framework.recording.readback import Recording
 
-#: The core's fields of a tree status; a frame carries the others as they are (an app's:
-#: the search-and-rescue app's current zone, in the studio's header).
-CORE_STATUS_KEYS = frozenset({"format", "tree", "tick", "sim_s", "sim_start_s", "status",
-                              "complete", "nodes", "blackboard", "entries", "entries_full"})
 #: Reasons a frame carries (the latest).
 REASONS_SHOWN = 40
 #: The path keeps a pose only this far (metres) from the previous one kept.
 PATH_STEP_M = 0.05
 #: The window (seconds of the clock the statuses arrive by) ticks per second are counted on.
 RATE_WINDOW_S = 2.0
-#: Events (by kind name) that mark the replay timeline, and the mark's kind.
+#: Events (by kind name) that mark the replay timeline, and the mark's kind (the apps add
+#: theirs: :attr:`~sar_framework.app.App.marks`).
 MARKS = {EventKind.FAILURE.value: "failure", EventKind.TIMEOUT.value: "failure",
-         EventKind.ZONE_REACHED.value: "zone", EventKind.ZONE_UNREACHED.value: "failure",
-         EventKind.SURVIVOR_BROADCAST.value: "survivor", EventKind.DETECTION.value: "survivor",
+         EventKind.GOAL_REACHED.value: "reached", EventKind.GOAL_FAILED.value: "failure",
          EventKind.COMPLETION.value: "end", EventKind.TREE_SWAPPED.value: "swap",
          EventKind.RELOAD_REFUSED.value: "refused"}
 #: Events the reasons feed lists: the reasons, and hot reload's swaps and refusals
 #: (docs/how-to/hot-reload.md).
 FEED_KINDS = REASON_KINDS | {EventKind.TREE_SWAPPED, EventKind.RELOAD_REFUSED}
-_SURVIVOR_KINDS = frozenset({EventKind.SURVIVOR_BROADCAST, EventKind.DETECTION})
 
 
 @dataclass
@@ -57,6 +56,7 @@ class Timeline:
             clock ticks per second are measured by: wall seconds live, ``wall_s`` replayed).
         events: The mission's events in order.
         poses: ``(sim_s, x, y, yaw)`` of the robot in the map frame.
+        apps: The apps whose marks, frame keys and status words it adds (the installed).
     """
 
     statuses: list[dict[str, Any]] = field(default_factory=list)
@@ -71,6 +71,7 @@ class Timeline:
     _path: list[tuple[float, float]] = field(default_factory=list)
     _path_times: list[float] = field(default_factory=list)
     _history: dict[str, list[tuple[float, str]]] = field(default_factory=dict)
+    apps: Sequence[App] = field(default_factory=installed_apps)
 
     # -- filling ----------------------------------------------------------------------------
     def add_status(self, document: dict[str, Any], arrival_s: float) -> None:
@@ -135,25 +136,31 @@ class Timeline:
         return max(lasts) if lasts else 0.0
 
     def marks(self) -> list[dict[str, Any]]:
-        """The timeline's marks: failures, survivors, zone arrivals, reloads and the end."""
-        return [{"t": self._event_times[i], "kind": MARKS[kind_name(e.kind)], "seq": e.seq,
+        """The timeline's marks: failures, arrivals, finds, reloads and the end."""
+        marks = self._marks()
+        return [{"t": self._event_times[i], "kind": marks[kind_name(e.kind)], "seq": e.seq,
                  "label": _event_label(e)}
-                for i, e in enumerate(self.events) if kind_name(e.kind) in MARKS]
+                for i, e in enumerate(self.events) if kind_name(e.kind) in marks]
+
+    def _marks(self) -> dict[str, str]:
+        return {**{k: v for app in self.apps for k, v in app.marks.items()}, **MARKS}
 
     def event_rows(self) -> list[dict[str, Any]]:
         """Every event in order, for the replay's event list, each with the instant it links to.
 
         Returns:
-            ``[{"i", "t", "sim_s", "seq", "kind", "node", "uid", "status", "zone",
-            "survivor", "message"}, ...]``: ``t`` is the event's instant on the timeline
-            (never before :attr:`start_s`: an event stamped before the first tick, such as
-            ``started``, links to the start), ``sim_s`` the event's own stamp.
+            ``[{"i", "t", "sim_s", "seq", "kind", "node", "uid", "status", "fields",
+            "mark", "message"}, ...]`` (``fields``: an app's values, in order; ``mark``: the
+            timeline mark of its kind, or ""): ``t`` is the event's
+            instant on the timeline (never before :attr:`start_s`: an event stamped before
+            the first tick, such as ``started``, links to the start), ``sim_s`` the event's
+            own stamp.
         """
-        start = self.start_s
+        start, marks = self.start_s, self._marks()
         return [{"i": i, "t": max(t, start), "sim_s": e.sim_s, "seq": e.seq,
                  "kind": kind_name(e.kind), "node": e.node_name, "uid": e.node_uid,
-                 "status": e.status, "zone": e.value("zone_id"),
-                 "survivor": e.value("survivor_id"),
+                 "status": e.status, "fields": list(e.fields.values()),
+                 "mark": marks.get(kind_name(e.kind), ""),
                  "message": e.message}
                 for i, (e, t) in enumerate(zip(self.events, self._event_times, strict=True))]
 
@@ -161,9 +168,12 @@ class Timeline:
         """The mission at ``t`` (the latest when None), as the page draws it.
 
         Returns:
-            ``{"t", "tick", "status", "complete", "zone", "nodes": {uid: [status, message,
-            visited]}, "blackboard", "entries", "tps", "robot": [x, y, yaw] | None,
-            "path": [[x, y], ...], "survivors", "zones_reached", "reasons"}``.
+            ``{"t", "tick", "status", "complete", "app_status", "nodes": {uid: [status,
+            message, visited]}, "blackboard", "entries", "tps", "robot": [x, y, yaw] | None,
+            "path": [[x, y], ...], "reached", "found", "reasons"}``: ``app_status`` the
+            apps' words about the tick's status ("" for none), ``reached`` the ids of the
+            places reached and ``found`` what was found (``[{"id", "position"}]``), from the
+            apps (:attr:`~sar_framework.app.App.frame`).
         """
         t = self.end_s if t is None else t
         i = bisect.bisect_right(self._status_times, t) - 1
@@ -175,7 +185,8 @@ class Timeline:
         return {
             "t": t, "tick": status.get("tick", 0), "status": status.get("status", "INVALID"),
             "complete": bool(status.get("complete")),
-            **{key: value for key, value in status.items() if key not in CORE_STATUS_KEYS},
+            "app_status": "  ".join(app.status_text(status) for app in self.apps
+                                    if app.status_text and app.status_text(status)),
             "nodes": {n["uid"]: [n["status"], n["message"], n["visited"]]
                       for n in status.get("nodes", [])},
             "blackboard": status.get("blackboard", {}),
@@ -183,9 +194,8 @@ class Timeline:
             "tps": self._rate(i),
             "robot": list(self.poses[k][1:]) if k >= 0 else None,
             "path": self._path[:p],
-            "survivors": _survivors(self.events[:j]),
-            "zones_reached": [e.value("zone_id") for e in self.events[:j]
-                              if e.kind == EventKind.ZONE_REACHED],
+            "reached": [], "found": [],
+            **self._app_frame(self.events[:j]),
             "reasons": [self._reason(n) for n in reversed(reasons)],
         }
 
@@ -199,6 +209,14 @@ class Timeline:
                      if n < j and self.events[n].node_uid == uid), None)
         return {"uid": uid, "history": [[s, status] for s, status in history[-50:]],
                 "last_reason": last}
+
+    def _app_frame(self, events: list[MissionEvent]) -> dict[str, Any]:
+        added: dict[str, Any] = {}
+        for app in self.apps:
+            if app.frame is not None:
+                for key, value in app.frame(events).items():
+                    added[key] = [*added.get(key, []), *value]
+        return added
 
     def _rate(self, i: int) -> float:
         if i < 1:
@@ -214,18 +232,8 @@ class Timeline:
                 "node": event.node_name, "uid": event.node_uid, "message": event.message}
 
 
-def _survivors(events: list[MissionEvent]) -> list[dict[str, Any]]:
-    """The survivors found so far: one per position, named once broadcast."""
-    found: dict[tuple[float, ...], str] = {}
-    for event in events:
-        if event.kind in _SURVIVOR_KINDS and event.position is not None:
-            key = tuple(round(v, 2) for v in event.position)
-            found[key] = event.value("survivor_id") or found.get(key, "")
-    return [{"id": name, "position": list(key)} for key, name in found.items()]
-
-
 def _event_label(event: MissionEvent) -> str:
-    subject = event.value("zone_id") or event.value("survivor_id") or event.node_name
+    subject = next((v for v in event.fields.values() if v), "") or event.node_name
     return f"{kind_name(event.kind)} {subject}".strip()
 
 

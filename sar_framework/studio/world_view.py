@@ -1,13 +1,13 @@
-"""The course as the studio draws it: walls, zones in visiting order and the base station.
+"""The world as the studio draws it: walls, the app's places in order and its base.
 
 The walls are the occupancy grid's occupied cells, sent as runs per row (``[row, first
 column, length]``) so the page draws a few thousand rectangles instead of a bitmap: no
 image library in the page, and a grid the size of ours (260 x 220 cells) is a few kB.
 Live, the grid is the one the map server latches on ``/map``; replayed, the ``/map`` the
 recording kept (:func:`occupancy_view`); before ``/map`` arrives or in a recording without
-one, the simulator's default map file (:data:`~sar_framework.report_map.MAP_YAML`). Zones
-and base come from the mission parameter file
-(:func:`~sar_framework.report.read_mission_layout`).
+one, the simulator's default map file (:data:`~sar_framework.report_map.MAP_YAML`). The
+places and the base come from the mission parameter file, read by the apps
+(:attr:`~sar_framework.app.App.layout`).
 
 No ROS here: the ROS feed hands :func:`grid_view` plain numbers.
 """
@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from sar_framework.report import read_mission_layout
+from sar_framework.app.discovery import installed_apps
 from sar_framework.report_map import MAP_YAML
 
 if TYPE_CHECKING:
@@ -76,12 +76,15 @@ def occupancy_view(grid: OccupancyGrid) -> dict[str, Any]:
 
 def world_view(params_file: str | Path | None, grid: dict[str, Any] | None = None
                ) -> dict[str, Any]:
-    """The page's map: the grid (the course map when None), zones and base.
+    """The page's map: the grid (the course map when None), the places and the base.
 
     Args:
-        params_file: The mission parameter file (zones, base station), if known.
+        params_file: The mission parameter file, if known (the first installed app that
+            finds places or a base in it gives them).
         grid: :func:`grid_view`'s document, e.g. from ``/map``.
     """
-    zones, base = read_mission_layout(params_file) if params_file else ([], {})
-    return {"grid": grid if grid is not None else file_grid_view(), "zones": zones,
-            "base": base or None}
+    layouts = ([app.layout(str(params_file)) for app in installed_apps() if app.layout]
+               if params_file else [])
+    layout = next((found for found in layouts if found.get("places") or found.get("base")), {})
+    return {"grid": grid if grid is not None else file_grid_view(),
+            "places": layout.get("places", []), "base": layout.get("base") or None}

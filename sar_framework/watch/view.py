@@ -19,6 +19,8 @@ from rich.table import Table
 from rich.text import Text
 from rich.tree import Tree
 
+from sar_framework.app.discovery import apps_status_text
+
 STATUS_STYLES = {"SUCCESS": "green", "FAILURE": "red", "RUNNING": "yellow",
                  "INVALID": "bright_black"}
 STATUS_SYMBOLS = {"SUCCESS": "✓", "FAILURE": "✕", "RUNNING": "*", "INVALID": "-"}
@@ -55,19 +57,15 @@ def tree_view(nodes: Sequence[dict[str, Any]], title: Text) -> Tree:
 def header(document: dict[str, Any], ticks_per_s: float | None) -> Text:
     """The line above the tree: name, tick, rate, simulated time, root status.
 
-    An app's status field is shown too: the search-and-rescue app's zone (for a tree that
-    uses it).
+    The apps' words about the document follow the clock
+    (:attr:`~sar_framework.app.App.status_text`).
     """
-    zone_text = ""
-    if "zone" in document:
-        zone = document["zone"]
-        zone_text = "zone " + (f"{zone['id']} ({zone['index'] + 1}/{zone['total']})" if zone
-                               else "none left") + "  "
+    app_text = "".join(f"{words}  " for words in apps_status_text(document) if words)
     rate = f"{ticks_per_s:.1f}" if ticks_per_s is not None else "-"
     status = str(document.get("status", "INVALID"))
     text = Text(f"{document.get('tree', '?')}", style="bold")
     text.append(f"  tick {document.get('tick', 0)}  {rate} ticks/s  "
-                f"sim {float(document.get('sim_s') or 0.0):.1f} s  {zone_text}root ")
+                f"sim {float(document.get('sim_s') or 0.0):.1f} s  {app_text}root ")
     text.append(status, style=STATUS_STYLES.get(status, ""))
     return text
 

@@ -109,7 +109,7 @@ def test_a_tree_using_the_app_gets_its_parameter_file_from_any_folder(
     inputs = check_config(config)
     assert inputs.apps == (SAR,)
     assert config.params == str(REPO / "config" / "mission_params.yaml")
-    assert set(inputs.zones) == {"zone_a", "zone_b", "zone_c", "zone_d"}
+    assert set(inputs.places) == {"zone_a", "zone_b", "zone_c", "zone_d"}
 
 
 def test_the_apps_checks_still_apply_to_a_file_without_zones(tmp_path: Path) -> None:

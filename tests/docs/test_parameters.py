@@ -14,7 +14,7 @@ from sar_framework.sim.params import SPEED
 REPO = Path(__file__).resolve().parents[2]
 DOC = REPO / "docs" / "reference" / "parameters.md"
 TABLE_MODULES = ("sar_framework.mission.runner_params", "sar_framework.sim.params",
-                 "sar_framework.servers.params", "sar_framework.recording.params",
+                 "sar_plugins.sar.servers.params", "sar_framework.recording.params",
                  "sar_framework.orchestrate.inputs", "sar_framework.orchestrate.parameter_docs")
 
 
@@ -59,7 +59,7 @@ def test_sar_sim_help_lists_every_simulator_parameter() -> None:
 
 
 def test_defaults_as_the_docs_show_them() -> None:
-    from sar_framework.mission.runner_params import MISSION_PARAMETERS
+    from sar_plugins.sar.params import MISSION_PARAMETERS
 
     by_name = {p.name: p for p in (*MISSION_PARAMETERS, *node_parameters()["runner"])}
     assert [default_text(by_name[n]) for n in ("zone_order", "seed_amcl", "tree",

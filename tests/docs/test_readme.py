@@ -45,8 +45,9 @@ def test_the_two_commands_are_make_targets_and_ci_runs_the_tests() -> None:
 
 
 def test_every_launch_argument_is_in_the_reference() -> None:
-    declared = re.findall(r'DeclareLaunchArgument\("(\w+)"',
-                          (REPO / "launch" / "search_and_rescue.launch.py").read_text())
+    declared = [name for launch in ("tree.launch.py", "search_and_rescue.launch.py")
+                for name in re.findall(r'DeclareLaunchArgument\("(\w+)"',
+                                       (REPO / "launch" / launch).read_text())]
     assert len(declared) >= 10
     table = re.findall(r"^\| `(\w+)` \| ", (REPO / "docs" / "reference" / "cli.md").read_text(),
                        re.M)

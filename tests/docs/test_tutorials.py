@@ -194,7 +194,7 @@ def load_tutorial_leaves() -> dict[str, type]:
 
 
 def test_tutorial_plugin_ticks_to_the_shown_statuses() -> None:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
     leaves = load_tutorial_leaves()
     countdown = leaves["Countdown"]("Wait", ticks=2, result="failure")

@@ -117,7 +117,7 @@ def by_ros2_launch(tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Path]
         pytest.skip("real-stack tier: ros2cli / launch not built")
     folder = patrol_folder(tmp_path_factory.mktemp("launch"))
     out = folder.parent / "out"
-    done = subprocess.run([str(ROS2), "launch", "sar_framework", "search_and_rescue.launch.py",
+    done = subprocess.run([str(ROS2), "launch", "sar_framework", "tree.launch.py",
                            "nav2:=embedded", "tree:=patrol.yaml", f"report_dir:={out}"],
                           cwd=folder, capture_output=True, text=True, stdin=subprocess.DEVNULL,
                           env=launch_env(folder.parent, ros_env(folder.parent / "ros_log")),

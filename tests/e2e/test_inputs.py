@@ -66,7 +66,7 @@ def test_blocked_areas_accept_mission_zone_names(tmp_path: Path) -> None:
                        sim_params=["blocked_areas:=['ne_corner:0.5', 'sw_corner', '1:2:0.3']"])
     inputs, problems = check_inputs(config)
     assert problems == [] and inputs is not None
-    sim = next(c for c in child_specs(config, tmp_path, inputs.zones) if c.label == "sim")
+    sim = next(c for c in child_specs(config, tmp_path, inputs.places) if c.label == "sim")
     assert "blocked_areas:=['5:4.2:0.5', '-5:-4.2:0.6', '1:2:0.3']" in sim.ros_args
     bad = _problems(tmp_path, params=str(SIX_ZONES), sim_params=["blocked_areas:=['ne_cornr']"])
     assert len(bad) == 1 and bad[0].startswith("--sim-param blocked_areas: 'ne_cornr'")
@@ -80,7 +80,7 @@ def test_phantom_obstacles_are_checked_and_accept_mission_zone_names(tmp_path: P
     inputs, problems = check_inputs(config)
     assert problems == [] and inputs is not None
     assert inputs.blocked_areas == ()  # a phantom is no wall
-    sim = next(c for c in child_specs(config, tmp_path, inputs.zones) if c.label == "sim")
+    sim = next(c for c in child_specs(config, tmp_path, inputs.places) if c.label == "sim")
     assert "phantom_obstacles:=['5:4.2:0.5', '1:-0.5:0.3']" in sim.ros_args
     bad = _problems(tmp_path, sim_params=["phantom_obstacles:=['1:2']", "stuck_recoveries:=-1"])
     assert bad == ["--sim-param: stuck_recoveries: must be >= 0, got -1",

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.events.event import EventKind
 
@@ -143,8 +144,8 @@ def test_rewording_every_log_line_changes_no_verdict_report_or_recording(
     recorded = [_recorded(run["record"]) for run in (plain, reworded)]
     assert recorded[1][0] == recorded[0][0]
     kinds = [told[0] for told in recorded[0][0]]
-    assert kinds.count(EventKind.ZONE_REACHED) == 4 and kinds[-1] == EventKind.COMPLETION
-    assert EventKind.SURVIVOR_REFUSED in kinds and EventKind.NOTE in kinds
+    assert kinds.count(SarKind.ZONE_REACHED) == 4 and kinds[-1] == EventKind.COMPLETION
+    assert SarKind.SURVIVOR_REFUSED in kinds and EventKind.NOTE in kinds
     for (_, replayed), run in zip(recorded, (plain, reworded), strict=True):
         replayed.update(outcome="SUCCESS", reason="", root_status=None)
         expected = _mission(read_json(run["report"] / "mission.json"))

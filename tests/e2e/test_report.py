@@ -5,9 +5,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from sar_plugins.sar.events import SarKind
+from sar_plugins.sar.report import mission_layout
+
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.events.jsonl import EVENTS_FILE, EventFileWriter
-from sar_framework.report import MissionInputs, read_mission_layout, summarise, write_report
+from sar_framework.report import MissionInputs, summarise, write_report
 from sar_framework.report_map import BLOCKED_COLOUR, fit_left, shift_into
 
 from .helpers import DEFAULT_TREE, REPO
@@ -25,16 +28,16 @@ def _events(folder: Path, *events: MissionEvent) -> None:
 def _files(folder: Path) -> None:
     _events(
         folder,
-        MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, wall_s=1.0, fields={"zone_id": "zone_a"},
+        MissionEvent(SarKind.ZONE_REACHED, sim_s=19.0, wall_s=1.0, fields={"zone_id": "zone_a"},
                      message="whatever words", position=(-3.0, 3.0, 0.0)),
-        MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=20.0, wall_s=1.1,
+        MissionEvent(SarKind.SURVIVOR_BROADCAST, sim_s=20.0, wall_s=1.1,
                      fields={"survivor_id": "survivor_1"}, position=(-2.5, 3.2, 0.0)),
-        MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=30.0, wall_s=1.5,
+        MissionEvent(SarKind.SURVIVOR_BROADCAST, sim_s=30.0, wall_s=1.5,
                      fields={"survivor_id": "survivor_2"}, position=(4.1, -2.5, 0.0)),
-        MissionEvent(EventKind.SURVIVOR_REFUSED, sim_s=30.5, wall_s=1.6,
+        MissionEvent(SarKind.SURVIVOR_REFUSED, sim_s=30.5, wall_s=1.6,
                      fields={"survivor_id": "survivor_2"}, message="refuse_all is set",
                      position=(4.1, -2.5, 0.0)),
-        MissionEvent(EventKind.BASE_REACHED, sim_s=40.0, wall_s=2.0, node_uid="0.1.0",
+        MissionEvent(SarKind.BASE_REACHED, sim_s=40.0, wall_s=2.0, node_uid="0.1.0",
                      node_name="NavigateToBase", position=(0.0, 0.0, 0.0)),
     )
     (folder / "status.json").write_text(json.dumps({
@@ -53,7 +56,7 @@ def _files(folder: Path) -> None:
 
 
 def test_layout_from_the_params_file() -> None:
-    zones, base = read_mission_layout(PARAMS)
+    zones, base = mission_layout(PARAMS)
     assert [z["id"] for z in zones] == ["zone_a", "zone_b", "zone_c", "zone_d"]
     assert zones[1] == {"id": "zone_b", "x": 3.5, "y": 3.0, "yaw": 1.57}
     assert base == {"x": 0.0, "y": 0.0, "yaw": 0.0}
@@ -87,8 +90,8 @@ def test_every_simulated_time_counts_from_the_first_tick(tmp_path: Path) -> None
     """Regression: a failure 10 s after an arrival read 97.8 s later (two zero points)."""
     _files(tmp_path)
     _events(tmp_path,
-            MissionEvent(EventKind.ZONE_REACHED, sim_s=19.0, fields={"zone_id": "zone_a"}),
-            MissionEvent(EventKind.SURVIVOR_BROADCAST, sim_s=20.0,
+            MissionEvent(SarKind.ZONE_REACHED, sim_s=19.0, fields={"zone_id": "zone_a"}),
+            MissionEvent(SarKind.SURVIVOR_BROADCAST, sim_s=20.0,
                          fields={"survivor_id": "survivor_1"}, position=(-2.5, 3.2, 0.0)),
             MissionEvent(EventKind.FAILURE, sim_s=29.0, node_name="DetectSurvivor",
                          message="no answer"))
@@ -122,7 +125,7 @@ def _status(folder: Path, sim_start: float, base_at: float) -> None:
         "status": "SUCCESS", "ticks": 10, "wall_first_tick_s": 0.5, "sim_start_s": sim_start,
         "sim_end_s": base_at, "wall_duration_s": 6.0, "nodes": {}, "events": [],
         "failures": []}))
-    _events(folder, MissionEvent(EventKind.BASE_REACHED, sim_s=base_at, wall_s=5.0))
+    _events(folder, MissionEvent(SarKind.BASE_REACHED, sim_s=base_at, wall_s=5.0))
 
 
 def test_base_arrival_is_within_the_simulated_duration(tmp_path: Path) -> None:

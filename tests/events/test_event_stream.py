@@ -7,6 +7,8 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from sar_plugins.sar.events import SarKind
+from sar_plugins.sar.zone_manager import ZoneManager
 
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 from sar_framework.events.event import (
@@ -22,12 +24,11 @@ from sar_framework.events.jsonl import (
     JsonLinesFollower,
     read_events,
 )
-from sar_framework.mission.zone_manager import ZoneManager
 
 REPO = Path(__file__).resolve().parents[2]
 MSG = REPO / "interfaces" / "sar_interfaces" / "msg" / "MissionEvent.msg"
 
-FULL = MissionEvent(EventKind.SURVIVOR_BROADCAST, seq=7, sim_s=21.4, wall_s=2.125,
+FULL = MissionEvent(SarKind.SURVIVOR_BROADCAST, seq=7, sim_s=21.4, wall_s=2.125,
                     node_name="BroadcastSurvivorTF", node_uid="0.0.3.0.1",
                     node_kind="BroadcastSurvivorTF", status="", message="é ünïcode, \"quoted\"",
                     position=(-2.5, 3.2, 0.0),
@@ -114,7 +115,7 @@ def test_the_file_is_written_a_line_per_event_and_read_back(tmp_path: Path) -> N
     appended(MissionEvent(EventKind.VERDICT, seq=3, status="SUCCESS"))
     appended.close()
     assert [e.kind for e in read_events(path)] == [EventKind.STARTED,
-                                                    EventKind.SURVIVOR_BROADCAST,
+                                                    SarKind.SURVIVOR_BROADCAST,
                                                     EventKind.VERDICT]
 
 
@@ -153,7 +154,7 @@ def test_the_emitter_numbers_stamps_names_and_fans_out() -> None:
     emitter = EventEmitter([got.append], sim_now=lambda: next(clock),
                            nodes={"0.2": (leaf, "Success")})
     first = emitter.emit(EventKind.STATUS, source=leaf, status="SUCCESS", message="ok")
-    second = emitter.emit(EventKind.SURVIVOR_BROADCAST, survivor_id="survivor_1",
+    second = emitter.emit(SarKind.SURVIVOR_BROADCAST, survivor_id="survivor_1",
                           position=(1.0, 2.0))
     assert got == [first, second] == emitter.emitted
     assert (first.seq, first.sim_s, first.node_name, first.node_uid, first.node_kind) == (
@@ -183,8 +184,8 @@ def test_the_zone_manager_tells_reached_and_unreached_zones() -> None:
     manager.mark_reached("zone_c")
     manager.advance()
     manager.advance()  # past the end: nothing more to tell
-    assert told == [(EventKind.ZONE_REACHED, "zone_a"), (EventKind.ZONE_UNREACHED, "zone_b"),
-                    (EventKind.ZONE_REACHED, "zone_c")]
+    assert told == [(SarKind.ZONE_REACHED, "zone_a"), (SarKind.ZONE_UNREACHED, "zone_b"),
+                    (SarKind.ZONE_REACHED, "zone_c")]
 
 
 @pytest.mark.ros
@@ -193,7 +194,7 @@ def test_the_ros_message_carries_every_field() -> None:
 
     message = to_message(FULL)
     assert (message.stamp.sec, message.stamp.nanosec) == (21, 400_000_000)
-    assert message.kind == message.KIND_SURVIVOR_BROADCAST and message.has_position
+    assert message.kind == "survivor_broadcast" and message.has_position
     assert from_message(message) == FULL
     bare = MissionEvent(EventKind.COMPLETION, seq=9, sim_s=0.001, status="FAILURE")
     assert not to_message(bare).has_position

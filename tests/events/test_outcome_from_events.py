@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from sar_plugins.sar.app import APP as SAR
+from sar_plugins.sar.events import SarKind
 
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.orchestrate.outcome import (
@@ -61,11 +62,11 @@ def test_a_timeout_names_the_last_failure_event() -> None:
 
 
 def test_progress_lines_are_the_events_that_tell_the_mission() -> None:
-    shown = MissionEvent(EventKind.ZONE_REACHED, fields={"zone_id": "zone_a"},
+    shown = MissionEvent(SarKind.ZONE_REACHED, fields={"zone_id": "zone_a"},
                          message="Reached zone_a.")
     assert progress_line(shown, [SAR]) == "Reached zone_a."
     assert progress_line(shown) is None  # a tree without the app emits none of them
-    refused = MissionEvent(EventKind.SURVIVOR_REFUSED, fields={"survivor_id": "survivor_2"},
+    refused = MissionEvent(SarKind.SURVIVOR_REFUSED, fields={"survivor_id": "survivor_2"},
                            message="refuse_all is set")
     assert progress_line(refused, [SAR]) == \
         "Report for survivor_2 refused by base: refuse_all is set"

@@ -106,7 +106,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
     try:
         sim = start(["sar_framework.sim", "--ros-args", "-p", f"speed:={SPEED}",
                      "-p", f"fleet_file:={fleet}", *sim_params], "sim")
-        start(["sar_framework.servers.report_survivor_server", "--ros-args",
+        start(["sar_plugins.sar.servers.report_survivor_server", "--ros-args",
                "-p", f"report_file:={tmp / 'reports.jsonl'}"], "report")
         coordinator = start(["sar_plugins.sar.fleet.coordinator_node", "--ros-args",
                              "--params-file", params, "-p", f"events_file:={events_file}",
@@ -114,7 +114,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         sim.wait_for_output("ready", timeout=30)
         coordinator.wait_for_output("ready", timeout=30)
         for name, (x, y, yaw) in SPAWNS.items():
-            start(["sar_framework.servers.detect_survivor_server", "--ros-args",
+            start(["sar_plugins.sar.servers.detect_survivor_server", "--ros-args",
                    "-r", f"__ns:=/{name}", *detect_params], f"detect_{name}", name)
             runners[name] = start([
                 "sar_framework.runner.node", "--ros-args", "-r", f"__ns:=/{name}",

@@ -127,7 +127,7 @@ def test_spawn_poses_are_free_spaced_near_the_base_and_out_of_the_way() -> None:
 def _specs(config: RunConfig, tmp_path: Path, coordinator: bool = False) -> dict[str, list[str]]:
     inputs = check_config(config)
     kinds = inputs.node_kinds | ({"ClaimZone"} if coordinator else set())
-    specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps,
+    specs = child_specs(config, tmp_path, inputs.places, apps=inputs.apps,
                         robots=inputs.robots, node_kinds=frozenset(kinds))
     return {s.label: [s.module, *s.ros_args] for s in specs}
 

@@ -84,7 +84,7 @@ def test_the_launch_and_sar_tree_run_start_the_same_fleet(tmp_path: Path) -> Non
                        app_options={"--survivors": str(SURVIVORS)})
     inputs = check_config(config)
     run = []
-    for spec in child_specs(config, tmp_path, inputs.zones, apps=inputs.apps,
+    for spec in child_specs(config, tmp_path, inputs.places, apps=inputs.apps,
                             robots=inputs.robots, node_kinds=inputs.node_kinds):
         namespace = spec.label.rpartition("/")[0]
         run.append((namespace, spec.executable, _parameters(list(spec.ros_args))))

@@ -22,6 +22,7 @@ import pytest
 from py_trees.common import Status
 from sar_plugins.log_survivor_not_registered import LogSurvivorNotRegistered
 from sar_plugins.register_survivor import RegisterSurvivor
+from sar_plugins.sar.events import SarKind
 from sar_plugins.sar.fleet.survivor_registry import Registration
 from sar_plugins.sar.fleet.survivor_service import (
     REGISTER_SURVIVOR_SERVICE,
@@ -51,7 +52,7 @@ def detect_servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     table = folder / "robot2_survivors.yaml"
     table.write_text(f"survivors:\n  zone_a: {{x: {ROBOT2_SEES[0]}, y: {ROBOT2_SEES[1]}}}\n")
     # the server's default name is relative: in /robot1 it serves /robot1/detect_survivor
-    module = ["-m", "sar_framework.servers.detect_survivor_server", "--ros-args"]
+    module = ["-m", "sar_plugins.sar.servers.detect_survivor_server", "--ros-args"]
     with (NodeProcess([*module, "-r", "__ns:=/robot1"], "detect1", log_dir=folder) as one,
           NodeProcess([*module, "-r", "__ns:=/robot2", "-p", f"survivors_file:={table}"],
                       "detect2", log_dir=folder) as two):
@@ -64,7 +65,7 @@ def detect_servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
 def base(tmp_path: Path) -> Iterator[Path]:
     """The real base station; yields its report file."""
     reports = tmp_path / "reports.jsonl"
-    with NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+    with NodeProcess(["-m", "sar_plugins.sar.servers.report_survivor_server", "--ros-args",
                       "-p", f"report_file:={reports}"], "base", log_dir=tmp_path) as process:
         process.wait_for_output("ready")
         yield reports
@@ -161,9 +162,9 @@ def test_the_same_survivor_from_two_robots_gets_one_id_one_frame_one_report(
     assert notes(fleet, other) == [register.feedback_message]
     assert not any("No survivor found" in n for robot in ROBOTS for n in notes(fleet, robot))
     broadcasts = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
-                          if e.kind == EventKind.SURVIVOR_BROADCAST] for robot in ROBOTS}
+                          if e.kind == SarKind.SURVIVOR_BROADCAST] for robot in ROBOTS}
     reported = {robot: [e.value("survivor_id") for e in fleet.events[robot].emitted
-                        if e.kind == EventKind.SURVIVOR_REPORTED] for robot in ROBOTS}
+                        if e.kind == SarKind.SURVIVOR_REPORTED] for robot in ROBOTS}
     assert broadcasts == {reporter: ["survivor_1"], other: []}
     assert reported == {reporter: ["survivor_1"], other: []}
 

@@ -13,6 +13,7 @@ from pathlib import Path
 import py_trees
 import pytest
 from py_trees.common import Status
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_spec, load_tree
@@ -22,7 +23,6 @@ from sar_framework.mission.completion import (
     ending_one_shot,
     resolve_completion,
 )
-from sar_framework.mission.zone_manager import ZoneManager
 from sar_framework.runner.status_file import StatusFileWriter
 
 REPO = Path(__file__).resolve().parents[2]

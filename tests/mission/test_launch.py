@@ -24,6 +24,7 @@ from sar_framework.sim.params import SPEED
 
 REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / "launch" / "search_and_rescue.launch.py"
+TREE_LAUNCH = REPO / "launch" / "tree.launch.py"  # the neutral one the app's includes
 NAV2 = REPO / "config" / "nav2_params.yaml"
 TREE = REPO / "trees" / "search_and_rescue.yaml"
 MISSION = REPO / "config" / "mission_params.yaml"
@@ -45,9 +46,9 @@ def _ros_home(tmp_path, monkeypatch, launch_tmpdir):
     monkeypatch.setenv("ROS_HOME", str(tmp_path / "ros_home"))
 
 
-def declared_arguments() -> dict[str, str]:
+def declared_arguments(launch: Path = LAUNCH) -> dict[str, str]:
     found = {}
-    for node in ast.walk(ast.parse(LAUNCH.read_text())):
+    for node in ast.walk(ast.parse(launch.read_text())):
         if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "DeclareLaunchArgument":
             name = ast.literal_eval(node.args[0])
             defaults = [k.value for k in node.keywords if k.arg == "default_value"]
@@ -63,15 +64,17 @@ def _literal(node: ast.expr) -> str:
         return ast.unparse(node)
 
 
-def test_launch_file_compiles(tmp_path):
-    py_compile.compile(str(LAUNCH), cfile=str(tmp_path / "launch.pyc"), doraise=True)
+def test_launch_files_compile(tmp_path):
+    for launch in (LAUNCH, TREE_LAUNCH):
+        py_compile.compile(str(launch), cfile=str(tmp_path / "launch.pyc"), doraise=True)
 
 
 def test_declared_arguments_and_their_defaults():
-    declared = declared_arguments()
+    assert set(declared_arguments()) == {"survivors_file", "report_file"}  # the app's own
+    declared = {**declared_arguments(TREE_LAUNCH), **declared_arguments()}
     assert set(declared) == {"nav2", "tree", "params_file", "survivors_file", "report_file",
                              "report_dir", "tick_rate_hz", "map", "spawn", "nav2_params_file",
-                             "use_sim_time",
+                             "use_sim_time", "app_params",
                              "speed", "rviz", "record", "reload", "robots", "fleet_file",
                              "set"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
@@ -79,7 +82,8 @@ def test_declared_arguments_and_their_defaults():
     assert declared["reload"] == "false"  # the tree file is not watched unless asked
     assert declared["report_dir"] == ""  # a new folder per run
     assert declared["robots"] == declared["fleet_file"] == ""  # one robot, unnamed
-    assert (REPO / "trees" / declared["tree"]).is_file()
+    assert declared["tree"] == "Path(DEFAULT_TREE).name"  # the runner's
+    assert declared["app_params"] == ""
     assert declared["map"] == declared["spawn"] == ""  # the simulator's own defaults
     for key in ("nav2_params_file", "survivors_file"):
         assert (REPO / declared[key]).is_file(), declared[key]
@@ -195,7 +199,7 @@ def test_bringup_gives_every_nav2_node_our_params_map_and_sim_time():
 def test_embedded_runs_the_simulator_and_every_process_names_its_own_nodes():
     nodes, includes, context = evaluate(nav2="embedded", tree="search_and_rescue",
                                         tick_rate_hz="5")
-    assert set(includes) == {"search_and_rescue.launch.py"}  # no nav2_bringup
+    assert set(includes) == {"search_and_rescue.launch.py", "tree.launch.py"}  # no bringup
     assert [n.node_executable for n in nodes] == [
         "sar-sim", "sar-detect-survivor-server", "sar-report-survivor-server",
         "sar-mission-runner"]
@@ -290,7 +294,7 @@ def run_children(report_dir: Path, **options: object) -> list[tuple[str, dict]]:
     config = RunConfig(tree=str(TREE), params=str(MISSION), **options)
     inputs = check_config(config)
     return [(spec.executable, parameters(list(spec.ros_args)))
-            for spec in child_specs(config, report_dir, inputs.zones, apps=inputs.apps)]
+            for spec in child_specs(config, report_dir, inputs.places, apps=inputs.apps)]
 
 
 def assert_same_but(launch: list, run: list, *, run_only: dict[str, dict],
@@ -333,7 +337,7 @@ def test_with_nav2_bringup_the_runner_waits_longer_for_nav2_and_nothing_else_dif
 def test_a_process_or_parameter_added_to_the_description_reaches_both(tmp_path, monkeypatch):
     def twin(settings: processes.MissionSettings) -> processes.Process:
         return processes.Process("twin", "sar-detect-survivor-server",
-                                 "sar_framework.servers.detect_survivor_server", (),
+                                 "sar_plugins.sar.servers.detect_survivor_server", (),
                                  {"service_name": "/detect_again"})
 
     def simulator(settings: processes.MissionSettings) -> processes.Process | None:

@@ -54,9 +54,9 @@ def test_missing_service_keeps_running_then_fails_after_its_bound(ros: tuple) ->
 
 def test_success_with_and_without_a_survivor(ros: tuple, detect_server: NodeProcess) -> None:
     from sar_interfaces.srv import DetectSurvivor as DetectSurvivorSrv
+    from sar_plugins.sar.events import SarKind
 
     from sar_framework.events.emitter import EventEmitter
-    from sar_framework.events.event import EventKind
 
     node, executor = ros
     zones = spec_zone_manager()
@@ -80,5 +80,5 @@ def test_success_with_and_without_a_survivor(ros: tuple, detect_server: NodeProc
     detect_server.wait_for_output("asked about zone_b")
     assert detect_server.output.count("asked about") == 2
     told = [(e.kind, e.node_uid, e.value("zone_id"), e.status, e.position) for e in events.emitted]
-    assert told == [(EventKind.DETECTION, "0", "zone_a", "FOUND", (1.5, -2.0, 0.0)),
-                    (EventKind.DETECTION, "0", "zone_b", "NONE", None)]
+    assert told == [(SarKind.DETECTION, "0", "zone_a", "FOUND", (1.5, -2.0, 0.0)),
+                    (SarKind.DETECTION, "0", "zone_b", "NONE", None)]

@@ -18,6 +18,7 @@ from sar_plugins.detect_survivor import DetectSurvivor
 from sar_plugins.is_survivor_detected import IsSurvivorDetected
 from sar_plugins.navigate_to_base import NavigateToBase
 from sar_plugins.notify_base import NotifyBase
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import (
     NODES,
     TfStaticRecorder,
@@ -30,7 +31,6 @@ from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
 from sar_framework import load_tree
-from sar_framework.mission.zone_manager import ZoneManager
 
 
 def load_seed(repo_root, zones: ZoneManager) -> py_trees.behaviour.Behaviour:

@@ -22,6 +22,7 @@ from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
 from sar_plugins.detect_survivor import DetectSurvivor
 from sar_plugins.is_survivor_detected import IsSurvivorDetected
 from sar_plugins.notify_base import NotifyBase
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import (
     NODES,
     OutputMark,
@@ -35,7 +36,6 @@ from sar_testing.leaf_harness import (
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import spin_until
 
-from sar_framework.mission.zone_manager import ZoneManager
 from sar_framework.testing import declared_leaf
 
 pytestmark = pytest.mark.ros
@@ -195,6 +195,8 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
 
     node, _make_tree, executor, _report = branch_env
 
+    from sar_plugins.sar.events import SarKind
+
     from sar_framework.events.emitter import EventEmitter
     from sar_framework.events.event import EventKind
 
@@ -224,11 +226,11 @@ def test_a_refused_report_is_logged_as_a_refusal_never_as_no_survivor(
     logged = capfd.readouterr().err
     assert "Report for survivor_1 refused by base: the base is full" in logged
     told = [(e.kind, e.value("survivor_id"), e.message) for e in events.emitted
-            if e.kind != EventKind.DETECTION]
+            if e.kind != SarKind.DETECTION]
     assert told == [
-        (EventKind.SURVIVOR_BROADCAST, "survivor_1",
+        (SarKind.SURVIVOR_BROADCAST, "survivor_1",
          "Broadcast static TF map -> survivor_1 at (1.50, -2.00)."),
-        (EventKind.SURVIVOR_REFUSED, "survivor_1", "the base is full"),
+        (SarKind.SURVIVOR_REFUSED, "survivor_1", "the base is full"),
         (EventKind.NOTE, "", "Report for survivor_1 refused by base: the base is full")]
     assert "No survivor found" not in logged
     assert by_name["LogNoDetection"].status == Status.INVALID, "never ticked"

@@ -8,12 +8,13 @@ from pathlib import Path
 import pytest
 from py_trees.blackboard import Blackboard
 from py_trees.common import Status
+from sar_plugins.sar.events import SarKind
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import spec_zone_manager
 
 from sar_framework.engine.api import LoadedTree, load_tree
 from sar_framework.events.emitter import EventEmitter
 from sar_framework.events.event import EventKind
-from sar_framework.mission.zone_manager import ZoneManager
 
 pytest.importorskip("geometry_msgs.msg", reason="the goal is a geometry_msgs/PoseStamped")
 
@@ -70,7 +71,7 @@ def test_announces_the_zone_and_marks_it_reached(tmp_path: Path) -> None:
         behaviour.setup(events=events)
     loaded.root.tick_once()
     assert loaded.root.status == Status.SUCCESS
-    assert told == [(EventKind.ZONE_REACHED, "zone_a")]
+    assert told == [(SarKind.ZONE_REACHED, "zone_a")]
     navigation = [(e.kind, e.value("zone_id"), e.message, e.position) for e in events.emitted]
     assert navigation == [(EventKind.NAVIGATION, "zone_a", "--- Zone 1/4: zone_a (-3.00, 3.00) ---",
                            (-3.0, 3.0, 0.0))]

@@ -8,9 +8,9 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+from sar_plugins.sar import params as mission_params
+from sar_plugins.sar.zone_manager import ZoneManager
 
-from sar_framework.mission import ZoneManager
-from sar_framework.mission import params as mission_params
 from sar_framework.mission.params_file import (
     ParamsError,
     check_params_file,
@@ -125,7 +125,7 @@ def params_node(*params_files: Path, overrides: tuple[str, ...] = ()) -> Iterato
 
 
 def read(path: Path, *, overrides: tuple[str, ...] = ()):
-    from sar_framework.mission.params import read_mission_params
+    from sar_plugins.sar.params import read_mission_params
 
     locations = check_params_file(path)
     with params_node(path, overrides=overrides) as node:
@@ -205,7 +205,7 @@ def test_malformed_mission_gives_one_clear_message(tmp_path, old, new, expected)
 @pytest.mark.ros
 def test_declared_keys_are_not_redeclared(tmp_path):
     """A second read on the same node must not raise ParameterAlreadyDeclaredException."""
-    from sar_framework.mission.params import read_mission_params
+    from sar_plugins.sar.params import read_mission_params
 
     path = write(tmp_path, "/**:\n  ros__parameters:\n    zone_order: [\"q\"]\n"
                  "    zones: {q: {x: 1.0, y: 2.0, yaw: 0.0}}\n")

@@ -133,7 +133,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
                        sim_params=["blocked_areas:=['zone_b:0.8']"],
                        runner_params=["completion:=once"], plugin_paths=PLUGINS)
     inputs = check_config(config)
-    settings = mission_settings(config, tmp_path, inputs.zones, inputs.apps)
+    settings = mission_settings(config, tmp_path, inputs.places, inputs.apps)
     report = next(p for p in mission_processes(settings, inputs.apps) if p.label == "report")
     assert (settings.trace_file, settings.status_file, report.parameters["report_file"]) == (
         str(tmp_path / "trace.jsonl"), str(tmp_path / "status.json"),
@@ -141,7 +141,7 @@ def test_sar_tree_run_puts_its_outputs_in_the_report_folder(tmp_path: Path) -> N
     assert settings.exit_on_completion is False  # --keep-alive
     assert "detect" not in settings.extra and settings.nav2_timeout_wall_s is None
     assert settings.extra["sim"] == {"blocked_areas": ["3.5:3:0.8"]}  # the zone's position
-    specs = child_specs(config, tmp_path, inputs.zones, apps=inputs.apps)
+    specs = child_specs(config, tmp_path, inputs.places, apps=inputs.apps)
     assert [(s.label, s.executable) for s in specs] == [
         (p.label, p.executable) for p in mission_processes(settings, [SAR])]
     runner = specs[-1]

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import py_trees
 from py_trees.common import Status
+from sar_plugins.sar.zone_manager import ZoneManager
 
 from sar_framework import load_tree
-from sar_framework.mission.zone_manager import ZoneManager
 from sar_framework.runner.reasons import reason_line
 from sar_framework.runner.status_file import StatusFileWriter
 

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from sar_plugins.sar.events import SarKind
 from sar_testing.processes import NodeProcess
 
 from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
@@ -501,9 +502,9 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     reports = tmp_path / "reports.jsonl"
     status = tmp_path / "status.json"
     nav = NodeProcess([str(NODES / "quick_navigate_server.py")], "nav", log_dir=tmp_path)
-    detect = NodeProcess(["-m", "sar_framework.servers.detect_survivor_server"], "detect",
+    detect = NodeProcess(["-m", "sar_plugins.sar.servers.detect_survivor_server"], "detect",
                          log_dir=tmp_path)
-    report = NodeProcess(["-m", "sar_framework.servers.report_survivor_server", "--ros-args",
+    report = NodeProcess(["-m", "sar_plugins.sar.servers.report_survivor_server", "--ros-args",
                           "-p", f"report_file:={reports}"], "report", log_dir=tmp_path)
     with nav, detect, report:
         for server in (nav, detect, report):
@@ -539,10 +540,10 @@ def test_reference_mission_through_the_runner_and_both_servers(tmp_path):
     assert reasons(status) == []
     told = [(e.kind, e.value("zone_id"), e.value("survivor_id"))
             for e in read_events(status.with_name(EVENTS_FILE))
-            if e.kind in (EventKind.ZONE_REACHED, EventKind.SURVIVOR_REPORTED,
-                          EventKind.BASE_REACHED)]
+            if e.kind in (SarKind.ZONE_REACHED, SarKind.SURVIVOR_REPORTED,
+                          SarKind.BASE_REACHED)]
     assert told == [
-        (EventKind.ZONE_REACHED, "zone_a", ""), (EventKind.SURVIVOR_REPORTED, "", "survivor_1"),
-        (EventKind.ZONE_REACHED, "zone_b", ""), (EventKind.ZONE_REACHED, "zone_c", ""),
-        (EventKind.SURVIVOR_REPORTED, "", "survivor_2"), (EventKind.ZONE_REACHED, "zone_d", ""),
-        (EventKind.BASE_REACHED, "", "")]
+        (SarKind.ZONE_REACHED, "zone_a", ""), (SarKind.SURVIVOR_REPORTED, "", "survivor_1"),
+        (SarKind.ZONE_REACHED, "zone_b", ""), (SarKind.ZONE_REACHED, "zone_c", ""),
+        (SarKind.SURVIVOR_REPORTED, "", "survivor_2"), (SarKind.ZONE_REACHED, "zone_d", ""),
+        (SarKind.BASE_REACHED, "", "")]

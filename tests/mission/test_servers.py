@@ -8,20 +8,19 @@ import signal
 from pathlib import Path
 
 import pytest
-from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service, spin_until
-
-from sar_framework.servers.report_log import ReportLog
-from sar_framework.servers.survivors import (
+from sar_plugins.sar.servers.report_log import ReportLog
+from sar_plugins.sar.servers.survivors import (
     DEFAULT_SURVIVORS,
     SurvivorsFileError,
     load_survivors,
 )
+from sar_testing.processes import NodeProcess
+from sar_testing.spin import call_service, spin_until
 
 REPO = Path(__file__).resolve().parents[2]
 DISCOVERY_S = 15.0
-DETECT = ["-m", "sar_framework.servers.detect_survivor_server"]
-REPORT = ["-m", "sar_framework.servers.report_survivor_server"]
+DETECT = ["-m", "sar_plugins.sar.servers.detect_survivor_server"]
+REPORT = ["-m", "sar_plugins.sar.servers.report_survivor_server"]
 
 
 # --- plain Python parts --------------------------------------------------------------------

@@ -71,8 +71,8 @@ def test_sigterm_still_ends_a_process_that_is_stopping(tmp_path: Path) -> None:
 
 
 @pytest.mark.ros
-@pytest.mark.parametrize("module", ["sar_framework.servers.report_survivor_server",
-                                    "sar_framework.servers.detect_survivor_server",
+@pytest.mark.parametrize("module", ["sar_plugins.sar.servers.report_survivor_server",
+                                    "sar_plugins.sar.servers.detect_survivor_server",
                                     "sar_framework.sim"])
 def test_a_process_interrupted_until_it_has_ended_exits_0(tmp_path: Path, module: str) -> None:
     ros_args = (["--ros-args", "-p", f"report_file:={tmp_path / 'reports.jsonl'}"]

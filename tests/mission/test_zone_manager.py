@@ -5,9 +5,8 @@ import math
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import BASE, SPEC_ZONES
-
-from sar_framework.mission import ZoneManager
 
 
 def make() -> ZoneManager:

@@ -37,7 +37,8 @@ def test_colcon_build_installs_a_package_ros2_launch_and_run_resolve(tmp_path):
     assert build.returncode == 0, build.stdout + build.stderr
     install = tmp_path / "install" / "sar_framework"
     share = install / "share" / "sar_framework"
-    for path in ("launch/search_and_rescue.launch.py", "config/nav2_params.yaml",
+    for path in ("launch/search_and_rescue.launch.py", "launch/tree.launch.py",
+                 "config/nav2_params.yaml",
                  "maps/final_project_map.yaml", "trees/search_and_rescue.yaml", "package.xml"):
         assert (share / path).is_file(), path
     assert (install / "lib" / "sar_framework" / "sar-mission-runner").is_file()
@@ -53,8 +54,11 @@ def test_colcon_build_installs_a_package_ros2_launch_and_run_resolve(tmp_path):
 
     assert ros2("pkg", "prefix", "sar_framework").strip() == str(install)
     assert "sar_framework sar-mission-runner" in ros2("pkg", "executables", "sar_framework")
+    # The app's launch file shows its own arguments and those of tree.launch.py it includes.
     shown = ros2("launch", "sar_framework", "search_and_rescue.launch.py", "--show-args")
-    assert "'nav2':" in shown and "'tree':" in shown
+    assert "'survivors_file':" in shown and "'nav2':" in shown and "'tree':" in shown, shown
     printed = ros2("launch", "--print", "sar_framework", "search_and_rescue.launch.py",
                    "nav2:=embedded")
+    assert "LaunchDescription" in printed and "IncludeLaunchDescription" in printed, printed
+    printed = ros2("launch", "--print", "sar_framework", "tree.launch.py", "nav2:=embedded")
     assert "LaunchDescription" in printed and "OpaqueFunction" in printed, printed

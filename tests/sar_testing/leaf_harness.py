@@ -11,7 +11,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from sar_framework.mission.zone_manager import ZoneManager
+from sar_plugins.sar.zone_manager import ZoneManager
+
 from sar_framework.testing.ros_harness import (
     DISCOVERY_S,
     TERMINAL,

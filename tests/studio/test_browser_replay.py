@@ -179,7 +179,7 @@ SCALE = """
 const start = studio.hello.timeline.start;
 const rows = Array.from({length: arguments[0]}, (_, i) => ({
   i, t: start + i * 0.01, sim_s: start + i * 0.01, seq: i + 1, kind: i % 7 ? "status" : "note",
-  node: "N", uid: "0", status: "", zone: "", survivor: "", message: `event ${i}`}));
+  node: "N", uid: "0", status: "", fields: [], mark: "", message: `event ${i}`}));
 let began = performance.now();
 fillEvents(rows, start);
 const built = performance.now() - began;

@@ -70,7 +70,7 @@ def test_saving_writes_the_file_and_stays_in_the_roots(tree: Path, tmp_path: Pat
 def test_save_over_http_needs_the_token(tree: Path) -> None:
     testclient = pytest.importorskip("starlette.testclient", reason="httpx is not installed")
     editor = TreeEditor(tree, [tree.parent])
-    session = Session(EDIT, None, {"grid": None, "zones": [], "base": None}, str(tree))
+    session = Session(EDIT, None, {"grid": None, "places": [], "base": None}, str(tree))
     before = tree.read_text()
     with testclient.TestClient(make_app(session, "k" * 48, editor)) as client:
         assert client.post("/api/save", json={"text": "x"}).status_code == 403

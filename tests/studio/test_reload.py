@@ -24,7 +24,7 @@ pytestmark = pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is
 REPO = Path(__file__).resolve().parents[2]
 TREE = REPO / "trees" / "tutorials" / "01_first_tree.yaml"
 TOKEN = "t" * 48
-WORLD = {"grid": None, "zones": [], "base": None}
+WORLD = {"grid": None, "places": [], "base": None}
 
 
 @pytest.fixture

@@ -15,7 +15,7 @@ from sar_framework.studio.session import LIVE, Session
 
 pytestmark = pytest.mark.ros
 
-WORLD = {"grid": None, "zones": [], "base": None}
+WORLD = {"grid": None, "places": [], "base": None}
 
 
 def status_text(tick: int, leaf: str) -> str:

@@ -16,7 +16,7 @@ pytestmark = pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is
 
 TOKEN = "t" * 48
 WORLD = {"grid": {"width": 2, "height": 2, "resolution": 1.0, "origin": [0, 0],
-                  "walls": [[0, 0, 1]]}, "zones": [], "base": None}
+                  "walls": [[0, 0, 1]]}, "places": [], "base": None}
 
 
 def status(tick: int, sim_s: float, leaf: str) -> dict:
@@ -56,6 +56,8 @@ def test_the_tree_is_drawn_from_the_status_when_no_tree_file_is_given(client) ->
 
 
 def test_a_replay_hello_lists_every_event_and_a_live_one_does_not() -> None:
+    from sar_plugins.sar.events import SarKind
+
     from sar_framework.events.event import EventKind, MissionEvent
     from sar_framework.studio.session import LIVE
 
@@ -65,7 +67,7 @@ def test_a_replay_hello_lists_every_event_and_a_live_one_does_not() -> None:
         session.timeline.add_event(MissionEvent(EventKind.NAVIGATION, seq=1, sim_s=1.5,
                                                 node_name="Leaf", node_uid="0.0",
                                                 fields={"zone_id": "z"}, message="to z"))
-        session.timeline.add_event(MissionEvent(EventKind.DETECTION, seq=2, sim_s=2.0,
+        session.timeline.add_event(MissionEvent(SarKind.DETECTION, seq=2, sim_s=2.0,
                                                 fields={"zone_id": "z"}, status="FOUND"))
         session.adopt_status_tree(session.timeline.statuses[0])
         with testclient.TestClient(make_app(session, TOKEN)) as client:
@@ -73,9 +75,9 @@ def test_a_replay_hello_lists_every_event_and_a_live_one_does_not() -> None:
         if mode == LIVE:
             assert "events" not in timeline
             continue
-        assert [(e["t"], e["kind"], e["node"], e["zone"], e["message"])
-                for e in timeline["events"]] == [(1.5, "navigation", "Leaf", "z", "to z"),
-                                                 (2.0, "detection", "", "z", "")]
+        assert [(e["t"], e["kind"], e["node"], e["fields"], e["message"])
+                for e in timeline["events"]] == [(1.5, "navigation", "Leaf", ["z"], "to z"),
+                                                 (2.0, "detection", "", ["z"], "")]
 
 
 def test_a_frame_over_http(client) -> None:

@@ -35,15 +35,15 @@ from pathlib import Path
 
 import py_trees
 import yaml
+from sar_plugins.sar.zone_manager import ZoneManager
 
 from sar_framework import load_tree
 from sar_framework.engine.api import LoadedTree
 from sar_framework.engine.diagnostics import TreeLoadError
+from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.ports import convert, is_message
 from sar_framework.engine.scripting import ScriptError
-from sar_framework.engine.nodes.skipping import was_skipped
 from sar_framework.engine.spec import Category
-from sar_framework.mission.zone_manager import ZoneManager
 
 REPO = Path(__file__).resolve().parents[2]
 PARAMS = REPO / "config" / "mission_params.yaml"

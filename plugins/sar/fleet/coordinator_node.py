@@ -42,12 +42,12 @@ from sar_plugins.sar.fleet.event_log import FleetEventLog
 from sar_plugins.sar.fleet.params import COORDINATOR_PARAMETERS
 from sar_plugins.sar.fleet.survivor_registry import Registration
 from sar_plugins.sar.fleet.survivor_service import SurvivorRegistryService
+from sar_plugins.sar.params import read_mission_params
 
-from sar_framework.mission.params import read_mission_params
 from sar_framework.mission.params_file import check_params_file, params_files_from_args
 from sar_framework.ros.parameters import declare_table
 from sar_framework.ros.qos import latched_qos
-from sar_framework.servers.serve import ServerConfigError, serve
+from sar_framework.ros.serve import ServerConfigError, serve
 
 NODE_NAME = "zone_coordinator"
 PREFIX = "/zone_coordinator/"

@@ -7,9 +7,10 @@ and its own settings below.
 
 from __future__ import annotations
 
+from sar_plugins.sar.params import MISSION_PARAMETERS
+
 from sar_framework.engine.param import Param
 from sar_framework.mission.params_check import USE_SIM_TIME
-from sar_framework.mission.runner_params import MISSION_PARAMETERS
 
 _MISSION = tuple(p for p in MISSION_PARAMETERS
                  if p.name == "zone_order" or p.name.startswith("zones."))

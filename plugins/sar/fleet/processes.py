@@ -78,7 +78,7 @@ def robot_parameters(settings: MissionSettings, robot: Robot, index: int
 def spawn_around(values: Mapping[str, Any]) -> tuple[tuple[float, float],
                                                       list[tuple[float, float]]]:
     """The base station, and the zones whose ways from it the spawns keep clear of."""
-    from sar_framework.mission.params_check import zone_positions
+    from sar_plugins.sar.params import zone_positions
 
     base = (float(values.get("base_station.x", 0.0)), float(values.get("base_station.y", 0.0)))
     return base, list(zone_positions(values).values())

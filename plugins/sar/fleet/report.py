@@ -82,9 +82,9 @@ def fleet_report(settings: MissionSettings, summaries: Mapping[str, dict[str, An
     searched = zone_searchers([z["id"] for z in zones], summaries, events)
     base = {}
     if settings.params_file:
-        from sar_framework.report import read_mission_layout
+        from sar_plugins.sar.report import mission_layout
 
-        base = read_mission_layout(settings.params_file)[1]
+        base = mission_layout(settings.params_file)[1]
     keys = {"coordinator": coordinator, "base_station": base,
             "zones": {zone: {"searched_by": list(by)} for zone, by in searched.items()},
             "robots": {name: {"zones_visited": [z["id"] for z in s.get("zones_visited", [])],

@@ -25,14 +25,14 @@ function eventPart(tag, cls, text) {
 
 function eventRow(e, start) {
   const li = document.createElement("li");
-  li.className = e.kind;
+  li.className = `${e.kind} mark-${e.mark}`;
   li.dataset.i = e.i;
   li.dataset.kind = e.kind;
   li.dataset.t = e.t;
   const link = document.createElement("a");
   link.href = `#t=${e.t}`;
   link.title = `${e.kind} #${e.seq} @ ${(e.t - start).toFixed(2)} s: ${e.message}`;
-  const who = [e.node, e.zone, e.survivor, e.status].filter(Boolean).join(" · ");
+  const who = [e.node, ...e.fields, e.status].filter(Boolean).join(" · ");
   link.append(eventPart("span", "time", (e.t - start).toFixed(1)), " ",
               eventPart("b", "kind", e.kind), " ", eventPart("span", "who", who), " ",
               eventPart("span", "msg", e.message));

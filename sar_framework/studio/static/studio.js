@@ -101,26 +101,26 @@ function drawWorld(world) {
   const res = grid.resolution;
   svg.appendChild(el("polyline", { id: "path", fill: "none", stroke: "#1e6edc",
                                    "stroke-width": 0.06 / res * 1.5, points: "" }));
-  const zones = el("g", { id: "zones" });
-  world.zones.forEach((z, i) => {
+  const places = el("g", { id: "places" });
+  world.places.forEach((z, i) => {
     const [cx, cy] = toMap(z.x, z.y);
-    const g = el("g", { "data-zone": z.id });
+    const g = el("g", { "data-place": z.id });
     g.appendChild(el("circle", { cx, cy, r: 0.3 / res, fill: "none", stroke: "#888",
                                  "stroke-width": 0.05 / res }));
     const label = el("text", { x: cx, y: cy + 0.12 / res, "font-size": 0.35 / res,
                                "text-anchor": "middle", fill: "#555" });
     label.textContent = String(i + 1);
     g.appendChild(label);
-    zones.appendChild(g);
+    places.appendChild(g);
   });
-  svg.appendChild(zones);
+  svg.appendChild(places);
   if (world.base) {
     const [bx, by] = toMap(world.base.x, world.base.y);
     const s = 0.4 / res;
     svg.appendChild(el("rect", { x: bx - s / 2, y: by - s / 2, width: s, height: s,
                                  fill: "none", stroke: "#7846c8", "stroke-width": 0.06 / res }));
   }
-  svg.appendChild(el("g", { id: "survivors" }));
+  svg.appendChild(el("g", { id: "found" }));
   const r = 0.22 / res;
   const robot = el("polygon", { id: "robot", points: `${r},0 ${-r * 0.7},${r * 0.7} ${-r * 0.7},${-r * 0.7}`,
                                 fill: "#1e6edc", stroke: "#fff", "stroke-width": 0.03 / res,
@@ -150,9 +150,9 @@ function onFrame(frame) {
   const status = $("mission-status");
   status.textContent = frame.complete ? `${frame.status} (over)` : frame.status;
   status.className = `pill ${frame.status}`;
-  // An app's field (search and rescue's zone): shown only for a tree that uses the app.
-  $("zone-part").hidden = frame.zone === undefined;
-  $("zone").textContent = frame.zone ? `${frame.zone.id} (${frame.zone.index + 1}/${frame.zone.total})` : "-";
+  // The apps' words about the tick (shown only when a tree's app has some).
+  $("app-status").hidden = !frame.app_status;
+  $("app-status").textContent = frame.app_status;
   paintTree(frame);
   paintWorld(frame);
   fillBlackboard(frame);
@@ -187,20 +187,20 @@ function paintWorld(frame) {
     robot.dataset.x = x.toFixed(3);
     robot.dataset.y = y.toFixed(3);
   }
-  if (!changedSince("world", [frame.survivors, frame.zones_reached])) return;
-  const survivors = $("survivors");
-  survivors.innerHTML = "";
+  if (!changedSince("world", [frame.found, frame.reached])) return;
+  const found = $("found");
+  found.innerHTML = "";
   const res = studio.grid.resolution;
-  for (const s of frame.survivors) {
+  for (const s of frame.found) {
     const [cx, cy] = toMap(s.position[0], s.position[1]);
     const dot = el("circle", { cx, cy, r: 0.15 / res, fill: "#e67e00", "data-id": s.id });
     const tip = el("title", {});
     tip.textContent = s.id || "detected";
     dot.appendChild(tip);
-    survivors.appendChild(dot);
+    found.appendChild(dot);
   }
-  for (const g of $("zones").children) {
-    const reached = frame.zones_reached.includes(g.dataset.zone);
+  for (const g of $("places").children) {
+    const reached = frame.reached.includes(g.dataset.place);
     g.firstChild.setAttribute("stroke", reached ? "#2e8b3e" : "#888");
     g.firstChild.setAttribute("fill", reached ? "rgba(46,139,62,0.2)" : "none");
   }

@@ -23,7 +23,7 @@ from py_trees.common import Status
 from sar_framework.engine.plugin import Param, leaf
 
 if TYPE_CHECKING:
-    from sar_framework.mission.zone_manager import ZoneManager
+    from sar_plugins.sar.zone_manager import ZoneManager
 
 
 @leaf(

@@ -1,6 +1,6 @@
 """The mission's service servers: ``/detect_survivor`` and ``/report_survivor``.
 
-Each is a console script and a module (``python -m sar_framework.servers.<module>``):
+Each is a console script and a module (``python -m sar_plugins.sar.servers.<module>``):
 
 - :mod:`.detect_survivor_server` answers from a survivor table (:mod:`.survivors`);
 - :mod:`.report_survivor_server` validates reports and records each acknowledged one

@@ -17,6 +17,8 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
+from sar_plugins.sar.events import SarKind
+
 from sar_framework.events.event import EventKind
 
 ZoneListener = Callable[[EventKind, dict[str, Any]], None]
@@ -91,8 +93,8 @@ class ZoneManager:
         """Tell ``listener`` when a zone is reached, and when one is passed unreached.
 
         Args:
-            listener: Called with ``(EventKind.ZONE_REACHED, zone)`` from
-                :meth:`mark_reached` and ``(EventKind.ZONE_UNREACHED, zone)`` from
+            listener: Called with ``(SarKind.ZONE_REACHED, zone)`` from
+                :meth:`mark_reached` and ``(SarKind.ZONE_UNREACHED, zone)`` from
                 :meth:`advance` past a zone never reached (``zone`` a copy).
         """
         self._listeners.append(listener)
@@ -127,13 +129,13 @@ class ZoneManager:
             zone = self._zones[self._index]
             self._index += 1
             if zone["id"] not in self._reached:
-                self._tell(EventKind.ZONE_UNREACHED, zone)
+                self._tell(SarKind.ZONE_UNREACHED, zone)
 
     def mark_reached(self, zone_id: str) -> None:
         """Record that the robot reached ``zone_id`` (NavigateToZone calls it on success)."""
         self._reached.add(zone_id)
         zone = next((z for z in self._zones if z["id"] == zone_id), {"id": zone_id})
-        self._tell(EventKind.ZONE_REACHED, zone)
+        self._tell(SarKind.ZONE_REACHED, zone)
 
     def zone(self, zone_id: str) -> dict[str, Any]:
         """Return a copy of zone ``zone_id`` (``{"id", "x", "y", "yaw"}``).

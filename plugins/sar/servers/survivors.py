@@ -24,7 +24,7 @@ DEFAULT_SURVIVORS: dict[str, tuple[float, float]] = {
 }
 
 #: The repository's table, present in a source checkout or an editable install.
-REPO_SURVIVORS_FILE = Path(__file__).resolve().parents[2] / "config" / "survivors.yaml"
+REPO_SURVIVORS_FILE = Path(__file__).resolve().parents[3] / "config" / "survivors.yaml"
 
 
 class SurvivorsFileError(ValueError):

@@ -1,13 +1,13 @@
 """``/detect_survivor``: answers whether a zone hides a survivor, from a table.
 
-Parameters: :data:`~sar_framework.servers.params.DETECT_PARAMETERS` (``survivors_file``,
+Parameters: :data:`~sar_plugins.sar.servers.params.DETECT_PARAMETERS` (``survivors_file``,
 ``service_name``, ``answer_delay_wall_s``); an empty ``survivors_file`` is the repository's
 ``config/survivors.yaml``, or the spec's table when that is absent.
 
 Logs ``Detection request for zone_a: FOUND at (-2.50, 3.20)`` or
 ``Detection request for zone_b: no survivor`` per request, and ``ready: ...`` once serving.
 
-Run: ``sar-detect-survivor-server`` or ``python -m sar_framework.servers.detect_survivor_server``
+Run: ``sar-detect-survivor-server`` or ``python -m sar_plugins.sar.servers.detect_survivor_server``
 (``--ros-args -p survivors_file:=my_table.yaml``).
 """
 
@@ -19,11 +19,11 @@ from collections.abc import Sequence
 
 from rclpy.node import Node
 from sar_interfaces.srv import DetectSurvivor
+from sar_plugins.sar.servers.params import DETECT_PARAMETERS
+from sar_plugins.sar.servers.survivors import default_survivors_source, load_survivors
 
 from sar_framework.ros.parameters import declare_table
-from sar_framework.servers.params import DETECT_PARAMETERS
-from sar_framework.servers.serve import serve
-from sar_framework.servers.survivors import default_survivors_source, load_survivors
+from sar_framework.ros.serve import serve
 
 NODE_NAME = "detect_survivor_server"
 

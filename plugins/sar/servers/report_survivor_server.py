@@ -8,7 +8,7 @@ nothing acknowledged is lost;
 a survivor id reported again is acknowledged again but not written twice (ids already in
 the file count too, so this holds across restarts).
 
-Parameters: :data:`~sar_framework.servers.params.REPORT_PARAMETERS` (``report_file``,
+Parameters: :data:`~sar_plugins.sar.servers.params.REPORT_PARAMETERS` (``report_file``,
 ``service_name``, ``global_frame``, ``refuse_all``, ``answer_delay_wall_s``).
 
 Logs ``Report received: survivor_1 at (-2.50, 3.20). Acknowledged.`` per new report and
@@ -28,11 +28,11 @@ from typing import Any
 
 from rclpy.node import Node
 from sar_interfaces.srv import ReportSurvivor
+from sar_plugins.sar.servers.params import REPORT_PARAMETERS
+from sar_plugins.sar.servers.report_log import ReportLog
 
 from sar_framework.ros.parameters import declare_table
-from sar_framework.servers.params import REPORT_PARAMETERS
-from sar_framework.servers.report_log import ReportLog
-from sar_framework.servers.serve import ServerConfigError, serve
+from sar_framework.ros.serve import ServerConfigError, serve
 
 NODE_NAME = "report_survivor_server"
 #: Longest survivor id accepted.

@@ -37,7 +37,7 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     from rclpy.experimental import EventsExecutor
     from rclpy.signals import SignalHandlerOptions
 
-    from sar_framework.recording.introspection import enable_service_introspection
+    from sar_framework.ros.introspection import enable_service_introspection
     from sar_framework.stop_signals import stop_on_signals
 
     stop = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers

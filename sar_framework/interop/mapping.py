@@ -3,8 +3,9 @@
 The kinds of :mod:`~sar_framework.engine.nodes.control_kinds` are BT.CPP's (and Nav2's) own
 nodes: each maps 1:1 to the ID it is named after, its attributes to the ports of the same
 names, both ways. Each py_trees kind (``sequence``, ``one_shot``...) maps either to a
-built-in BT.CPP node that ticks its children the same way (:data:`BUILTIN`; importing
-that node gives the BT.CPP kind back), or, when BT.CPP has no such node, to a *custom*
+built-in BT.CPP node that ticks its children the same way (the engine's one table,
+:data:`~sar_framework.engine.nodes.py_trees_spellings.PY_TREES_SPELLINGS`; importing that
+node gives the BT.CPP kind back), or, when BT.CPP has no such node, to a *custom*
 node ``Sar<ClassName>`` whose ports are our attributes (declared in ``<TreeNodesModel>``,
 so Groot2 can show and edit it; a BT.CPP program must register it to run the tree).
 """
@@ -19,6 +20,7 @@ from sar_framework.engine.message_literals import MessageLiteral, message_text
 from sar_framework.engine.nodes.control_kinds import CONTROL_KINDS
 from sar_framework.engine.nodes.kind_model import Attr
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS, SCRIPT_KINDS, AttrType, NodeKind
+from sar_framework.engine.nodes.py_trees_spellings import PY_TREES_SPELLINGS
 from sar_framework.engine.registry import Registry
 
 #: Prefix of the custom BT.CPP node a kind without a built-in equivalent becomes.
@@ -118,21 +120,7 @@ def same_ids(kind: NodeKind, btcpp_id: str | None = None) -> Builtin:
 
 
 BUILTIN: tuple[Builtin, ...] = (
-    Builtin("Sequence", "sequence", (("memory", True),)),
-    Builtin("ReactiveSequence", "sequence", (("memory", False),)),
-    Builtin("Fallback", "selector", (("memory", True),)),
-    Builtin("ReactiveFallback", "selector", (("memory", False),)),
-    Builtin("RunOnce", "one_shot", (("policy", "on_completion"),),
-            to_ports=lambda a: {"then_skip": "false"}),
-    Builtin("Inverter", "inverter"),
-    Builtin("RetryUntilSuccessful", "retry",
-            to_ports=lambda a: {"num_attempts": str(a["num_failures"])}),
-    Builtin("Repeat", "repeat", to_ports=lambda a: {"num_cycles": str(a["num_success"])}),
-    Builtin("Timeout", "timeout",
-            to_ports=lambda a: {"msec": str(round(a["duration"] * 1000))}),
-    Builtin("ForceSuccess", "failure_is_success"),
-    Builtin("ForceFailure", "success_is_failure"),
-    Builtin("KeepRunningUntilFailure", "success_is_running"),
+    *(Builtin(s.btcpp_id, s.kind, s.fixed, s.to_ports) for s in PY_TREES_SPELLINGS),
     *(same_ids(kind) for kind in CONTROL_KINDS),
     *(same_ids(kind) for kind in SCRIPT_KINDS),
     same_ids(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),

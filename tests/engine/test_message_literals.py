@@ -15,6 +15,10 @@ from sar_framework.engine.message_literals import (
 
 POSE = "geometry_msgs/msg/PoseStamped"
 
+# Message literals are read from the installed ROS interfaces' .msg files: not in the
+# engine's py_trees-only environment (.venv-compat), where ROS tests are skipped.
+pytestmark = pytest.mark.ros
+
 
 def test_the_pose_shorthand_fills_frame_and_stamp() -> None:
     goal = message_literal(POSE, {"x": 1, "y": 2.0, "yaw": math.pi / 2})

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import pytest
+
 from sar_framework.engine.checking.validate import ValidationResult
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.spec import NodeSpec
@@ -200,6 +202,7 @@ def test_bindings_as_written(check: Checker) -> None:
     ]
 
 
+@pytest.mark.ros  # a message literal: the .msg files of the ROS interfaces
 def test_blackboard_section(check: Checker) -> None:
     assert check("""
         format: 1

@@ -64,6 +64,7 @@ def test_a_wrong_type_is_located_at_the_declaration(tree: Path) -> None:
         "'maybe' (the entry is declared here as bool)"]
 
 
+@pytest.mark.ros  # a message literal: the .msg files of the ROS interfaces
 def test_a_message_entry_takes_a_literal(tree: Path) -> None:
     result = validate(tree, initial_values={"goal": "1;2;0"})
     assert result.ok, [str(d) for d in result.diagnostics]

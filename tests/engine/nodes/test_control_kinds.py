@@ -265,6 +265,7 @@ root:
         tmp_path, registry, copy)
 
 
+@pytest.mark.ros  # a message literal: the .msg files of the ROS interfaces
 def test_set_blackboard_writes_a_pose_literal(tmp_path: Path, registry: Registry) -> None:
     text = """\
 blackboard:

@@ -55,6 +55,7 @@ def test_the_patrol_scans_every_shelf_twice_and_says_so(tmp_path: Path) -> None:
     folder = example_folder(tmp_path)
     done = run(folder, "--set", "battery=100", "--record", "out/patrol.mcap")
     assert "shelves scanned: 6 (A, B, C, A, B, C); waypoints visited: 7" in done.stdout
+    assert done.stdout.count("runner | shelf B scanned") == 2  # the scan server's answer
     report = mission(folder / "out")
     assert report["outcome"] == "SUCCESS", report
     assert [s["shelf"] for s in report["shelves_scanned"]] == ["A", "B", "C"] * 2

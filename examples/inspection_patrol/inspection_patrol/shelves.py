@@ -15,7 +15,7 @@ from sar_framework.app import App, AppRun
 from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 from sar_framework.events.event import MissionEvent
-from sar_framework.leaves import Leaf
+from sar_framework.leaves import ServiceLeaf, service_params
 
 SHELF_SCANNED = "shelf_scanned"
 """The app's event kind: one shelf scanned (field ``shelf``)."""
@@ -26,18 +26,25 @@ class Inspection:
 
     def __init__(self) -> None:
         self.scanned: list[str] = []
+        self.pending = ""
+        self.server: Any = None
 
 
-@leaf(params=[Param("shelf", str, description="The shelf's name.")],
+@leaf(params=[Param("shelf", str, description="The shelf's name."),
+              *service_params("scan_shelf", server_timeout_s=5.0, response_timeout_s=5.0)],
       context=["inspection"])
-class ScanShelf(Leaf):
-    """Scan ``shelf``: count it in the inspection and record a ``shelf_scanned`` event.
+class ScanShelf(ServiceLeaf):
+    """Ask the app's scan server to scan ``shelf``; record a ``shelf_scanned`` event.
+
+    The server (``std_srvs/srv/Trigger``, which carries no request fields) scans the shelf
+    the inspection holds as pending.
 
     Attributes:
         shelf: The shelf's name (declared param).
         inspection: The app's :class:`Inspection` (context object).
     """
 
+    service_type = "std_srvs/srv/Trigger"
     shelf: str
     inspection: Inspection
 
@@ -46,21 +53,44 @@ class ScanShelf(Leaf):
         self._events: EventEmitter = NO_EVENTS
 
     def setup(self, **kwargs: Any) -> None:
-        """Keep the event emitter ``setup(events=...)`` gives."""
+        """Keep the event emitter ``setup(events=...)`` gives, then make the client."""
         self._events = events_from(kwargs)
+        super().setup(**kwargs)
 
-    def update(self) -> Status:
-        """Scan the shelf; SUCCESS."""
-        self.inspection.scanned.append(self.shelf)
-        self.feedback_message = f"shelf {self.shelf} scanned"
-        self._events.emit(SHELF_SCANNED, source=self, message=self.feedback_message,
+    def set_request(self, request: Any) -> bool | None:
+        """Name the shelf to scan."""
+        self.inspection.pending = self.shelf
+        return None
+
+    def on_response(self, response: Any) -> Status:
+        """SUCCESS and a ``shelf_scanned`` event when the server scanned it."""
+        if not response.success:
+            return self.fail(response.message)
+        self._events.emit(SHELF_SCANNED, source=self, message=response.message,
                           shelf=self.shelf)
-        return Status.SUCCESS
+        return self.succeed(response.message, log=False)
 
 
-def _start(_node: Any, _source: str, _locations: Mapping[str, Any]) -> AppRun:
-    """A fresh inspection for the run."""
-    return AppRun(context={"inspection": Inspection()})
+def _serve_scans(node: Any, inspection: Inspection) -> Any:
+    """The app's scan server on the runner's node: scans the pending shelf."""
+    from std_srvs.srv import Trigger
+
+    def scan(_request: Any, response: Any) -> Any:
+        shelf, inspection.pending = inspection.pending, ""
+        response.success = bool(shelf)
+        response.message = f"shelf {shelf} scanned" if shelf else "no shelf named"
+        if shelf:
+            inspection.scanned.append(shelf)
+        return response
+
+    return node.create_service(Trigger, "scan_shelf", scan)
+
+
+def _start(node: Any, _source: str, _locations: Mapping[str, Any]) -> AppRun:
+    """A fresh inspection for the run, and its scan server on the runner's node."""
+    inspection = Inspection()
+    inspection.server = _serve_scans(node, inspection)
+    return AppRun(context={"inspection": inspection})
 
 
 def _progress(event: MissionEvent) -> str | None:

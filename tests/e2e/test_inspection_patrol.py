@@ -89,7 +89,7 @@ def test_ros2_launch_runs_the_patrol_and_writes_its_report(tmp_path: Path) -> No
         pytest.skip("real-stack tier: ros2cli / launch not built")
     folder = example_folder(tmp_path)
     out = tmp_path / "out"
-    done = subprocess.run([str(ROS2), "launch", "sar_framework", "search_and_rescue.launch.py",
+    done = subprocess.run([str(ROS2), "launch", "sar_framework", "tree.launch.py",
                            "nav2:=embedded", "tree:=patrol.yaml", "map:=warehouse.yaml",
                            "spawn:=0,0,0", "set:=battery=100", f"report_dir:={out}"],
                           cwd=folder, capture_output=True, text=True, stdin=subprocess.DEVNULL,

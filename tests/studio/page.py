@@ -51,8 +51,12 @@ def wait_for(driver: Any, names: list[str], found: Callable[[dict[str, Any]], bo
     raise AssertionError(f"{what}: not seen within {timeout} s; last state: {last}")
 
 
-def until(driver: Any, script: str, timeout: float = 15) -> Any:
-    """Poll a script on the page until it returns something true; return that."""
+def until(driver: Any, script: str, timeout: float = 60) -> Any:
+    """Poll a script on the page until it returns something true; return that.
+
+    The bound is an outer safety bound: a page's check answers in well under a second when
+    idle, and 15 s was reached by a machine loaded with builds beside the suite.
+    """
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:  # outer safety bound
         value = driver.execute_script(script)

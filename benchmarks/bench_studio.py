@@ -18,6 +18,9 @@ Needs chromium and chromedriver (``apt-get install chromium chromium-driver``).
   opened with ``sar-tree studio replay``; the page seeks to ``--scrubs`` random instants
   one after another and each is timed from the seek to the frame drawn. ``frame(t)`` is
   the server's part alone (:meth:`sar_framework.studio.timeline.Timeline.frame`).
+  Then the page's event list is filled with 10,000 made-up events and shown at 2,000
+  instants, timed per 100 (the suite checks what keeps it fast by counting: a bisection
+  per instant, two rows' classes changed, one scroll per drawn frame).
 
 Uses ``ROS_DOMAIN_ID`` from the environment (default 44) and loopback-only discovery.
 """
@@ -62,6 +65,25 @@ onFrame = (frame) => {
   started = performance.now(); seek(times[i]); i += 1;
 };
 started = performance.now(); seek(times[0]); i = 1;
+"""
+
+EVENT_LIST = """
+const [n, batches, per] = arguments;
+const start = studio.hello.timeline.start;
+const rows = Array.from({length: n}, (_, i) => ({
+  i, t: start + i * 0.01, sim_s: start + i * 0.01, seq: i + 1, kind: i % 7 ? "status" : "note",
+  node: "N", uid: "0", status: "", fields: [], mark: "", message: `event ${i}`}));
+let began = performance.now();
+fillEvents(rows, start);
+const filled = performance.now() - began;
+const shown = [];
+for (let b = 0; b < batches; b++) {
+  began = performance.now();
+  for (let k = 0; k < per; k++) showEventAt(start + (((b * per + k) * 7919) % n) * 0.01);
+  shown.push(performance.now() - began);
+}
+fillEvents(studio.hello.timeline.events, start);
+return {filled, shown};
 """
 
 
@@ -155,12 +177,15 @@ def replay_rows(record: Path, scrubs: int, folder: Path) -> list[tuple[str, int,
             time.sleep(2.0)
             driver.set_script_timeout(300)
             browser = driver.execute_async_script(SCRUB, instants)
+            events = driver.execute_script(EVENT_LIST, 10000, 20, 100)
     finally:
         studio.stop()
     minutes = (timeline.end_s - timeline.start_s) / 60
     label = f"{minutes:.1f} min, {len(timeline.statuses)} ticks, {len(timeline.poses)} poses"
     return [(f"replay ({label}): frame(t) on the server", scrubs, 1.0, server),
-            ("replay: seek -> drawn in the page", scrubs, 1.0, browser)]
+            ("replay: seek -> drawn in the page", scrubs, 1.0, browser),
+            ("event list: fill with 10,000 events", 1, 1.0, [events["filled"]]),
+            ("event list: 100 instants shown (of 10,000 events)", 20, 1.0, events["shown"])]
 
 
 def main(argv: list[str] | None = None) -> int:

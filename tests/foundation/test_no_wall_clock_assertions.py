@@ -170,3 +170,26 @@ def wait(ready):
     assert count < 4
 """
     assert unmarked_comparisons(marked) == []
+
+
+PAGE_CLOCKS = ("performance.now(", "Date.now(")
+
+
+def page_clock_reads(source: str) -> list[int]:
+    """The lines of ``source`` whose page script reads the browser's clock."""
+    return [number for number, line in enumerate(source.splitlines(), 1)
+            if any(clock in line for clock in PAGE_CLOCKS)]
+
+
+def test_no_page_script_in_the_suite_reads_the_browsers_clock() -> None:
+    """A page's timing is a figure for benchmarks/bench_studio.py; a test counts instead."""
+    offenders = [f"{path.relative_to(REPO)}:{line}"
+                 for root in SCANNED for path in sorted(root.rglob("*.py"))
+                 if path.name != Path(__file__).name
+                 for line in page_clock_reads(path.read_text())]
+    assert not offenders, f"page scripts timing themselves in the suite: {offenders}"
+
+
+def test_the_page_scan_finds_what_it_must() -> None:
+    script = 'SCRIPT = """\nlet began = performance.now();\nrun();\nreturn Date.now() - t;\n"""\n'
+    assert page_clock_reads(script) == [2, 4]

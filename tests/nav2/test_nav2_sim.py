@@ -79,7 +79,12 @@ root:
     children:
       - ComputePathToPose: {goal: "{goal}", path: "{path}", error_code_id: "{plan_error}"}
       - FollowPath: {path: "{path}", error_code_id: "{follow_error}"}
-      - GoalReached: {goal: "{goal}"}
+"""
+REACHED = """
+blackboard:
+  goal: {type: geometry_msgs/msg/PoseStamped}
+root:
+  GoalReached: {goal: "{goal}"}
 """
 
 
@@ -93,6 +98,17 @@ def test_compute_path_then_follow_it_through_the_blackboard(
     assert len(path.poses) > 5 and (end.x, end.y) == pytest.approx((1.0, -0.5), abs=0.06)
     assert Blackboard.storage["/plan_error"] == 0
     assert Blackboard.storage["/follow_error"] == 0
+    # GoalReached reads TF, which a loaded test process takes one message per spin, after
+    # FollowPath's result: tick it until the transforms show the robot where it stopped.
+    reached = trees(build(tmp_path, REACHED))
+    seen: list[str] = []
+
+    def at_goal() -> bool:
+        reached.tick()
+        seen.append(reached.root.feedback_message)
+        return reached.root.status == Status.SUCCESS
+
+    assert spin_until(ros[1], at_goal, 30.0), seen[-3:]  # outer safety bound
 
 
 def test_a_goal_in_a_wall_fails_with_nav2s_error_code_and_clears_the_path(

@@ -1,7 +1,7 @@
 """The integers BT.CPP's control nodes read with ``getInput``, bound to entries.
 
 Timeout's ``msec``, Repeat's ``num_cycles``...
-(``control_kinds.READ_PORTS``) take a literal (range-checked as before) or ``{name}``,
+(a kind's declared ``reads``) take a literal (range-checked as before) or ``{name}``,
 resolved in scope, type-checked and read when BT.CPP reads it.
 """
 

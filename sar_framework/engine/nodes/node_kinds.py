@@ -147,7 +147,7 @@ _KIND_LIST: tuple[NodeKind, ...] = (
     _decorator(
         "retry",
         "Retry",
-        "Re-run a failing child up to num_failures times.",
+        "Tick a failing child again until it has failed num_failures times in all.",
         Attr(
             "num_failures",
             AttrType.INTEGER,

@@ -45,15 +45,14 @@ class KindSpec:
     """Everything the engine knows about one control or decorator plugin.
 
     Attributes:
-        kind: Its declaration (key, category, attributes, one line of docs, its builder).
+        kind: Its declaration (key, category, attributes, one line of docs, its builder,
+            the other IDs an imported XML may name it by).
         cls: The behaviour class.
-        spellings: Other BT.CPP IDs an imported XML may name it by.
         source: Where it was found; set by the registry.
     """
 
     kind: NodeKind
     cls: type
-    spellings: tuple[str, ...] = ()
     source: str = field(default="", compare=False)
 
     @property
@@ -76,7 +75,8 @@ def node_kind(kind: NodeKind, *, build: KindBuilder | None = None,
 
     Returns:
         A class decorator that records a :class:`KindSpec` on the class and returns it
-        (its kind's ``build``: ``build``, else one the declaration named, else the class).
+        (its kind's ``build``: ``build``, else one the declaration named, else the class;
+        ``spellings`` are added to the kind's).
 
     Raises:
         TypeError: When ``kind`` is not a control or a decorator.
@@ -86,8 +86,9 @@ def node_kind(kind: NodeKind, *, build: KindBuilder | None = None,
         if kind.category not in (Category.COMPOSITE, Category.DECORATOR):
             raise TypeError(f"{cls.__name__}: a node kind plugin is a control or a decorator; "
                             "a leaf is declared with @leaf")
-        built = dataclasses.replace(kind, build=build or kind.build or cls)
-        setattr(cls, KIND_ATTRIBUTE, KindSpec(built, cls, tuple(spellings)))
+        built = dataclasses.replace(kind, build=build or kind.build or cls,
+                                    spellings=(*kind.spellings, *spellings))
+        setattr(cls, KIND_ATTRIBUTE, KindSpec(built, cls))
         return cls
 
     return mark

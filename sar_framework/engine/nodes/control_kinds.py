@@ -92,7 +92,7 @@ def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None
     """A control node's declaration: its key, one line of docs, its attributes, children.
 
     ``symbol``: its text symbol in diagrams; ``how``: how it is built and read
-    (``build``, ``context``, ``reads``, ``reads_each_tick``, ``reports``; see
+    (``build``, ``context``, ``reads``, ``reads_each_tick``, ``spellings``, ``reports``; see
     :class:`~.kind_model.NodeKind`).
     """
     return NodeKind(key, Category.COMPOSITE, key, text,
@@ -158,7 +158,7 @@ def threshold_problem(kind: str, attrs: dict[str, object], children: int) -> str
 _BRANCHES = children_attr(2, 3, "The condition, the then-branch and an optional else-branch.")
 _THRESHOLD = ("; negative counts from the number of children (-1: all of them)")
 
-def _sequences(module: str, *kinds: tuple[str, str, str]) -> tuple[NodeKind, ...]:
+def _plain_controls(module: str, *kinds: tuple[str, str, str]) -> tuple[NodeKind, ...]:
     """Controls of ``module`` built as their class is: ``(key, one line, symbol)`` each."""
     return tuple(control_kind(key, text, symbol=symbol, build=_in(module, key))
                  for key, text, symbol in kinds)
@@ -169,11 +169,15 @@ def _converter(key: str, text: str) -> NodeKind:
 
 
 CONTROL_KINDS: tuple[NodeKind, ...] = (
-    *_sequences(
+    *_plain_controls(
         "controls.sequences",
-        ("Sequence", "Children in order until one fails; resumes at a running child.", "{-}"),
-        ("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
-         "time instead of the first.", "{-}"),
+        ("Sequence", "Children in order until one fails; resumes at a running child.", "{-}")),
+    control_kind("SequenceWithMemory", "Like Sequence, but a failed child is ticked again next "
+                 "time instead of the first.", symbol="{-}",
+                 build=_in("controls.sequences", "SequenceWithMemory"),
+                 spellings=("SequenceStar",)),  # BT.CPP 3's name
+    *_plain_controls(
+        "controls.sequences",
         ("ReactiveSequence", "Every tick from the first child; a failure stops, a running "
          "child halts the others.", "[-]"),
         ("AsyncSequence", "Like Sequence, but returns RUNNING after each child that "

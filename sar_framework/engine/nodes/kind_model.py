@@ -138,6 +138,7 @@ class NodeKind:
         reads_each_tick: Whether ``reads`` are read on every tick, else when the node starts.
         differences: Where this kind ticks unlike the kind it is exported as (a py_trees
             kind and its BT.CPP spelling): the node-kind reference and the palette show it.
+        spellings: Other BT.CPP IDs an imported XML may name it by (``SequenceStar``).
         reports: What the runner reports about such a node beyond its status (see
             :mod:`sar_framework.runner.reasons`); ``"recovery"``: a control whose second
             child recovers its first, each recovery a retry (its behaviour keeps
@@ -156,6 +157,7 @@ class NodeKind:
     reads: tuple[str, ...] = ()
     reads_each_tick: bool = True
     differences: str = ""
+    spellings: tuple[str, ...] = ()
     reports: str = ""
 
     def attr(self, name: str) -> Attr | None:

@@ -28,14 +28,22 @@ from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
 from sar_framework.engine.kind_plugin import declared_kind
+from sar_framework.engine.nodes.script_nodes import PrePostConditions
 
 #: The decorator kinds that explain something when their child fails.
 EXPLAINING_DECORATORS = ("timeout", "retry", "failure_is_success")
 
 
+def node_itself(behaviour: Behaviour) -> Behaviour:
+    """``behaviour``, or the node inside when it is the wrapper of a node's conditions."""
+    return behaviour.decorated if isinstance(behaviour, PrePostConditions) else behaviour
+
+
 def recovers(behaviour: Behaviour | None) -> bool:
     """Whether ``behaviour``'s declared kind is a recovery control (it explains too)."""
-    kind = declared_kind(behaviour)
+    if behaviour is None:
+        return False
+    kind = declared_kind(node_itself(behaviour))
     return kind is not None and kind.reports == "recovery"
 
 
@@ -139,6 +147,7 @@ class ReasonLog:
 
     def _recovery_ticked(self, uid: str, behaviour: Behaviour, stamp: dict[str, float]) -> None:
         """A recovery control: its recovery started, succeeded (a retry), or it gave up."""
+        behaviour = node_itself(behaviour)
         retries = int(getattr(behaviour, "retries", 0))
         index = int(getattr(behaviour, "index", 0))
         limit = int(getattr(behaviour, "number_of_retries", 0))

@@ -192,3 +192,21 @@ def test_a_recovery_that_fails_fails_the_recovery_node_saying_both_reasons(
         "Recover [0] retry: giving up: the recovery of Act failed (Clear: service gone) "
         "after Act: goal occupied",
     ]
+
+
+def test_a_recovery_node_with_a_post_condition_still_says_its_recoveries(
+        tmp_path: Path) -> None:
+    """Its behaviour is then the pre/post-condition wrapper; the reasons read the node inside."""
+    text = RECOVERY.replace("    number_of_retries: 2\n",
+                            '    number_of_retries: 2\n    _post: "done := true"\n')
+    text = text.replace("name: recovery\n",
+                        "name: recovery\nblackboard:\n  done: {type: bool, initial: false}\n")
+    recovered = "after Act: goal occupied; trying Act again"
+    assert recovery_reasons(tmp_path, text, 20) == [
+        "Act [0.0]: goal occupied",
+        f"Recover [0] retry: recovery 1/2 done (Countdown Clear) {recovered}",
+        "Act [0.0]: goal occupied",
+        f"Recover [0] retry: recovery 2/2 done (Countdown Clear) {recovered}",
+        "Act [0.0]: goal occupied",
+        "Recover [0] retry: giving up after 2/2 recoveries (Act: goal occupied)",
+    ]

@@ -126,13 +126,8 @@ def unset_blackboard(node: NodeSpec, children: list[Behaviour], context: Mapping
     return leaves.UnsetBlackboard(node.name, "key", bound_variables(node, "key"))
 
 
-#: Kinds whose port, when its entry has no value, keeps its default (BT.CPP ignores the
-#: failed ``getInput``); the others stop the tick, as BT.CPP throws "Missing parameter".
-_DEFAULT_WHEN_UNSET = frozenset({"RunOnce"})
-
-
-def reading_ports(base: ControlBuilder, ports: tuple[str, ...], each_tick: bool
-                  ) -> ControlBuilder:
+def reading_ports(base: ControlBuilder, ports: tuple[str, ...], each_tick: bool,
+                  keep_default: bool = False) -> ControlBuilder:
     """``base``, reading those of ``ports`` bound to entries when BT.CPP reads them.
 
     Such a port is read from its entry (the node's
@@ -143,6 +138,9 @@ def reading_ports(base: ControlBuilder, ports: tuple[str, ...], each_tick: bool
         base: Builds the node from its attributes.
         ports: The integer (or boolean) ports BT.CPP reads with ``getInput``.
         each_tick: Read on every tick, else when the node starts.
+        keep_default: An entry without a value leaves the port at its default (BT.CPP
+            ignores that failed ``getInput``), instead of stopping the tick as BT.CPP's
+            "Missing parameter" does.
     """
 
     def build(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
@@ -159,7 +157,7 @@ def reading_ports(base: ControlBuilder, ports: tuple[str, ...], each_tick: bool
         behaviour = base(dataclasses.replace(node, attrs=attrs), children, context)
         if bound:
             defaults = ({port: node.bindings[port].port.default for port in bound}
-                        if node.kind in _DEFAULT_WHEN_UNSET else None)
+                        if keep_default else None)
             behaviour.port_reader = PortReader(  # type: ignore[attr-defined]
                 node.name, bound_variables(node, *bound),
                 {port: node.bindings[port].port.type for port in bound}, each_tick, defaults)

@@ -76,6 +76,7 @@ def builder_of(kind: NodeKind) -> KindBuilder:
     target = resolve(kind.build, kind.key)
     build = class_builder(target, kind.context) if isinstance(target, type) else target
     if kind.reads:
-        build = reading_ports(build, kind.reads, kind.reads_each_tick)
+        build = reading_ports(build, kind.reads, kind.reads_each_tick,
+                              kind.reads_keep_default)
     _BUILT[id(kind)] = (kind, build)
     return build

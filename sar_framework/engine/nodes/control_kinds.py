@@ -92,7 +92,8 @@ def control_kind(key: str, text: str, *attrs: Attr, children: Attr | None = None
     """A control node's declaration: its key, one line of docs, its attributes, children.
 
     ``symbol``: its text symbol in diagrams; ``how``: how it is built and read
-    (``build``, ``context``, ``reads``, ``reads_each_tick``, ``spellings``, ``reports``; see
+    (``build``, ``context``, ``reads``, ``reads_each_tick``, ``reads_keep_default``,
+    ``spellings``, ``reports``; see
     :class:`~.kind_model.NodeKind`).
     """
     return NodeKind(key, Category.COMPOSITE, key, text,
@@ -220,7 +221,8 @@ CONTROL_KINDS: tuple[NodeKind, ...] = (
                "that result.",
                _bool_port("then_skip", "After the first completion: SKIPPED (true) or the "
                           "same result (false).", default=True),
-               build=_in("decorators.loops", "RunOnce"), reads=("then_skip",)),
+               build=_in("decorators.loops", "RunOnce"), reads=("then_skip",),
+               reads_keep_default=True),
     decorator_kind("Delay", "RUNNING for delay_msec, then tick the child.",
                int_port("delay_msec", "Milliseconds before the child's first tick.",
                          minimum=0),

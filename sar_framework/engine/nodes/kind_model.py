@@ -136,6 +136,9 @@ class NodeKind:
         reads: The ports BT.CPP reads with ``getInput`` (a literal, or ``{name}`` read
             from its entry when BT.CPP reads it).
         reads_each_tick: Whether ``reads`` are read on every tick, else when the node starts.
+        reads_keep_default: Whether a port of ``reads`` whose entry has no value keeps its
+            default (BT.CPP ignores that failed ``getInput``), rather than stopping the
+            tick (BT.CPP's "Missing parameter").
         differences: Where this kind ticks unlike the kind it is exported as (a py_trees
             kind and its BT.CPP spelling): the node-kind reference and the palette show it.
         spellings: Other BT.CPP IDs an imported XML may name it by (``SequenceStar``).
@@ -156,6 +159,7 @@ class NodeKind:
     context: tuple[str, ...] = ()
     reads: tuple[str, ...] = ()
     reads_each_tick: bool = True
+    reads_keep_default: bool = False
     differences: str = ""
     spellings: tuple[str, ...] = ()
     reports: str = ""

@@ -1,8 +1,9 @@
 """BehaviorTree.CPP 4's nodes as node kinds, keyed by their BT.CPP IDs.
 
 A tree file writes them as BT.CPP names them (``SequenceWithMemory``, ``Parallel``,
-``Timeout``), with BT.CPP's port names as attributes; each builds the behaviour of
-:mod:`sar_framework.engine.nodes.controls` that ticks like the original. The snake_case kinds
+``Timeout``), with BT.CPP's port names as attributes; each declaration names (``build``)
+the behaviour of :mod:`sar_framework.engine.nodes.controls` or ``.decorators`` that ticks
+like the original, or the builder that makes it. The snake_case kinds
 of :mod:`.node_kinds` (``sequence``, ``parallel``, ``retry``...) stay py_trees' own
 behaviours: where both exist (``sequence`` / ``Sequence``), the snake_case key means
 py_trees' semantics and the BT.CPP key BT.CPP's.

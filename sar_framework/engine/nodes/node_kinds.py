@@ -1,7 +1,9 @@
 """The node kinds a tree file may use besides plugins: composites and decorators.
 
 One declarative table drives the fast validator (:mod:`.validate`), the JSON
-Schema (:mod:`.schema`), the builder (:mod:`.build`) and the docs. A leaf
+Schema (:mod:`.schema`), the builder (each kind names its own: py_trees' class or a
+converting builder of :mod:`~..building.py_trees_build`), the docs and the palette (a
+kind's ``differences`` from the BT.CPP node it is exported as). A leaf
 plugin's params are turned into the same :class:`Attr` form by
 :func:`leaf_attrs`, so every node is checked by one code path.
 

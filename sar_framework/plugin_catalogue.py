@@ -110,7 +110,8 @@ def kind_lines(registry: Registry | None = None) -> list[str]:
 
     py_trees' composites and decorators (snake_case keys), the script nodes, and
     BT.CPP's and Nav2's controls, decorators and built-in leaves, each with its category,
-    its description and its attributes (ports as ports; children and the pre- and
+    its description, how it ticks unlike the BT.CPP node it is exported as (a py_trees
+    kind's ``differences``) and its attributes (ports as ports; children and the pre- and
     post-conditions left out), as their declarations give them; then the controls and
     decorators ``registry``'s plugins add.
     """
@@ -121,6 +122,8 @@ def kind_lines(registry: Registry | None = None) -> list[str]:
     for key, kind in (*sorted(KINDS.items()), *sorted(added.items())):
         lines.append(f"{key}  [{kind.category.value}]")
         lines.append(f"    {kind.description}")
+        if kind.differences:
+            lines.append(f"    Unlike BT.CPP: {kind.differences}")
         for attr in kind.settings():
             if attr.port is not None:
                 lines.append(f"    - {port_text(attr.port)}")

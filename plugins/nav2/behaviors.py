@@ -98,7 +98,9 @@ class DriveOnHeading(Nav2ActionLeaf):
 @leaf(ports=[
     InputPort("wait_duration", float, default=1.0, description="Wait time (s)."),
     *server_ports("wait"),
-])
+], moved={"duration": "'Wait' is Nav2's Wait (a goal to the 'wait' behaviour server, port "
+                      "'wait_duration'); the dwell on the node's clock that took 'duration' "
+                      "is now 'Dwell': write Dwell: {duration: ...}"})
 class Wait(Nav2ActionLeaf):
     """Nav2's Wait: the ``wait`` behaviour server waits ``wait_duration`` seconds.
 

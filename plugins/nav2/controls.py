@@ -12,11 +12,8 @@ RecoveryNode, PipelineSequence and RoundRobin:
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from collections.abc import Sequence as Children
-from typing import Any
 
-from sar_framework.engine.building.control_build import reading_ports
 from sar_framework.engine.kind_plugin import (
     children_attr,
     control_kind,
@@ -24,21 +21,16 @@ from sar_framework.engine.kind_plugin import (
 )
 from sar_framework.engine.nodes.control_kinds import int_port
 from sar_framework.engine.nodes.controls.base import Behaviour, BtControl, Outcome, Steps
-from sar_framework.engine.spec import NodeSpec
-
-
-def _recovery(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
-    return RecoveryNode(node.name, children, **node.attrs)
-
 
 _RECOVERY = control_kind(
     "RecoveryNode", "Nav2: the first child; when it fails, the second (recovery), then the "
     "first again.",
     int_port("number_of_retries", "Recoveries allowed before failing.", default=1, minimum=0),
-    children=children_attr(2, 2, "The action, then its recovery."), symbol="{o}")
+    children=children_attr(2, 2, "The action, then its recovery."), symbol="{o}",
+    reads=("number_of_retries",), reports="recovery")
 
 
-@node_kind(_RECOVERY, build=reading_ports(_recovery, ("number_of_retries",), True))
+@node_kind(_RECOVERY)
 class RecoveryNode(BtControl):
     """Nav2 ``RecoveryNode``: the first child, recovered by the second up to N times.
 

@@ -22,7 +22,7 @@ from typing import Any
 
 from py_trees.common import Status
 
-from sar_framework.engine.building.control_build import bound_variables, clock_of
+from sar_framework.engine.building.control_build import bound_variables
 from sar_framework.engine.kind_plugin import decorator_kind, node_kind
 from sar_framework.engine.nodes.control_kinds import port_attr
 from sar_framework.engine.nodes.controls.base import (
@@ -62,10 +62,6 @@ def goal_variables(node: NodeSpec) -> BlackboardVariables:
     return BlackboardVariables(node.name, keys, [])
 
 
-def _rate(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
-    return RateController(node.name, children[0], **node.attrs, clock=clock_of(context))
-
-
 def _goal_updated(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
     return GoalUpdatedController(node.name, children[0], "goal", "goals",
                                  goal_variables(node))
@@ -81,7 +77,7 @@ def _path_longer(node: NodeSpec, children: list[Any], context: Mapping[str, Any]
     "RateController", "Nav2: tick the child at most hz times a second (a running child every "
     "tick).",
     Attr("hz", AttrType.NUMBER, default=10.0, exclusive_minimum=0.0,
-         description="Child ticks per second.")), build=_rate)
+         description="Child ticks per second."), context=("clock",)))
 class RateController(BtDecorator):
     """Nav2 ``RateController``: tick the child at most ``hz`` times a second.
 

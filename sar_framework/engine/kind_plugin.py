@@ -10,14 +10,18 @@ docs, its ports and params as attributes, its children's arity)::
         def __init__(self, name, child): ...
 
 The registry finds it as it finds leaves (entry points, a tree's ``plugins:``); the schema,
-validation, build and listings then take it as a built-in kind. Without a ``build``, the
-class is called as ``cls(name, children, **attrs)`` (a control) or ``cls(name, child,
-**attrs)`` (a decorator); a ``build(node, children, context)`` gets the validated node, the
-built children and the tree's context (the clock, the robot's state), as leaves do.
+validation, build and listings then take it as a built-in kind. The declaration says how
+its nodes are built, as a built-in kind's does (``NodeKind.build``): without a ``build``,
+the class is called as ``cls(name, children, **attrs)`` (a control) or ``cls(name, child,
+**attrs)`` (a decorator), plus the declared ``context`` objects (``context=("clock",)``);
+a ``build(node, children, context)`` gets the validated node, the built children and the
+tree's context (the clock, the robot's state), as leaves do. The ports a kind declares it
+``reads`` are read from their entries when BT.CPP reads them.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
@@ -27,7 +31,7 @@ from sar_framework.engine.nodes.kind_model import NodeKind
 from sar_framework.engine.spec import Category, NodeSpec
 
 __all__ = ["KIND_ATTRIBUTE", "KindBuilder", "KindSpec", "children_attr", "control_kind",
-           "decorator_kind", "node_kind"]
+           "declared_kind", "decorator_kind", "node_kind"]
 
 #: The attribute :func:`node_kind` sets on a class; discovery looks for it.
 KIND_ATTRIBUTE = "__sar_node_kind__"
@@ -41,35 +45,20 @@ class KindSpec:
     """Everything the engine knows about one control or decorator plugin.
 
     Attributes:
-        kind: Its declaration (key, category, attributes, one line of docs).
+        kind: Its declaration (key, category, attributes, one line of docs, its builder,
+            the other IDs an imported XML may name it by).
         cls: The behaviour class.
-        build: Builds one node; None calls ``cls`` with the node's attributes.
-        spellings: Other BT.CPP IDs an imported XML may name it by.
         source: Where it was found; set by the registry.
     """
 
     kind: NodeKind
     cls: type
-    build: KindBuilder | None = None
-    spellings: tuple[str, ...] = ()
     source: str = field(default="", compare=False)
 
     @property
     def name(self) -> str:
         """The node kind in a tree file."""
         return self.kind.key
-
-    def builder(self) -> KindBuilder:
-        """The builder, the declared one or the class called with the node's attributes."""
-        if self.build is not None:
-            return self.build
-        cls = self.cls
-
-        def build(node: NodeSpec, children: list[Any], context: Mapping[str, Any]) -> Any:
-            head = children[0] if node.category is Category.DECORATOR else children
-            return cls(node.name, head, **node.attrs)
-
-        return build
 
 
 _T = TypeVar("_T", bound=type)
@@ -85,7 +74,9 @@ def node_kind(kind: NodeKind, *, build: KindBuilder | None = None,
         spellings: Other BT.CPP IDs an imported XML may name it by.
 
     Returns:
-        A class decorator that records a :class:`KindSpec` on the class and returns it.
+        A class decorator that records a :class:`KindSpec` on the class and returns it
+        (its kind's ``build``: ``build``, else one the declaration named, else the class;
+        ``spellings`` are added to the kind's).
 
     Raises:
         TypeError: When ``kind`` is not a control or a decorator.
@@ -95,7 +86,15 @@ def node_kind(kind: NodeKind, *, build: KindBuilder | None = None,
         if kind.category not in (Category.COMPOSITE, Category.DECORATOR):
             raise TypeError(f"{cls.__name__}: a node kind plugin is a control or a decorator; "
                             "a leaf is declared with @leaf")
-        setattr(cls, KIND_ATTRIBUTE, KindSpec(kind, cls, build, tuple(spellings)))
+        built = dataclasses.replace(kind, build=build or kind.build or cls,
+                                    spellings=(*kind.spellings, *spellings))
+        setattr(cls, KIND_ATTRIBUTE, KindSpec(built, cls))
         return cls
 
     return mark
+
+
+def declared_kind(behaviour: object) -> NodeKind | None:
+    """The declaration of a plugin's control or decorator ``behaviour`` is, or None."""
+    spec = getattr(behaviour, KIND_ATTRIBUTE, None)
+    return spec.kind if isinstance(spec, KindSpec) else None

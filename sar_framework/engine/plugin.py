@@ -28,7 +28,7 @@ node, when the plugin needs one, arrives the py_trees_ros way, in
 from __future__ import annotations
 
 import inspect
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TypeVar
 
@@ -57,6 +57,8 @@ class PluginSpec:
         source: Where it was found (module, file or entry point); set by the registry.
         condition: Whether it is a condition (BT.CPP's ``Condition``: it answers in the tick,
             never RUNNING) rather than an action; palettes and exports say which.
+        moved: Params it no longer takes: ``(param, what to write now)`` each, the message
+            validation gives a tree that still sets one.
     """
 
     name: str
@@ -67,6 +69,7 @@ class PluginSpec:
     source: str = field(default="", compare=False)
     ports: tuple[Port, ...] = ()
     condition: bool = False
+    moved: tuple[tuple[str, str], ...] = ()
 
     def param(self, name: str) -> Param | None:
         """Return the declared param called ``name``, or None."""
@@ -94,6 +97,7 @@ def leaf(
     description: str | None = None,
     ports: Sequence[Port] = (),
     condition: bool = False,
+    moved: Mapping[str, str] | None = None,
 ) -> Callable[[_T], _T]:
     """Mark a behaviour class as a leaf plugin.
 
@@ -105,6 +109,7 @@ def leaf(
         ports: The blackboard ports (:func:`.ports.InputPort`, ``OutputPort``,
             ``BidirectionalPort``).
         condition: A condition (answers in the tick), not an action.
+        moved: Params it no longer takes -> what to write now (validation's message).
 
     Returns:
         A class decorator that records a :class:`PluginSpec` on the class and returns it.
@@ -138,6 +143,7 @@ def leaf(
             context=tuple(context),
             ports=tuple(ports),
             condition=condition,
+            moved=tuple((moved or {}).items()),
         )
         setattr(cls, PLUGIN_ATTRIBUTE, spec)
         return cls

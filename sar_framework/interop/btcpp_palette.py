@@ -16,7 +16,8 @@ this writes the same kind of file for everything a tree can hold:
   ``parallel``...) as the custom node ``Sar<ClassName>`` the export writes then
   (:mod:`.mapping`), with its attributes as ports;
 
-then each one's description in ``<description>`` (BT.CPP 4's model schema).
+then each one's description in ``<description>`` (BT.CPP 4's model schema), followed, for a
+py_trees kind, by how it ticks unlike BT.CPP's nodes (its declared ``differences``).
 ``sar-tree export`` writes the models of the nodes a tree uses with the same functions,
 and the importer reads them back.
 """
@@ -116,7 +117,8 @@ def kind_model(kind: NodeKind, parent: ET.Element, *, ident: str | None = None,
         default = None if attr.required or attr.default == "" else attr.default
         model_port(model, attr.name, KIND_CPP_TYPES[attr.type], default, attr.description)
     if description and kind.description:
-        ET.SubElement(model, "description").text = kind.description
+        text = f"{kind.description} {kind.differences}" if kind.differences else kind.description
+        ET.SubElement(model, "description").text = text
 
 
 def palette_text(registry: Registry) -> str:

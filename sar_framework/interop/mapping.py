@@ -123,7 +123,7 @@ BUILTIN: tuple[Builtin, ...] = (
     *(Builtin(s.btcpp_id, s.kind, s.fixed, s.to_ports) for s in PY_TREES_SPELLINGS),
     *(same_ids(kind) for kind in CONTROL_KINDS),
     *(same_ids(kind) for kind in SCRIPT_KINDS),
-    same_ids(next(k for k in CONTROL_KINDS if k.key == "SequenceWithMemory"), "SequenceStar"),
+    *(same_ids(kind, spelling) for kind in CONTROL_KINDS for spelling in kind.spellings),
 )
 
 #: BT.CPP ID -> its mapping; an ID shared with a py_trees kind imports as the BT.CPP kind.
@@ -137,7 +137,7 @@ REFUSED: dict[str, str] = {
 def plugin_mapping(tag: str, registry: Registry) -> Builtin | None:
     """The mapping of a plugin's control or decorator named ``tag`` (or spelt so), or None."""
     for spec in registry.kind_plugins():
-        if tag == spec.name or tag in spec.spellings:
+        if tag == spec.name or tag in spec.kind.spellings:
             return same_ids(spec.kind, tag)
     return None
 

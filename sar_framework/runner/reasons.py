@@ -10,10 +10,11 @@ did and keeps one record per event worth telling a user::
 ``what`` is ``failure`` (a leaf that had been RUNNING failed), ``timeout`` (a ``timeout``
 decorator failed its child), ``cancel`` (a RUNNING leaf was halted by its parent, e.g. a
 reactive selector), ``retry`` (a ``retry`` decorator starts its child again, or gives up)
-or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). A Nav2
-``RecoveryNode`` whose recovery branch succeeded and which tries its action again is a
-``retry`` too (``NavigateRecovery [0.1] retry: recovery 1/6 done (ClearEntireCostmap
-ClearLocalCostmap-Subtree) after FollowPath: ...; trying again``), and one that fails
+or ``skip`` (a ``failure_is_success`` decorator turned a failure into success). A recovery
+control (a kind whose declaration ``reports`` ``"recovery"``: an action, then its
+recovery) whose recovery branch succeeded and which tries its action again is a ``retry``
+too (``DeliverRecovery [0.1] retry: recovery 1/3 done (ClearWay) after Drive: ...;
+trying Drive again``), and one that fails
 after recoveries says it gives up. Each
 record's :func:`reason_line` is what the runner logs: ``GoShelf [0.0.1]: navigate_to_pose
 aborted (error code 206): goal (0.00, 3.00) is inside an obstacle``.
@@ -26,10 +27,24 @@ from typing import Any
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
+from sar_framework.engine.kind_plugin import declared_kind
+from sar_framework.engine.nodes.script_nodes import PrePostConditions
+
 #: The decorator kinds that explain something when their child fails.
 EXPLAINING_DECORATORS = ("timeout", "retry", "failure_is_success")
-#: The control kinds that do (Nav2's RecoveryNode: the action, then its recovery).
-EXPLAINING_CONTROLS = ("RecoveryNode",)
+
+
+def node_itself(behaviour: Behaviour) -> Behaviour:
+    """``behaviour``, or the node inside when it is the wrapper of a node's conditions."""
+    return behaviour.decorated if isinstance(behaviour, PrePostConditions) else behaviour
+
+
+def recovers(behaviour: Behaviour | None) -> bool:
+    """Whether ``behaviour``'s declared kind is a recovery control (it explains too)."""
+    if behaviour is None:
+        return False
+    kind = declared_kind(node_itself(behaviour))
+    return kind is not None and kind.reports == "recovery"
 
 
 def reason_line(record: dict[str, Any]) -> str:
@@ -52,13 +67,13 @@ class ReasonLog:
         self._tick: list[dict[str, Any]] = []
         self._quoted: set[str] = set()
         self._said: dict[str, str] = {}
-        # RecoveryNode uid -> (retries when its recovery started, why the action failed)
+        # recovery control uid -> (retries when its recovery started, why the action failed)
         self._recovering: dict[str, tuple[int, str]] = {}
-        # leaves that succeeded inside a recovery branch, until its RecoveryNode tells
+        # leaves that succeeded inside a recovery branch, until its recovery control tells
         self._recovered: dict[str, str] = {}
-        self._recoveries: dict[str, int] = {}  # RecoveryNode uid -> recoveries done
-        self._recovery_branches = tuple(f"{uid}.1." for uid, kind in kinds.items()
-                                        if kind in EXPLAINING_CONTROLS)
+        self._recoveries: dict[str, int] = {}  # recovery control uid -> recoveries done
+        self._recovery_controls = {uid for uid in kinds if recovers(behaviours.get(uid))}
+        self._recovery_branches = tuple(f"{uid}.1." for uid in sorted(self._recovery_controls))
 
     def _add(self, what: str, uid: str, message: str, stamp: dict[str, float]) -> None:
         behaviour = self._behaviours[uid]
@@ -88,13 +103,13 @@ class ReasonLog:
             self._said[uid] = message
 
     def leaf_succeeded(self, uid: str) -> None:
-        """A leaf that had been RUNNING succeeded: kept when part of a RecoveryNode's recovery."""
+        """A leaf that had been RUNNING succeeded: kept when part of a recovery branch."""
         if uid.startswith(self._recovery_branches):
             self._recovered[uid] = f"{self._kinds[uid]} {self._behaviours[uid].name}" \
                 if self._kinds[uid] != self._behaviours[uid].name else self._kinds[uid]
 
     def decorator_ticked(self, uid: str, running: set[str], stamp: dict[str, float]) -> None:
-        """Explain what a ``timeout``, ``retry``, ``failure_is_success`` or RecoveryNode did.
+        """Explain what a ``timeout``, ``retry``, ``failure_is_success`` or recovery did.
 
         Args:
             uid: The decorator's uid.
@@ -103,7 +118,7 @@ class ReasonLog:
         """
         kind = self._kinds[uid]
         behaviour = self._behaviours[uid]
-        if kind in EXPLAINING_CONTROLS:
+        if uid in self._recovery_controls:
             self._recovery_ticked(uid, behaviour, stamp)
             return
         child = behaviour.children[0] if behaviour.children else None
@@ -131,7 +146,8 @@ class ReasonLog:
                       "skipped", stamp)
 
     def _recovery_ticked(self, uid: str, behaviour: Behaviour, stamp: dict[str, float]) -> None:
-        """A RecoveryNode: its recovery started, succeeded (a retry), or it gave up."""
+        """A recovery control: its recovery started, succeeded (a retry), or it gave up."""
+        behaviour = node_itself(behaviour)
         retries = int(getattr(behaviour, "retries", 0))
         index = int(getattr(behaviour, "index", 0))
         limit = int(getattr(behaviour, "number_of_retries", 0))

@@ -55,7 +55,7 @@ from sar_framework.engine.spec import Category, TreeSpec
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter
 from sar_framework.events.event import EventKind
 from sar_framework.runner.entry_values import EntryTracker
-from sar_framework.runner.reasons import EXPLAINING_CONTROLS, EXPLAINING_DECORATORS, ReasonLog
+from sar_framework.runner.reasons import EXPLAINING_DECORATORS, ReasonLog, recovers
 
 _TERMINAL = (Status.SUCCESS, Status.FAILURE)
 #: How the end of a mission is recognised (see the module docstring).
@@ -193,7 +193,8 @@ class StatusFileWriter(py_trees.visitors.VisitorBase):
         self._spec_of = {node.uid: node for node in spec.nodes()}
         self._leaves = {node.uid for node in spec.nodes() if node.category == Category.LEAF}
         self._explaining = {node.uid for node in spec.nodes()
-                            if node.kind in EXPLAINING_DECORATORS + EXPLAINING_CONTROLS}
+                            if node.kind in EXPLAINING_DECORATORS
+                            or recovers(behaviours.get(node.uid))}
         self._reasons = ReasonLog({n.uid: n.kind for n in spec.nodes()}, behaviours)
         self.root_uid = spec.root.uid
 

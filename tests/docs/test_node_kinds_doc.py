@@ -44,3 +44,15 @@ def test_a_kind_left_out_of_the_page_is_noticed() -> None:
                      if not line.startswith("| `RecoveryNode`"))
     assert "RecoveryNode" not in documented(text)
     assert "Switch4" in documented(text)
+
+
+def test_the_page_repeats_each_declared_difference_word_for_word() -> None:
+    """How a py_trees kind ticks unlike its BT.CPP spelling is written at its declaration."""
+    text = PAGE.read_text(encoding="utf-8")
+    declared = {kind.key: kind.differences for kind in KINDS.values() if kind.differences}
+    assert {"retry", "repeat", "timeout", "parallel", "one_shot"} <= set(declared)
+    rows = {key: f"| `{key}` | {text_} |" for key, text_ in declared.items()}
+    assert [key for key, row in rows.items() if row not in text] == []
+    section = text.split("## py_trees' kinds beside BT.CPP's")[1].split("\n## ")[0]
+    listed = re.findall(r"^\| `([a-z_]+)` \|", section, flags=re.MULTILINE)
+    assert sorted(listed) == sorted(declared), "a row for a kind that declares no difference"

@@ -126,6 +126,7 @@ def test_plugins_kinds_lists_every_node_kind(tmp_path: Path) -> None:
     assert ("    - number_of_retries: input port int = 1  Recoveries allowed before "
             "failing.") in run.stdout
     assert "    - memory: boolean (required)  true: resume" in run.stdout
+    assert f"    Unlike BT.CPP: {KINDS['retry'].differences}" in run.stdout
     assert "_skipIf" not in run.stdout and "- children" not in run.stdout
 
 

@@ -245,3 +245,12 @@ def test_export_usage_and_input_errors(tmp_path: Path,
     assert main(["export", str(bad)]) == 1
     err = capsys.readouterr().err
     assert f"{bad}:3:" in err and "unknown plugin 'Nope'" in err, err
+
+
+def test_a_kind_s_other_btcpp_id_imports_as_that_kind(tmp_path: Path) -> None:
+    """SequenceStar (BT.CPP 3's name) is declared a spelling of SequenceWithMemory."""
+    xml, back = tmp_path / "old.xml", tmp_path / "back.yaml"
+    xml.write_text('<root BTCPP_format="4"><BehaviorTree ID="Main"><SequenceStar>'
+                   "<AlwaysSuccess/><AlwaysFailure/></SequenceStar></BehaviorTree></root>")
+    assert main(["import", str(xml), "-o", str(back)]) == 0
+    assert load_spec(back).root.kind == "SequenceWithMemory"

@@ -149,6 +149,18 @@ root:
 """
 
 
+_RECOVERED = "after Act: goal occupied; trying Act again"
+#: The reason lines of RECOVERY: two recoveries, then giving up.
+TWO_RECOVERIES = [
+    "Act [0.0]: goal occupied",
+    f"Recover [0] retry: recovery 1/2 done (Countdown Clear) {_RECOVERED}",
+    "Act [0.0]: goal occupied",
+    f"Recover [0] retry: recovery 2/2 done (Countdown Clear) {_RECOVERED}",
+    "Act [0.0]: goal occupied",
+    "Recover [0] retry: giving up after 2/2 recoveries (Act: goal occupied)",
+]
+
+
 def recovery_reasons(tmp_path: Path, text: str, ticks: int) -> list[str]:
     """The reason lines of a RecoveryNode tree ticked ``ticks`` times (or until it fails)."""
     path = tmp_path / "t.yaml"
@@ -171,15 +183,7 @@ def recovery_reasons(tmp_path: Path, text: str, ticks: int) -> list[str]:
 def test_a_recovery_node_says_each_recovery_and_when_it_gives_up(tmp_path: Path) -> None:
     """Nav2's RecoveryNode: the action's failure, each recovery that let it try again (the
     recovery's actions named, not its conditions), then giving up."""
-    recovered = "after Act: goal occupied; trying Act again"
-    assert recovery_reasons(tmp_path, RECOVERY, 20) == [
-        "Act [0.0]: goal occupied",
-        f"Recover [0] retry: recovery 1/2 done (Countdown Clear) {recovered}",
-        "Act [0.0]: goal occupied",
-        f"Recover [0] retry: recovery 2/2 done (Countdown Clear) {recovered}",
-        "Act [0.0]: goal occupied",
-        "Recover [0] retry: giving up after 2/2 recoveries (Act: goal occupied)",
-    ]
+    assert recovery_reasons(tmp_path, RECOVERY, 20) == TWO_RECOVERIES
 
 
 def test_a_recovery_that_fails_fails_the_recovery_node_saying_both_reasons(
@@ -192,3 +196,13 @@ def test_a_recovery_that_fails_fails_the_recovery_node_saying_both_reasons(
         "Recover [0] retry: giving up: the recovery of Act failed (Clear: service gone) "
         "after Act: goal occupied",
     ]
+
+
+def test_a_recovery_node_with_a_post_condition_still_says_its_recoveries(
+        tmp_path: Path) -> None:
+    """Its behaviour is then the pre/post-condition wrapper; the reasons read the node inside."""
+    text = RECOVERY.replace("    number_of_retries: 2\n",
+                            '    number_of_retries: 2\n    _post: "done := true"\n')
+    text = text.replace("name: recovery\n",
+                        "name: recovery\nblackboard:\n  done: {type: bool, initial: false}\n")
+    assert recovery_reasons(tmp_path, text, 20) == TWO_RECOVERIES

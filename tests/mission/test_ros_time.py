@@ -10,7 +10,8 @@ from py_trees.common import Status
 from sar_testing.manual_clock import ManualClock
 
 from sar_framework import load_tree
-from sar_framework.engine.building.control_build import CLOCK_KEY, ClockTimeout
+from sar_framework.engine.building.control_build import CLOCK_KEY
+from sar_framework.engine.building.py_trees_build import ClockTimeout
 from sar_framework.testing import declared_leaf
 
 TREE = """\

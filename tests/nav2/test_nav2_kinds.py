@@ -33,12 +33,27 @@ def _load(tmp_path: Path, text: str):  # type: ignore[no-untyped-def]
     return load_tree(path, {}, registry=_registry()).root
 
 
-def test_the_engine_core_names_no_nav2_node() -> None:
+def test_the_engine_core_and_the_runner_name_no_nav2_node() -> None:
     pattern = re.compile(r"\b(" + "|".join(NAV2_NAMES) + r")\b")
     found = [f"{path.relative_to(REPO)}: {match.group(1)}"
-             for path in sorted((REPO / "sar_framework" / "engine").rglob("*.py"))
+             for folder in ("engine", "runner")
+             for path in sorted((REPO / "sar_framework" / folder).rglob("*.py"))
              for match in [pattern.search(path.read_text(encoding="utf-8"))] if match]
     assert found == []
+
+
+def test_a_param_nav2_s_wait_no_longer_takes_says_what_to_write(tmp_path: Path) -> None:
+    """The Wait leaf's own declaration (not the engine) knows its 'duration' moved."""
+    path = tmp_path / "tree.yaml"
+    path.write_text("format: 1\nroot:\n  Wait: {duration: 2.0}\n", encoding="utf-8")
+    try:
+        load_spec(path, registry=_registry())
+    except TreeLoadError as exc:
+        assert "tree.yaml:3:" in str(exc), str(exc)
+        assert "unknown param 'duration' for plugin 'Wait': 'Wait' is Nav2's Wait" in str(exc)
+        assert "write Dwell: {duration: ...}" in str(exc)
+    else:
+        raise AssertionError("Wait: {duration: ...} was accepted")
 
 
 def test_every_nav2_control_and_decorator_is_a_plugin_kind() -> None:

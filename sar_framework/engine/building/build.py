@@ -2,7 +2,9 @@
 
 The builder creates exactly the objects a hand-written py_trees tree would hold:
 composites, decorators and the plugin classes themselves, with no wrapper behaviour in
-between, so a loaded tree ticks as fast as a hand-built one. A leaf is constructed as
+between, so a loaded tree ticks as fast as a hand-built one. A node of a declared kind
+(composite, decorator, BT.CPP leaf; built-in or a plugin's) is built by the builder its
+declaration names (:mod:`.kind_builders`). A leaf plugin is constructed as
 ``cls(name=..., **params, **context_objects)``; a reference param receives the referenced
 leaf's behaviour, which is built first (validation has ruled out reference cycles). A leaf
 that declares ports also receives ``ports=PortValues(...)`` (:mod:`.port_values`), and
@@ -18,63 +20,17 @@ from typing import Any, Protocol
 
 import py_trees
 
-from sar_framework.engine import compat
-from sar_framework.engine.building.control_build import (
-    CLOCK_KEY,
-    CONTROL_BUILDERS,
-    ClockTimeout,
-    ControlBuilder,
-)
+from sar_framework.engine.building.kind_builders import KindBuilder, builder_of
 from sar_framework.engine.building.port_values import PortValues, write_initial
 from sar_framework.engine.diagnostics import Diagnostic, TreeLoadError
 from sar_framework.engine.nodes.node_kinds import KINDS
 from sar_framework.engine.plugin import PluginSpec
 from sar_framework.engine.ports import NO_DEFAULT
 from sar_framework.engine.registry import Registry
-from sar_framework.engine.spec import Category, NodeSpec, TreeSpec
+from sar_framework.engine.spec import NodeSpec, TreeSpec
 from sar_framework.engine.variables import BlackboardVariables
 
 Behaviour = py_trees.behaviour.Behaviour
-_Builder = Callable[[NodeSpec, list[Behaviour]], Behaviour]
-
-
-_LEAF_CATEGORY = Category.LEAF
-_Sequence = py_trees.composites.Sequence
-_Selector = py_trees.composites.Selector
-_Parallel = py_trees.composites.Parallel
-
-
-def _sequence(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-    return _Sequence(node.name, node.attrs["memory"], children)
-
-
-def _selector(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-    return _Selector(node.name, node.attrs["memory"], children)
-
-
-def _parallel(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-    attrs = node.attrs
-    wanted = attrs.get("selected") or ()
-    selected = [c for name in wanted for c in children if c.name == name]
-    policy = compat.parallel_policy(
-        attrs["policy"], synchronise=attrs["synchronise"], selected=selected
-    )
-    return _Parallel(node.name, policy, children)
-
-
-def _decorator(class_name: str, **convert: Callable[[Any], Any]) -> _Builder:
-    """Return a builder for a decorator whose extra attrs map to kwargs via ``convert``."""
-    cls = compat.decorator_class(class_name)
-
-    def build(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
-        kwargs = {key: fn(node.attrs[key]) for key, fn in convert.items()}
-        return cls(name=node.name, child=children[0], **kwargs)
-
-    return build
-
-
-#: The node kinds built from their scripts rather than by the plugin or py_trees builders.
-SCRIPTED = frozenset({"Script", "ScriptCondition", "Precondition"})
 
 
 def variables(node: NodeSpec) -> BlackboardVariables:
@@ -83,7 +39,8 @@ def variables(node: NodeSpec) -> BlackboardVariables:
     return BlackboardVariables(node.name, node.script_keys, writes)
 
 
-def build_scripted(node: NodeSpec, children: list[Behaviour]) -> Behaviour:
+def build_scripted(node: NodeSpec, children: list[Behaviour], context: Mapping[str, Any]
+                   ) -> Behaviour:
     """Build a ``Script``, ``ScriptCondition`` or ``Precondition`` node."""
     from sar_framework.engine.nodes import script_nodes
 
@@ -103,22 +60,6 @@ def with_conditions(node: NodeSpec, behaviour: Behaviour) -> Behaviour:
     if not scripts:
         return behaviour
     return PrePostConditions(node.name, behaviour, variables(node), **scripts)
-
-
-_BUILDERS: dict[str, _Builder] = {
-    "sequence": _sequence,
-    "selector": _selector,
-    "parallel": _parallel,
-    "one_shot": _decorator("OneShot", policy=compat.one_shot_policy),
-    "retry": _decorator("Retry", num_failures=int),
-    "repeat": _decorator("Repeat", num_success=int),
-    "timeout": _decorator("Timeout", duration=float),
-    "condition": _decorator("Condition", status=compat.status),
-}
-for _key, _kind in KINDS.items():
-    if (_key not in _BUILDERS and _key not in CONTROL_BUILDERS
-            and _kind.category is Category.DECORATOR and _key not in SCRIPTED):
-        _BUILDERS[_key] = _decorator(_kind.class_name)
 
 
 class _LeafPlan:
@@ -265,7 +206,7 @@ class _Builder:
             if adopted is not None:
                 return adopted
         behaviour = self.make_node(node)
-        if behaviour is None or not node.scripts or node.kind in SCRIPTED:
+        if behaviour is None or not node.scripts:
             return self.inserted(node, behaviour)
         wrapped = with_conditions(node, behaviour)
         if wrapped is not behaviour:
@@ -280,61 +221,36 @@ class _Builder:
             use = use.use
         return behaviour
 
-    def scripted(self, node: NodeSpec) -> Behaviour | None:
-        """Build a Script, ScriptCondition or Precondition node (with its conditions)."""
-        children = [self.make(child) for child in node.children]
-        if self.problems:
-            return None
-        behaviour = build_scripted(node, children)
-        self.built[node.uid] = behaviour
-        wrapped = with_conditions(node, behaviour)
-        if wrapped is not behaviour:
-            self.wrapped[node.uid] = wrapped
-        return self.inserted(node, wrapped)
-
     def make_node(self, node: NodeSpec) -> Behaviour | None:
-        """Build ``node`` and its children, without its pre/post-conditions."""
-        if node.kind in CONTROL_BUILDERS:  # BT.CPP's nodes, leaves included
-            return self.control(node, CONTROL_BUILDERS[node.kind])
-        kind_plugin = self.registry.kind_plugin(node.kind)
-        if kind_plugin is not None:  # a plugin's control or decorator
-            return self.control(node, kind_plugin.builder())
-        if node.kind not in SCRIPTED and node.category is _LEAF_CATEGORY:
-            plan = self.plans.get(node.kind)
-            if plan is None or not plan.plain:
-                return self.leaf(node)
-            # A plain leaf: nothing can have built it before (only references do that).
-            attrs = node.attrs
-            try:
-                behaviour = (
-                    plan.cls(name=node.name, **attrs) if attrs else plan.cls(name=node.name)
-                )
-            except Exception as exc:
-                self._cannot_construct(node, exc)
-                self.failed.add(node.uid)
-                return None
-            self.built[node.uid] = behaviour
-            return behaviour
-        if node.kind in SCRIPTED:
-            return self.scripted(node)
-        make = self.make
-        children = [make(child) for child in node.children]
-        if self.problems:
+        """Build ``node`` and its children, without its pre/post-conditions.
+
+        A node kind (built-in or a plugin's) is built as its declaration says; a leaf
+        plugin is constructed from its params.
+        """
+        kind = KINDS.get(node.kind) or self.registry.kind(node.kind)
+        if kind is not None:
+            return self.control(node, builder_of(kind))
+        plan = self.plans.get(node.kind)
+        if plan is None or not plan.plain:
+            return self.leaf(node)
+        # A plain leaf: nothing can have built it before (only references do that).
+        attrs = node.attrs
+        try:
+            behaviour = plan.cls(name=node.name, **attrs) if attrs else plan.cls(name=node.name)
+        except Exception as exc:
+            self._cannot_construct(node, exc)
+            self.failed.add(node.uid)
             return None
-        if node.kind == "timeout" and CLOCK_KEY in self.context:  # ROS time, when given
-            behaviour = ClockTimeout(node.name, children[0], float(node.attrs["duration"]),
-                                     self.context[CLOCK_KEY])
-        else:
-            behaviour = _BUILDERS[node.kind](node, children)  # type: ignore[arg-type]
         self.built[node.uid] = behaviour
         return behaviour
 
-    def control(self, node: NodeSpec, build: ControlBuilder) -> Behaviour | None:
+    def control(self, node: NodeSpec, build: KindBuilder) -> Behaviour | None:
+        """Build a node of a declared kind: its children, then itself."""
         children = [self.make(child) for child in node.children]
         if self.problems:
             return None
         try:
-            behaviour = build(node, children, self.context)  # type: ignore[arg-type]
+            behaviour = build(node, children, self.context)
         except Exception as exc:
             self._cannot_construct(node, exc)
             return None

@@ -18,7 +18,6 @@ from sar_framework.engine.checking.schema import tree_schema
 from sar_framework.engine.diagnostics import Diagnostic, SourceLocation, did_you_mean
 from sar_framework.engine.nodes.node_kinds import (
     KINDS,
-    MOVED_PARAMS,
     SUBTREE,
     TOP_LEVEL,
     UNSUPPORTED_DECORATORS,
@@ -264,10 +263,11 @@ class StructureCheck:
             return f"unknown key '{key}' in subtree definition '{owner}'" + suggest(key, names)
         if len(path) >= 2 and path[-2] in ("blackboard", "ports"):
             return f"unknown key '{key}' for '{owner}'" + suggest(key, names)
-        if (owner, key) in MOVED_PARAMS:
-            return f"unknown param '{key}' for plugin '{owner}': {MOVED_PARAMS[owner, key]}"
         if owner in self.registry:
             plugin = self.registry.get(owner)
+            moved = dict(plugin.moved) if plugin is not None else {}
+            if key in moved:
+                return f"unknown param '{key}' for plugin '{owner}': {moved[key]}"
             what = "param or port" if plugin is not None and plugin.ports else "param"
             return f"unknown {what} '{key}' for plugin '{owner}'" + suggest(key, names)
         what = f"unknown attribute '{key}' for {owner}"

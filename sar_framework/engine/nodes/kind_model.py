@@ -7,6 +7,7 @@ schema and the docs read them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 from typing import Any
@@ -102,6 +103,17 @@ class Rule:
     otherwise: str | None = None
 
 
+BuildRef = str | Callable[..., Any] | None
+"""How a kind is built, named beside its declaration.
+
+``"package.module:name"`` (imported only when a tree is built, so that declaring,
+validating and generating the schema never import py_trees) or the object itself: a
+builder ``build(node, children, context) -> behaviour``, or a behaviour class, called as
+``cls(name, children, **attrs)`` (a control), ``cls(name, child, **attrs)`` (a decorator)
+or ``cls(name, **attrs)`` (a leaf), plus the declared ``context`` objects.
+"""
+
+
 @dataclass(frozen=True)
 class NodeKind:
     """A composite, decorator or built-in leaf kind.
@@ -117,6 +129,23 @@ class NodeKind:
         symbol: A composite's py_trees-style text symbol in diagrams (``{-}`` resumes at
             a running child, ``[-]`` starts from the first, ``{o}``/``[o]`` the same for a
             fallback, ``/_/`` parallel); empty: worked out from the node (``memory``).
+        build: How a node of this kind is built: a :data:`BuildRef`.
+        context: The build context's objects a behaviour class named by ``build`` takes
+            as keyword arguments (``clock``: the tree's clock, ``time.monotonic`` when
+            the context has none).
+        reads: The ports BT.CPP reads with ``getInput`` (a literal, or ``{name}`` read
+            from its entry when BT.CPP reads it).
+        reads_each_tick: Whether ``reads`` are read on every tick, else when the node starts.
+        reads_keep_default: Whether a port of ``reads`` whose entry has no value keeps its
+            default (BT.CPP ignores that failed ``getInput``), rather than stopping the
+            tick (BT.CPP's "Missing parameter").
+        differences: Where this kind ticks unlike the kind it is exported as (a py_trees
+            kind and its BT.CPP spelling): the node-kind reference and the palette show it.
+        spellings: Other BT.CPP IDs an imported XML may name it by (``SequenceStar``).
+        reports: What the runner reports about such a node beyond its status (see
+            :mod:`sar_framework.runner.reasons`); ``"recovery"``: a control whose second
+            child recovers its first, each recovery a retry (its behaviour keeps
+            ``index``, ``retries`` and ``number_of_retries``).
     """
 
     key: str
@@ -126,6 +155,14 @@ class NodeKind:
     attrs: tuple[Attr, ...]
     rules: tuple[Rule, ...] = ()
     symbol: str = ""
+    build: BuildRef = None
+    context: tuple[str, ...] = ()
+    reads: tuple[str, ...] = ()
+    reads_each_tick: bool = True
+    reads_keep_default: bool = False
+    differences: str = ""
+    spellings: tuple[str, ...] = ()
+    reports: str = ""
 
     def attr(self, name: str) -> Attr | None:
         """Return the attribute called ``name``, or None."""

@@ -1,7 +1,9 @@
 """The node kinds a tree file may use besides plugins: composites and decorators.
 
 One declarative table drives the fast validator (:mod:`.validate`), the JSON
-Schema (:mod:`.schema`), the builder (:mod:`.build`) and the docs. A leaf
+Schema (:mod:`.schema`), the builder (each kind names its own: py_trees' class or a
+converting builder of :mod:`~..building.py_trees_build`), the docs and the palette (a
+kind's ``differences`` from the BT.CPP node it is exported as). A leaf
 plugin's params are turned into the same :class:`Attr` form by
 :func:`leaf_attrs`, so every node is checked by one code path.
 
@@ -51,17 +53,25 @@ _MEMORY = Attr(
 
 
 
+#: Where py_trees' classes and the builders that convert attributes for them are.
+_PY_TREES = "py_trees.decorators:"
+_CONVERT = "sar_framework.engine.building.py_trees_build:"
+
+
 def _maker(category: Category, children: Attr) -> Callable[..., NodeKind]:
     """Make kinds of ``category`` whose children are given by the attribute ``children``.
 
-    The maker takes the kind's key, py_trees class name, description, its own attributes
-    and its rules (keyword ``rules``).
+    The maker takes the kind's key, py_trees class name, description, its own attributes,
+    its rules (keyword ``rules``), how it is built (``build``: default py_trees' decorator
+    class of that name, called with its attributes) and how it ticks unlike the BT.CPP
+    node it is exported as (``differences``).
     """
 
     def make(key: str, class_name: str, description: str, *extra: Attr,
-             rules: tuple[Rule, ...] = ()) -> NodeKind:
+             rules: tuple[Rule, ...] = (), build: str = "", differences: str = "") -> NodeKind:
         return NodeKind(key, category, class_name, description,
-                        (name_attr(class_name), *extra, children, *CONDITION_ATTRS), rules)
+                        (name_attr(class_name), *extra, children, *CONDITION_ATTRS), rules,
+                        build=build or _PY_TREES + class_name, differences=differences)
 
     return make
 
@@ -75,10 +85,12 @@ _STATUSES = ("success", "failure", "running")
 
 _KIND_LIST: tuple[NodeKind, ...] = (
     _composite(
-        "sequence", "Sequence", "Tick children in order until one does not succeed.", _MEMORY
+        "sequence", "Sequence", "Tick children in order until one does not succeed.", _MEMORY,
+        build=_CONVERT + "sequence",
     ),
     _composite(
-        "selector", "Selector", "Tick children in order until one does not fail.", _MEMORY
+        "selector", "Selector", "Tick children in order until one does not fail.", _MEMORY,
+        build=_CONVERT + "selector",
     ),
     _composite(
         "parallel",
@@ -111,6 +123,11 @@ _KIND_LIST: tuple[NodeKind, ...] = (
             ),
             Rule("synchronise", "policy", "success_on_one", then="forbidden"),
         ),
+        build=_CONVERT + "parallel",
+        differences="No BT.CPP node ticks alike, so it is exported as the custom SarParallel: "
+        "py_trees ticks every child (with synchronise, all but those already succeeded), then "
+        "fails if any failed; BT.CPP's Parallel stops at a threshold and ParallelAll waits for "
+        "every child.",
     ),
     _decorator(
         "one_shot",
@@ -123,19 +140,31 @@ _KIND_LIST: tuple[NodeKind, ...] = (
             enum=("on_completion", "on_successful_completion"),
             description="Latch on any completion, or only on success.",
         ),
+        build=_CONVERT + "one_shot",
+        differences="on_completion is exported as RunOnce then_skip=\"false\", which ticks "
+        "alike; on_successful_completion has no BT.CPP node (RunOnce latches a failure too) "
+        "and is exported as the custom SarOneShot.",
     ),
     _decorator("inverter", "Inverter", "Swap SUCCESS and FAILURE."),
     _decorator(
         "retry",
         "Retry",
-        "Re-run a failing child up to num_failures times.",
+        "Tick a failing child again until it has failed num_failures times in all.",
         Attr(
             "num_failures",
             AttrType.INTEGER,
             required=True,
             minimum=1,
-            description="Failures allowed before the decorator fails.",
+            description="Attempts in all, the first included: the decorator fails on the "
+            "num_failures-th failure.",
         ),
+        build=_CONVERT + "retry",
+        differences="Exported as RetryUntilSuccessful num_attempts=num_failures: both make that "
+        "many attempts in all and count afresh after a success or a halt. A child that fails "
+        "on its first tick is tried again on the next tick by both; one that was RUNNING "
+        "before it failed is tried again on the next tick here, within the same tick by "
+        "BT.CPP. BT.CPP's num_attempts also takes -1 (for ever) and 0 (FAILURE without "
+        "ticking the child); num_failures is at least 1.",
     ),
     _decorator(
         "repeat",
@@ -149,6 +178,11 @@ _KIND_LIST: tuple[NodeKind, ...] = (
             excluded=(0,),
             description="Successes needed; -1 repeats forever.",
         ),
+        build=_CONVERT + "repeat",
+        differences="Exported as Repeat num_cycles=num_success (-1: for ever in both). A "
+        "child that succeeds on its first tick is ticked again on the next tick by both; one "
+        "that was RUNNING before it succeeded is ticked again on the next tick here, within "
+        "the same tick by BT.CPP.",
     ),
     _decorator(
         "timeout",
@@ -161,6 +195,10 @@ _KIND_LIST: tuple[NodeKind, ...] = (
             exclusive_minimum=0.0,
             description="Seconds before the child is stopped and the decorator fails.",
         ),
+        build=_CONVERT + "timeout",
+        differences="Exported as Timeout msec=duration*1000, rounded to milliseconds. Here "
+        "the duration counts on the tree's clock (ROS time under the runner), in BT.CPP on "
+        "the wall clock.",
     ),
     _decorator(
         "condition",
@@ -173,6 +211,7 @@ _KIND_LIST: tuple[NodeKind, ...] = (
             enum=_STATUSES,
             description="The child status to wait for.",
         ),
+        build=_CONVERT + "condition",
     ),
     _decorator("count", "Count", "Pass the child's status through and count ticks by status."),
     _decorator("pass_through", "PassThrough", "Return the child's status unchanged."),
@@ -184,19 +223,21 @@ _KIND_LIST: tuple[NodeKind, ...] = (
     _decorator("running_is_success", "RunningIsSuccess", "RUNNING becomes SUCCESS."),
 )
 
+#: The script nodes' builder (their scripts, compiled by validation, and the blackboard).
+_SCRIPTED = "sar_framework.engine.building.build:build_scripted"
 #: The script nodes (BT.CPP 4's names; :mod:`.script_nodes`).
 SCRIPT_KINDS: tuple[NodeKind, ...] = (
     NodeKind("Script", Category.LEAF, "Script", "Run a script; SUCCESS.", (
         name_attr("Script"),
         Attr("code", AttrType.SCRIPT, required=True, min_length=1,
              description="The script (e.g. 'count := count + 1')."),
-        *CONDITION_ATTRS)),
+        *CONDITION_ATTRS), build=_SCRIPTED),
     NodeKind("ScriptCondition", Category.LEAF, "ScriptCondition",
              "SUCCESS when the script's value is true, else FAILURE.", (
         name_attr("ScriptCondition"),
         Attr("code", AttrType.SCRIPT, required=True, min_length=1,
              description="The script; its last value is the condition."),
-        *CONDITION_ATTRS)),
+        *CONDITION_ATTRS), build=_SCRIPTED),
     _decorator(
         "Precondition", "Precondition",
         "Tick the child only when 'if' holds (checked again once the child is not running).",
@@ -205,6 +246,7 @@ SCRIPT_KINDS: tuple[NodeKind, ...] = (
         Attr("else", AttrType.STRING, default="FAILURE",
              enum=("SUCCESS", "FAILURE", "RUNNING", "SKIPPED"),
              description="The status when 'if' is false (the child is not ticked)."),
+        build=_SCRIPTED,
     ),
 )  # fmt: skip
 
@@ -223,13 +265,6 @@ UNSUPPORTED_DECORATORS: dict[str, str] = {
     "status_to_blackboard": "writes the blackboard; this framework shares state by references",
     "for_each": "py_trees 2.6 only and blackboard based",
 }
-#: Params of leaves that were renamed: (kind, param) -> what to write now (CHANGELOG.md).
-MOVED_PARAMS: dict[tuple[str, str], str] = {
-    ("Wait", "duration"): "'Wait' is Nav2's Wait (a goal to the 'wait' behaviour server, "
-                          "port 'wait_duration'); the dwell on the node's clock that took "
-                          "'duration' is now 'Dwell': write Dwell: {duration: ...}",
-}
-
 
 def leaf_attrs(plugin: PluginSpec) -> tuple[Attr, ...]:
     """Return a leaf plugin's attributes: ``name``, ``id``, its params, then its ports.

@@ -3,7 +3,9 @@
 A py_trees kind (``sequence`` with ``memory``, ``one_shot``, ``retry``...) is spelt as the
 BT.CPP node that ticks its children the same way, given some of its attribute values. The
 BT.CPP import/export mapping (:mod:`sar_framework.interop.mapping`) reads this table; a
-py_trees kind or attribute value absent here has no BT.CPP equivalent.
+py_trees kind or attribute value absent here has no BT.CPP equivalent. Where a kind and
+its spelling still tick differently (``retry``'s attempts, ``timeout``'s clock), the
+kind's declaration says how (``NodeKind.differences``, :mod:`.node_kinds`).
 """
 
 from __future__ import annotations

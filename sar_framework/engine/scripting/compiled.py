@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..variables import Variables
 from . import nodes, typecheck
 from .errors import ScriptError
 from .parser import parse
+
+if TYPE_CHECKING:  # py_trees' blackboard: only when a script runs
+    from ..variables import Variables
 
 
 class CompiledScript:

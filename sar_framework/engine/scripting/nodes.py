@@ -8,11 +8,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..variables import Variables
 from . import values
 from .errors import ScriptError
+
+if TYPE_CHECKING:  # py_trees' blackboard: only when a script runs
+    from ..variables import Variables
 
 #: Assignment operators and the arithmetic each compound one applies.
 COMPOUND = {"+=": "+", "-=": "-", "*=": "*", "/=": "/"}

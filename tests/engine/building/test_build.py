@@ -9,7 +9,6 @@ import py_trees
 import pytest
 
 from sar_framework.engine.api import load_tree
-from sar_framework.engine.building.build import SCRIPTED
 from sar_framework.engine.diagnostics import TreeLoadError
 from sar_framework.engine.nodes.node_kinds import PY_TREES_KINDS as KINDS
 from sar_framework.engine.nodes.node_kinds import UNSUPPORTED_DECORATORS
@@ -39,7 +38,7 @@ DECORATOR_ATTRS = {
 
 
 @pytest.mark.parametrize("key", sorted(k for k, v in KINDS.items() if v.category.value ==
-                                       "decorator" and k not in SCRIPTED))
+                                       "decorator"))
 def test_every_decorator_builds_its_py_trees_class(load: Callable[..., object], key: str) -> None:
     extra = DECORATOR_ATTRS.get(key, "")
     root = load(f"format: 1\nroot:\n  {key}:\n    {extra}\n    child: {{Fixed: {{}}}}\n")
@@ -67,7 +66,7 @@ def test_decorator_arguments(load: Callable[..., py_trees.behaviour.Behaviour]) 
 
 def test_supported_decorators_exist_in_this_py_trees() -> None:
     for kind in KINDS.values():
-        if kind.category.value == "decorator" and kind.key not in SCRIPTED:
+        if kind.category.value == "decorator":
             assert hasattr(py_trees.decorators, kind.class_name)
     assert set(UNSUPPORTED_DECORATORS) == {"eternal_guard", "status_to_blackboard", "for_each"}
 

@@ -81,3 +81,22 @@ root:
     Blackboard.set("/stop", True)  # the main tree's stop fails it before anything runs
     root.tick_once()
     assert root.status == Status.FAILURE
+
+
+def test_a_script_at_a_subtree_s_top_is_wrapped_once_by_its_insertion(
+        tmp_path: Path, registry: Registry) -> None:
+    """A script node is built like any other kind: its insertion's _post runs once a run."""
+    root = _load(tmp_path, registry, """format: 1
+blackboard:
+  count: {type: int, initial: 0}
+subtrees:
+  Bump:
+    root:
+      Script: {code: "x := 1"}
+root:
+  subtree: {tree: Bump, _post: "count += 1"}
+""")
+    root.tick_once()
+    assert root.status == Status.SUCCESS
+    assert Blackboard.get("/count") == 1
+    assert type(root.decorated).__name__ == "Script"

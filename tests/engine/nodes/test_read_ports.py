@@ -1,7 +1,7 @@
 """The integers BT.CPP's control nodes read with ``getInput``, bound to entries.
 
 Timeout's ``msec``, Repeat's ``num_cycles``...
-(``control_kinds.READ_PORTS``) take a literal (range-checked as before) or ``{name}``,
+(a kind's declared ``reads``) take a literal (range-checked as before) or ``{name}``,
 resolved in scope, type-checked and read when BT.CPP reads it.
 """
 
@@ -115,3 +115,12 @@ def test_an_entry_without_a_value_stops_the_tick(tmp_path: Path, registry: Regis
                  "    num_cycles: '{c}'\n    child: {Fixed: {status: success}}\n")
     with pytest.raises(RuntimeError, match="port 'num_cycles' reads an entry that has no"):
         root.tick_once()
+
+
+def test_run_once_keeps_then_skip_s_default_when_its_entry_has_no_value(
+        tmp_path: Path, registry: Registry) -> None:
+    """Its declaration says so (BT.CPP's RunOnce ignores that failed getInput)."""
+    root = _load(tmp_path, registry, "blackboard:\n  s: {type: bool}\nroot:\n  RunOnce:\n"
+                 "    then_skip: '{s}'\n    child: {Fixed: {status: success}}\n")
+    root.tick_once()
+    assert root.status == Status.SUCCESS and root.then_skip is True

@@ -3,7 +3,9 @@
 One full-stack run: an invalid edit is refused with its diagnostic and the mission goes on;
 a valid edit (a Dwell added to the patrol) is swapped in while NavigateToZone drives; the
 mission then completes with every zone visited and each survivor reported once, and
-mission.json lists both reloads.
+mission.json lists both reloads. The reloads need a slow simulator; once the swap is done the
+test sets the simulator's speed as a user does (``ros2 param set /sar_sim speed``), so the
+rest of the mission does not take a slow run's wall time.
 """
 
 from __future__ import annotations
@@ -12,7 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from .helpers import DEFAULT_TREE, no_traceback, read_json, read_jsonl, sar_tree_run
+from sar_framework.testing.sim_control import set_sim_params
+from sar_framework.testing.spin import ros_node
+
+from .helpers import DEFAULT_TREE, FAST, no_traceback, read_json, read_jsonl, sar_tree_run
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -38,6 +43,9 @@ def test_run_reload_refuses_a_bad_edit_and_swaps_a_good_one_mid_mission(tmp_path
         assert f"{tree}:" in refused.group(1) and "AdvanceZon" in refused.group(1)
         tree.write_text(good, encoding="utf-8")
         process.wait_for_output(r"Tree swapped from \S+: 1 added \(Linger\)", timeout=30)
+        with ros_node("e2e_reload_speed") as (node, executor):
+            (sped_up,) = set_sim_params(node, executor, speed=float(FAST))
+        assert sped_up.successful, sped_up.reason
         code = process.wait(timeout=120)
     finally:
         process.stop()

@@ -21,6 +21,9 @@ import pytest
 from e2e.helpers import DEFAULT_TREE, REPO, sar_tree_run
 from sar_testing.spin import call_service, ros_node, spin_until
 
+from sar_framework.sim.params import sim_default
+from sar_framework.testing.sim_control import set_sim_params
+
 pytestmark = [pytest.mark.ros, pytest.mark.slow,
               pytest.mark.skipif(shutil.which("tmux") is None, reason="tmux is not installed")]
 
@@ -116,8 +119,9 @@ RUNNING = "* NavigateToZone  navigating to zone_"
 
 @pytest.fixture(scope="module")
 def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    """One mission at speed 10, followed by ``sar-tree watch`` in a terminal and, where
-    py_trees_ros is installed, by a listener of the runner's snapshot stream.
+    """One mission at speed 10 (the default once a zone goal was drawn), followed by
+    ``sar-tree watch`` in a terminal and, where py_trees_ros is installed, by a listener of
+    the runner's snapshot stream.
 
     Returns the watch's screen while a zone goal runs (``running``) and at its end
     (``final``), the mission's exit code and the stream's statuses by tick (``by_tick``).
@@ -150,6 +154,12 @@ def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
                     seen["final"] = text
                     return "EXIT=" in text
 
+                # At speed 10 until a zone goal is on the screen, then at the simulator's
+                # default (ros2 param set /sar_sim speed): the rest needs no slow run.
+                spin_until(executor, lambda: over() or bool(seen["running"]), 150.0)
+                if seen["running"]:
+                    (sped_up,) = set_sim_params(node, executor, speed=sim_default("speed"))
+                    assert sped_up.successful, sped_up.reason
                 spin_until(executor, over, 150.0)
                 drawn_tick = re.search(r"search_and_rescue  tick (\d+)", seen["final"])
                 if snapshots and drawn_tick:  # its snapshot may still be on its way

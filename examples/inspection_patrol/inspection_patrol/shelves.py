@@ -55,12 +55,12 @@ class ScanShelf(ServiceLeaf):
 
     def __init__(self, name: str, **declared: Any) -> None:
         super().__init__(name, **declared)
+        self.service_name = f"{self.service_name}/{self.shelf}"  # the shelf's own service
         self._events: EventEmitter = NO_EVENTS
 
     def setup(self, **kwargs: Any) -> None:
-        """Keep the event emitter ``setup(events=...)`` gives, then make the shelf's client."""
+        """Keep the event emitter ``setup(events=...)`` gives, then make the client."""
         self._events = events_from(kwargs)
-        self.service_name = f"{self.service_name}/{self.shelf}"
         super().setup(**kwargs)
 
     def on_response(self, response: Any) -> Status:

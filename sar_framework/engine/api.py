@@ -38,12 +38,15 @@ class LoadedTree:
         spec: The validated tree the behaviours were built from.
         behaviours: ``NodeSpec.uid -> behaviour``, for every node.
         registry: The plugins the tree was checked against.
+        initial_values: The initial values given from outside the file (``--set``), kept
+            for a hot swap's new file.
     """
 
     root: py_trees.behaviour.Behaviour
     spec: TreeSpec
     behaviours: dict[str, py_trees.behaviour.Behaviour] = field(default_factory=dict)
     registry: Registry | None = None
+    initial_values: dict[str, Any] = field(default_factory=dict)
 
     @property
     def entries(self) -> dict[str, str]:
@@ -125,4 +128,4 @@ def load_tree(
     from sar_framework.engine.building.build import build  # py_trees' composites: only to build
 
     root, behaviours = build(spec, used, context)
-    return LoadedTree(root, spec, behaviours, used)
+    return LoadedTree(root, spec, behaviours, used, dict(initial_values or {}))

@@ -173,11 +173,15 @@ class Process:
 
     Attributes:
         label: Short name: ``sar-tree run``'s progress lines and log file (``runner.log``).
-        executable: The installed console script (``lib/sar_framework/<executable>``).
+        executable: The installed console script (``lib/sar_framework/<executable>``), or
+            "" for a program this package does not install (an app's own, started as
+            ``python -m`` :attr:`module` everywhere).
         module: The Python module ``python -m`` runs for the same program.
         params_files: ROS parameter files, in order (before :attr:`parameters`).
         parameters: ROS parameters, set after the files.
         namespace: The ROS namespace its nodes live in (a fleet's robot), "" for the root.
+        python_path: Folders :attr:`module` is imported from, put before ``PYTHONPATH``
+            (an app's package that is not installed, beside its tree).
     """
 
     label: str
@@ -186,6 +190,7 @@ class Process:
     params_files: tuple[str, ...] = ()
     parameters: dict[str, ParamValue] = field(default_factory=dict)
     namespace: str = ""
+    python_path: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:

@@ -38,12 +38,14 @@ class ChildSpec:
         module: The Python module run with ``-m``.
         ros_args: Everything after ``--ros-args``.
         executable: The console script of the same program (what the launch file starts).
+        python_path: Folders the module is imported from, before ``PYTHONPATH``.
     """
 
     label: str
     module: str
     ros_args: tuple[str, ...]
     executable: str = ""
+    python_path: tuple[str, ...] = ()
 
 
 def check_config(config: RunConfig) -> CheckedInputs:
@@ -192,5 +194,5 @@ def child_specs(config: RunConfig, report_dir: Path,
     """
     settings = mission_settings(config, report_dir, places, apps, robots=robots,
                                 node_kinds=node_kinds)
-    return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable)
+    return [ChildSpec(p.name, p.module, tuple(ros_arguments(p)), p.executable, p.python_path)
             for p in mission_processes(settings, apps)]

@@ -12,6 +12,7 @@ the wrapper the watcher and the test kit use too.
 from __future__ import annotations
 
 import contextlib
+import os
 import re
 import signal
 import subprocess
@@ -82,6 +83,9 @@ def start_child(spec: ChildSpec, env: dict[str, str], log_path: Path,
         on_line(LogLine(spec.label, last[0], last[1], message, time.monotonic() - started))
 
     argv = [sys.executable, "-m", spec.module, "--ros-args", *spec.ros_args]
+    if spec.python_path:
+        env = {**env, "PYTHONPATH": os.pathsep.join(
+            [*spec.python_path, *filter(None, [env.get("PYTHONPATH", "")])])}
     return ChildProcess(argv, spec.label, env=env, log_path=log_path, on_line=parse,
                         die_with_parent=True).start()
 

@@ -5,7 +5,9 @@ The recording is decoded (:mod:`.readback`) into the files a live run leaves, th
 ``tree.svg`` exactly as after ``sar-tree run``; the outcome is the recorded ``completion``
 event's. The tree, its includes, its local plugins and the parameter file come from the
 recording's attachments alone: they are written into ``DIR/recorded_files/``
-(:mod:`.sources`) and the tree is built from there.
+(:mod:`.sources`) and the tree is built from there. The apps are the installed ones and
+those the recorded plugins define (a tree's ``plugins:`` app), so the report, and the
+studio's replay, speak of the same app as the run did.
 """
 
 from __future__ import annotations
@@ -13,8 +15,9 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sar_framework.events.event import EventKind, MissionEvent
 from sar_framework.recording.readback import (
@@ -24,6 +27,9 @@ from sar_framework.recording.readback import (
     write_report_inputs,
 )
 from sar_framework.recording.sources import SourcesError, extract
+
+if TYPE_CHECKING:
+    from sar_framework.app import App
 
 EXIT_OK = 0
 EXIT_FAILURE = 1
@@ -47,26 +53,60 @@ def outcome_of(events: Sequence[MissionEvent]) -> str:
     return "INTERRUPTED"
 
 
-def _tree_spec(recording: Recording, folder: Path) -> tuple[str, Any]:
-    """The tree file to name and its spec, built from the recording's files alone.
+@dataclass
+class RecordedTree:
+    """The tree of a recording, built again from the recording's files alone.
 
-    The spec is None when the recording holds no tree, or the tree does not validate here.
+    Attributes:
+        name: The tree file to name: where the recorded tree was ("" when unknown).
+        file: Its copy from the recording, or None when the recording holds no tree.
+        spec: The validated tree, or None (no tree, or it does not validate here).
+        apps: The installed apps, then those the recorded plugins define that the tree uses.
+        problems: Why the tree or its apps could not be had (warnings, in order).
     """
+
+    name: str
+    file: Path | None = None
+    spec: Any = None
+    apps: list[App] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+
+
+def recorded_tree(recording: Recording, folder: Path) -> RecordedTree:
+    """Write the recorded tree files and plugin sources into ``folder``; build the tree.
+
+    Args:
+        recording: The decoded recording.
+        folder: Where the files are written (created).
+
+    Raises:
+        RecordingError: The recording's files cannot be written out.
+    """
+    from sar_framework.app import AppError, apps_for, installed_apps
     from sar_framework.engine.api import validate
 
     try:
-        files = extract(recording.attachments, recording.metadata, folder / SOURCES_FOLDER)
+        files = extract(recording.attachments, recording.metadata, folder)
     except SourcesError as err:
         raise RecordingError(f"{recording.path}: {err}") from None
-    original = recording.metadata.get("tree", "")
+    found = RecordedTree(recording.metadata.get("tree", ""), files.tree,
+                         apps=installed_apps())
     if files.tree is None:
-        sys.stderr.write("sar-tree replay: warning: the recording holds no tree file; "
-                         "tree.svg is not drawn\n")
-        return original, None
+        found.problems.append("the recording holds no tree file; tree.svg is not drawn")
+        return found
+    found.name = found.name or str(files.tree)
     result = validate(files.tree, plugin_paths=files.plugin_paths)
-    for diagnostic in result.diagnostics if result.spec is None else ():
-        sys.stderr.write(f"sar-tree replay: warning: {diagnostic}\n")
-    return original or str(files.tree), result.spec
+    found.spec = result.spec
+    if result.spec is None:
+        found.problems += [str(d) for d in result.diagnostics]
+        return found
+    try:
+        used = apps_for(result.spec, result.registry)
+    except AppError as err:
+        found.problems.append(str(err))
+        return found
+    found.apps += [app for app in used if app.name not in {a.name for a in found.apps}]
+    return found
 
 
 def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]:
@@ -90,11 +130,14 @@ def replay(path: str | Path, report_dir: str | Path | None = None) -> list[Path]
                              "(was it recorded with sar-tree run --record?)")
     folder = Path(report_dir) if report_dir else \
         Path(path).with_name(f"{Path(path).stem}_replay")
-    files = write_report_inputs(recording, folder)
-    tree, spec = _tree_spec(recording, folder)
+    tree = recorded_tree(recording, folder / SOURCES_FOLDER)
+    for problem in tree.problems:
+        sys.stderr.write(f"sar-tree replay: warning: {problem}\n")
+    files = write_report_inputs(recording, folder, tree.apps)
     inputs = MissionInputs(
-        report_dir=folder, tree=tree, params_file=str(files.get("params", "")), spec=spec,
-        outcome=outcome_of(recording.events), wall_duration_s=recording.wall_duration_s)
+        report_dir=folder, tree=tree.name, params_file=str(files.get("params", "")),
+        spec=tree.spec, outcome=outcome_of(recording.events),
+        wall_duration_s=recording.wall_duration_s, apps=tree.apps)
     return write_report(inputs)
 
 

@@ -53,11 +53,28 @@ def launch_parameters(parameters: dict[str, Any]) -> dict[str, Any]:
 
 
 def process_node(process: Any) -> Any:
-    """A process description as a ``launch_ros`` Node: executable, namespace, parameters.
+    """A process description as a launch action: its executable, namespace, parameters.
+
+    A program of this package is a ``launch_ros`` Node; an app's own program, which this
+    package does not install (no :attr:`~sar_framework.mission.processes.Process.executable`),
+    runs as ``python -m MODULE --ros-args ...``, as ``sar-tree run`` starts it, with its
+    ``python_path`` before ``PYTHONPATH``.
 
     Args:
         process: A :class:`~sar_framework.mission.processes.Process`.
     """
+    if not process.executable:
+        import os
+
+        from launch.actions import ExecuteProcess
+
+        from sar_framework.mission.processes import ros_arguments
+
+        path = [*process.python_path, *filter(None, [os.environ.get("PYTHONPATH", "")])]
+        return ExecuteProcess(
+            cmd=[sys.executable, "-m", process.module, "--ros-args", *ros_arguments(process)],
+            name=process.name, additional_env={"PYTHONPATH": os.pathsep.join(path)},
+            output="screen", emulate_tty=sys.stdout.isatty())
     from launch_ros.actions import Node
 
     return Node(package=PACKAGE, executable=process.executable,

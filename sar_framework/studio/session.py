@@ -158,10 +158,9 @@ def replay_session(path: Path, sources_dir: Path) -> Session:
     Raises:
         RecordingError: Not a recording of ours, or no tree status in it.
     """
-    from sar_framework.engine.api import validate
     from sar_framework.recording.readback import RecordingError, read_recording
     from sar_framework.recording.recorder import ATTACHMENT_PARAMS
-    from sar_framework.recording.sources import SourcesError, extract
+    from sar_framework.recording.replay import recorded_tree
 
     recording = read_recording(path)
     if not recording.statuses:
@@ -169,24 +168,23 @@ def replay_session(path: Path, sources_dir: Path) -> Session:
                              "(was it recorded with sar-tree run --record?)")
     tree = None
     try:
-        files = extract(recording.attachments, recording.metadata, sources_dir)
-    except SourcesError:
-        files = None
-    if files is not None and files.tree is not None:
-        result = validate(files.tree, plugin_paths=files.plugin_paths)
-        if result.spec is not None:
-            tree = tree_view(result.spec)
-            original = recording.metadata.get("tree")
-            for facts in tree["nodes"].values() if original else ():
-                # where the recorded tree was, not the copy it was validated from
-                facts["location"] = facts["location"].replace(str(files.tree), original, 1)
+        recorded = recorded_tree(recording, sources_dir)
+    except RecordingError:
+        recorded = None
+    if recorded is not None and recorded.spec is not None:
+        tree = tree_view(recorded.spec)
+        original = recording.metadata.get("tree")
+        for facts in tree["nodes"].values() if original and recorded.file else ():
+            # where the recorded tree was, not the copy it was validated from
+            facts["location"] = facts["location"].replace(str(recorded.file), original, 1)
     params = None
     if ATTACHMENT_PARAMS in recording.attachments:
         params = sources_dir / ATTACHMENT_PARAMS
         params.parent.mkdir(parents=True, exist_ok=True)
         params.write_bytes(recording.attachments[ATTACHMENT_PARAMS])
     grid = occupancy_view(recording.map) if recording.map is not None else None
-    session = Session(REPLAY, tree, world_view(params, grid), str(path))
-    session.timeline = timeline_of(recording)
+    apps = recorded.apps if recorded is not None else None  # the run's, plugins: ones too
+    session = Session(REPLAY, tree, world_view(params, grid, apps), str(path))
+    session.timeline = timeline_of(recording, apps)
     session.adopt_status_tree(recording.statuses[0])
     return session

@@ -237,13 +237,15 @@ def _event_label(event: MissionEvent) -> str:
     return f"{kind_name(event.kind)} {subject}".strip()
 
 
-def timeline_of(recording: Recording) -> Timeline:
+def timeline_of(recording: Recording, apps: Sequence[App] | None = None) -> Timeline:
     """The timeline of a decoded recording: its statuses, events and poses in time order.
 
     Args:
         recording: :func:`~sar_framework.recording.readback.read_recording`'s result.
+        apps: The apps whose marks, frame keys and status words it adds (the installed
+            ones when None).
     """
-    timeline = Timeline()
+    timeline = Timeline() if apps is None else Timeline(apps=apps)
     for document in recording.statuses:
         timeline.add_status(document, float(document.get("wall_s", 0.0)))
     for event in sorted(recording.events, key=lambda e: (e.sim_s, e.seq)):

@@ -22,6 +22,7 @@ from sar_framework.app.discovery import installed_apps
 from sar_framework.report_map import MAP_YAML
 
 if TYPE_CHECKING:
+    from sar_framework.app import App
     from sar_framework.sim.occupancy import OccupancyGrid
 
 #: A cell at or above this occupancy (0-100, as ``nav_msgs/OccupancyGrid``) is a wall.
@@ -74,16 +75,18 @@ def occupancy_view(grid: OccupancyGrid) -> dict[str, Any]:
                      (grid.origin_x, grid.origin_y), cells)
 
 
-def world_view(params_file: str | Path | None, grid: dict[str, Any] | None = None
-               ) -> dict[str, Any]:
+def world_view(params_file: str | Path | None, grid: dict[str, Any] | None = None,
+               apps: Sequence[App] | None = None) -> dict[str, Any]:
     """The page's map: the grid (the course map when None), the places and the base.
 
     Args:
-        params_file: The mission parameter file, if known (the first installed app that
-            finds places or a base in it gives them).
+        params_file: The mission parameter file, if known (the first app that finds
+            places or a base in it gives them).
         grid: :func:`grid_view`'s document, e.g. from ``/map``.
+        apps: The apps asked (the installed ones when None).
     """
-    layouts = ([app.layout(str(params_file)) for app in installed_apps() if app.layout]
+    apps = installed_apps() if apps is None else apps
+    layouts = ([app.layout(str(params_file)) for app in apps if app.layout]
                if params_file else [])
     layout = next((found for found in layouts if found.get("places") or found.get("base")), {})
     return {"grid": grid if grid is not None else file_grid_view(),

@@ -2,14 +2,15 @@
 
 The example's own folder is copied to a temporary one (its tree, its plugin package and its
 map, nothing else) and run there on its warehouse map. The report speaks of the app's own
-things: the shelves scanned and the waypoints visited. ``--set battery=`` changes the
-battery the tree starts with, and a low one sends the robot home after one round.
+things: the shelves scanned and the waypoints visited, and so does the report a replay of its
+recording draws (the recording keeps the app's plugin files). The app's scan server is a
+program of its own, started beside the runner. ``--set battery=`` changes the battery the
+tree starts with, and a low one sends the robot home after one round.
 """
 
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -18,33 +19,10 @@ from typing import Any
 import pytest
 from sar_testing.temp_dirs import launch_env
 
+from .patrol_example import ROUND, RUN_BOUND_S, example_folder, run
 from .test_any_mission import ROS2, ros_env
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "inspection_patrol"
-ROUND = ["GoShelfA", "GoShelfB", "GoShelfC"]
-# Outer safety bound of a whole run (about 20 s of wall time on an idle machine).
-RUN_BOUND_S = 400
-
-
-def example_folder(root: Path) -> Path:
-    """A copy of the example: the tree, the plugin package and the map."""
-    folder = root / "inspection_patrol"
-    shutil.copytree(EXAMPLE, folder,
-                    ignore=shutil.ignore_patterns("__pycache__", "make_map.py"))
-    return folder
-
-
-def run(folder: Path, *extra: str) -> subprocess.CompletedProcess[str]:
-    """``sar-tree run patrol.yaml`` on the warehouse map, from the example's folder."""
-    done = subprocess.run([sys.executable, "-m", "sar_framework", "run", "patrol.yaml",
-                           "--map", "warehouse.yaml", "--spawn", "0,0,0",
-                           "--report-dir", "out", *extra], cwd=folder,
-                          capture_output=True, text=True, env=ros_env(folder / "ros_log"),
-                          timeout=RUN_BOUND_S, check=False)
-    assert done.returncode == 0, done.stdout + done.stderr
-    return done
 
 
 def mission(out: Path) -> dict[str, Any]:
@@ -56,6 +34,8 @@ def test_the_patrol_scans_every_shelf_twice_and_says_so(tmp_path: Path) -> None:
     done = run(folder, "--set", "battery=100", "--record", "out/patrol.mcap")
     assert "shelves scanned: 6 (A, B, C, A, B, C); waypoints visited: 7" in done.stdout
     assert done.stdout.count("runner | shelf B scanned") == 2  # the scan server's answer
+    scan_log = (folder / "out" / "scan.log").read_text(encoding="utf-8")
+    assert "scanning shelves A, B, C" in scan_log  # its own process, not the runner's
     report = mission(folder / "out")
     assert report["outcome"] == "SUCCESS", report
     assert [s["shelf"] for s in report["shelves_scanned"]] == ["A", "B", "C"] * 2
@@ -69,9 +49,13 @@ def test_the_patrol_scans_every_shelf_twice_and_says_so(tmp_path: Path) -> None:
                               capture_output=True, text=True, env=ros_env(folder / "ros_log"),
                               timeout=RUN_BOUND_S, check=False)
     assert replayed.returncode == 0, replayed.stdout + replayed.stderr
+    assert "warning" not in replayed.stderr, replayed.stderr
     again = mission(folder / "replayed")
     assert [(g["node"], g["result"]) for g in again["goals"]] == \
         [(g["node"], g["result"]) for g in report["goals"]]
+    # the app came back from the recorded plugin files: its keys are in the replayed report
+    assert again["shelves_scanned"] == report["shelves_scanned"]
+    assert again["waypoints_visited"] == report["waypoints_visited"]
 
 
 def test_a_low_battery_set_from_the_command_line_sends_it_home_after_one_round(

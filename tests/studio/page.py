@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 from sar_framework.engine.rendering.render import STATUS_COLOURS
-from sar_framework.testing.browser import colour_share, hex_rgb
+from sar_framework.testing.browser import colour_share, headless_chromium, hex_rgb, start_studio
 
 STATE = """
 const uid = (name) => Object.values(studio.hello.tree.nodes).find((f) => f.name === name).uid;
@@ -78,3 +80,19 @@ def assert_drawn(png: bytes, rect: list[float], status: str, name: str) -> None:
     assert shares[status] > 0.3, f"{name}: {status} colour on {shares[status]:.0%}: {shares}"
     others = {s: v for s, v in shares.items() if s != status}
     assert max(others.values()) < 0.05, f"{name} drawn {status}, yet {others}"
+
+
+@contextlib.contextmanager
+def replay_page(recording: Path, names: list[str], bound: float = 60) -> Iterator[Any]:
+    """A replay studio of ``recording`` and a browser on its page, once it drew a frame.
+
+    ``bound`` is an outer safety bound on the first frame (seconds).
+    """
+    studio, url = start_studio(["replay", str(recording)], recording.parent)
+    try:
+        with headless_chromium() as driver:
+            driver.get(url)
+            wait_for(driver, names, lambda s: True, bound, "the page's first frame")
+            yield driver
+    finally:
+        studio.stop()

@@ -16,12 +16,10 @@ from sar_framework.recording.readback import read_recording
 from sar_framework.testing.browser import (
     browser_missing,
     colour_share,
-    headless_chromium,
     hex_rgb,
-    start_studio,
 )
 
-from .page import assert_drawn, state, until, wait_for
+from .page import assert_drawn, replay_page, state, until, wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
@@ -44,14 +42,8 @@ def recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def page(recording: Path) -> Any:
     """One replay studio and browser for the file's tests (each start costs seconds); the
     first test reads the page as it opens, at the recording's start."""
-    studio, url = start_studio(["replay", str(recording)], recording.parent)
-    try:
-        with headless_chromium() as driver:
-            driver.get(url)
-            wait_for(driver, NAMES, lambda s: True, 30, "the page's first frame")
-            yield driver
-    finally:
-        studio.stop()
+    with replay_page(recording, NAMES, 30) as driver:
+        yield driver
 
 
 def test_the_failure_mark_scrubs_to_the_failure(page: Any, tmp_path: Path) -> None:

@@ -1,12 +1,14 @@
 """The inspection patrol's plugin: the ScanShelf leaf and the app.
 
-The app gives the leaf its context object and the report its words about shelves; the
-tree's ``plugins:`` imports this file by path.
+The app starts its scan server (``scan_server.py`` beside this file, a program of its own)
+for a tree that uses it, gives the leaf its context object and the report, the studio and
+the console its words about shelves; the tree's ``plugins:`` imports this file by path.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from py_trees.common import Status
@@ -16,9 +18,14 @@ from sar_framework.engine.plugin import Param, leaf
 from sar_framework.events.emitter import NO_EVENTS, EventEmitter, events_from
 from sar_framework.events.event import MissionEvent
 from sar_framework.leaves import ServiceLeaf, service_params
+from sar_framework.mission.processes import MissionSettings, Process
 
 SHELF_SCANNED = "shelf_scanned"
 """The app's event kind: one shelf scanned (field ``shelf``)."""
+
+
+SCANNER = "inspection_patrol.scan_server"
+"""The scan server's module (``python -m``), in the package this file is in."""
 
 
 class Inspection:
@@ -26,8 +33,6 @@ class Inspection:
 
     def __init__(self) -> None:
         self.scanned: list[str] = []
-        self.pending = ""
-        self.server: Any = None
 
 
 @leaf(params=[Param("shelf", str, description="The shelf's name."),
@@ -36,8 +41,8 @@ class Inspection:
 class ScanShelf(ServiceLeaf):
     """Ask the app's scan server to scan ``shelf``; record a ``shelf_scanned`` event.
 
-    The server (``std_srvs/srv/Trigger``, which carries no request fields) scans the shelf
-    the inspection holds as pending.
+    The server offers a ``std_srvs/srv/Trigger`` service per shelf (``scan_shelf/A``): the
+    request carries no fields, the service's name says which shelf.
 
     Attributes:
         shelf: The shelf's name (declared param).
@@ -50,6 +55,7 @@ class ScanShelf(ServiceLeaf):
 
     def __init__(self, name: str, **declared: Any) -> None:
         super().__init__(name, **declared)
+        self.service_name = f"{self.service_name}/{self.shelf}"  # the shelf's own service
         self._events: EventEmitter = NO_EVENTS
 
     def setup(self, **kwargs: Any) -> None:
@@ -57,40 +63,33 @@ class ScanShelf(ServiceLeaf):
         self._events = events_from(kwargs)
         super().setup(**kwargs)
 
-    def set_request(self, request: Any) -> bool | None:
-        """Name the shelf to scan."""
-        self.inspection.pending = self.shelf
-        return None
-
     def on_response(self, response: Any) -> Status:
         """SUCCESS and a ``shelf_scanned`` event when the server scanned it."""
         if not response.success:
             return self.fail(response.message)
+        self.inspection.scanned.append(self.shelf)
         self._events.emit(SHELF_SCANNED, source=self, message=response.message,
                           shelf=self.shelf)
         return self.succeed(response.message, log=False)
 
 
-def _serve_scans(node: Any, inspection: Inspection) -> Any:
-    """The app's scan server on the runner's node: scans the pending shelf."""
-    from std_srvs.srv import Trigger
-
-    def scan(_request: Any, response: Any) -> Any:
-        shelf, inspection.pending = inspection.pending, ""
-        response.success = bool(shelf)
-        response.message = f"shelf {shelf} scanned" if shelf else "no shelf named"
-        if shelf:
-            inspection.scanned.append(shelf)
-        return response
-
-    return node.create_service(Trigger, "scan_shelf", scan)
+def _processes(settings: MissionSettings) -> list[Process]:
+    """The scan server, a program of this package, on the mission's clock."""
+    return [Process("scan", "", SCANNER, (), {"use_sim_time": settings.use_sim_time},
+                    python_path=(str(Path(__file__).resolve().parents[1]),))]
 
 
-def _start(node: Any, _source: str, _locations: Mapping[str, Any]) -> AppRun:
-    """A fresh inspection for the run, and its scan server on the runner's node."""
+def _start(_node: Any, _source: str, _locations: Mapping[str, Any]) -> AppRun:
+    """A fresh inspection for the run; the status says how many shelves it scanned."""
     inspection = Inspection()
-    inspection.server = _serve_scans(node, inspection)
-    return AppRun(context={"inspection": inspection})
+    return AppRun(context={"inspection": inspection},
+                  status=lambda: {"shelves_scanned": len(inspection.scanned)})
+
+
+def _status_text(document: Mapping[str, Any]) -> str:
+    """``shelves scanned: 4`` in a status line (the studio's header, ``sar-tree watch``)."""
+    count = document.get("shelves_scanned")
+    return "" if count is None else f"shelves scanned: {count}"
 
 
 def _progress(event: MissionEvent) -> str | None:
@@ -122,5 +121,6 @@ def _summary(document: Mapping[str, Any]) -> list[str]:
 
 
 APP = App(name="inspection_patrol", provides=("inspection",), start=_start,
-          event_kinds={SHELF_SCANNED: "one shelf scanned"}, progress=_progress,
-          report=_report, summary=_summary)
+          processes=_processes, event_kinds={SHELF_SCANNED: "one shelf scanned"},
+          progress=_progress, report=_report, summary=_summary,
+          marks={SHELF_SCANNED: "found"}, status_text=_status_text)

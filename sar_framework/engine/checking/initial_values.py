@@ -4,7 +4,8 @@ A value overrides the initial value of an entry the main tree declares under
 ``blackboard:``. It is converted to the entry's declared type as a literal in the file
 would be; a value that does not convert is an error at the declaration
 (``tree.yaml:4:3: error: --set battery=full: expected a float, got 'full'``), a name the
-tree does not declare an error with a did-you-mean.
+tree does not declare an error at its ``blackboard:`` section (the file's start when it has
+none) that names the command-line argument, with a did-you-mean.
 """
 
 from __future__ import annotations
@@ -49,12 +50,14 @@ def parse_settings(texts: Iterable[str]) -> dict[str, Any]:
     return values
 
 
-def override_initial(spec: TreeSpec, values: Mapping[str, Any]) -> list[Diagnostic]:
+def override_initial(spec: TreeSpec, values: Mapping[str, Any],
+                     section: SourceLocation | None = None) -> list[Diagnostic]:
     """Make ``values`` the initial values of the main tree's declared entries.
 
     Args:
         spec: A validated tree; changed in place when there is no problem.
         values: Entry name -> value (as :func:`parse_settings` reads them).
+        section: Where the main tree's ``blackboard:`` key is, if it has one.
 
     Returns:
         The problems (the spec is left as it was when there is any).
@@ -65,11 +68,7 @@ def override_initial(spec: TreeSpec, values: Mapping[str, Any]) -> list[Diagnost
     for name, value in values.items():
         decl = declared.get(name)
         if decl is None:
-            names = ", ".join(declared) or "none"
-            problems.append(Diagnostic(SourceLocation(spec.source, 1, 1),
-                                       f"{OPTION} {name}=...: the tree declares no entry "
-                                       f"'{name}'{did_you_mean(name, declared)} under "
-                                       f"'blackboard:' (declared: {names})"))
+            problems.append(_undeclared(spec, name, value, declared, section))
             continue
         try:
             converted[name] = convert(decl.type, value)
@@ -85,3 +84,25 @@ def override_initial(spec: TreeSpec, values: Mapping[str, Any]) -> list[Diagnost
         entry = spec.entries.setdefault(key, Entry(key, declared[name].type))
         entry.initial = value
     return []
+
+
+def _undeclared(spec: TreeSpec, name: str, value: Any, declared: Mapping[str, Any],
+                section: SourceLocation | None) -> Diagnostic:
+    """A name the main tree does not declare, given on the command line."""
+    given = f"{OPTION} {name}={_shown(value)} (command-line argument)"
+    hint = did_you_mean(name, declared)
+    if section is None:
+        return Diagnostic(SourceLocation(spec.source, 1, 1),
+                          f"{given}: the tree declares no entry '{name}'{hint}: it has no "
+                          "'blackboard:' section")
+    names = ", ".join(declared) or "none"
+    return Diagnostic(section, f"{given}: the tree declares no entry '{name}'{hint} in its "
+                               f"'blackboard:' section (declared: {names})")
+
+
+def _shown(value: Any) -> str:
+    """A ``--set`` value as the command line gave it (YAML's text of it)."""
+    if isinstance(value, str):
+        return value
+    return yaml.safe_dump(value, default_flow_style=True, width=1 << 16).strip().removesuffix(
+        "\n...").strip()

@@ -163,7 +163,9 @@ def validate_file(
             declarations=checker.entries.scopes,
             completion=str(main.value.get("completion") or "") if main is not None else "",
         )
-        overridden = override_initial(spec, initial_values or {})
+        section = (main.key_where(("blackboard",)) if main is not None
+                   and isinstance(main.value, dict) and "blackboard" in main.value else None)
+        overridden = override_initial(spec, initial_values or {}, section)
         if overridden:
             diagnostics, spec = in_order([*diagnostics, *overridden]), None
     return ValidationResult(

@@ -19,6 +19,8 @@ RUNNING is halted the way its parent would halt it: ``stop(INVALID)``, whose
 ``terminate`` cancels goals in flight. Shared state is not the tree's: the context
 objects (the ZoneManager) are handed to the new behaviours unchanged, and the blackboard
 keeps every entry's value (a new entry gets its initial value; an old one keeps its own).
+The initial values given from outside the file (``sar-tree run --set``) hold for the new
+file too: it is checked with them, as the first was.
 
 Nothing is touched before the new tree is validated *and* built: a refused reload leaves
 the running tree exactly as it was.
@@ -142,10 +144,13 @@ def prepare_swap(
         The swap, ready to :meth:`~PreparedSwap.commit`.
 
     Raises:
-        TreeLoadError: The new file is invalid or cannot be built (every diagnostic);
-            ``old`` is untouched and goes on ticking.
+        TreeLoadError: The new file is invalid or cannot be built (every diagnostic), or
+            does not take ``old``'s initial values (``--set``: an entry it no longer
+            declares, a type the value does not convert to); ``old`` is untouched and goes
+            on ticking.
     """
-    result = validate(path, registry=registry, plugin_paths=plugin_paths)
+    result = validate(path, registry=registry, plugin_paths=plugin_paths,
+                      initial_values=old.initial_values)
     if result.spec is None:
         raise load_error(path, result)
     rewirable = frozenset(uid for uid, behaviour in old.behaviours.items()
@@ -155,7 +160,8 @@ def prepare_swap(
     # No initial value is written yet: the new entries' are, on commit.
     root, built = build(result.spec, result.registry, context, adopter=adopter,
                         keep_entries=frozenset(result.spec.entries))
-    return PreparedSwap(old, diff, adopter, LoadedTree(root, result.spec, built, result.registry))
+    return PreparedSwap(old, diff, adopter, LoadedTree(root, result.spec, built, result.registry,
+                                                       old.initial_values))
 
 
 def hot_swap(

@@ -78,3 +78,22 @@ def test_a_message_entry_takes_a_literal(tree: Path) -> None:
 def test_an_unknown_entry_gets_a_did_you_mean(tree: Path) -> None:
     with pytest.raises(TreeLoadError, match=r"no entry 'batery' \(did you mean 'battery'\?\)"):
         load_tree(tree, initial_values={"batery": 5})
+
+
+def test_an_unknown_entry_is_located_at_the_blackboard_section_and_named_as_given(
+        tree: Path) -> None:
+    result = validate(tree, initial_values={"batery": 5})
+    assert [str(d) for d in result.diagnostics] == [
+        f"{tree}:3:1: error: --set batery=5 (command-line argument): the tree declares no "
+        "entry 'batery' (did you mean 'battery'?) in its 'blackboard:' section (declared: "
+        "battery, armed, stops, goal)"]
+
+
+def test_an_unknown_entry_of_a_tree_without_a_blackboard_section_says_so(
+        tmp_path: Path) -> None:
+    path = tmp_path / "bare.yaml"
+    path.write_text("format: 1\nname: bare\nroot:\n  AlwaysSuccess: {}\n")
+    result = validate(path, initial_values={"battery": [1, 2]})
+    assert [str(d) for d in result.diagnostics] == [
+        f"{path}:1:1: error: --set battery=[1, 2] (command-line argument): the tree declares "
+        "no entry 'battery': it has no 'blackboard:' section"]

@@ -212,6 +212,45 @@ def test_blackboard_values_and_context_objects_are_kept(
     assert run.node("V").zone_manager is zones
 
 
+SET_TREE = """\
+format: 1
+blackboard:
+  battery: {type: int, initial: 100}
+  drain: {type: int, initial: 5}
+root:
+  Script: {name: Drain, code: "battery := battery - drain"}
+"""
+
+
+def test_values_set_from_outside_hold_for_the_swapped_file(tmp_path: Path) -> None:
+    py_trees.blackboard.Blackboard.clear()
+    path = tmp_path / "tree.yaml"
+    path.write_text(SET_TREE)
+    loaded = load_tree(path, initial_values={"battery": 50, "drain": 7})
+    loaded.root.tick_once()
+    storage = py_trees.blackboard.Blackboard.storage
+    assert storage["/battery"] == 43
+    path.write_text(SET_TREE.replace("name: Drain", "name: Pay"))
+    done = hot_swap(loaded, path)
+    assert done.tree.initial_values == {"battery": 50, "drain": 7}
+    assert done.tree.spec.entries["/drain"].initial == 7  # the swapped file's, as set
+    assert done.tree.spec.declarations[""]["battery"].initial == 50
+    done.tree.root.tick_once()
+    assert storage["/battery"] == 36
+    # a file that no longer declares an entry set from outside is refused, as at start
+    path.write_text(SET_TREE.replace("  drain: {type: int, initial: 5}\n", "")
+                    .replace("battery - drain", "battery - 1"))
+    with pytest.raises(TreeLoadError, match=r"--set drain=7 \(command-line argument\): the "
+                                            r"tree declares no entry 'drain'"):
+        hot_swap(done.tree, path)
+    # and so is one declaring it in a type the value does not convert to
+    path.write_text(SET_TREE.replace("drain: {type: int, initial: 5}",
+                                     "drain: {type: bool, initial: true}"))
+    with pytest.raises(TreeLoadError, match=r"tree.yaml:4:3: error: --set drain=7"):
+        hot_swap(done.tree, path)
+    py_trees.blackboard.Blackboard.clear()
+
+
 def test_references_follow_the_behaviour_that_is_ticked(
         tmp_path: Path, registry: Registry, halted: list[str]) -> None:
     text = """

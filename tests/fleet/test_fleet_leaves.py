@@ -151,7 +151,7 @@ def test_no_current_zone_fails_without_asking(robot: tuple) -> None:
 
 def test_without_a_coordinator_claim_fails_after_its_bound_and_beats_from_setup(
         robot: tuple) -> None:
-    from sar_interfaces.msg import FleetHeartbeat
+    from sar_fleet_interfaces.msg import FleetHeartbeat
 
     from sar_framework.testing.spin import spin_until
 

@@ -209,7 +209,7 @@ def test_a_survivor_whose_reporter_is_lost_is_reported_by_the_next_finder(
 
 
 def test_a_refused_registration_is_logged_and_not_broadcast(fleet: Fleet) -> None:
-    from sar_interfaces.srv import RegisterSurvivor as RegisterSurvivorSrv
+    from sar_fleet_interfaces.srv import RegisterSurvivor as RegisterSurvivorSrv
 
     class NotFinite:
         def was_found(self) -> bool:

@@ -38,7 +38,8 @@ def builtin_registry() -> Registry:
 def test_importing_a_plugin_module_does_not_import_rclpy(module: str) -> None:
     code = (f"import sys, {module}\n"
             "ros = sorted(m for m in sys.modules if m.split('.')[0] in "
-            "{'rclpy', 'rosidl_runtime_py', 'nav2_msgs', 'sar_interfaces', 'geometry_msgs'})\n"
+            "{'rclpy', 'rosidl_runtime_py', 'nav2_msgs', 'sar_interfaces',"
+            " 'sar_fleet_interfaces', 'geometry_msgs'})\n"
             "assert not ros, ros")
     done = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True,
                           text=True, timeout=60)

@@ -135,7 +135,7 @@ def run_once(tree_file: Path, node: Any, executor: Any, *, goal: tuple[float, fl
     import py_trees
     from py_trees.blackboard import Blackboard
     from py_trees.common import Status
-    from sar_plugins.zone_goal import pose_stamped
+    from sar_plugins.sar.leaves.zone_goal import pose_stamped
 
     from sar_framework.engine.api import load_tree
 

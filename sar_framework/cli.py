@@ -212,14 +212,23 @@ def _run_plugins(args: argparse.Namespace) -> int:
 # -- schema -----------------------------------------------------------------------------
 def _configure_schema(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="FILE", help="write to FILE, not stdout")
+    _add_core(parser)
     _add_plugin_path(parser)
+
+
+def _add_core(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--core", action="store_true",
+                        help="start from the built-in kinds and leaves alone, not from every "
+                        "installed plugin and app; add an app's leaves with --plugin-path "
+                        "(e.g. --core --plugin-path sar_plugins.sar.leaves)")
 
 
 def _run_schema(args: argparse.Namespace) -> int:
     from sar_framework.engine.checking.schema import schema_text
-    from sar_framework.engine.registry import default_registry, extend
+    from sar_framework.engine.registry import core_registry, default_registry, extend
 
-    registry = extend(default_registry().copy(), args.plugin_path)
+    base = core_registry() if args.core else default_registry().copy()
+    registry = extend(base, args.plugin_path)
     if _print_diagnostics(registry.diagnostics):
         return EXIT_ERRORS
     text = schema_text(registry)

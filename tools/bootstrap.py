@@ -16,7 +16,8 @@ Run by ``make`` before every target; it does real work only when an input change
 With a sourced ROS 2 Jazzy (``/opt/ros/jazzy/setup.bash``) the venv is made with its python3
 and sees its packages; steps 3 and 4 and the stand-ins are skipped and only the requirements
 it lacks are installed (tools/sourced_ros.py).
-    5. interfaces      build interfaces/sar_interfaces and the plugin tutorial's
+    5. interfaces      build interfaces/sar_interfaces, the search-and-rescue fleet's
+                       interfaces/sar_fleet_interfaces and the plugin tutorial's
                        interfaces/tutorial_interfaces into the venv; build the
                        stand-ins nav2_msgs / tf2_msgs only where step 4 did not provide
                        the real package and the import fails
@@ -210,7 +211,7 @@ def fix_wheel_cmake_paths(venv: Path, stamps: Stamps) -> None:
 
 # ---------------------------------------------------------------- 5. interfaces
 #: Our interface packages, built from interfaces/ in this order.
-OWN_INTERFACES = ("sar_interfaces", "tutorial_interfaces")
+OWN_INTERFACES = ("sar_interfaces", "sar_fleet_interfaces", "tutorial_interfaces")
 
 
 def build_interface_package(venv: Path, source: Path, stamps: Stamps,
@@ -242,8 +243,10 @@ def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(
                      sourced: SourcedRos | None = None) -> None:
     """Build our interface packages, and the stand-ins only where the real ones are missing.
 
-    Ours: sar_interfaces (the mission's) and tutorial_interfaces (the plugin tutorial's
-    Countdown action, a user's own small interface package).
+    Ours: sar_interfaces (the event stream and the search-and-rescue servers'),
+    sar_fleet_interfaces (the search-and-rescue fleet's coordinator) and
+    tutorial_interfaces (the plugin tutorial's Countdown action, a user's own small
+    interface package).
 
     Args:
         venv: The venv.

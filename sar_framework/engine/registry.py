@@ -378,6 +378,15 @@ def extend(
     return registry
 
 
+def core_registry() -> Registry:
+    """Return a new registry of the built-ins alone: no installed plugins, so no app's leaves.
+
+    What the core's committed schema and palette (``sar_framework/schema/``) describe; an
+    app's own are this registry extended with the app's leaf package.
+    """
+    return discover(entry_points=False)
+
+
 def default_registry(*, refresh: bool = False) -> Registry:
     """Return the built-in + entry-point registry, discovered once per process.
 

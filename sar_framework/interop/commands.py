@@ -191,14 +191,18 @@ def run_import(args: argparse.Namespace) -> int:
 def configure_palette(parser: argparse.ArgumentParser) -> None:
     """Add ``sar-tree palette``'s arguments."""
     _add_common(parser, "palette")
+    parser.add_argument("--core", action="store_true",
+                        help="start from the built-in kinds and leaves alone, not from every "
+                        "installed plugin and app; add an app's leaves with --plugin-path")
 
 
 def run_palette(args: argparse.Namespace) -> int:
     """Write the Groot2 ``<TreeNodesModel>`` of every registered leaf."""
-    from sar_framework.engine.registry import default_registry, extend
+    from sar_framework.engine.registry import core_registry, default_registry, extend
     from sar_framework.interop.btcpp_palette import palette_text
 
-    registry = extend(default_registry().copy(), args.plugin_path)
+    base = core_registry() if args.core else default_registry().copy()
+    registry = extend(base, args.plugin_path)
     for problem in registry.diagnostics:
         _complain(str(problem))
     if any(d.severity == "error" for d in registry.diagnostics):

@@ -42,7 +42,8 @@ def test_launch_arguments_table_gives_the_tables_speed() -> None:
 def test_every_table_module_imports_no_ros() -> None:
     code = ("import sys\n" + "".join(f"import {m}\n" for m in TABLE_MODULES)
             + "print(sorted(m for m in sys.modules if m.split('.')[0] in "
-              "('rclpy', 'rcl_interfaces', 'nav2_msgs', 'sar_interfaces', 'launch')))")
+              "('rclpy', 'rcl_interfaces', 'nav2_msgs', 'sar_interfaces', "
+              "'sar_fleet_interfaces', 'launch')))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             cwd=REPO, timeout=60, check=True)
     assert result.stdout.strip() == "[]"

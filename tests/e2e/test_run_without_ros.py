@@ -21,7 +21,8 @@ import os, sys
 
 BLOCKED = ("rclpy", "nav2_msgs")
 ROS = ("rclpy", "rcl_interfaces", "nav2_msgs", "nav_msgs", "geometry_msgs", "tf2_msgs",
-       "tf2_ros", "sar_interfaces", "action_msgs", "rosgraph_msgs", "launch", "launch_ros")
+       "tf2_ros", "sar_interfaces", "sar_fleet_interfaces", "action_msgs", "rosgraph_msgs",
+       "launch", "launch_ros")
 
 
 class Blocker:

@@ -19,7 +19,8 @@ import sar_plugins
 for info in pkgutil.iter_modules(sar_plugins.__path__):
     importlib.import_module("sar_plugins." + info.name)
 ros = sorted(m for m in sys.modules if m.split(".")[0] in
-             ("rclpy", "rcl_interfaces", "geometry_msgs", "nav2_msgs", "tf2_ros", "sar_interfaces"))
+             ("rclpy", "rcl_interfaces", "geometry_msgs", "nav2_msgs", "tf2_ros", "sar_interfaces",
+              "sar_fleet_interfaces"))
 print(ros)
 """
 

@@ -38,8 +38,8 @@ def test_a_bad_configuration_exits_2_with_one_clear_line(tmp_path: Path, extra: 
 
 
 def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
-    from sar_interfaces.msg import FleetHeartbeat, ZoneAward, ZoneNotice
-    from sar_interfaces.srv import BidZones, FinishZone, RegisterSurvivor, RequestZone
+    from sar_fleet_interfaces.msg import FleetHeartbeat, ZoneAward, ZoneNotice
+    from sar_fleet_interfaces.srv import BidZones, FinishZone, RegisterSurvivor, RequestZone
 
     from sar_framework.ros.qos import latched_qos
 

@@ -15,9 +15,9 @@ from typing import Any
 import pytest
 from fleet_mission import read_events, two_zone_coordinator
 from py_trees.common import Status
-from sar_plugins.claim_zone import ClaimZone
-from sar_plugins.complete_zone import CompleteZone
-from sar_plugins.release_zone import ReleaseZone
+from sar_plugins.sar.leaves.claim_zone import ClaimZone
+from sar_plugins.sar.leaves.complete_zone import CompleteZone
+from sar_plugins.sar.leaves.release_zone import ReleaseZone
 from sar_testing.leaf_harness import spec_zone_manager, tick_until_done, tree_on
 from sar_testing.spin import ros_node, spin_until
 
@@ -151,7 +151,7 @@ def test_no_current_zone_fails_without_asking(robot: tuple) -> None:
 
 def test_without_a_coordinator_claim_fails_after_its_bound_and_beats_from_setup(
         robot: tuple) -> None:
-    from sar_interfaces.msg import FleetHeartbeat
+    from sar_fleet_interfaces.msg import FleetHeartbeat
 
     from sar_framework.testing.spin import spin_until
 

@@ -23,7 +23,7 @@ _NAME_KEYS = ("server_name", "service_name", "action_name", "topic_name", "servi
 
 
 def _names() -> list[tuple[str, str, str]]:
-    registry = discover(entry_points=False)
+    registry = discover(["sar_plugins.sar.leaves"], entry_points=False)
     found: list[tuple[str, str, str]] = []
     for name in registry.names():
         spec = registry.get(name)

@@ -20,14 +20,14 @@ from typing import Any
 import py_trees
 import pytest
 from py_trees.common import Status
-from sar_plugins.log_survivor_not_registered import LogSurvivorNotRegistered
-from sar_plugins.register_survivor import RegisterSurvivor
 from sar_plugins.sar.events import SarKind
 from sar_plugins.sar.fleet.survivor_registry import Registration
 from sar_plugins.sar.fleet.survivor_service import (
     REGISTER_SURVIVOR_SERVICE,
     SurvivorRegistryService,
 )
+from sar_plugins.sar.leaves.log_survivor_not_registered import LogSurvivorNotRegistered
+from sar_plugins.sar.leaves.register_survivor import RegisterSurvivor
 from sar_testing.leaf_harness import TfStaticRecorder, spec_zone_manager, tree_on
 from sar_testing.processes import NodeProcess
 from sar_testing.spin import call_service, spin_until
@@ -176,7 +176,7 @@ def test_the_same_survivor_from_two_robots_gets_one_id_one_frame_one_report(
 
 def test_a_survivor_whose_reporter_is_lost_is_reported_by_the_next_finder(
         fleet: Fleet, base: Path) -> None:
-    from sar_plugins.detect_survivor import DetectSurvivor
+    from sar_plugins.sar.leaves.detect_survivor import DetectSurvivor
 
     # robot1 detects and registers, then "dies" before it broadcasts or reports
     zones = spec_zone_manager()
@@ -209,7 +209,7 @@ def test_a_survivor_whose_reporter_is_lost_is_reported_by_the_next_finder(
 
 
 def test_a_refused_registration_is_logged_and_not_broadcast(fleet: Fleet) -> None:
-    from sar_interfaces.srv import RegisterSurvivor as RegisterSurvivorSrv
+    from sar_fleet_interfaces.srv import RegisterSurvivor as RegisterSurvivorSrv
 
     class NotFinite:
         def was_found(self) -> bool:
@@ -244,7 +244,7 @@ def test_a_refused_registration_is_logged_and_not_broadcast(fleet: Fleet) -> Non
 
 
 def test_a_broadcaster_whose_registrar_gave_no_id_broadcasts_nothing(fleet: Fleet) -> None:
-    from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
+    from sar_plugins.sar.leaves.broadcast_survivor_tf import BroadcastSurvivorTF
 
     class Found:
         def was_found(self) -> bool:

@@ -225,7 +225,7 @@ def test_stand_ins_are_not_built_where_the_overlay_provides_the_package(
     stamps = bootstrap.Stamps(tmp_path)
     stamps.data["interface:nav2_msgs"] = "an old stand-in"
     bootstrap.build_interfaces(tmp_path, stamps, {"nav2_msgs", "tf2_msgs"})
-    assert built == ["sar_interfaces", "tutorial_interfaces"]
+    assert built == ["sar_interfaces", "sar_fleet_interfaces", "tutorial_interfaces"]
     assert "interface:nav2_msgs" not in stamps.data
 
 

@@ -6,7 +6,8 @@ description) and its description; so is every control, decorator and built-in le
 under its BT.CPP ID, and every py_trees kind BT.CPP has no node for as its ``Sar...``
 node. Nav2's controls and decorators are Nav2's own palette's, node for node and port
 for port. The committed ``sar_framework/schema/tree_nodes.xml`` is what the built-in
-registry gives now, and third-party plugins join the palette.
+registry gives now (no app's leaf), ``plugins/sar/schema/tree_nodes.xml`` what it gives with
+the search-and-rescue app's leaves, and third-party plugins join the palette.
 """
 
 from __future__ import annotations
@@ -30,6 +31,8 @@ from sar_framework.testing.nav2_navigators import nav2_share
 
 REPO = Path(__file__).resolve().parents[2]
 COMMITTED = REPO / "sar_framework" / "schema" / "tree_nodes.xml"
+SAR_COMMITTED = REPO / "plugins" / "sar" / "schema" / "tree_nodes.xml"
+SAR_LEAVES = "sar_plugins.sar.leaves"
 PORT_PLUGINS = REPO / "tests" / "engine" / "plugins_for_tests" / "ports" / "port_plugins.py"
 
 
@@ -125,13 +128,26 @@ def test_the_palette_is_the_registry(tmp_path: Path) -> None:
     assert_same(registry, read_back(text, tmp_path))
     assert description_of(text, "Spin") == "Nav2's Spin: turn in place by ``spin_dist`` radians."
     assert '<Condition ID="GoalReached">' in text and '<Action ID="FollowPath">' in text
-    assert '<Condition ID="IsSurvivorDetected">' in text
+    assert "Survivor" not in text  # the app's leaves are the app's palette's
+    app = discover([SAR_LEAVES], entry_points=False)
+    app_text = palette_text(app)
+    assert_same(app, read_back(app_text, tmp_path))
+    assert '<Condition ID="IsSurvivorDetected">' in app_text
 
 
 def test_the_committed_palette_is_up_to_date() -> None:
     assert COMMITTED.read_text(encoding="utf-8") == palette_text(discover(entry_points=False)), (
         "sar_framework/schema/tree_nodes.xml is stale: run "
-        "`sar-tree palette -o sar_framework/schema/tree_nodes.xml`")
+        "`sar-tree palette --core -o sar_framework/schema/tree_nodes.xml`")
+
+
+def test_the_committed_app_palette_is_up_to_date(capsys: pytest.CaptureFixture[str]) -> None:
+    expected = palette_text(discover([SAR_LEAVES], entry_points=False))
+    assert SAR_COMMITTED.read_text(encoding="utf-8") == expected, (
+        "plugins/sar/schema/tree_nodes.xml is stale: run `sar-tree palette --core "
+        f"--plugin-path {SAR_LEAVES} -o plugins/sar/schema/tree_nodes.xml`")
+    assert main(["palette", "--core", "--plugin-path", SAR_LEAVES]) == 0
+    assert capsys.readouterr().out == expected
 
 
 def test_a_changed_leaf_changes_the_palette(tmp_path: Path) -> None:
@@ -159,9 +175,12 @@ def test_a_changed_leaf_changes_the_palette(tmp_path: Path) -> None:
 def test_third_party_plugins_join_the_palette(tmp_path: Path,
                                               capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "palette.xml"
-    assert main(["palette", "--plugin-path", str(PORT_PLUGINS), "-o", str(out)]) == 0
+    assert main(["palette", "--core", "--plugin-path", str(PORT_PLUGINS), "-o", str(out)]) == 0
     registry = extend(discover(entry_points=False), [PORT_PLUGINS])
     assert_same(registry, read_back(out.read_text(), tmp_path))
     assert '<Action ID="Plan">' in out.read_text()
+    # without --core, every installed plugin joins too (the search-and-rescue app's leaves)
+    assert main(["palette", "--plugin-path", str(PORT_PLUGINS), "-o", str(out)]) == 0
+    assert_same(extend(discover(), [PORT_PLUGINS]), read_back(out.read_text(), tmp_path))
     assert main(["palette", "--plugin-path", str(tmp_path / "nope.py")]) == 1
     assert "plugin path" in capsys.readouterr().err

@@ -6,7 +6,7 @@ from collections.abc import Iterator
 
 import pytest
 from py_trees.common import Status
-from sar_plugins.detect_survivor import DetectSurvivor
+from sar_plugins.sar.leaves.detect_survivor import DetectSurvivor
 from sar_testing.leaf_harness import (
     NODES,
     ros_seconds,

@@ -13,8 +13,8 @@ from collections.abc import Iterator
 import py_trees
 import pytest
 from py_trees.common import OneShotPolicy, Status
-from sar_plugins.navigate_to_base import NavigateToBase
-from sar_plugins.navigate_to_zone import NavigateToZone
+from sar_plugins.sar.leaves.navigate_to_base import NavigateToBase
+from sar_plugins.sar.leaves.navigate_to_zone import NavigateToZone
 from sar_testing.leaf_harness import (
     BASE,
     NODES,
@@ -166,7 +166,7 @@ def test_base_goal_is_sent_once_under_a_reactive_selector(nav: tuple,
     while zones.has_remaining():
         zones.mark_reached(zones.current_zone()["id"])
         zones.advance()
-    from sar_plugins.zones_remaining import ZonesRemaining
+    from sar_plugins.sar.leaves.zones_remaining import ZonesRemaining
 
     patrol = py_trees.composites.Sequence("Patrol", memory=True,
                                           children=[ZonesRemaining("ZonesRemaining?",

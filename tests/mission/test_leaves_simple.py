@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 from py_trees.common import Status
-from sar_plugins.advance_zone import AdvanceZone
-from sar_plugins.is_survivor_detected import IsSurvivorDetected
-from sar_plugins.log_no_detection import LogNoDetection
-from sar_plugins.zones_remaining import ZonesRemaining
+from sar_plugins.sar.leaves.advance_zone import AdvanceZone
+from sar_plugins.sar.leaves.is_survivor_detected import IsSurvivorDetected
+from sar_plugins.sar.leaves.log_no_detection import LogNoDetection
+from sar_plugins.sar.leaves.zones_remaining import ZonesRemaining
 from sar_testing.leaf_harness import FixedDetector, spec_zone_manager
 
 from sar_framework.testing import declared_leaf

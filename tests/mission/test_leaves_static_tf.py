@@ -6,7 +6,7 @@ import importlib.util
 
 import pytest
 from py_trees.common import Status
-from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
+from sar_plugins.sar.leaves.broadcast_survivor_tf import BroadcastSurvivorTF
 from sar_testing.leaf_harness import (
     NODES,
     FixedDetector,

@@ -18,10 +18,10 @@ from collections.abc import Iterator
 import py_trees
 import pytest
 from py_trees.common import Status
-from sar_plugins.broadcast_survivor_tf import BroadcastSurvivorTF
-from sar_plugins.detect_survivor import DetectSurvivor
-from sar_plugins.is_survivor_detected import IsSurvivorDetected
-from sar_plugins.notify_base import NotifyBase
+from sar_plugins.sar.leaves.broadcast_survivor_tf import BroadcastSurvivorTF
+from sar_plugins.sar.leaves.detect_survivor import DetectSurvivor
+from sar_plugins.sar.leaves.is_survivor_detected import IsSurvivorDetected
+from sar_plugins.sar.leaves.notify_base import NotifyBase
 from sar_plugins.sar.zone_manager import ZoneManager
 from sar_testing.leaf_harness import (
     NODES,

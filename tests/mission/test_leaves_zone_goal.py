@@ -80,7 +80,7 @@ def test_announces_the_zone_and_marks_it_reached(tmp_path: Path) -> None:
 
 
 def test_both_fail_when_no_zone_is_left(tmp_path: Path) -> None:
-    from sar_plugins.zone_goal import MarkZoneReached
+    from sar_plugins.sar.leaves.zone_goal import MarkZoneReached
 
     zones = spec_zone_manager([])
     loaded = visit_tree(tmp_path, zones)

@@ -81,7 +81,7 @@ def test_a_leaf_s_own_bounds_follow_the_clock_not_the_wall(monkeypatch) -> None:
     """Regression: server_timeout_s, navigation_timeout_s and response_timeout_s counted wall
     seconds while timeout decorators counted ROS time, so which fired first changed with
     --speed (at 10x a 10 s detect bound beat a 180 s visit timeout; at 20x it did not)."""
-    from sar_plugins.navigate_to_zone import NavigateToZone
+    from sar_plugins.sar.leaves.navigate_to_zone import NavigateToZone
     from sar_plugins.sar.zone_manager import ZoneManager
 
     from sar_framework.leaves import PolledServiceCall

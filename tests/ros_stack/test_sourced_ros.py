@@ -47,16 +47,17 @@ def ros_install(root: Path) -> tuple[Path, Path]:
     Returns:
         ``(prefix, site-packages)``.
     """
-    own = ("sar_interfaces", "libsar_interfaces", "sar_framework", "__editable__", "lib",
-           "share", "include", "python3", "pyvenv.cfg")
+    packages = ("sar_interfaces", "libsar_interfaces", "sar_fleet_interfaces",
+                "libsar_fleet_interfaces", "sar_framework")
+    own = (*packages, "__editable__", "lib", "share", "include", "python3", "pyvenv.cfg")
     mirror(PREFIX, root, own)
     for folder in ("share", "include"):
-        mirror(PREFIX / folder, root / folder, own[:3])
-    mirror(PREFIX / "lib", root / "lib", (*own[:3], "python3"))
+        mirror(PREFIX / folder, root / folder, packages)
+    mirror(PREFIX / "lib", root / "lib", (*packages, "python3"))
     python_dir = SITE.parent.name  # python3.11
     mirror(SITE.parent, root / "lib" / python_dir, ("site-packages",))
     site = root / "lib" / python_dir / "site-packages"
-    mirror(SITE, site, own[:4])
+    mirror(SITE, site, (*packages, "__editable__"))
     return root, site
 
 

@@ -35,8 +35,8 @@ from typing import Any
 
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from sar_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
-from sar_interfaces.srv import BidZones, FinishZone, RequestZone
+from sar_fleet_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
+from sar_fleet_interfaces.srv import BidZones, FinishZone, RequestZone
 from sar_plugins.sar.fleet.auction import ZoneAuction
 from sar_plugins.sar.fleet.event_log import FleetEventLog
 from sar_plugins.sar.fleet.params import COORDINATOR_PARAMETERS

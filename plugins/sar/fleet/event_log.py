@@ -19,7 +19,7 @@ import time
 from collections.abc import Sequence
 from typing import IO, TYPE_CHECKING, Any
 
-from sar_interfaces.msg import FleetEvent
+from sar_fleet_interfaces.msg import FleetEvent
 
 from sar_framework.ros.qos import latched_qos
 

@@ -1,6 +1,6 @@
 """The survivor registry as a ROS service on the zone coordinator's node.
 
-:class:`SurvivorRegistryService` attaches ``sar_interfaces/srv/RegisterSurvivor`` at
+:class:`SurvivorRegistryService` attaches ``sar_fleet_interfaces/srv/RegisterSurvivor`` at
 ``/zone_coordinator/register_survivor`` to a node it is given (the zone coordinator
 constructs it with its ``survivor_radius_m``)::
 
@@ -58,7 +58,7 @@ class SurvivorRegistryService:
     def __init__(self, node: Node, radius_m: float, *,
                  on_registered: RegistrationListener | None = None,
                  service_name: str = REGISTER_SURVIVOR_SERVICE) -> None:
-        from sar_interfaces.srv import RegisterSurvivor
+        from sar_fleet_interfaces.srv import RegisterSurvivor
 
         self._node = node
         self._registry = SurvivorRegistry(radius_m)

@@ -3,6 +3,7 @@ the fast validator on every document (fixture corpus and generated)."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -21,6 +22,10 @@ from ..conftest import FIXTURES, REPO, VENV_BIN, make_registry
 from ..strategies import documents
 
 COMMITTED = REPO / "sar_framework" / "schema" / "tree.schema.json"
+"""The core's schema: the engine's kinds and the built-in neutral leaves."""
+SAR_COMMITTED = REPO / "plugins" / "sar" / "schema" / "tree.schema.json"
+"""The search-and-rescue app's schema: the core's and the app's leaves."""
+SAR_LEAVES = "sar_plugins.sar.leaves"
 YAML_LEVEL = (
     "YAML", "unsupported YAML tag", "duplicate key", "a mapping key must be", "empty file"
 )
@@ -34,15 +39,34 @@ def test_committed_schema_is_up_to_date() -> None:
     expected = schema_text(discover(entry_points=False))
     assert COMMITTED.read_text(encoding="utf-8") == expected, (
         "sar_framework/schema/tree.schema.json is stale: run "
-        "`sar-tree schema -o sar_framework/schema/tree.schema.json`"
+        "`sar-tree schema --core -o sar_framework/schema/tree.schema.json`"
     )
 
 
-def test_cli_schema_matches_committed() -> None:
-    run = subprocess.run([str(VENV_BIN / "sar-tree"), "schema"], capture_output=True, text=True,
-                         check=False, cwd=REPO)
+def test_the_core_schema_names_no_app_leaf() -> None:
+    core = json.loads(COMMITTED.read_text(encoding="utf-8"))
+    sar = json.loads(SAR_COMMITTED.read_text(encoding="utf-8"))
+    app_only = set(sar["$defs"]) - set(core["$defs"])
+    assert {"plugin.NavigateToZone", "plugin.DetectSurvivor"} <= app_only
+    assert set(core["$defs"]) <= set(sar["$defs"])
+
+
+def test_committed_app_schema_is_up_to_date() -> None:
+    expected = schema_text(discover([SAR_LEAVES], entry_points=False))
+    assert SAR_COMMITTED.read_text(encoding="utf-8") == expected, (
+        "plugins/sar/schema/tree.schema.json is stale: run `sar-tree schema --core "
+        f"--plugin-path {SAR_LEAVES} -o plugins/sar/schema/tree.schema.json`"
+    )
+
+
+@pytest.mark.parametrize(("arguments", "committed"), [
+    (["--core"], COMMITTED), (["--core", "--plugin-path", SAR_LEAVES], SAR_COMMITTED)],
+    ids=["core", "search_and_rescue"])
+def test_cli_schema_matches_committed(arguments: list[str], committed: Path) -> None:
+    run = subprocess.run([str(VENV_BIN / "sar-tree"), "schema", *arguments],
+                         capture_output=True, text=True, check=False, cwd=REPO)
     assert run.returncode == 0, run.stderr
-    assert run.stdout == COMMITTED.read_text(encoding="utf-8")
+    assert run.stdout == committed.read_text(encoding="utf-8")
 
 
 def _verdicts(path: Path, registry: Registry, validator: Any) -> tuple[bool, bool] | None:

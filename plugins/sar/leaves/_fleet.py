@@ -48,7 +48,7 @@ class FinishZoneLeaf(ServiceLeaf):
     OUTCOME = 0
     VERB = "searched"
 
-    service_type = "sar_interfaces/srv/FinishZone"
+    service_type = "sar_fleet_interfaces/srv/FinishZone"
 
     def __init__(self, name: str, *, zone_manager: ZoneManager, server_name: str,
                  server_timeout_s: float, response_timeout_s: float) -> None:

@@ -97,8 +97,8 @@ class ClaimZone(RosLeaf):
         super().setup(**kwargs)
         from nav2_msgs.action import ComputePathToPose
         from rclpy.clock import Clock, ClockType
-        from sar_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
-        from sar_interfaces.srv import BidZones, RequestZone
+        from sar_fleet_interfaces.msg import FleetEvent, FleetHeartbeat, ZoneAward, ZoneNotice
+        from sar_fleet_interfaces.srv import BidZones, RequestZone
 
         from sar_framework.ros.qos import latched_qos
 

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
         Param("detector", ref="DetectSurvivor",
               description="id of the DetectSurvivor leaf whose survivor to register."),
         Param("service_name", str, default="/zone_coordinator/register_survivor",
-              description="Name of the sar_interfaces/srv/RegisterSurvivor service (the "
+              description="Name of the sar_fleet_interfaces/srv/RegisterSurvivor service (the "
                           "fleet's one registry, hosted by the zone coordinator)."),
         *service_timeout_params(),
     ],
@@ -46,7 +46,7 @@ class RegisterSurvivor(ServiceLeaf):
         response_timeout_s: Bound on waiting for the answer.
     """
 
-    service_type = "sar_interfaces/srv/RegisterSurvivor"
+    service_type = "sar_fleet_interfaces/srv/RegisterSurvivor"
 
     def __init__(self, name: str, *, detector: DetectSurvivor, service_name: str,
                  server_timeout_s: float, response_timeout_s: float) -> None:

@@ -27,6 +27,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from sar_framework.leaves.second_look import SecondLook
+
 if TYPE_CHECKING:
     from rclpy.node import Node
 
@@ -87,7 +89,7 @@ class PolledGoal:
         self.server_timeout_s = server_timeout_s
         self.result_timeout_s = result_timeout_s
         self.ack_timeout_wall_s = ack_timeout_wall_s
-        self._ack_overdue = False  # the acceptance bound had passed at a tick already
+        self._ack_late = SecondLook()  # the acceptance bound
         self._send_future: Any = None
         self._handle: Any = None
         self._result_future: Any = None
@@ -125,7 +127,7 @@ class PolledGoal:
                                                          feedback_callback=self._on_feedback)
         self._sent = self._now()
         self._sent_wall = time.monotonic()
-        self._ack_overdue = False
+        self._ack_late.reset()
 
     def take_feedback(self) -> Any:
         """The newest feedback message since the last call, or None."""
@@ -178,10 +180,7 @@ class PolledGoal:
         waited = now - self._sent
         bound = self.ack_timeout_wall_s
         late = bound is not None and time.monotonic() - self._sent_wall > bound
-        if self._handle is None and late:
-            if not self._ack_overdue:  # first seen late: give the executor its turn
-                self._ack_overdue = True
-                return None
+        if self._ack_late.fails(self._handle is None and late):
             self.cancel()
             return GoalEnd(failure=GoalFailure.SEND_GOAL_TIMEOUT,
                            reason=f"{self.action_name} did not accept the goal within "

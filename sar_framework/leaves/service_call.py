@@ -15,7 +15,9 @@ proves only the request path, not that the server has matched the client's reply
 (ros2/rmw_cyclonedds#74); a slow server's first answer still counts. Resend only to an
 idempotent service (a detection is a lookup; a repeated report is acknowledged but recorded
 once); ``resend_after_wall_s=None`` sends once. ``response_timeout_s`` still counts from the
-first send.
+first send. Like every bound on an answer, ``response_timeout_s`` fails a request only once it
+had already passed at an earlier poll (:class:`~.second_look.SecondLook`): one slow tick alone
+never fails a call whose answer waits for the executor's turn.
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
+
+from sar_framework.leaves.second_look import SecondLook
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -72,7 +76,8 @@ class PolledServiceCall:
         self._response_timeout_s = response_timeout_s
         self._resend_after_wall_s = resend_after_wall_s
         self._response_timeout_wall_s = response_timeout_wall_s
-        self._overdue = False
+        self._late = SecondLook()  # the ROS-time response bound
+        self._late_wall = SecondLook()  # the wall-time response bound
         clock = node.get_clock()
         self._now: Callable[[], float] = lambda: clock.now().nanoseconds / 1e9
         self._pending: list[Future] = []  # the request and its resends, oldest first
@@ -109,22 +114,21 @@ class PolledServiceCall:
             self._pending.append(self._client.call_async(self._request))
             self._sent = now
             self._sent_wall = time.monotonic()
-            self._overdue = False
+            self._late.reset()
+            self._late_wall.reset()
             return None
         answered = next((f for f in self._pending if f.done()), None)
         if answered is None:
-            if now - self._sent > self._response_timeout_s:
+            if self._late.fails(now - self._sent > self._response_timeout_s):
                 self.abandon()
                 return CallResult(error=f"no response from {self.service_name} "
                                         f"within {self._response_timeout_s:.1f} s")
             waited_wall = time.monotonic() - self._sent_wall
             wall_bound = self._response_timeout_wall_s
-            if wall_bound is not None and waited_wall > wall_bound:
-                if self._overdue:
-                    self.abandon()
-                    return CallResult(error=f"no response from {self.service_name} "
-                                            f"within {wall_bound:.3g} s (wall)")
-                self._overdue = True  # first seen late: give the executor its turn
+            if self._late_wall.fails(wall_bound is not None and waited_wall > wall_bound):
+                self.abandon()
+                return CallResult(error=f"no response from {self.service_name} "
+                                        f"within {wall_bound:.3g} s (wall)")
             resend = self._resend_after_wall_s
             if resend is not None and waited_wall > resend * len(self._pending):
                 self._pending.append(self._client.call_async(self._request))

@@ -2,7 +2,9 @@
 
 The server node shares the test node's context (fast discovery) but has its own
 multi-threaded executor on a background thread, so a server that takes its time (a slow
-acceptance, a goal that runs until cancelled) never blocks the test's ticks.
+acceptance, a goal that runs until cancelled) never blocks the test's ticks. When a test ends,
+its server ends the goals still executing before the node is destroyed: an execute callback
+never outlives the action server it publishes through.
 """
 
 from __future__ import annotations
@@ -34,6 +36,34 @@ class WaitServerLog:
     feedback_steps: int = 2
 
 
+class GoalsInFlight:
+    """The execute callbacks still running on a server node, and the order to end them."""
+
+    def __init__(self) -> None:
+        self.closing = threading.Event()
+        self._running = 0
+        self._changed = threading.Condition()
+
+    @contextmanager
+    def running(self) -> Iterator[None]:
+        """Count one execute callback while its body runs."""
+        with self._changed:
+            self._running += 1
+        try:
+            yield
+        finally:
+            with self._changed:
+                self._running -= 1
+                self._changed.notify_all()
+
+    def end_all(self, outer_s: float) -> None:
+        """Tell every execute callback to end its goal and wait until none runs."""
+        self.closing.set()
+        with self._changed:
+            ended = self._changed.wait_for(lambda: self._running == 0, outer_s)
+        assert ended, f"{self._running} test goal(s) still executing after {outer_s} s"
+
+
 @contextmanager
 def server_thread(node: Any) -> Iterator[Any]:
     """Yield a server node in ``node``'s context, spun on a background thread."""
@@ -41,6 +71,7 @@ def server_thread(node: Any) -> Iterator[Any]:
     from rclpy.node import Node
 
     server = Node("toolkit_test_server", context=node.context)
+    server.goals_in_flight = GoalsInFlight()  # serve_wait's execute callbacks report to it
     executor = MultiThreadedExecutor(num_threads=3, context=node.context)
     executor.add_node(server)
     thread = threading.Thread(target=executor.spin, daemon=True)
@@ -48,6 +79,7 @@ def server_thread(node: Any) -> Iterator[Any]:
     try:
         yield server
     finally:
+        server.goals_in_flight.end_all(10.0)  # outer safety bound
         executor.shutdown()
         thread.join(timeout=10.0)  # outer safety bound
         server.destroy_node()
@@ -68,20 +100,34 @@ def serve_wait(server: Any, name: str, log: WaitServerLog) -> Any:
         log.cancels += 1
         return CancelResponse.ACCEPT
 
+    in_flight: GoalsInFlight = server.goals_in_flight
+    closing = in_flight.closing
+
     def execute(handle: Any) -> Any:
+        with in_flight.running():
+            return run(handle)
+
+    def run(handle: Any) -> Any:
         result = Wait.Result()
         for step in range(log.feedback_steps):
+            if closing.is_set():  # the test is over: end the goal, publish nothing more
+                handle.abort()
+                return result
             feedback = Wait.Feedback()
             feedback.time_left.sec = log.feedback_steps - step
             handle.publish_feedback(feedback)
-            time.sleep(0.05)
+            closing.wait(0.05)
         if log.outcome == "hang":
-            deadline = time.monotonic() + 30.0  # a test's cancel ends the goal before
-            cancelled = handle.is_cancel_requested
-            while not cancelled and time.monotonic() < deadline:  # outer safety bound
-                time.sleep(0.02)
-                cancelled = handle.is_cancel_requested
-            handle.canceled()
+            # until the test cancels or ends; the 30 s are only an outer safety bound
+            deadline = time.monotonic() + 30.0
+            while not (handle.is_cancel_requested or closing.is_set()):
+                if time.monotonic() > deadline:
+                    break
+                closing.wait(0.02)
+            if handle.is_cancel_requested:
+                handle.canceled()
+            else:
+                handle.abort()
             return result
         if log.outcome == "abort":
             result.error_code, result.error_msg = 7, "blocked"

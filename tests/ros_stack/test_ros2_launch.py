@@ -146,7 +146,7 @@ def test_the_fleet_launch_runs_two_robots_to_the_end(tmp_path):
          f"report_dir:={tmp_path}"], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
     STARTED.append(proc)
-    output, _ = proc.communicate(timeout=180)
+    output, _ = proc.communicate(timeout=180)  # outer safety bound (~25 s idle)
     assert proc.returncode == 0, output
     assert "Traceback" not in output
     # simulator, base, coordinator, two detect servers, two runners: all ended on their own

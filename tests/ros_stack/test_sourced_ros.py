@@ -25,8 +25,12 @@ ROOT = Path(__file__).resolve().parents[2]
 PREFIX = Path(sys.prefix)
 SITE = Path(sysconfig.get_paths()["purelib"])
 BASE_PYTHON = Path(sys.base_prefix) / "bin" / f"python{sys.version_info[0]}.{sys.version_info[1]}"
+BUILD_OUTER_S = 600
+"""Outer safety bound on the bootstrap (it builds sar_interfaces; minutes under load)."""
 pytestmark = [
     pytest.mark.ros, pytest.mark.slow,
+    # the suite's per-test bound would cut the module fixture's build short: its own bound
+    pytest.mark.timeout(BUILD_OUTER_S + 300),
     pytest.mark.skipif(not (PREFIX / "share" / "launch_ros" / "package.xml").exists(),
                        reason="real-stack tier: launch_ros is not built into the venv (make "
                        "setup with ../shared/ros-overlay or SAR_ROS_OVERLAY_SRC)"),
@@ -83,9 +87,16 @@ def sourced(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, s
         SAR_NO_APT="1",
     )
     venv = work / "venv"
-    done = subprocess.run(
-        [str(bin_dir / "python3"), str(ROOT / "tools" / "bootstrap.py"), "--venv", str(venv),
-         "--no-compat"], env=env, capture_output=True, text=True, timeout=600, check=False)
+    try:
+        done = subprocess.run(
+            [str(bin_dir / "python3"), str(ROOT / "tools" / "bootstrap.py"), "--venv",
+             str(venv), "--no-compat"], env=env, capture_output=True, text=True,
+            timeout=BUILD_OUTER_S, check=False)  # outer safety bound
+    except subprocess.TimeoutExpired as exc:
+        seen = (exc.stdout or b"")[-4000:]
+        pytest.fail(f"the bootstrap over a sourced ROS (venv, sar_interfaces build) did not "
+                    f"finish within {BUILD_OUTER_S} s (outer safety bound); its output so "
+                    f"far:\n{seen.decode(errors='replace') if isinstance(seen, bytes) else seen}")
     assert done.returncode == 0, done.stdout + done.stderr
     return venv, env, done.stdout + done.stderr
 

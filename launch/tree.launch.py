@@ -138,6 +138,12 @@ ARGUMENTS = [
     DeclareLaunchArgument("fleet_file", default_value="",
                           description="A fleet file naming the robots and their spawn poses "
                           "(embedded; docs/how-to/fleet.md)."),
+    # launch's own escalation bound: a process still running this long after SIGINT gets
+    # SIGTERM. Launch's default of 5 s cut short a loaded machine's flush of traces and
+    # recordings; an idle stop takes about 1 s (benchmarks/soak_launch_ctrl_c.py).
+    DeclareLaunchArgument("sigterm_timeout", default_value="15",
+                          description="Seconds a process may take to stop after SIGINT "
+                          "before launch sends it SIGTERM."),
 ]
 
 

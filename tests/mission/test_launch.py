@@ -76,7 +76,7 @@ def test_declared_arguments_and_their_defaults():
                              "report_dir", "tick_rate_hz", "map", "spawn", "nav2_params_file",
                              "use_sim_time", "app_params",
                              "speed", "rviz", "record", "reload", "robots", "fleet_file",
-                             "set"}
+                             "set", "sigterm_timeout"}
     assert declared["nav2"] == "bringup" and declared["use_sim_time"] == "true"
     assert declared["record"] == ""  # no recorder unless asked
     assert declared["reload"] == "false"  # the tree file is not watched unless asked
@@ -211,6 +211,20 @@ def test_embedded_runs_the_simulator_and_every_process_names_its_own_nodes():
     assert Path(runner["tree"]).resolve() == REPO / "trees" / "search_and_rescue.yaml"  # by name
     assert runner["tick_rate_hz"] == 5.0 and runner["exit_on_completion"] is True
     assert runner["zone_order"]  # the mission file from the package share
+
+
+@needs_launch
+def test_every_process_gets_time_to_stop_on_sigint_before_sigterm():
+    """Launch's own 5 s cut a loaded simulator's stop short (SIGTERM, not a clean exit)."""
+    from launch.utilities import perform_substitutions
+
+    nodes, _, context = evaluate(nav2="embedded", tree="search_and_rescue")
+    assert nodes
+    for node in nodes:
+        bound = perform_substitutions(context, node._ExecuteLocal__sigterm_timeout)
+        assert float(bound) == 15.0, (node.node_executable, bound)
+    assert float(perform_substitutions(context, nodes[0]._ExecuteLocal__sigterm_timeout)) \
+        > 5.0  # launch's default
 
 
 @needs_launch

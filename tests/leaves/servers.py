@@ -121,7 +121,7 @@ def serve_wait(server: Any, name: str, log: WaitServerLog) -> Any:
             # until the test cancels or ends; the 30 s are only an outer safety bound
             deadline = time.monotonic() + 30.0
             while not (handle.is_cancel_requested or closing.is_set()):
-                if time.monotonic() > deadline:
+                if time.monotonic() > deadline:  # outer safety bound
                     break
                 closing.wait(0.02)
             if handle.is_cancel_requested:

@@ -64,6 +64,8 @@ class AppProcess:
         off_flag: ``sar-tree run``'s flag that leaves it out (``--no-detect-server``), or "".
         off_help: That flag's help.
         per_robot: A fleet starts one per robot (in the robot's namespace), else one in all.
+        executable: Its installed program, for the docs of a process that only some runs
+            start (the others' come from the process description); "" when it has none.
     """
 
     label: str
@@ -73,6 +75,7 @@ class AppProcess:
     off_flag: str = ""
     off_help: str = ""
     per_robot: bool = False
+    executable: str = ""
 
 
 @dataclass(frozen=True)

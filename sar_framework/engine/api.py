@@ -3,7 +3,7 @@
 ::
 
     from sar_framework import load_tree
-    tree = load_tree("trees/search_and_rescue.yaml", context={"zone_manager": zm})
+    tree = load_tree("patrol.yaml", context={"inventory": inventory})
     tree.root          # the py_trees root behaviour
     tree.spec          # the validated TreeSpec
     tree.behaviours    # NodeSpec.uid -> behaviour
@@ -111,7 +111,7 @@ def load_tree(
 
     Args:
         path: The tree file.
-        context: Shared objects plugins declared they need (e.g. ``zone_manager``).
+        context: Shared objects plugins declared they need (e.g. an app's ``inventory``).
         registry: The plugins to check against; default: built-ins and entry points.
         plugin_paths: Extra plugin files, dirs or modules.
         initial_values: Initial values of the main tree's declared entries that replace

@@ -3,7 +3,7 @@
 Every problem the engine finds in a tree file becomes a :class:`Diagnostic`
 that names the file, line and column (both 1-based) and a message::
 
-    trees/mission.yaml:12:9: error: unknown plugin 'NavigateToZon' (did you mean 'NavigateToZone'?)
+    trees/mission.yaml:12:9: error: unknown plugin 'NavigateToPos' (did you mean 'NavigateToPose'?)
 
 Problems are collected in one pass; :class:`TreeLoadError` carries all of them
 at once so a user fixes a file in one go instead of one error per run.

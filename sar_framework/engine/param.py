@@ -75,7 +75,7 @@ class Param:
 
     Attributes:
         name: The key (a tree file's, or the ROS parameter's dotted name; in a node's table
-            ``*`` stands for one name segment, as in ``zones.*.x``).
+            ``*`` stands for one name segment, as in ``shelves.*.x``).
         type: ``str``, ``int``, ``float``, ``bool``; for a node parameter also one of
             :data:`LIST_TYPES`. Ignored for references.
         default: The value when none is given; :data:`REQUIRED` if it must be given; None

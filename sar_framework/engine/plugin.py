@@ -10,13 +10,13 @@ constructor's kwargs::
         params=[
             Param("timeout_s", float, default=10.0, minimum=0.0,
                   description="Give up after this many seconds."),
-            Param("detector", ref="DetectSurvivor",
-                  description="id of the DetectSurvivor leaf to read."),
+            Param("scanner", ref="ScanShelf",
+                  description="id of the ScanShelf leaf to read."),
         ],
-        context=["zone_manager"],
+        context=["inventory"],
     )
-    class IsSurvivorDetected(py_trees.behaviour.Behaviour):
-        def __init__(self, name, *, timeout_s, detector, zone_manager): ...
+    class IsShelfScanned(py_trees.behaviour.Behaviour):
+        def __init__(self, name, *, timeout_s, scanner, inventory): ...
 
 The loader constructs it as ``cls(name=..., <params>..., <context objects>...)``.
 A reference param receives the referenced behaviour instance; a context key
@@ -47,7 +47,7 @@ class PluginSpec:
     """Everything the engine knows about one leaf plugin.
 
     Attributes:
-        name: The node kind in a tree file (``NavigateToZone``).
+        name: The node kind in a tree file (``NavigateToPose``).
         cls: The behaviour class.
         description: First paragraph of the class docstring unless given.
         params: The declared params, in declaration order.
@@ -104,7 +104,7 @@ def leaf(
     Args:
         name: The node kind in tree files; defaults to the class name.
         params: The params the tree may set.
-        context: Names of shared objects the caller must supply (e.g. ``zone_manager``).
+        context: Names of shared objects the caller must supply (e.g. an app's ``inventory``).
         description: Defaults to the first paragraph of the class docstring.
         ports: The blackboard ports (:func:`.ports.InputPort`, ``OutputPort``,
             ``BidirectionalPort``).

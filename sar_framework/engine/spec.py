@@ -80,7 +80,7 @@ class NodeSpec:
 
     Attributes:
         kind: ``sequence``, ``selector``, ``parallel``, a decorator key such as
-            ``one_shot``, or a plugin name such as ``NavigateToZone``.
+            ``one_shot``, or a plugin name such as ``NavigateToPose``.
         category: Composite, decorator or leaf.
         name: The behaviour's name (defaults filled in: a leaf defaults to its plugin name).
         uid: Unique within the tree, stable for one file: the path of child indices from

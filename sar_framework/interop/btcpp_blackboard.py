@@ -6,7 +6,7 @@ in C++), so the export writes it as two parts:
 * **The initial values, for BT.CPP to run.** The ``<BehaviorTree>`` of a scope with
   initial values holds ``<Sequence name="InitialBlackboard">`` whose first child is
   ``<RunOnce name="InitialBlackboard" then_skip="true">`` around
-  ``<Script name="InitialBlackboard" code="battery := 60.0; survivors := 0"/>`` and whose
+  ``<Script name="InitialBlackboard" code="battery := 60.0; scans := 0"/>`` and whose
   second child is the tree's own root. ``RunOnce`` runs the script on the first tick of
   that tree instance only (then it is SKIPPED, which a ``Sequence`` passes over), as our
   loader writes initial values once, when the tree is built; ``:=`` creates the entry in

@@ -223,7 +223,7 @@ def _cancel_if_accepted(future: Any) -> None:
 class GoalBatch:
     """Several goals to one action server at once, each polled to its end, never blocking.
 
-    For a leaf that asks many questions of one server in one tick (a path cost per zone).
+    For a leaf that asks many questions of one server in one tick (a path cost per waypoint).
     No feedback, no bounds of its own: the caller decides how long it waits (:meth:`drop`).
 
     Args:

@@ -52,7 +52,7 @@ class PolledServiceCall:
 
     Args:
         node: The node that owns the client.
-        srv_type: The service type (e.g. ``sar_interfaces.srv.DetectSurvivor``).
+        srv_type: The service type (e.g. ``std_srvs.srv.Trigger``).
         service_name: The service to call (relative: in the node's namespace; messages
             name it fully resolved).
         server_timeout_s: Seconds the server may take to become ready.
@@ -71,7 +71,7 @@ class PolledServiceCall:
                  response_timeout_wall_s: float | None = None) -> None:
         self._node = node
         self._client = node.create_client(srv_type, service_name)
-        self.service_name: str = self._client.service_name  # resolved: /robot1/detect_survivor
+        self.service_name: str = self._client.service_name  # resolved: /robot1/scan_shelf
         self._server_timeout_s = server_timeout_s
         self._response_timeout_s = response_timeout_s
         self._resend_after_wall_s = resend_after_wall_s

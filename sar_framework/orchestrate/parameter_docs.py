@@ -73,7 +73,8 @@ def document() -> str:
     apps = discover_apps()
     executables = {p.label: p.executable for p in mission_processes(
         MissionSettings(tree="t", params_file="p", record="r"), apps)}
-    executables.setdefault("coordinator", "sar-zone-coordinator")  # named robots' only
+    for kind in (kind for app in apps for kind in app.process_kinds if kind.executable):
+        executables.setdefault(kind.label, kind.executable)  # started by some runs only
     parts = [INTRO]
     titles = {**_TITLES, **{kind.label: (kind.title, kind.declared_in, "")
                             for app in apps for kind in app.process_kinds}}

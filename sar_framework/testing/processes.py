@@ -6,7 +6,7 @@ of the test run (the venv's Python), never a system ``python3``.
 
 Typical use::
 
-    with NodeProcess(["-m", "sar_plugins.sar.servers.detect_survivor_server"], "detect") as p:
+    with NodeProcess(["-m", "sar_framework.sim"], "sim") as p:
         p.wait_for_output("ready", timeout=15)
         ...
     # leaving the block sends SIGINT, then SIGKILL if the node does not stop

@@ -29,7 +29,7 @@ COORDINATOR_EVENTS_FILE = "fleet_events.jsonl"
 
 COORDINATOR_KIND = AppProcess(
     "coordinator", "the fleet's zone coordinator", COORDINATOR_PARAMETERS,
-    "plugins/sar/fleet/params.py")
+    "plugins/sar/fleet/params.py", executable="sar-zone-coordinator")
 """What ``sar-tree run`` and the docs know of the coordinator."""
 
 

@@ -8,7 +8,7 @@ complete and check tree files; a test keeps the committed copy
 (``sar_framework/schema/tree.schema.json``) in step with the code.
 
 A node is an object with exactly one property, the node kind; each kind's
-value schema lives in ``$defs`` (``kind.sequence``, ``plugin.NavigateToZone``).
+value schema lives in ``$defs`` (``kind.sequence``, ``plugin.NavigateToPose``).
 """
 
 from __future__ import annotations

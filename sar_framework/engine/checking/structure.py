@@ -305,7 +305,7 @@ class StructureCheck:
             hint = ""
             if isinstance(instance, str) and (self.kind(instance) or instance in self.registry):
                 hint = f" (write '{instance}: {{}}')"
-            return ("expected a node: a one-key mapping such as 'NavigateToZone: {}', "
+            return ("expected a node: a one-key mapping such as 'NavigateToPose: {}', "
                     f"got {got}{hint}")
         attr = str(path[-1]) if path else ""
         port = self.port_of(path)

@@ -17,7 +17,7 @@ whose own spec is unchanged keeps its object and its state (a memory sequence's 
 child, a retry's count) and receives its new children. A node that leaves the tree while
 RUNNING is halted the way its parent would halt it: ``stop(INVALID)``, whose
 ``terminate`` cancels goals in flight. Shared state is not the tree's: the context
-objects (the ZoneManager) are handed to the new behaviours unchanged, and the blackboard
+objects (an app's own) are handed to the new behaviours unchanged, and the blackboard
 keeps every entry's value (a new entry gets its initial value; an old one keeps its own).
 The initial values given from outside the file (``sar-tree run --set``) hold for the new
 file too: it is checked with them, as the first was.

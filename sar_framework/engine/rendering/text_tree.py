@@ -42,8 +42,8 @@ def render_text(spec: TreeSpec, *, unicode: bool = True, all_params: bool = Fals
 
         {-} Mission [sequence, memory]
         |-- -^- Once [one_shot, on_completion]
-        |   `-- --> Setup [LoadZones, id=setup] file="zones.yaml"
-        `-- --> Detect [DetectSurvivor, id=det] threshold=0.5
+        |   `-- --> Setup [LoadShelves, id=setup] file="shelves.yaml"
+        `-- --> Scan [ScanShelf, id=scan] shelf="A"
 
     Args:
         spec: The validated tree.

@@ -18,7 +18,7 @@ Modules: :mod:`.trees` (load YAML text, tick, record), :mod:`.assertions`,
 :mod:`.ros_env` (a private ROS domain), :mod:`.spin` (rclpy node and bounded spinning),
 :mod:`.ros_harness` (trees set up on a node, ticking with spinning, probes),
 :mod:`.processes` (ROS nodes as child processes), :mod:`.mission_stack` (the embedded
-simulator and the detect/report servers), :mod:`.nav2_navigators` (Nav2's navigator trees
+simulator and the installed apps' processes), :mod:`.nav2_navigators` (Nav2's navigator trees
 imported and run one after another against one simulator, reset between runs). Only the
 ROS modules import ROS, lazily.
 """

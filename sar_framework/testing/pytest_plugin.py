@@ -13,7 +13,7 @@ Installing sar_framework makes these fixtures available in every pytest run:
 ``sar_ros_node``
     ``(node, executor)`` on a fresh rclpy context on that domain.
 ``sar_mission_stack``
-    The embedded simulator and the detect/report servers on that domain, started and
+    The embedded simulator and the installed apps' processes on that domain, started and
     ready (:class:`~sar_framework.testing.mission_stack.MissionStack`).
 
 Nothing is imported from ROS until a ROS fixture is used.
@@ -93,7 +93,7 @@ def sar_ros_node(sar_ros_domain: int) -> Iterator[tuple[Any, Any]]:
 
 @pytest.fixture
 def sar_mission_stack(sar_ros_domain: int, tmp_path: Path) -> Iterator[Any]:
-    """The simulator, the detect server and the report server, ready."""
+    """The simulator and the installed apps' processes, ready."""
     from sar_framework.testing.mission_stack import MissionStack
 
     with MissionStack(tmp_path / "mission_stack") as stack:

@@ -9,6 +9,9 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -105,3 +108,20 @@ def test_bad_data_stops_the_leaf_at_setup(shelves: ModuleType, tmp_path: Path,
 def test_the_scan_server_serves_the_shelves_the_data_names(shelves: ModuleType) -> None:
     [scan] = shelves.APP.processes(MissionSettings(tree="patrol.yaml"))
     assert scan.parameters["shelves"] == ["A", "B", "C"]
+
+
+def test_sar_tree_run_refuses_bad_data_before_it_starts(tmp_path: Path) -> None:
+    folder = tmp_path / "inspection_patrol"
+    shutil.copytree(PACKAGE.parent, folder,
+                    ignore=shutil.ignore_patterns("__pycache__", "make_map.py"))
+    data = folder / "inspection_patrol" / "shelves.yaml"
+    data.write_text(data.read_text(encoding="utf-8").replace("yaw: 3.14", "yaw: west"),
+                    encoding="utf-8")
+    # Outer safety bound: the run stops at its checks, before any process starts.
+    done = subprocess.run([sys.executable, "-m", "sar_framework", "run", "patrol.yaml",
+                           "--map", "warehouse.yaml", "--report-dir", "out"], cwd=folder,
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert f"error: {data}: shelf C: field 'yaw': a number is needed, got 'west'" in \
+        done.stderr, done.stderr
+    assert "Traceback" not in done.stderr

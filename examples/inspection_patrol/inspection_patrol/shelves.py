@@ -223,6 +223,15 @@ def _processes(settings: MissionSettings) -> list[Process]:
                     python_path=(str(Path(__file__).resolve().parents[1]),))]
 
 
+def _check(_values: Any, _locations: Any, _file: str) -> list[str]:
+    """The shelves' data, checked before the run starts (its errors name file and field)."""
+    try:
+        load_shelves(SHELVES_FILE)
+    except ShelfDataError as err:
+        return [str(err)]
+    return []
+
+
 def _start(_node: Any, _source: str, _locations: Mapping[str, Any]) -> AppRun:
     """A fresh inspection for the run; the status says how many shelves it scanned."""
     inspection = Inspection()
@@ -276,7 +285,7 @@ def _summary(document: Mapping[str, Any]) -> list[str]:
             f"waypoints visited: {len(document['waypoints_visited'])}"]
 
 
-APP = App(name="inspection_patrol", provides=("inspection",), start=_start,
+APP = App(name="inspection_patrol", provides=("inspection",), check=_check, start=_start,
           processes=_processes, event_kinds={SHELF_SCANNED: "one shelf scanned",
                        SHELF_GOAL: "the next goal is a shelf's"},
           progress=_progress, report=_report, summary=_summary,

@@ -66,9 +66,41 @@ def installed_apps() -> list[App]:
         return []
 
 
-def apps_status_text(document: Mapping[str, Any]) -> list[str]:
-    """The installed apps' words about a tree status document (:attr:`App.status_text`)."""
-    return [app.status_text(document) for app in installed_apps() if app.status_text]
+def apps_status_text(document: Mapping[str, Any],
+                     apps: Sequence[App] | None = None) -> list[str]:
+    """The apps' words about a tree status document (:attr:`App.status_text`).
+
+    Args:
+        document: A tree status document.
+        apps: The apps that speak (the installed ones when None).
+    """
+    return [app.status_text(document) for app in (installed_apps() if apps is None else apps)
+            if app.status_text]
+
+
+def with_installed(used: Iterable[App]) -> list[App]:
+    """The installed apps, then those of ``used`` not among them (a view's apps)."""
+    apps = installed_apps()
+    return apps + [app for app in used if app.name not in {a.name for a in apps}]
+
+
+def view_apps(tree: str | Path | None, plugin_paths: Sequence[str | Path] = ()) -> list[App]:
+    """The apps a view of a run of ``tree`` speaks with: the installed ones, then the tree's.
+
+    The tree's own apps come from its ``plugins:`` (and ``plugin_paths``), as a replay finds
+    them in the recorded files; a tree that is missing, does not validate or whose apps do
+    not load adds none (its run says why).
+
+    Args:
+        tree: The tree file, or None when it is not known.
+        plugin_paths: Extra plugin files, directories or modules.
+    """
+    if not tree or not Path(tree).is_file():
+        return installed_apps()
+    try:
+        return with_installed(tree_apps(tree, plugin_paths))
+    except AppError:
+        return installed_apps()
 
 
 def _module_apps(modules: Iterable[str]) -> list[App]:

@@ -83,6 +83,7 @@ def recorded_tree(recording: Recording, folder: Path) -> RecordedTree:
         RecordingError: The recording's files cannot be written out.
     """
     from sar_framework.app import AppError, apps_for, installed_apps
+    from sar_framework.app.discovery import with_installed
     from sar_framework.engine.api import validate
 
     try:
@@ -105,7 +106,7 @@ def recorded_tree(recording: Recording, folder: Path) -> RecordedTree:
     except AppError as err:
         found.problems.append(str(err))
         return found
-    found.apps += [app for app in used if app.name not in {a.name for a in found.apps}]
+    found.apps = with_installed(used)
     return found
 
 

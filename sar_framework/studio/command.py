@@ -26,6 +26,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sar_framework.app.discovery import view_apps
 from sar_framework.studio.safety import (
     DEFAULT_HOST,
     MESSAGE_MAX_BYTES,
@@ -192,6 +193,7 @@ def _session(args: argparse.Namespace, editor: TreeEditor | None) -> Session | i
         session = Session(LIVE, tree, world_view(params if Path(params).is_file() else None),
                           "live")
         if args.tree or args.run:
+            session.timeline.apps = view_apps(args.tree or args.run, args.plugin_path)
             edit_live(session, args.tree or args.run, args.plugin_path)
         else:  # the file the runner says it ticks, once it runs
             session.learn_tree = partial(learn_tree_file, session, args.plugin_path)
@@ -213,6 +215,7 @@ def edit_live(session: Session, path: str, plugin_paths: list[str]) -> None:
 def learn_tree_file(session: Session, plugin_paths: list[str], ticked: str) -> None:
     """Edit and draw the tree file the mission's runner ticks, when it is found from here."""
     if session.editor is None and Path(ticked).is_file():
+        session.timeline.apps = view_apps(ticked, plugin_paths)  # its plugins: apps' words
         edit_live(session, ticked, plugin_paths)
         session.redraw_from_file()
 

@@ -11,15 +11,19 @@ closing line with its verdict.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 from rich.tree import Tree
 
-from sar_framework.app.discovery import apps_status_text
+from sar_framework.app.discovery import apps_status_text, view_apps
+
+if TYPE_CHECKING:
+    from sar_framework.app import App
 
 STATUS_STYLES = {"SUCCESS": "green", "FAILURE": "red", "RUNNING": "yellow",
                  "INVALID": "bright_black"}
@@ -54,13 +58,20 @@ def tree_view(nodes: Sequence[dict[str, Any]], title: Text) -> Tree:
     return view
 
 
+@functools.lru_cache(maxsize=8)
+def _tree_apps(tree: str) -> list[App]:
+    """The apps of the tree file the runner says it ticks (its ``plugins:`` too), once."""
+    return view_apps(tree)
+
+
 def header(document: dict[str, Any], ticks_per_s: float | None) -> Text:
     """The line above the tree: name, tick, rate, simulated time, root status.
 
     The apps' words about the document follow the clock
     (:attr:`~sar_framework.app.App.status_text`).
     """
-    app_text = "".join(f"{words}  " for words in apps_status_text(document) if words)
+    apps = _tree_apps(str(document.get("tree") or ""))
+    app_text = "".join(f"{words}  " for words in apps_status_text(document, apps) if words)
     rate = f"{ticks_per_s:.1f}" if ticks_per_s is not None else "-"
     status = str(document.get("status", "INVALID"))
     text = Text(f"{document.get('tree', '?')}", style="bold")

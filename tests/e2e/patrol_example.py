@@ -10,7 +10,7 @@ from pathlib import Path
 from .test_any_mission import ros_env
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "inspection_patrol"
-ROUND = ["GoShelfA", "GoShelfB", "GoShelfC"]
+ROUND = ["shelf A", "shelf B", "shelf C"]
 # Outer safety bound of a whole run (about 20 s of wall time on an idle machine).
 RUN_BOUND_S = 400
 

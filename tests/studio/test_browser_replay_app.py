@@ -17,7 +17,7 @@ from .page import replay_page, until, wait_for
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
 
-NAMES = ["GoShelfA", "ScanA", "GoHome"]
+NAMES = ["GoToShelf", "Scan", "GoHome"]
 SCANS = ["A", "B", "C"]
 
 

@@ -2,7 +2,8 @@
 
 A program of its own, which the app's process description starts beside the runner for a
 tree that uses the app. It offers one ``std_srvs/srv/Trigger`` service per shelf it knows
-(``scan_shelf/A``, ``scan_shelf/B``...; parameter ``shelves``), so the request needs no
+(``scan_shelf/A``, ``scan_shelf/B``...; parameter ``shelves``, which the app sets from
+its shelves' data file), so the request needs no
 fields: the service's name says which shelf to scan. Nothing here runs on import (the
 tree's ``plugins:`` imports every file of the folder).
 """
@@ -16,17 +17,16 @@ from typing import Any
 NODE_NAME = "shelf_scanner"
 SERVICE = "scan_shelf"
 """The services' common prefix: ``scan_shelf/<shelf>``."""
-SHELVES = ["A", "B", "C"]
-"""The shelves scanned when the parameter ``shelves`` names none."""
 
 
 def make_node() -> Any:
     """The scan server's node: a Trigger service per shelf, each answering ``shelf X scanned``."""
     from rclpy.node import Node
+    from rclpy.parameter import Parameter
     from std_srvs.srv import Trigger
 
     node = Node(NODE_NAME)
-    shelves = node.declare_parameter("shelves", SHELVES).value
+    shelves = node.declare_parameter("shelves", Parameter.Type.STRING_ARRAY).value
     if not shelves or not all(isinstance(s, str) and s.isidentifier() for s in shelves):
         raise ValueError(f"parameter 'shelves': a list of names is needed, got {shelves!r}")
 

@@ -194,7 +194,7 @@ CASES = {
     "bare_plugin_name": (
         tree("sequence: {memory: true, children: [Tick]}"),
         ["tree.yaml:3:39: error: expected a node: a one-key mapping such as "
-         "'NavigateToZone: {}', got string 'Tick' (write 'Tick: {}')"],
+         "'NavigateToPose: {}', got string 'Tick' (write 'Tick: {}')"],
     ),
     "null_attributes": (
         "format: 1\nroot:\n  Tick:\n",

@@ -81,7 +81,8 @@ def apps_status_text(document: Mapping[str, Any],
 def with_installed(used: Iterable[App]) -> list[App]:
     """The installed apps, then those of ``used`` not among them (a view's apps)."""
     apps = installed_apps()
-    return apps + [app for app in used if app.name not in {a.name for a in apps}]
+    known = {app.name for app in apps}
+    return apps + [app for app in used if app.name not in known]
 
 
 def view_apps(tree: str | Path | None, plugin_paths: Sequence[str | Path] = ()) -> list[App]:

@@ -4,7 +4,8 @@
 Run by ``make`` before every target; it does real work only when an input changed::
 
     1. system tools    cmake, a C/C++ compiler, Graphviz's dot, Python headers
-                       (apt-get install when missing and running as root)
+                       (apt-get install when missing and running as root); ccache
+                       too when it can be installed, never required
     2. .venv           CPython 3.11 venv with the pinned ROS 2 Jazzy wheels and
                        Python dependencies from requirements/*.txt
     3. cmake fix-up    the wheels' exported CMake files name the build container's
@@ -50,6 +51,7 @@ from setup_base import (
     ROOT,
     SetupError,
     Stamps,
+    compiler_cache,
     digest,
     files_under,
     importable,
@@ -78,6 +80,9 @@ EXECUTABLES = ("sar-tree", "sar-mission-runner", "sar-detect-survivor-server",
 # chromium and its driver: the studio's browser tests (tests/studio) drive them headless.
 SYSTEM_TOOLS = {"cmake": "cmake", "cc": "gcc", "c++": "g++", "make": "make", "dot": "graphviz",
                 "chromium": "chromium", "chromedriver": "chromium-driver"}
+#: Installed with them when we may, never required: ccache makes a fresh clone's C builds
+#: (the ROS overlay's type supports, our interfaces) cache hits (setup_base.compiler_cache).
+OPTIONAL_TOOLS = {"ccache": "ccache"}
 
 
 # ---------------------------------------------------------------- 1. system tools
@@ -107,14 +112,18 @@ def ensure_system_tools(python: str) -> None:
                   what="asking Python for its include dir").strip()
     if not (Path(include) / "Python.h").exists():
         missing.append(f"python{REQUIRED_PYTHON[0]}.{REQUIRED_PYTHON[1]}-dev")
-    if not missing:
-        return
+    optional = [pkg for cmd, pkg in OPTIONAL_TOOLS.items() if shutil.which(cmd) is None]
     may_install = os.environ.get("SAR_NO_APT") != "1"  # tests force the message path
+    if not (missing or optional):
+        return
     if may_install and os.geteuid() == 0 and shutil.which("apt-get"):
-        log(f"installing system packages: {' '.join(missing)}")
+        log(f"installing system packages: {' '.join(missing + optional)}")
         env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
         run(["apt-get", "update", "-qq"], what="apt-get update", env=env)
-        run(["apt-get", "install", "-y", "-qq", *missing], what="apt-get install", env=env)
+        run(["apt-get", "install", "-y", "-qq", *missing, *optional], what="apt-get install",
+            env=env)
+        return
+    if not missing:
         return
     raise SetupError(
         "missing system tools: " + ", ".join(missing)
@@ -225,10 +234,15 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
     build = venv / ".sar-build" / source.name
     shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
     env = interface_build_env(venv, sourced)
+    # The compiles read the build tree and the prefixes (generated code, headers): their
+    # common folder is the cache's base, unless only "/" holds them all.
+    prefixes = env["CMAKE_PREFIX_PATH"].split(os.pathsep)
+    launcher, cache_env = compiler_cache(Path(os.path.commonpath([str(venv), *prefixes])))
+    env.update(cache_env)
     started = time.monotonic()
     run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
          "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release",
-         f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}"],  # C and Python code only, as the overlay
+         f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}", *launcher],  # C and Python code only
         what=f"configuring {source.name}", env=env)
     run(["cmake", "--build", build, "--parallel", str(os.cpu_count() or 2)],
         what=f"building {source.name}", env=env)

@@ -28,7 +28,17 @@ import shutil
 import time
 from pathlib import Path
 
-from setup_base import ROOT, SetupError, Stamps, digest, files_under, log, run, venv_python
+from setup_base import (
+    ROOT,
+    SetupError,
+    Stamps,
+    compiler_cache,
+    digest,
+    files_under,
+    log,
+    run,
+    venv_python,
+)
 from sourced_ros import sourced_ros_prefix
 
 REPOS_FILE = ROOT / "ros2_jazzy.repos"
@@ -167,8 +177,9 @@ def build_overlay(venv: Path, stamps: Stamps, source: Path) -> set[str]:
     workers = str(os.cpu_count() or 2)
     log(f"building {len(PACKAGES)} ROS 2 Jazzy packages from {source} with colcon "
         f"({workers} in parallel; a few minutes the first time)")
+    launcher, cache_env = compiler_cache(venv)  # sources, build and prefix: all in the venv
     env = dict(os.environ, CMAKE_PREFIX_PATH=str(venv), AMENT_PREFIX_PATH=str(venv),
-               COLCON_HOME=str(work / "colcon-home"))
+               COLCON_HOME=str(work / "colcon-home"), **cache_env)
     env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
     started = time.monotonic()
     run([venv / "bin" / "colcon", "--log-base", work / "log", "build",
@@ -176,7 +187,7 @@ def build_overlay(venv: Path, stamps: Stamps, source: Path) -> set[str]:
          "--merge-install", "--executor", "parallel", "--parallel-workers", workers,
          "--event-handlers", "console_cohesion-", "console_stderr-",
          "--cmake-args", "-DBUILD_TESTING=OFF", f"-DPython3_EXECUTABLE={venv_python(venv)}",
-         "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}"],
+         "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}", *launcher],
         what="colcon build of the ROS 2 overlay", env=env)
     for name, folders in DATA_PACKAGES.items():
         install_data_package(venv, found[name], name, folders)

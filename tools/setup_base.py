@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import shutil
 import subprocess
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -83,6 +85,38 @@ class Stamps:
         """Record a step's success (written at once, so a later failure keeps it)."""
         self.data[step] = key
         self.path.write_text(json.dumps(self.data, indent=1, sort_keys=True))
+
+
+def cache_home() -> Path:
+    """The per-user folder our set-up caches live in (``~/.cache/sar_framework``)."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "sar_framework"
+
+
+def compiler_cache(base: Path) -> tuple[list[str], dict[str, str]]:
+    """Route a CMake build's C/C++ compiles through ccache, when it is installed.
+
+    A fresh clone builds the same generated C code again (rosidl's type supports are most of
+    the ROS overlay's build); ccache turns those compiles into cache hits. Paths below
+    ``base`` are rewritten relative to the compiler's folder, so a build in another clone or
+    another temporary folder hits too. Without ccache the build is unchanged.
+
+    Args:
+        base: The folder holding the build's sources, build tree and install prefix.
+
+    Returns:
+        ``(cmake arguments, environment entries)``; both empty without ccache.
+    """
+    if shutil.which("ccache") is None:
+        return [], {}
+    env = {"CCACHE_DIR": os.environ.get("CCACHE_DIR") or str(cache_home() / "ccache"),
+           # rosidl's generators order some #includes by set iteration: one hash seed makes
+           # the generated C the same in every build, so it hits
+           "PYTHONHASHSEED": "0"}
+    if base != Path(base.anchor):  # a base of "/" would make system headers relative
+        env["CCACHE_BASEDIR"] = str(base)
+    return (["-DCMAKE_C_COMPILER_LAUNCHER=ccache", "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"],
+            env)
 
 
 def venv_python(venv: Path) -> Path:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -20,12 +21,16 @@ ROOT = Path(__file__).resolve().parent.parent.parent
 BOOTSTRAP = ROOT / "tools" / "bootstrap.py"
 
 
-def load_bootstrap() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("bootstrap_under_test", BOOTSTRAP)
+def load_module(path: Path, name: str = "") -> ModuleType:
+    spec = importlib.util.spec_from_file_location(name or f"{path.stem}_under_test", path)
     assert spec and spec.loader
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def load_bootstrap() -> ModuleType:
+    return load_module(BOOTSTRAP, "bootstrap_under_test")
 
 
 def run_bootstrap(*args: str, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
@@ -283,31 +288,11 @@ def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -
     prefix = Path(sys.prefix)
     if not (prefix / "share" / "rosidl_default_generators").is_dir():
         pytest.skip("no rosidl generators in this venv (a sourced ROS 2 provides them)")
-    source = tmp_path / "demo_msgs"
-    (source / "msg").mkdir(parents=True)
-    (source / "msg" / "Ping.msg").write_text("builtin_interfaces/Time stamp\nstring text\n")
-    (source / "package.xml").write_text(
-        "<package format='3'><name>demo_msgs</name><version>1.0.0</version>"
-        "<description>d</description><maintainer email='dev@example.com'>dev</maintainer>"
-        "<license>Apache-2.0</license><buildtool_depend>ament_cmake</buildtool_depend>"
-        "<depend>builtin_interfaces</depend>"
-        "<member_of_group>rosidl_interface_packages</member_of_group>"
-        "<export><build_type>ament_cmake</build_type></export></package>\n")
-    (source / "CMakeLists.txt").write_text(
-        "cmake_minimum_required(VERSION 3.8)\nproject(demo_msgs)\n"
-        "find_package(ament_cmake REQUIRED)\nfind_package(rosidl_default_generators REQUIRED)\n"
-        "find_package(builtin_interfaces REQUIRED)\n"
-        "rosidl_generate_interfaces(${PROJECT_NAME} msg/Ping.msg "
-        "DEPENDENCIES builtin_interfaces)\nament_package()\n")
+    source = demo_interface_package(tmp_path)
     build = tmp_path / "build"
     env = dict(os.environ, CMAKE_PREFIX_PATH=str(prefix), AMENT_PREFIX_PATH=str(prefix),
                PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}")
-    for cmd in (["cmake", "-S", str(source), "-B", str(build), "-DBUILD_TESTING=OFF",
-                 f"-DPython3_EXECUTABLE={sys.executable}",
-                 f"-DCMAKE_PROJECT_INCLUDE={ROOT / 'tools' / 'rosidl_no_cpp.cmake'}"],
-                ["cmake", "--build", str(build), "--parallel", "2"]):
-        done = subprocess.run(cmd, env=env, text=True, capture_output=True, check=False)
-        assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    cmake_build(source, build, env)
     built = {p.name for p in build.rglob("*.so")}
     assert {"libdemo_msgs__rosidl_generator_c.so", "libdemo_msgs__rosidl_typesupport_c.so",
             "libdemo_msgs__rosidl_typesupport_fastrtps_c.so",
@@ -364,3 +349,72 @@ def test_bytecode_is_written_even_when_imports_may_not_write_it(tmp_path: Path) 
     bootstrap.compile_bytecode(venv, stamps, [sources])
     assert not Path(importlib.util.cache_from_source(str(site / "late.py"))).exists()
     assert Path(importlib.util.cache_from_source(str(sources / "new.py"))).exists()
+
+
+def demo_interface_package(root: Path) -> Path:
+    """A one-message ament_cmake interface package in ``root/demo_msgs``."""
+    source = root / "demo_msgs"
+    (source / "msg").mkdir(parents=True)
+    (source / "msg" / "Ping.msg").write_text("builtin_interfaces/Time stamp\nstring text\n")
+    (source / "package.xml").write_text(
+        "<package format='3'><name>demo_msgs</name><version>1.0.0</version>"
+        "<description>d</description><maintainer email='dev@example.com'>dev</maintainer>"
+        "<license>Apache-2.0</license><buildtool_depend>ament_cmake</buildtool_depend>"
+        "<depend>builtin_interfaces</depend>"
+        "<member_of_group>rosidl_interface_packages</member_of_group>"
+        "<export><build_type>ament_cmake</build_type></export></package>\n")
+    (source / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.8)\nproject(demo_msgs)\n"
+        "find_package(ament_cmake REQUIRED)\nfind_package(rosidl_default_generators REQUIRED)\n"
+        "find_package(builtin_interfaces REQUIRED)\n"
+        "rosidl_generate_interfaces(${PROJECT_NAME} msg/Ping.msg "
+        "DEPENDENCIES builtin_interfaces)\nament_package()\n")
+    return source
+
+
+def cmake_build(source: Path, build: Path, env: dict[str, str], *options: str) -> None:
+    """Configure and build an interface package as the overlay does (C and Python only)."""
+    for cmd in (["cmake", "-S", str(source), "-B", str(build), "-DBUILD_TESTING=OFF",
+                 f"-DPython3_EXECUTABLE={sys.executable}",
+                 f"-DCMAKE_PROJECT_INCLUDE={ROOT / 'tools' / 'rosidl_no_cpp.cmake'}",
+                 *options],
+                ["cmake", "--build", str(build), "--parallel", "2"]):
+        done = subprocess.run(cmd, env=env, text=True, capture_output=True, check=False)
+        assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+
+
+def test_a_build_in_another_folder_compiles_from_the_compiler_cache(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # A fresh clone builds the overlay's generated C again: with ccache (setup_base.
+    # compiler_cache) the second build, at another path, compiles nothing itself.
+    prefix = Path(sys.prefix)
+    if not (prefix / "share" / "rosidl_default_generators").is_dir():
+        pytest.skip("no rosidl generators in this venv (a sourced ROS 2 provides them)")
+    if shutil.which("ccache") is None:
+        pytest.skip("ccache is not installed (make setup installs it when run as root)")
+    monkeypatch.setenv("CCACHE_DIR", str(tmp_path / "ccache"))  # this test's own cache
+    setup_base = load_module(ROOT / "tools" / "setup_base.py")
+    env = dict(os.environ, CMAKE_PREFIX_PATH=str(prefix), AMENT_PREFIX_PATH=str(prefix),
+               PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}")
+    counts = []
+    for place in ("first_clone", "second_clone"):
+        root = tmp_path / place
+        options, cache_env = setup_base.compiler_cache(root)
+        assert cache_env["CCACHE_DIR"] == str(tmp_path / "ccache")
+        assert cache_env["CCACHE_BASEDIR"] == str(root)
+        cmake_build(demo_interface_package(root), root / "build", dict(env, **cache_env),
+                    *options)
+        stats = subprocess.run(["ccache", "--print-stats"], env=env, text=True,
+                               capture_output=True, check=True).stdout
+        counts.append(dict(line.split("\t") for line in stats.splitlines() if "\t" in line))
+    first, second = counts
+    compiled = int(first["cache_miss"])
+    assert compiled > 5 and int(first["direct_cache_hit"]) == 0, first
+    assert int(second["cache_miss"]) == compiled, "the second build compiled something again"
+    assert int(second["direct_cache_hit"]) == compiled, second
+
+
+def test_without_ccache_the_build_is_unchanged(monkeypatch: pytest.MonkeyPatch) -> None:
+    setup_base = load_module(ROOT / "tools" / "setup_base.py")
+    monkeypatch.setattr(setup_base.shutil, "which", lambda name: None)
+    assert setup_base.compiler_cache(ROOT) == ([], {})

@@ -39,6 +39,7 @@ from typing import Any
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
+from sar_framework.events.event import kind_name  # noqa: E402
 from sar_framework.events.jsonl import read_events  # noqa: E402
 from sar_framework.testing.ros_env import apply_local_ros_env, lease_domain_id  # noqa: E402
 
@@ -81,7 +82,7 @@ def run_once(direct: bool, folder: Path, index: int) -> dict[str, float]:
 def phases(report: Path) -> dict[str, float]:
     """The phases' wall seconds read from a run's ``status.json`` and ``events.jsonl``."""
     status: dict[str, Any] = json.loads((report / "status.json").read_text())
-    events = {e.kind.value: e.wall_s for e in read_events(report / "events.jsonl")}
+    events = {kind_name(e.kind): e.wall_s for e in read_events(report / "events.jsonl")}
     figures: dict[str, float] = {}
     for label, where in PHASES:
         source, _, key = where.partition(".")

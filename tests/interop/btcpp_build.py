@@ -22,7 +22,11 @@ import hashlib
 import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))  # setup_base
+from setup_base import cache_home
 
 BTCPP_SOURCE = Path("/work/shared/ros-overlay/src/behaviortree_cpp")
 CHECKER_SOURCE = Path(__file__).resolve().parent / "btcpp_checker"
@@ -48,8 +52,7 @@ def cache_root() -> Path:
     """The folder builds are cached in."""
     if os.environ.get("SAR_BTCPP_CACHE"):
         return Path(os.environ["SAR_BTCPP_CACHE"])
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "sar_framework" / "btcpp"
+    return cache_home() / "btcpp"
 
 
 def tree_digest(folder: Path, *extra: str) -> str:

@@ -370,10 +370,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--compat-venv", type=Path,
                         default=Path(os.environ.get("SAR_COMPAT_VENV", ROOT / ".venv-compat")))
     parser.add_argument("--no-compat", action="store_true", help="skip the py_trees 2.2.3 venv")
-    overlay = os.environ.get("SAR_ROS_OVERLAY_SRC")
-    parser.add_argument("--overlay-src", type=Path, default=Path(overlay) if overlay else None,
-                        metavar="DIR", help="ROS 2 Jazzy source tree to build (default: "
-                        "../shared/ros-overlay/src, else fetched per ros2_jazzy.repos)")
+    parser.add_argument("--overlay-src", type=Path, metavar="DIR",
+                        help="ROS 2 Jazzy source tree to build (default: SAR_ROS_OVERLAY_SRC, "
+                        "else ../shared/ros-overlay/src, else fetched per ros2_jazzy.repos)")
     args = parser.parse_args(argv)
     started = time.monotonic()
     try:

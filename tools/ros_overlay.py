@@ -105,15 +105,30 @@ def fetch_sources(venv: Path, repos_file: Path, dest: Path) -> Path:
     return dest
 
 
+def local_source(explicit: Path | None = None) -> Path | None:
+    """The overlay source tree given or beside the repository; None when there is neither.
+
+    Given is ``explicit``, else ``SAR_ROS_OVERLAY_SRC``; beside the repository is
+    ``../shared/ros-overlay/src``.
+
+    Raises:
+        SetupError: A source folder was given that does not exist.
+    """
+    given = explicit or (Path(os.environ["SAR_ROS_OVERLAY_SRC"])
+                         if os.environ.get("SAR_ROS_OVERLAY_SRC") else None)
+    if given is not None:
+        if not given.is_dir():
+            raise SetupError(f"ROS overlay source folder not found: {given}")
+        return given
+    return SHARED_SOURCE if SHARED_SOURCE.is_dir() else None
+
+
 def find_source(venv: Path, explicit: Path | None, stamps: Stamps,
                 repos_file: Path = REPOS_FILE) -> Path | None:
     """Return the overlay source tree to build, or None to stay on the fallbacks."""
-    if explicit is not None:
-        if not explicit.is_dir():
-            raise SetupError(f"ROS overlay source folder not found: {explicit}")
-        return explicit
-    if SHARED_SOURCE.is_dir():
-        return SHARED_SOURCE
+    local = local_source(explicit)
+    if local is not None:
+        return local
     fetched = venv / ".sar-build" / "overlay" / "fetched"
     key = digest([repos_file])
     if stamps.done("overlay-fetch", key):

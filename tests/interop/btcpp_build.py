@@ -26,9 +26,20 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))  # setup_base
-from setup_base import cache_home
+from ros_overlay import SHARED_SOURCE, local_source
+from setup_base import SetupError, cache_home
 
-BTCPP_SOURCE = Path("/work/shared/ros-overlay/src/behaviortree_cpp")
+
+def _btcpp_source() -> Path:
+    """BehaviorTree.CPP in the ROS overlay's source tree, found as the set-up finds it."""
+    try:
+        overlay = local_source()
+    except SetupError:
+        overlay = None
+    return (overlay or SHARED_SOURCE) / "behaviortree_cpp"
+
+
+BTCPP_SOURCE = _btcpp_source()
 CHECKER_SOURCE = Path(__file__).resolve().parent / "btcpp_checker"
 SCRIPT_ORACLE_SOURCE = Path(__file__).resolve().parent / "btcpp_script_oracle"
 BTCPP_OPTIONS = (

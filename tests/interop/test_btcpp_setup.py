@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -28,3 +31,16 @@ def test_make_test_and_test_fast_set_the_checker_up_first() -> None:
         assert prerequisites and "test-setup" in prerequisites.group(1).split(), target
     recipe = re.search(r"^test-setup:.*\n\t(.*)", makefile, re.MULTILINE)
     assert recipe and "tests/interop/btcpp_build.py" in recipe.group(1)
+
+
+def test_the_sources_are_found_where_the_set_up_finds_the_ros_overlay(tmp_path: Path) -> None:
+    overlay = tmp_path / "overlay_src"
+    (overlay / "behaviortree_cpp").mkdir(parents=True)
+    env = dict(os.environ, SAR_ROS_OVERLAY_SRC=str(overlay))
+    printed = subprocess.run(
+        [sys.executable, "-c", "from interop import btcpp_build; "
+         "print(btcpp_build.BTCPP_SOURCE); print(btcpp_build.missing_toolchain())"],
+        cwd=REPO / "tests", env=env, capture_output=True, text=True, timeout=60,
+        check=True).stdout.splitlines()
+    assert printed[0] == str(overlay / "behaviortree_cpp")
+    assert printed[1] == f"no BehaviorTree.CPP sources at {overlay / 'behaviortree_cpp'}"

@@ -119,9 +119,15 @@ def ensure_system_tools(python: str) -> None:
     if may_install and os.geteuid() == 0 and shutil.which("apt-get"):
         log(f"installing system packages: {' '.join(missing + optional)}")
         env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-        run(["apt-get", "update", "-qq"], what="apt-get update", env=env)
-        run(["apt-get", "install", "-y", "-qq", *missing, *optional], what="apt-get install",
-            env=env)
+        try:
+            run(["apt-get", "update", "-qq"], what="apt-get update", env=env)
+            run(["apt-get", "install", "-y", "-qq", *missing, *optional],
+                what="apt-get install", env=env)
+        except SetupError as err:
+            if missing:
+                raise
+            log(f"could not install {', '.join(optional)} (optional); going on without it: "
+                f"{str(err).strip().splitlines()[-1]}")
         return
     if not missing:
         return

@@ -317,3 +317,71 @@ def test_a_rejoining_robot_does_not_reopen_what_it_gave_back() -> None:
     assert auction.abandon_unreachable() == ("a",)
     assert auction.reopen_abandoned("r1") == ()
     assert auction.done()
+
+
+# -- the first round: the fleet starts together ---------------------------------------------
+
+
+def starting(robots: tuple[str, ...] = ("r1", "r2", "r3")) -> ZoneAuction:
+    return ZoneAuction(["a", "b", "c"], robots=robots, start_wait_s=10.0)
+
+
+def test_the_first_round_waits_until_every_robot_of_the_fleet_asked() -> None:
+    auction = starting()
+    auction.request("r1", 0.0)
+    assert auction.open_round(1.0) is None
+    auction.request("r3", 2.0)
+    assert auction.open_round(2.0) is None
+    auction.request("r2", 3.0)
+    notice = auction.open_round(3.0)
+    assert notice is not None and notice.bidders == ("r1", "r3", "r2")
+
+
+def test_without_names_the_first_round_waits_for_every_robot_heard() -> None:
+    auction = starting(robots=())
+    auction.heard("r2", 0.0)  # a heartbeat: it runs, it has not asked yet
+    auction.request("r1", 0.0)
+    assert auction.open_round(1.0) is None
+    auction.request("r2", 2.0)
+    notice = auction.open_round(2.0)
+    assert notice is not None and notice.bidders == ("r2", "r1")  # in the order first heard
+
+
+def test_the_first_round_opens_after_the_start_wait_with_the_robots_waiting() -> None:
+    auction = starting()
+    auction.heard("r2", 0.0)
+    auction.request("r1", 1.0)  # the wait counts from the first robot asking
+    assert auction.open_round(10.9) is None
+    notice = auction.open_round(11.0)
+    assert notice is not None and notice.bidders == ("r1",)
+
+
+def test_later_rounds_do_not_wait_for_the_fleet() -> None:
+    auction = starting(robots=("r1", "r2"))
+    auction.request("r1", 0.0)
+    auction.request("r2", 0.0)
+    one_round(auction, {"r1": {"a": 1.0}, "r2": {"a": 2.0, "b": INF, "c": INF}})
+    auction.heard("r3", 1.0)  # a robot nobody expected; r1 busy: only r2 asks
+    notice = auction.open_round(1.0)
+    assert notice is not None and notice.bidders == ("r2",)
+
+
+def test_a_lost_robot_does_not_hold_the_first_round() -> None:
+    auction = starting()
+    for robot in ("r2", "r3"):
+        auction.heard(robot, 0.0)
+    auction.request("r1", 0.0)
+    auction.lose("r2")
+    auction.lose("r3")
+    notice = auction.open_round(1.0)
+    assert notice is not None and notice.bidders == ("r1",)
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"robots": ["r1", ""]}, r"robots\[1\]: must be a non-empty string"),
+    ({"robots": ["r1", "r1"]}, r"robots\[1\]: r1 is listed twice"),
+    ({"start_wait_s": -1.0}, "start_wait_s must be >= 0, got -1.0"),
+])
+def test_bad_start_settings_are_refused(options: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        ZoneAuction(["a"], **options)

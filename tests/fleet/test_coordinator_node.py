@@ -25,6 +25,8 @@ NAME = "/zone_coordinator/"
     (["-p", "events_file:=/nonexistent/dir/e.jsonl"], "events_file: cannot open "
      "/nonexistent/dir/e.jsonl"),
     (["-p", "zones.zone_b.x:=nan"], "zones.zone_b.x: must be finite"),
+    (["-p", "start_wait_wall_s:=-1.0"], "parameters: start_wait_wall_s: must be >= 0"),
+    (["-p", "robots:=[r1, r1]"], "robots[1]: r1 is listed twice"),
 ])
 def test_a_bad_configuration_exits_2_with_one_clear_line(tmp_path: Path, extra: list[str],
                                                         message: str) -> None:
@@ -53,7 +55,7 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
         node.create_subscription(ZoneNotice, NAME + "notices", notices.append, latched_qos(100))
         node.create_subscription(ZoneAward, NAME + "awards", awards.append, latched_qos(100))
         beat = node.create_publisher(FleetHeartbeat, NAME + "heartbeat", 10)
-        alive = {"r1": True, "r2": True}
+        alive = {"r1": True, "r2": False}  # r2 runs from after the first award on
 
         def heartbeats() -> None:
             for robot, on in alive.items():
@@ -79,6 +81,7 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
                     zone_ids=["zone_a", "zone_b"], costs=[4.0, math.inf]).accepted
         assert spin_until(executor, lambda: bool(awards), 10.0)
         assert (awards[-1].robot, awards[-1].zone_id, awards[-1].cost) == ("r1", "zone_a", 4.0)
+        alive["r2"] = True
 
         refused = call(FinishZone, "finish_zone", robot="r1", zone_id="zone_b", outcome=0)
         assert refused.reason == "r1 does not hold zone_b (it is open)"
@@ -128,3 +131,28 @@ def test_the_protocol_its_refusals_and_a_lost_robot(tmp_path: Path) -> None:
     assert registered[0]["position"][:2] == [3.5, 3.2]
     bid = next(e for e in read_events(events_file) if e["kind"] == "bid")
     assert bid["costs"] == [4.0, None]  # inf is null in JSON
+
+
+def test_the_first_round_waits_for_every_robot_of_the_fleet(tmp_path: Path) -> None:
+    from sar_fleet_interfaces.msg import ZoneNotice
+    from sar_fleet_interfaces.srv import RequestZone
+
+    from sar_framework.ros.qos import latched_qos
+
+    events_file = tmp_path / "events.jsonl"
+    # start_wait_wall_s is an outer safety bound here: the round must open on r2's request.
+    with two_zone_coordinator(tmp_path, "-p", f"events_file:={events_file}",
+                              "-p", "robots:=[r1, r2]", "-p", "start_wait_wall_s:=120.0"
+                              ) as proc, ros_node("fake_robots") as (node, executor):
+        proc.wait_for_output("ready", timeout=20.0)
+        assert "waits up to 120 s for r1, r2" in proc.output
+        notices: list[Any] = []
+        node.create_subscription(ZoneNotice, NAME + "notices", notices.append, latched_qos(100))
+        for robot in ("r1", "r2"):
+            assert call_service(node, executor, RequestZone, NAME + "request_zone",
+                                RequestZone.Request(robot=robot)).accepted
+        assert spin_until(executor, lambda: bool(notices), 10.0)
+    # r1 asked first: a round opened then would have named r1 alone.
+    assert list(notices[0].robots) == ["r1", "r2"]
+    first = next(e for e in read_events(events_file) if e["kind"] == "auction")
+    assert (first["auction_id"], first["robots"]) == (1, ["r1", "r2"])

@@ -154,7 +154,8 @@ def test_the_coordinator_starts_in_the_root_with_the_mission_parameters(tmp_path
     assert list(specs)[:3] == ["sim", "report", "coordinator"]
     assert specs["coordinator"] == [
         COORDINATOR_MODULE, "--params-file", PARAMS, "-p", "use_sim_time:=true",
-        "-p", f"events_file:={tmp_path / COORDINATOR_EVENTS_FILE}"]
+        "-p", f"events_file:={tmp_path / COORDINATOR_EVENTS_FILE}",
+        "-p", "robots:=['robot1', 'robot2']"]  # the first auction round waits for both
     assert not any(a.startswith("zone_order:=") for a in specs["robot1/runner"])
 
 

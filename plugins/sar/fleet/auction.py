@@ -19,6 +19,9 @@ claim) or lost (silent for longer than the coordinator's timeout).
 A round: the open zones and the waiting live robots as bidders; it closes when every bidder
 has bid or the bid window has passed; then the lowest ``(cost, robot, zone)`` among the
 finite bids wins, that robot and zone leave, and so on (one zone per robot per round: SSI).
+The fleet starts together: the first round opens only once every robot of the fleet (the
+names given, else every robot heard so far) has asked for work or is lost, or ``start_wait_s``
+after the first robot asked, with the robots waiting then.
 Searched zones and zones claimed by a live robot are never offered. A lost robot's claim
 goes back to open. A robot that gave a zone back never bids on it again. A zone is
 abandoned when every live robot has given it back, or when every live robot bid ``inf``
@@ -112,21 +115,26 @@ class ZoneAuction:
         zone_ids: The mission's zones, in its order (unique, non-empty).
         abandon_after_rounds: Rounds in a row in which every live robot bid and none could
             reach a zone before it is abandoned (>= 1).
+        robots: The fleet: the robots the first round waits for (empty: every robot heard
+            so far).
+        start_wait_s: The longest the first round waits for them, from the first robot
+            asking for work (>= 0; 0: it does not wait).
 
     Raises:
-        ValueError: No zones, an empty or repeated id, or ``abandon_after_rounds`` < 1.
+        ValueError: No zones, an empty or repeated zone id or robot name,
+            ``abandon_after_rounds`` < 1 or ``start_wait_s`` < 0.
     """
 
-    def __init__(self, zone_ids: Sequence[str], *, abandon_after_rounds: int = 2) -> None:
+    def __init__(self, zone_ids: Sequence[str], *, abandon_after_rounds: int = 2,
+                 robots: Sequence[str] = (), start_wait_s: float = 0.0) -> None:
         if not zone_ids:
             raise ValueError("zone_ids: empty (the auction needs at least one zone)")
-        for index, zone_id in enumerate(zone_ids):
-            if not isinstance(zone_id, str) or not zone_id:
-                raise ValueError(f"zone_ids[{index}]: must be a non-empty string, got {zone_id!r}")
-            if zone_id in zone_ids[:index]:
-                raise ValueError(f"zone_ids[{index}]: {zone_id} is listed twice")
+        _check_names("zone_ids", zone_ids)
+        _check_names("robots", robots)
         if abandon_after_rounds < 1:
             raise ValueError(f"abandon_after_rounds must be >= 1, got {abandon_after_rounds}")
+        if not start_wait_s >= 0:
+            raise ValueError(f"start_wait_s must be >= 0, got {start_wait_s}")
         self._order = tuple(zone_ids)
         self._zones = {zone_id: ZoneState.OPEN for zone_id in self._order}
         self._holder: dict[str, str] = {}  # zone -> robot, for claimed and searched zones
@@ -137,6 +145,9 @@ class ZoneAuction:
         self._next_id = 1
         self._last_key: tuple[tuple[str, ...], tuple[str, ...]] | None = None
         self._last_closed = -math.inf
+        self._fleet = tuple(robots)
+        self._start_wait = start_wait_s
+        self._first_asked: float | None = None
 
     # -- what the ledger knows -----------------------------------------------------------
 
@@ -207,6 +218,8 @@ class ZoneAuction:
         for zone_id in self.claims(robot):
             self._reopen(zone_id)
         self._robots[robot].state = RobotState.WAITING
+        if self._first_asked is None:
+            self._first_asked = now
         return RequestAnswer(True, False)
 
     def bid(self, auction_id: int, robot: str, costs: Mapping[str, float]) -> str | None:
@@ -311,8 +324,9 @@ class ZoneAuction:
     def open_round(self, now: float, *, retry_after_s: float = 0.0) -> Notice | None:
         """Open a round when none is open and there is something to bid on.
 
-        A round with the same zones and bidders as the last one (all of whom could not
-        reach anything) opens only ``retry_after_s`` after that one closed.
+        The first round waits for the fleet (:meth:`fleet_started`). A round with the same
+        zones and bidders as the last one (all of whom could not reach anything) opens only
+        ``retry_after_s`` after that one closed.
 
         Returns:
             The notice, or None when no round opens.
@@ -324,7 +338,7 @@ class ZoneAuction:
                       if any(z not in self._robots[r].given_back for r in waiting))
         bidders = tuple(r for r in waiting
                         if any(z not in self._robots[r].given_back for z in zones))
-        if not zones or not bidders:
+        if not zones or not bidders or not self.fleet_started(now):
             return None
         key = (zones, bidders)
         if key == self._last_key and now - self._last_closed < retry_after_s:
@@ -333,6 +347,20 @@ class ZoneAuction:
         self._next_id += 1
         self._round = _Round(notice, now)
         return notice
+
+    def fleet_started(self, now: float) -> bool:
+        """Whether rounds may open: one did, the whole fleet asked, or the start wait passed.
+
+        The fleet's robots count as having asked when waiting or lost (a lost robot never
+        holds the others back); a named robot never heard has not asked.
+        """
+        if self._next_id > 1 or self._first_asked is None \
+                or now - self._first_asked >= self._start_wait:
+            return True
+        fleet = self._fleet or tuple(self._robots)
+        return all(r in self._robots
+                   and self._robots[r].state in (RobotState.WAITING, RobotState.LOST)
+                   for r in fleet)
 
     def round_ready(self, now: float, window_s: float) -> bool:
         """Whether the open round may close: every live bidder bid, or the window passed."""
@@ -399,3 +427,11 @@ class ZoneAuction:
     def _reopen(self, zone_id: str) -> None:
         self._zones[zone_id] = ZoneState.OPEN
         self._holder.pop(zone_id, None)
+
+
+def _check_names(what: str, names: Sequence[str]) -> None:
+    for index, name in enumerate(names):
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"{what}[{index}]: must be a non-empty string, got {name!r}")
+        if name in names[:index]:
+            raise ValueError(f"{what}[{index}]: {name} is listed twice")

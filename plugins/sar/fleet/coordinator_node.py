@@ -10,7 +10,8 @@ The protocol (the rules are :mod:`sar_plugins.sar.fleet.auction`'s):
 
 1. request: a robot asks for work on ``/zone_coordinator/request_zone``;
 2. notice: when open zones and waiting robots exist, a round opens: a ``ZoneNotice`` on
-   ``/zone_coordinator/notices`` names the zones and the bidders;
+   ``/zone_coordinator/notices`` names the zones and the bidders; the first round waits
+   (``start_wait_wall_s`` at most) until every robot of the fleet (``robots``) has asked;
 3. bid: each bidder answers on ``/zone_coordinator/bid_zones`` with its Nav2 path cost per
    zone (``inf``: it cannot reach it);
 4. award: once every bidder bid or ``bid_window_wall_s`` passed, the lowest bids win, one zone
@@ -78,8 +79,13 @@ class ZoneCoordinator:
         mission = read_mission_params(node, source=source, locations=locations)
         self.timeout_s = float(values["robot_timeout_wall_s"])
         self.window_s = float(values["bid_window_wall_s"])
-        self.auction = ZoneAuction(mission.zone_order,
-                                   abandon_after_rounds=int(values["abandon_after_rounds"]))
+        fleet = values["robots"] or []
+        try:
+            self.auction = ZoneAuction(
+                mission.zone_order, abandon_after_rounds=int(values["abandon_after_rounds"]),
+                robots=fleet, start_wait_s=float(values["start_wait_wall_s"]))
+        except ValueError as err:  # a repeated or empty name in robots
+            raise ServerConfigError(str(err)) from None
         try:
             self.events = FleetEventLog(node, values["events_file"])
         except OSError as err:
@@ -105,7 +111,9 @@ class ZoneCoordinator:
         node.get_logger().info(
             f"ready: {len(mission.zone_order)} zones ({', '.join(mission.zone_order)}), "
             f"robot_timeout_wall_s {self.timeout_s:g}, bid_window_wall_s {self.window_s:g}, "
-            f"survivors within {values['survivor_radius_m']:g} m are one")
+            f"survivors within {values['survivor_radius_m']:g} m are one; the first round "
+            f"waits up to {values['start_wait_wall_s']:g} s for "
+            f"{', '.join(fleet) if fleet else 'every robot heard'}")
 
     def now(self) -> float:
         """Wall seconds since the coordinator started."""

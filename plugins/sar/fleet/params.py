@@ -28,9 +28,14 @@ SURVIVOR_RADIUS = Param("survivor_radius_m", float, 1.0, "survivors found within
 ABANDON_AFTER = Param("abandon_after_rounds", int, 2, "a zone no live robot can reach "
                       "(every one bid inf) in this many rounds in a row is abandoned",
                       minimum=1)
+ROBOTS = Param("robots", list[str], None, "the fleet's robot names: the first auction "
+               "round waits for each to ask for work (unset: every robot heard so far)")
+START_WAIT = Param("start_wait_wall_s", float, 10.0, "the first auction round waits this "
+                   "long at most for the fleet to ask for work, from the first robot asking; "
+                   "then it opens with the robots waiting (wall clock)", minimum=0.0, unit="s")
 
 COORDINATOR_PARAMETERS: tuple[Param, ...] = (
     *_MISSION, ROBOT_TIMEOUT, BID_WINDOW, EVENTS_FILE, SURVIVOR_RADIUS, ABANDON_AFTER,
-    USE_SIM_TIME,
+    ROBOTS, START_WAIT, USE_SIM_TIME,
 )
 """Every parameter ``zone_coordinator`` reads."""

@@ -1,8 +1,9 @@
 """What a run of several robots adds to the search-and-rescue app's processes.
 
-- The zone coordinator (``zone_coordinator``, root namespace, the mission parameter file and
-  ``events_file`` in the run folder) starts when the robots are named and the tree bids for
-  zones (one of :data:`FLEET_LEAVES`).
+- The zone coordinator (``zone_coordinator``, root namespace, the mission parameter file,
+  ``events_file`` in the run folder and the robots' names, whose first auction round it waits
+  for) starts when the robots are named and the tree bids for zones (one of
+  :data:`FLEET_LEAVES`).
 - Each robot goes home to its own spawn place (its ``base_station``); without the
   coordinator robot ``i`` walks every zone from the ``i``-th (:func:`rotated`), so two robots
   never head for the same zone at once.
@@ -44,7 +45,8 @@ def coordinator(settings: MissionSettings) -> list[Process]:
         return []
     parameters: dict[str, ParamValue] = {
         "use_sim_time": settings.use_sim_time,
-        "events_file": str(Path(settings.run_folder) / COORDINATOR_EVENTS_FILE)}
+        "events_file": str(Path(settings.run_folder) / COORDINATOR_EVENTS_FILE),
+        "robots": [robot.name for robot in settings.robots]}
     files = (settings.params_file,) if settings.params_file else ()
     return [Process("coordinator", "sar-zone-coordinator", COORDINATOR_MODULE, files,
                     parameters)]

@@ -17,7 +17,12 @@ idempotent service (a detection is a lookup; a repeated report is acknowledged b
 once); ``resend_after_wall_s=None`` sends once. ``response_timeout_s`` still counts from the
 first send. Like every bound on an answer, ``response_timeout_s`` fails a request only once it
 had already passed at an earlier poll (:class:`~.second_look.SecondLook`): one slow tick alone
-never fails a call whose answer waits for the executor's turn.
+never fails a call whose answer waits for the executor's turn. A call that may be resent fails
+on it only once its first resend went out at an earlier poll: at a high speed the bound's
+simulated seconds are a fraction of a wall second, too short for a loaded or just-started
+server to answer or for the resend to recover a lost reply, so the resend interval is its
+floor (at 1x the resend comes before the bound anyway). ``server_timeout_s`` has no floor: a
+server that is not there loses no reply, and its bound fires after its simulated seconds.
 """
 
 from __future__ import annotations
@@ -58,7 +63,8 @@ class PolledServiceCall:
         server_timeout_s: Seconds the server may take to become ready.
         response_timeout_s: Seconds the server may take to answer a request.
         resend_after_wall_s: Wall seconds without an answer after which the request is sent
-            again (None: never).
+            again (None: never); ``response_timeout_s`` then fails the call only after the
+            first resend had a poll to be answered.
         response_timeout_wall_s: A bound on the answer in wall seconds too (None: none),
             for a round trip that is transport, not work (Nav2's ``server_timeout``). Like
             :class:`~.goal_call.PolledGoal`'s acceptance bound, it fails a request only once
@@ -119,7 +125,9 @@ class PolledServiceCall:
             return None
         answered = next((f for f in self._pending if f.done()), None)
         if answered is None:
-            if self._late.fails(now - self._sent > self._response_timeout_s):
+            late = self._late.fails(now - self._sent > self._response_timeout_s)
+            # more than one pending: the first resend went out at an earlier poll (see below)
+            if late and (self._resend_after_wall_s is None or len(self._pending) > 1):
                 self.abandon()
                 return CallResult(error=f"no response from {self.service_name} "
                                         f"within {self._response_timeout_s:.1f} s")

@@ -13,10 +13,12 @@ for many ticks)::
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
 
 import py_trees
 import pytest
+from leaves.servers import server_thread
 from py_trees.common import Status
 from sar_plugins.sar.leaves.broadcast_survivor_tf import BroadcastSurvivorTF
 from sar_plugins.sar.leaves.detect_survivor import DetectSurvivor
@@ -158,13 +160,37 @@ def test_an_unanswered_request_is_sent_again_and_the_first_answer_wins(
     assert report.text.count("report: survivor_9 ") >= 2
 
 
-def test_unanswered_report_fails_after_its_bound(branch_env: tuple) -> None:
-    _node, make_tree, executor, _report = branch_env
-    root, notify = build_branch(spec_zone_manager(), memory=True, response_timeout_s=0.5)
-    tree = make_tree(root)
+SILENT_SERVICE = "/report_survivor_silent"
 
-    assert tick_until_done(executor, tree, 10.0) == Status.FAILURE
-    assert notify.feedback_message == "no response from /report_survivor within 0.5 s"
+
+def test_unanswered_report_fails_after_its_bound(branch_env: tuple) -> None:
+    """Once its bound had passed and its resend (after 2 wall seconds) had a tick too."""
+    from rclpy.callback_groups import ReentrantCallbackGroup
+    from sar_interfaces.srv import ReportSurvivor
+
+    node, make_tree, executor, _report = branch_env
+    root, notify = build_branch(spec_zone_manager(), memory=True, response_timeout_s=0.5)
+    notify.service_name = SILENT_SERVICE
+    asked: list[str] = []
+    released = threading.Event()
+
+    def hold(request: ReportSurvivor.Request, response: ReportSurvivor.Response
+             ) -> ReportSurvivor.Response:
+        asked.append(request.survivor_id)
+        released.wait(60.0)  # outer safety bound: answered only once the test is over
+        return response
+
+    with server_thread(node) as server:
+        server.create_service(ReportSurvivor, SILENT_SERVICE, hold,
+                              callback_group=ReentrantCallbackGroup())
+        try:
+            wait_for_service(node, executor, ReportSurvivor, SILENT_SERVICE)
+            # outer safety bound: the failure comes about 2 s after the request
+            assert tick_until_done(executor, make_tree(root), 30.0) == Status.FAILURE
+        finally:
+            released.set()
+    assert notify.feedback_message == f"no response from {SILENT_SERVICE} within 0.5 s"
+    assert asked and set(asked) == {"survivor_1"}  # the request (and its resend) arrived
 
 
 def test_nothing_to_report_without_a_detection(ros: tuple) -> None:

@@ -137,8 +137,8 @@ def test_a_new_request_is_judged_afresh() -> None:
 
 def poll_until_resent(node: FakeNode, call: PolledServiceCall) -> None:
     """Poll (every result None) until the call has sent its first resend."""
-    deadline = time.monotonic() + OUTER_S  # outer safety bound
-    while len(node.client.sent) < 2 and time.monotonic() < deadline:
+    deadline = time.monotonic() + OUTER_S
+    while len(node.client.sent) < 2 and time.monotonic() < deadline:  # outer safety bound
         result = call.poll(lambda: "request")
         assert result is None, f"the call ended before its resend: {result}"
         time.sleep(0.01)

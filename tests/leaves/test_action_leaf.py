@@ -178,16 +178,28 @@ def test_the_result_code_reaches_on_result(ros) -> None:
 
 
 def test_the_acceptance_bound_is_not_judged_on_one_slow_tick_alone(ros) -> None:
-    """Nav2's ``server_timeout`` (here 50 ms of wall time for the acceptance): the server
-    accepts after 150 ms, but the next tick comes 300 ms after the goal, before the executor
-    took the acceptance in. That tick sees the bound passed and gives the executor its turn;
-    the tick after it sees the goal accepted."""
+    """Nav2's ``server_timeout`` (here 50 ms of wall time for the acceptance): a tick that
+    comes after the bound passed, before the executor took the acceptance in, gives the
+    executor its turn instead of failing; the tick after the acceptance was taken in goes on.
+
+    The order is made, not hoped for: no spin between the goal and the late tick (whatever
+    the machine's load, the acceptance cannot have been taken in), then a spin until it is.
+    """
     _node, executor, server, trees = ros
-    serve_wait(server, "wait_ack", WaitServerLog(accept_delay_wall_s=0.15))
+    serve_wait(server, "wait_ack", WaitServerLog())
     leaf = make_leaf("wait_ack")
     leaf.ack_timeout_wall_s = 0.05
-    tick_slowly(executor, trees(leaf), leaf)
-    assert leaf.status == Status.SUCCESS, leaf.feedback_message
+    tree = trees(leaf)
+    goals = leaf._goals()
+    assert spin_until(executor, goals._client.server_is_ready, OUTER_S)
+    tree.tick()
+    assert goals.in_flight and not goals.accepted  # sent on the first tick
+    time.sleep(0.1)  # past the 50 ms bound (a loaded machine only sleeps longer)
+    tree.tick()
+    assert leaf.status == Status.RUNNING, leaf.feedback_message
+    assert spin_until(executor, goals._send_future.done, OUTER_S), (
+        "the server's acceptance never reached the client")
+    assert tick_until_done(executor, tree, OUTER_S) == Status.SUCCESS, leaf.feedback_message
 
 
 def test_a_goal_never_accepted_fails_after_the_acceptance_bound(ros) -> None:

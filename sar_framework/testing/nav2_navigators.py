@@ -251,12 +251,21 @@ class NavigatorBench:
         return Time.from_msg(found.header.stamp).nanoseconds
 
     def settled_pose(self, after_ns: int, still_s: float = 2.0,
-                     timeout: float = 3.0) -> tuple[float, float] | None:
+                     timeout: float = 30.0) -> tuple[float, float] | None:
         """The robot's pose once TF shows it at rest for ``still_s`` simulated seconds.
 
         TF and ``/clock`` may both lag the simulator on a loaded machine, so a TF stamp at
         the run's end is not enough: the pose is read once two transforms ``still_s``
         apart (both after ``after_ns``) agree within a centimetre.
+
+        Args:
+            after_ns: The run's end on the ROS clock: older transforms do not count.
+            still_s: Simulated seconds the robot must stay put.
+            timeout: Wall seconds: an outer safety bound.
+
+        Raises:
+            AssertionError: TF never showed the robot at rest after the run (the pose
+                before the run would otherwise pass for the pose after it).
         """
         first: tuple[int, tuple[float, float] | None] | None = None
 
@@ -272,7 +281,10 @@ class NavigatorBench:
                 return False
             return stamp - first[0] >= still_s * 1e9
 
-        spin_until(self.executor, at_rest, timeout)
+        assert spin_until(self.executor, at_rest, timeout), (
+            f"TF never showed the robot at rest for {still_s} s after the run within "
+            f"{timeout} s (outer safety bound); last pose {self.where()}, stamped "
+            f"{self._tf_stamp_ns()} ns, the run ended at {after_ns} ns")
         return self.where()
 
     def wait_until_at(self, x: float, y: float, tolerance: float = 0.05,

@@ -17,8 +17,10 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
+from sar_testing.ros2_cli import attempt
 from sar_testing.temp_dirs import launch_env
 
 ROS2 = Path(sys.prefix) / "bin" / "ros2"
@@ -26,6 +28,8 @@ LAUNCH = ["launch", "sar_framework", "search_and_rescue.launch.py", "nav2:=embed
 #: Every node the mission's processes hold.
 NODES = {"/sar_mission_runner", "/sar_sim", "/amcl", "/bt_navigator",
          "/detect_survivor_server", "/report_survivor_server"}
+#: How the test lists them: no daemon, so nothing is left running after the test.
+NODE_LIST = (str(ROS2), "node", "list", "--no-daemon", "--spin-time", "3")
 #: The launch's processes, each of which must finish cleanly.
 PROCESSES = ("sar-sim", "sar-detect-survivor-server", "sar-report-survivor-server",
              "sar-mission-runner")
@@ -50,13 +54,19 @@ def kill_group(proc: subprocess.Popen[str]) -> None:
     proc.communicate(timeout=30)
 
 
-def node_names(expected: set[str], bound_s: float) -> list[str]:
-    """``ros2 node list``, asked again until it names every expected node or the bound ends."""
+def node_names(expected: set[str], bound_s: float, command: Sequence[str] = NODE_LIST,
+               hang_s: float = 30.0) -> list[str]:
+    """``ros2 node list``, asked again until it names every expected node or the bound ends.
+
+    A listing that hangs past ``hang_s`` (ten times its spin time) is killed and asked again.
+    """
     deadline = time.monotonic() + bound_s
+    listed: list[str] = []
     while True:
-        listed = subprocess.run(
-            [str(ROS2), "node", "list", "--no-daemon", "--spin-time", "3"],
-            capture_output=True, text=True, timeout=60, check=True).stdout.split()
+        done = attempt(list(command), hang_s)
+        if done is not None:
+            assert done.returncode == 0, done.stdout + done.stderr
+            listed = done.stdout.split()
         if expected <= set(listed) or time.monotonic() > deadline:  # outer safety bound
             return listed
 
@@ -114,7 +124,7 @@ def ctrl_c_mid_mission(tmp_path: Path) -> CtrlCRun:
                 break
         if not any("--- Zone 1/4" in line for line in lines):
             return CtrlCRun(False, [], proc.poll(), "".join(lines))
-        listed = node_names(NODES, 30.0)  # discovery of a busy process can take a while
+        listed = node_names(NODES, 120.0)  # discovery of a busy process can take a while
         os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: launch and its children
         rest, _ = proc.communicate(timeout=60)
         return CtrlCRun(True, listed, proc.returncode, "".join(lines) + rest)

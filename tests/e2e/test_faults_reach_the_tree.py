@@ -32,10 +32,12 @@ MODULES = {"detect": "detect_survivor_server", "report": "report_survivor_server
 
 
 def _quick_service_bounds(tmp_path: Path) -> Path:
-    """The skip tree with 3 s service bounds (the defaults are 10 s of wall time).
+    """The skip tree with 3 s service bounds (the defaults are 10 s).
 
-    The bounds are wall time: 1 s let a loaded machine's live servers miss an answer, so the
-    run skipped zones before the server was killed.
+    The bounds count ROS time, the simulator's; an answer that is late or lost is sent again
+    after the wall-time resend interval, and a bound fails a call only after that resend
+    (``leaves/service_call.py``). So a killed server is noticed soon, and a live one on a
+    loaded machine still answers within its bound.
     """
     bounds = "server_timeout_s: 3.0, response_timeout_s: 3.0"
     text = SKIP_TREE.read_text().replace("DetectSurvivor: {id: detect}",

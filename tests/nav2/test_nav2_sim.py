@@ -22,7 +22,7 @@ from sar_testing.spin import ros_node, spin_until
 
 from sar_framework.engine.api import load_tree
 from sar_framework.testing.nav2_navigators import goal_pose as pose
-from sar_framework.testing.sim_control import sim_process
+from sar_framework.testing.sim_control import reset_sim, sim_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(180)]
 pytest.importorskip("nav2_msgs.action", reason="needs the full nav2_msgs")
@@ -175,16 +175,21 @@ def test_backup_wait_and_clear_costmap(ros: tuple[Any, Any], trees: TreeMaker,
 
     wait_for_service(ros[0], ros[1], ClearEntireCostmap,
                      "/local_costmap/clear_entirely_local_costmap")
+    # From the spawn, behind the robot is a wall's end: drive ahead into the doorway first,
+    # wherever earlier tests left the robot (alone, backing up from the spawn collided).
+    assert reset_sim(*ros).success
     root = build(tmp_path, """
 root:
   Sequence:
     children:
+      - DriveOnHeading: {dist_to_travel: 0.5, speed: 0.25}
       - BackUp: {backup_dist: 0.2, backup_speed: 0.2}
       - Wait: {wait_duration: 2.0}
       - ClearEntireCostmap: {service_name: local_costmap/clear_entirely_local_costmap}
 """)
     assert run(ros, trees, root) == Status.SUCCESS, [b.feedback_message for b in root.iterate()]
-    assert Blackboard.storage["/number_recoveries"] == 2  # BackUp and Wait, as in Nav2
+    # BackUp and Wait, as in Nav2; DriveOnHeading is no recovery
+    assert Blackboard.storage["/number_recoveries"] == 2
 
 
 def test_a_halted_follow_path_cancels_its_goal(ros: tuple[Any, Any], trees: TreeMaker,

@@ -29,6 +29,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -40,6 +41,7 @@ from setup_base import cache_home, files_under
 CACHE_ENV = "SAR_INTERFACE_CACHE"
 MANIFEST = "manifest.json"  # written last: an entry without one is never used
 FILES = "files"
+KEEP = 8  # entries kept per package (about 2 MB each): the newest
 
 _PYTHON_IDENTITY = (
     "import sys, sysconfig, importlib.metadata as m\n"
@@ -76,8 +78,12 @@ def _tool_versions(python: str, pythonpath: str, compilers: tuple[str, ...]) -> 
     for tool in (*compilers, "cmake"):
         done = subprocess.run([tool, "--version"], capture_output=True, text=True, check=False)
         lines.append(f"{tool}: {(done.stdout.splitlines() or [''])[0]}")
-    return "\n".join(line for line in "\n".join(lines).splitlines()
-                     if not line.startswith(("sar_framework==", "sar-framework==")))
+    return "\n".join(lines)
+
+
+def _normalised(name: str) -> str:
+    """A distribution name as PEP 503 compares it (``sar_framework`` -> ``sar-framework``)."""
+    return re.sub(r"[-_.]+", "-", name).lower()
 
 
 def ros_identity(prefixes: Sequence[str], exclude: Iterable[str]) -> str:
@@ -111,8 +117,12 @@ def build_key(source: Path, python: Path, env: dict[str, str], *, options: Seque
     """
     compilers = (env.get("CC", "cc"), env.get("CXX", "c++"))
     prefixes = [p for p in env.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
+    exclude = set(exclude)
+    # Our packages' own distributions (rosidl installs one per package) come and go.
+    ours = tuple(f"{_normalised(name)}==" for name in exclude)
+    tools = _tool_versions(str(python), env.get("PYTHONPATH", ""), compilers).splitlines()
     parts = [tree_digest(source.parent), source.name,
-             _tool_versions(str(python), env.get("PYTHONPATH", ""), compilers),
+             *(line for line in tools if not _normalised(line).startswith(ours)),
              ros_identity(prefixes, exclude), *options, *map(_sha256, inputs)]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:32]
 
@@ -148,6 +158,16 @@ def store(entry: Path, installed: Iterable[Path], prefixes: Sequence[str]) -> No
                 raise
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+    with contextlib.suppress(OSError):  # another run may be pruning too
+        prune(entry)
+
+
+def prune(entry: Path, keep: int = KEEP) -> None:
+    """Remove all but the ``keep`` entries of ``entry``'s package last stored or used."""
+    package = entry.name.rsplit("-", 1)[0]
+    others = sorted(entry.parent.glob(f"{package}-*"), key=lambda e: e.stat().st_mtime)
+    for old in [e for e in others if e.name.rsplit("-", 1)[0] == package][:-keep]:
+        discard(old)
 
 
 def restore(entry: Path, prefixes: Sequence[str]) -> bool:
@@ -183,6 +203,7 @@ def restore(entry: Path, prefixes: Sequence[str]) -> bool:
                 shutil.copymode(stored, target)
             else:
                 shutil.copy2(stored, target, follow_symlinks=False)
+        os.utime(entry)  # used: the last entry pruned
     except (OSError, ValueError, KeyError, TypeError):
         return False
     return True

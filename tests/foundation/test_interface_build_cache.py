@@ -177,3 +177,23 @@ def test_an_interrupted_store_leaves_no_entry(tmp_path: Path,
     # An entry missing its manifest (never written by store) is not used.
     (entry / "manifest.json").unlink()
     assert not build_cache.restore(entry, [str(tmp_path / "third")])
+
+
+def test_only_the_entries_last_stored_or_used_are_kept(tmp_path: Path,
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SAR_INTERFACE_CACHE", str(tmp_path / "cache"))
+    prefix = tmp_path / "prefix"
+    (prefix / "share").mkdir(parents=True)
+    (prefix / "share" / "f").write_text("f\n")
+    stored = []
+    for n in range(build_cache.KEEP + 2):
+        stored.append(build_cache.entry_path("a", f"{n:032x}"))
+        build_cache.store(stored[-1], [prefix / "share" / "f"], [str(prefix)])
+        os.utime(stored[-1], (n, n))  # stored in this order
+        if n == 0:
+            assert build_cache.restore(stored[0], [str(tmp_path / "used")])  # used: kept
+    other = build_cache.entry_path("a_b", "f" * 32)  # another package: never pruned with a
+    build_cache.store(other, [prefix / "share" / "f"], [str(prefix)])
+    kept = sorted(e.name for e in (tmp_path / "cache").iterdir())
+    assert kept == sorted([other.name, stored[0].name,
+                           *(e.name for e in stored[-(build_cache.KEEP - 1):])])

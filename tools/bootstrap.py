@@ -48,7 +48,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # setup_base, ros_overlay, build_cache
-from build_cache import build_key, discard, entry_path, restore, store
+from build_cache import build_key, entry_path, install_entry, keep
 from ros_overlay import NO_CPP_HOOK, ensure_ros_stack
 from setup_base import (
     ROOT,
@@ -251,13 +251,10 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
     cache_key = build_key(source, venv_python(venv), env, options=options,
                           inputs=[NO_CPP_HOOK], exclude=[*ours, PACKAGE])
     entry = entry_path(source.name, cache_key)
-    if entry.exists():
-        if restore(entry, prefixes) and importable(venv, source.name):
-            log(f"{source.name} from the build cache (key {cache_key[:12]})")
-            stamps.mark(step, key)
-            return
-        log(f"the build cache's entry {entry} does not install {source.name}: removed")
-        discard(entry)
+    if install_entry(entry, prefixes, lambda: importable(venv, source.name)):
+        log(f"{source.name} from the build cache (key {cache_key[:12]})")
+        stamps.mark(step, key)
+        return
     log(f"building interface package {source.name}")
     build = venv / ".sar-build" / source.name
     shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
@@ -276,11 +273,7 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
     if not importable(venv, source.name):
         raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
     log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
-    installed = (build / "install_manifest.txt").read_text().splitlines()
-    try:
-        store(entry, [Path(line) for line in installed if line], prefixes)
-    except OSError as err:  # the cache only saves time: never fail the set-up for it
-        log(f"could not keep {source.name} in the build cache ({err})")
+    keep(entry, build / "install_manifest.txt", prefixes)
     stamps.mark(step, key)
 
 

@@ -29,14 +29,14 @@ import functools
 import hashlib
 import json
 import os
-import re
 import shutil
 import subprocess
 import tempfile
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
-from setup_base import cache_home, files_under
+from setup_base import cache_home, files_under, log
+from sourced_ros import normalised
 
 CACHE_ENV = "SAR_INTERFACE_CACHE"
 MANIFEST = "manifest.json"  # written last: an entry without one is never used
@@ -81,11 +81,6 @@ def _tool_versions(python: str, pythonpath: str, compilers: tuple[str, ...]) -> 
     return "\n".join(lines)
 
 
-def _normalised(name: str) -> str:
-    """A distribution name as PEP 503 compares it (``sar_framework`` -> ``sar-framework``)."""
-    return re.sub(r"[-_.]+", "-", name).lower()
-
-
 def ros_identity(prefixes: Sequence[str], exclude: Iterable[str]) -> str:
     """Digest of the ``package.xml`` of every package the build can find, by content.
 
@@ -119,10 +114,10 @@ def build_key(source: Path, python: Path, env: dict[str, str], *, options: Seque
     prefixes = [p for p in env.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
     exclude = set(exclude)
     # Our packages' own distributions (rosidl installs one per package) come and go.
-    ours = tuple(f"{_normalised(name)}==" for name in exclude)
+    ours = tuple(f"{normalised(name)}==" for name in exclude)
     tools = _tool_versions(str(python), env.get("PYTHONPATH", ""), compilers).splitlines()
     parts = [tree_digest(source.parent), source.name,
-             *(line for line in tools if not _normalised(line).startswith(ours)),
+             *(line for line in tools if not normalised(line).startswith(ours)),
              ros_identity(prefixes, exclude), *options, *map(_sha256, inputs)]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:32]
 
@@ -207,6 +202,40 @@ def restore(entry: Path, prefixes: Sequence[str]) -> bool:
     except (OSError, ValueError, KeyError, TypeError):
         return False
     return True
+
+
+def install_entry(entry: Path, prefixes: Sequence[str], works: Callable[[], bool]) -> bool:
+    """Install an entry's files, if there is one; whether they work.
+
+    An entry whose files are damaged or do not work is removed (and said so).
+
+    Args:
+        entry: The entry's folder.
+        prefixes: The install prefix, then the other prefixes the build searches.
+        works: Checks the installed package (e.g. that it imports).
+    """
+    if not entry.exists():
+        return False
+    if restore(entry, prefixes) and works():
+        return True
+    log(f"the build cache's entry {entry} does not install a working package: removed")
+    discard(entry)
+    return False
+
+
+def keep(entry: Path, install_manifest: Path, prefixes: Sequence[str]) -> None:
+    """Store what CMake's ``install_manifest.txt`` lists as ``entry``; never fail for it.
+
+    Args:
+        entry: The entry's folder.
+        install_manifest: The build's list of installed files (absolute paths).
+        prefixes: The install prefix, then the other prefixes the build searched.
+    """
+    try:
+        installed = install_manifest.read_text().splitlines()
+        store(entry, [Path(line) for line in installed if line], prefixes)
+    except OSError as err:  # the cache only saves time
+        log(f"could not keep {entry.name} in the build cache ({err})")
 
 
 def discard(entry: Path) -> None:

@@ -95,7 +95,7 @@ def test_a_second_venv_installs_from_the_cache_and_a_damaged_entry_is_built_agai
     third = fresh_venv(tmp_path / "third")
     set_up(bootstrap, third, source)
     said = capsys.readouterr().out
-    assert "does not install demo_msgs: removed" in said, said
+    assert f"entry {entry} does not install a working package: removed" in said, said
     assert "building interface package demo_msgs" in said, said
     assert [e.name for e in entries(cache)] == [entry.name]
     assert (entry / "files" / init).exists()

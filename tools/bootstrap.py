@@ -32,7 +32,8 @@ it succeeded, so a failed or interrupted run leaves the next run able to finish 
 Only the standard library is used here: this runs before any venv exists.
 Environment: ``SAR_VENV`` / ``SAR_COMPAT_VENV`` move the venvs; ``SAR_NO_APT=1`` reports
 missing system tools instead of installing them; ``SAR_ROS_OVERLAY_SRC=DIR`` names the ROS 2
-source tree (``--overlay-src``) and ``SAR_ROS_OVERLAY=off`` skips step 4.
+source tree (``--overlay-src``) and ``SAR_ROS_OVERLAY=off`` skips step 4;
+``SAR_INTERFACE_CACHE=DIR`` moves step 5's build cache.
 """
 
 from __future__ import annotations

@@ -73,11 +73,17 @@ def tree_digest(folder: Path) -> str:
 def _tool_versions(python: str, pythonpath: str, compilers: tuple[str, ...]) -> str:
     """The interpreter (version, ABI, distributions), compilers' and CMake's versions."""
     env = dict(os.environ, PYTHONPATH=pythonpath)
-    lines = [subprocess.run([python, "-c", _PYTHON_IDENTITY], env=env, capture_output=True,
-                            text=True, check=True).stdout]
-    for tool in (*compilers, "cmake"):
-        done = subprocess.run([tool, "--version"], capture_output=True, text=True, check=False)
-        lines.append(f"{tool}: {(done.stdout.splitlines() or [''])[0]}")
+    lines = []
+    # A tool that does not answer still gives a key: the build then says what is wrong.
+    for label, cmd in (("python", [python, "-c", _PYTHON_IDENTITY]),  # never its path
+                       *((tool, [tool, "--version"]) for tool in (*compilers, "cmake"))):
+        try:
+            done = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
+        except OSError as err:
+            lines.append(f"{label}: {type(err).__name__}")
+            continue
+        answer = done.stdout if label == "python" else (done.stdout.splitlines() or [""])[0]
+        lines.append(f"{label}: {answer}")
     return "\n".join(lines)
 
 

@@ -102,8 +102,9 @@ def test_a_second_venv_installs_from_the_cache_and_a_damaged_entry_is_built_agai
     assert round_trip(third).stdout.strip() == "from the cache"
 
 
-def key_of(source: Path, env: dict[str, str], hook: Path) -> str:
-    return build_cache.build_key(source, Path(sys.executable), env, options=["-DBUILD_TESTING=OFF"],
+def key_of(source: Path, env: dict[str, str], hook: Path,
+           python: Path = Path(sys.executable)) -> str:
+    return build_cache.build_key(source, python, env, options=["-DBUILD_TESTING=OFF"],
                                  inputs=[hook], exclude=["demo_msgs"])
 
 
@@ -115,13 +116,16 @@ def test_the_key_follows_what_the_build_reads_not_where_it_lies(tmp_path: Path) 
     (ros / "share" / "rosidl_generator_c").mkdir(parents=True)
     (ros / "share" / "rosidl_generator_c" / "package.xml").write_text("<version>4.6.5</version>")
     env = dict(os.environ, CMAKE_PREFIX_PATH=str(ros))
-    key = key_of(source, env, hook)
-    assert len(key) == 32 and key == key_of(source, env, hook)
-    # The same ROS and package at other paths (another clone, a link farm): the same key.
+    first = fresh_venv(tmp_path / "first") / "bin" / "python"
+    key = key_of(source, env, hook, first)
+    assert len(key) == 32 and key == key_of(source, env, hook, first)
+    # The same ROS, package and interpreter at other paths (another clone and its venv, a
+    # link farm): the same key.
     other = demo_interface_package(tmp_path / "clone")
     moved = tmp_path / "ros_elsewhere"
     ros.rename(moved)
-    assert key_of(other, dict(env, CMAKE_PREFIX_PATH=str(moved)), hook) == key
+    second = fresh_venv(tmp_path / "second") / "bin" / "python"
+    assert key_of(other, dict(env, CMAKE_PREFIX_PATH=str(moved)), hook, second) == key
     env["CMAKE_PREFIX_PATH"] = str(moved)
     # Each input the installed files depend on changes it.
     (source / "msg" / "Ping.msg").write_text("string text\n")

@@ -257,13 +257,31 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
         stamps.mark(step, key)
         return
     log(f"building interface package {source.name}")
+    started = time.monotonic()
+    installed = cmake_install(venv, source, env, options)
+    if not importable(venv, source.name):
+        raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
+    log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
+    keep(entry, installed, prefixes)
+    stamps.mark(step, key)
+
+
+def cmake_install(venv: Path, source: Path, env: dict[str, str], options: list[str]) -> Path:
+    """Configure, build and install an ament_cmake package into the venv; its install manifest.
+
+    Args:
+        venv: The venv (the install prefix).
+        source: The package's folder.
+        env: The build's environment (``CMAKE_PREFIX_PATH`` lists the venv first).
+        options: CMake options besides the paths.
+    """
     build = venv / ".sar-build" / source.name
     shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
     # The compiles read the build tree and the prefixes (generated code, headers): their
     # common folder is the cache's base, unless only "/" holds them all.
+    prefixes = env["CMAKE_PREFIX_PATH"].split(os.pathsep)
     launcher, cache_env = compiler_cache(Path(os.path.commonpath([str(venv), *prefixes])))
-    env.update(cache_env)
-    started = time.monotonic()
+    env = {**env, **cache_env}
     run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
          *options, f"-DCMAKE_INSTALL_PREFIX={venv}",
          f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}", *launcher],  # C and Python code only
@@ -271,11 +289,7 @@ def build_interface_package(venv: Path, source: Path, stamps: Stamps,
     run(["cmake", "--build", build, "--parallel", str(os.cpu_count() or 2)],
         what=f"building {source.name}", env=env)
     run(["cmake", "--install", build], what=f"installing {source.name}", env=env)
-    if not importable(venv, source.name):
-        raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
-    log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
-    keep(entry, build / "install_manifest.txt", prefixes)
-    stamps.mark(step, key)
+    return build / "install_manifest.txt"
 
 
 def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(),

@@ -12,8 +12,9 @@ files), never by path, so another clone or another prefix holding the same ROS h
 
 The installed tree is relocatable: the libraries carry no RPATH (ROS's loader finds them on
 the library path the venv's start-up sets), the generated Python has no paths, and the few
-text files naming a build-time prefix (``local_setup.sh``, a CMake export, the ament index's
-``parent_prefix_path`` marker) are rewritten to the current prefixes when copied.
+text files naming a build-time prefix (``local_setup.sh``, the Python generator's CMake
+export naming NumPy's headers in the venv, the ament index's ``parent_prefix_path`` marker
+over a sourced ROS) are rewritten to the current prefixes when copied (see :func:`relocate`).
 
 An entry is written in a temporary folder and renamed into place, so a concurrent or
 interrupted run never leaves a half entry; its manifest holds each file's digest, so a
@@ -29,6 +30,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -100,7 +102,11 @@ def ros_identity(prefixes: Sequence[str], exclude: Iterable[str]) -> str:
             found.setdefault(manifest.parent.name, manifest)
     h = hashlib.sha256()
     for name in sorted(set(found) - set(exclude)):
-        h.update(f"{name}\0{_sha256(found[name])}\0".encode())
+        try:
+            content = _sha256(found[name])
+        except OSError as err:  # a dangling or unreadable manifest: the build will say
+            content = type(err).__name__
+        h.update(f"{name}\0{content}\0".encode())
     return h.hexdigest()
 
 
@@ -171,6 +177,34 @@ def prune(entry: Path, keep: int = KEEP) -> None:
         discard(old)
 
 
+def relocate(data: bytes, moves: dict[str, str]) -> bytes:
+    """``data`` with each old prefix (a key of ``moves``) replaced by its new one.
+
+    A prefix is replaced only where it names that folder or a path below it, never where a
+    longer name merely starts with it (``/a/.venv`` in ``/a/.venv-compat``); all in one pass,
+    so a new prefix holding an old one is never rewritten twice. The longest prefix wins.
+    """
+    olds = sorted((old.encode() for old in moves), key=len, reverse=True)
+    if not olds:
+        return data
+    new = {old.encode(): value.encode() for old, value in moves.items()}
+    pattern = re.compile(b"(" + b"|".join(map(re.escape, olds)) + rb")(?![\w.+\-\x80-\xff])")
+    return pattern.sub(lambda match: new[match.group(1)], data)
+
+
+def _moves(old: Sequence[str], new: Sequence[str]) -> dict[str, str]:
+    """Build-time prefix to current prefix: the n-th to the n-th when there are as many."""
+    pairs = zip(old, new, strict=True) if len(old) == len(new) else [(old[0], new[0])]
+    moves = {a.rstrip("/"): b.rstrip("/") for a, b in pairs}
+    return {a: b for a, b in moves.items() if a and a != b}  # never "/" itself
+
+
+def _inside(relative: str) -> bool:
+    """Whether a manifest's file name stays below the prefix (no absolute name, no ``..``)."""
+    path = Path(relative)
+    return not path.is_absolute() and ".." not in path.parts
+
+
 def restore(entry: Path, prefixes: Sequence[str]) -> bool:
     """Copy an entry's files into ``prefixes[0]``; False when it is missing or damaged.
 
@@ -184,11 +218,9 @@ def restore(entry: Path, prefixes: Sequence[str]) -> bool:
     try:
         manifest = json.loads((entry / MANIFEST).read_text())
         files: dict[str, str] = manifest["files"]
-        old = manifest["prefixes"]
-        same_shape = len(old) == len(prefixes)
-        pairs = zip(old, prefixes, strict=True) if same_shape else [(old[0], prefixes[0])]
-        moves = sorted(((a.encode(), b.encode()) for a, b in pairs if a != b),
-                       key=lambda pair: -len(pair[0]))
+        moves = _moves(manifest["prefixes"], prefixes)
+        if not all(map(_inside, files)):
+            return False
         for relative, sha in files.items():
             stored = entry / FILES / relative
             if _sha256(stored) != sha:
@@ -197,16 +229,17 @@ def restore(entry: Path, prefixes: Sequence[str]) -> bool:
             target.parent.mkdir(parents=True, exist_ok=True)
             target.unlink(missing_ok=True)
             data = stored.read_bytes()
-            if moves and b"\0" not in data and any(a in data for a, _ in moves):
-                for a, b in moves:
-                    data = data.replace(a, b)
-                target.write_bytes(data)
+            text = b"\0" not in data and not stored.is_symlink()
+            moved = relocate(data, moves) if text else data
+            if moved != data:
+                target.write_bytes(moved)
                 shutil.copymode(stored, target)
             else:
                 shutil.copy2(stored, target, follow_symlinks=False)
-        os.utime(entry)  # used: the last entry pruned
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):
         return False
+    with contextlib.suppress(OSError):  # a cache this user may not write is still used
+        os.utime(entry)  # used: the last entry pruned
     return True
 
 
@@ -220,12 +253,16 @@ def install_entry(entry: Path, prefixes: Sequence[str], works: Callable[[], bool
         prefixes: The install prefix, then the other prefixes the build searches.
         works: Checks the installed package (e.g. that it imports).
     """
-    if not entry.exists():
+    try:
+        if not entry.exists():
+            return False
+    except OSError as err:  # the cache only saves time: build instead
+        log(f"could not read the build cache ({err}); building")
         return False
     if restore(entry, prefixes) and works():
         return True
-    log(f"the build cache's entry {entry} does not install a working package: removed")
-    discard(entry)
+    outcome = "removed" if discard(entry) else "could not remove it"
+    log(f"the build cache's entry {entry} does not install a working package: {outcome}")
     return False
 
 
@@ -240,15 +277,22 @@ def keep(entry: Path, install_manifest: Path, prefixes: Sequence[str]) -> None:
     try:
         installed = install_manifest.read_text().splitlines()
         store(entry, [Path(line) for line in installed if line], prefixes)
-    except OSError as err:  # the cache only saves time
+    except (OSError, ValueError) as err:  # the cache only saves time (ValueError: a file
+        # installed outside the prefix)
         log(f"could not keep {entry.name} in the build cache ({err})")
 
 
-def discard(entry: Path) -> None:
-    """Remove an entry (renamed away first, so no run copies from a half-removed one)."""
-    if not entry.exists():
-        return
-    doomed = Path(tempfile.mkdtemp(prefix=f".{entry.name}.", dir=entry.parent))
+def discard(entry: Path) -> bool:
+    """Remove an entry (renamed away first, so no run copies from a half-removed one).
+
+    Never fails: an entry that cannot be removed (a cache this user may not write) stays,
+    and a later run finds it damaged again and builds. Returns whether it is gone.
+    """
+    try:
+        doomed = Path(tempfile.mkdtemp(prefix=f".{entry.name}.", dir=entry.parent))
+    except OSError:
+        return False
     with contextlib.suppress(OSError):  # another run removed or replaced it meanwhile
         entry.rename(doomed / "entry")
     shutil.rmtree(doomed, ignore_errors=True)
+    return not entry.exists()

@@ -7,6 +7,8 @@ this test's own (``SAR_INTERFACE_CACHE``), so nothing here hits the user's cache
 
 from __future__ import annotations
 
+import errno
+import hashlib
 import json
 import os
 import subprocess
@@ -24,22 +26,30 @@ sys.path.insert(0, str(ROOT / "tools"))  # build_cache imports setup_base as boo
 build_cache = load_module(ROOT / "tools" / "build_cache.py")
 
 
-def fresh_venv(path: Path) -> Path:
-    """A venv without pip whose interpreter also sees this venv's packages."""
+def fresh_venv(path: Path, *, sees_this_venv: bool = True) -> Path:
+    """A venv without pip; its interpreter also sees this venv's packages, unless told not."""
     venv_module.create(path, symlinks=True)
-    site = next((path / "lib").glob("python3*/site-packages"))
-    (site / "this_venv.pth").write_text(f"import site; site.addsitedir({str(SITE)!r})\n")
+    if sees_this_venv:
+        site = next((path / "lib").glob("python3*/site-packages"))
+        (site / "this_venv.pth").write_text(f"import site; site.addsitedir({str(SITE)!r})\n")
     return path
 
 
-def set_up(bootstrap, venv: Path, source: Path) -> None:
+def set_up(bootstrap, venv: Path, source: Path, sourced: bool = True) -> None:
     """Install ``source`` into ``venv`` as the set-up's interface step does."""
     ros = bootstrap.SourcedRos(prefix=str(PREFIX), python=sys.executable, version="3.11")
-    bootstrap.build_interface_package(venv, source, bootstrap.Stamps(venv), ros)
+    bootstrap.build_interface_package(venv, source, bootstrap.Stamps(venv),
+                                      ros if sourced else None)
 
 
 def entries(cache: Path) -> list[Path]:
     return sorted(cache.iterdir()) if cache.exists() else []
+
+
+def text_naming(prefix: Path, venv: Path, entry: Path) -> list[str]:
+    """The files the entry installed into ``venv`` whose text names ``prefix``."""
+    files = json.loads((entry / "manifest.json").read_text())["files"]
+    return [f for f in files if str(prefix).encode() in (venv / f).read_bytes()]
 
 
 @pytest.fixture
@@ -64,7 +74,7 @@ def round_trip(venv: Path) -> subprocess.CompletedProcess[str]:
 
 
 @pytest.mark.slow
-def test_a_second_venv_installs_from_the_cache_and_a_damaged_entry_is_built_again(
+def test_a_second_venv_installs_the_first_ones_build_from_the_cache(
         tmp_path: Path, cache: Path, capsys: pytest.CaptureFixture[str]) -> None:
     bootstrap = load_bootstrap()
     source = demo_interface_package(tmp_path / "src")
@@ -74,6 +84,8 @@ def test_a_second_venv_installs_from_the_cache_and_a_damaged_entry_is_built_agai
     assert "building interface package demo_msgs" in said, said
     [entry] = entries(cache)
     assert entry.name.startswith("demo_msgs-") and (entry / "manifest.json").exists()
+    built_naming = text_naming(first, first, entry)
+    assert any(f.endswith("local_setup.sh") for f in built_naming), built_naming
 
     second = fresh_venv(tmp_path / "second")
     set_up(bootstrap, second, source)
@@ -84,22 +96,138 @@ def test_a_second_venv_installs_from_the_cache_and_a_damaged_entry_is_built_agai
     assert bootstrap.Stamps(second).data.get("interface:demo_msgs")
     done = round_trip(second)
     assert done.stdout.strip() == "from the cache", done.stderr
-    # The text files naming the prefix name this venv's.
-    local_setup = (second / "share" / "demo_msgs" / "local_setup.sh").read_text()
-    assert str(second) in local_setup and str(first) not in local_setup
+    # Each file that named the first venv names this one instead.
+    assert text_naming(first, second, entry) == []
+    assert text_naming(second, second, entry) == built_naming
 
-    # A damaged entry (an installed module lost) is removed, built again and replaced.
+
+def fake_install(venv: Path, source: Path, builds: list[Path]) -> Path:
+    """What a build of ``source`` installs, made up: a module naming the prefix, a script."""
+    builds.append(venv)
+    site = next((venv / "lib").glob("python3*/site-packages"))
+    files = {site / source.name / "__init__.py": f"PREFIX = {str(venv)!r}\n",
+             venv / "share" / source.name / "local_setup.sh": f"PREFIX={venv}\n"}
+    for path, text in files.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    manifest = venv / ".sar-build" / source.name / "install_manifest.txt"
+    manifest.parent.mkdir(parents=True, exist_ok=True)
+    manifest.write_text("".join(f"{path}\n" for path in files))
+    return manifest
+
+
+@pytest.fixture
+def faked(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """The set-up's interface step with CMake's part made up (recorded in ``builds``)."""
+    monkeypatch.setenv("SAR_INTERFACE_CACHE", str(tmp_path / "cache"))
+    bootstrap = load_bootstrap()
+    builds: list[Path] = []
+    monkeypatch.setattr(bootstrap, "cmake_install",
+                        lambda venv, source, env, options: fake_install(venv, source, builds))
+    source = demo_interface_package(tmp_path / "src")
+
+    def install(name: str) -> Path:
+        venv = fresh_venv(tmp_path / name, sees_this_venv=False)
+        set_up(bootstrap, venv, source, sourced=False)
+        assert bootstrap.Stamps(venv).data.get("interface:demo_msgs"), "the step is not done"
+        said = subprocess.run([str(venv / "bin" / "python"), "-c",
+                               "import demo_msgs; print(demo_msgs.PREFIX)"],
+                              capture_output=True, text=True, check=True).stdout
+        assert said.strip() == str(venv), "the module does not name its venv"
+        return venv
+
+    return install, builds, tmp_path / "cache"
+
+
+def escape(entry: Path, module: str) -> None:
+    """Make the entry's manifest list ``module`` as ``../module``, its digest right."""
+    content = b"PREFIX = 'outside'\n"
+    (entry / module).parent.mkdir(parents=True, exist_ok=True)
+    (entry / module).write_bytes(content)  # what files/../module names
+    digest = hashlib.sha256(content).hexdigest()
+    (entry / "manifest.json").write_text(json.dumps(
+        {"prefixes": ["/nowhere"], "files": {f"../{module}": digest}}))
+
+
+def test_a_damaged_or_unreadable_entry_is_removed_and_the_package_built_again(
+        faked, capsys: pytest.CaptureFixture[str]) -> None:
+    install, builds, cache = faked
+    first = install("first")
+    assert builds == [first]
+    [entry] = entries(cache)
+    second = install("second")
+    assert builds == [first], "a build despite the entry"
+    assert "demo_msgs from the build cache" in capsys.readouterr().out
+
     manifest = json.loads((entry / "manifest.json").read_text())
-    [init] = [f for f in manifest["files"] if f.endswith("demo_msgs/msg/__init__.py")]
-    (entry / "files" / init).unlink()
-    third = fresh_venv(tmp_path / "third")
-    set_up(bootstrap, third, source)
+    [module] = [f for f in manifest["files"] if f.endswith("__init__.py")]
+    damages = {"a changed file": lambda: (entry / "files" / module).write_text("PREFIX = 1\n"),
+               "a lost file": (entry / "files" / module).unlink,
+               "an unreadable manifest": lambda: (entry / "manifest.json").write_text("{"),
+               "a manifest writing outside the prefix": lambda: escape(entry, module)}
+    for n, (damage, make) in enumerate(damages.items()):
+        make()
+        venv = install(f"damaged{n}")
+        said = capsys.readouterr().out
+        assert f"entry {entry} does not install a working package: removed" in said, damage
+        assert builds[-1] == venv, f"{damage}: not built again"
+        assert entries(cache) == [entry], damage
+        assert build_cache.restore(entry, [str(second)]), f"{damage}: not replaced"
+    assert len(builds) == 1 + len(damages)
+    assert not (second.parent / module).exists(), "a file was written outside the venv"
+
+
+def test_a_cache_that_cannot_be_written_never_fails_the_set_up(
+        faked, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    install, builds, cache = faked
+    cache.write_text("a file where the cache folder should be\n")
+    first = install("first")
+    assert builds == [first]
+    assert "could not keep demo_msgs-" in capsys.readouterr().out
+    cache.unlink()
+
+    # A full disk: the entry is not kept, and no partial one is left.
+    def disk_full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    real_copy = build_cache.shutil.copy2
+    monkeypatch.setattr(build_cache.shutil, "copy2", disk_full)
+    second = install("second")
+    assert builds == [first, second]
+    assert "No space left on device" in capsys.readouterr().out
+    assert entries(cache) == []
+    monkeypatch.setattr(build_cache.shutil, "copy2", real_copy)
+
+    # A read-only cache (root ignores modes, so refused where the code writes): its entries
+    # are still used, and a damaged one neither removed nor in the way of a build.
+    install("third")
+    [entry] = entries(cache)
+    real_utime, real_mkdtemp = os.utime, build_cache.tempfile.mkdtemp
+
+    def refused(path) -> None:
+        if Path(path).is_relative_to(cache):
+            raise OSError(errno.EROFS, "Read-only file system", str(path))
+
+    def utime(path, *args, **kwargs) -> None:
+        refused(path)
+        real_utime(path, *args, **kwargs)
+
+    def mkdtemp(*args, dir, **kwargs) -> str:
+        refused(dir)
+        return real_mkdtemp(*args, dir=dir, **kwargs)
+
+    monkeypatch.setattr(build_cache.os, "utime", utime)
+    monkeypatch.setattr(build_cache.tempfile, "mkdtemp", mkdtemp)
+    count = len(builds)
+    install("fourth")
+    assert len(builds) == count, "a build despite the entry"
+    (entry / "files" / next(iter(json.loads((entry / "manifest.json").read_text())["files"]))
+     ).write_text("damaged\n")
+    fifth = install("fifth")
+    assert builds[-1] == fifth
     said = capsys.readouterr().out
-    assert f"entry {entry} does not install a working package: removed" in said, said
-    assert "building interface package demo_msgs" in said, said
-    assert [e.name for e in entries(cache)] == [entry.name]
-    assert (entry / "files" / init).exists()
-    assert round_trip(third).stdout.strip() == "from the cache"
+    assert f"entry {entry} does not install a working package: could not remove it" in said
+    assert "could not keep" in said
 
 
 def key_of(source: Path, env: dict[str, str], hook: Path,
@@ -181,6 +309,33 @@ def test_an_interrupted_store_leaves_no_entry(tmp_path: Path,
     # An entry missing its manifest (never written by store) is not used.
     (entry / "manifest.json").unlink()
     assert not build_cache.restore(entry, [str(tmp_path / "third")])
+
+
+def test_restored_text_names_the_new_prefixes_where_it_named_the_old_ones(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SAR_INTERFACE_CACHE", str(tmp_path / "cache"))
+    built = tmp_path / "p" / ".venv"
+    ros = tmp_path / "ros" / "jazzy" / "a longer prefix"
+    text = f'PREFIX="{built}"\n{built}/share/a;{built}-compat/bin\n{ros}/lib:{built}\n'
+    binary = b"\0\x7fELF" + f"{built}/lib".encode()
+    (built / "share").mkdir(parents=True)
+    (built / "share" / "text").write_text(text)
+    (built / "share" / "binary").write_bytes(binary)
+    entry = build_cache.entry_path("a", "0" * 32)
+    build_cache.store(entry, [built / "share" / "text", built / "share" / "binary"],
+                      [str(built), str(ros)])
+    # The new ROS prefix holds the old venv's path: one pass never rewrites it again.
+    here, ros_here = tmp_path / "q" / "venv", f"{built}/ros"
+    assert build_cache.restore(entry, [str(here), ros_here])
+    assert (here / "share" / "text").read_text() == (
+        f'PREFIX="{here}"\n{here}/share/a;{built}-compat/bin\n{ros_here}/lib:{here}\n')
+    assert (here / "share" / "binary").read_bytes() == binary
+    # Other prefixes than the build's: only the install prefix is known to move.
+    elsewhere = tmp_path / "elsewhere"
+    assert build_cache.restore(entry, [str(elsewhere)])
+    assert (elsewhere / "share" / "text").read_text() == text.replace(
+        f'"{built}"', f'"{elsewhere}"').replace(f"{built}/", f"{elsewhere}/").replace(
+        f":{built}\n", f":{elsewhere}\n")
 
 
 def test_only_the_entries_last_stored_or_used_are_kept(tmp_path: Path,

@@ -273,6 +273,9 @@ def test_the_key_follows_what_the_build_reads_not_where_it_lies(tmp_path: Path) 
     (moved / "share" / "demo_msgs").mkdir()
     (moved / "share" / "demo_msgs" / "package.xml").write_text("<an old build/>")
     assert key_of(source, env, hook) == before
+    # A package whose manifest cannot be read still gives a key (the build says what is wrong).
+    (moved / "share" / "broken" / "package.xml").mkdir(parents=True)
+    assert key_of(source, env, hook) != before
 
 
 def test_an_interrupted_store_leaves_no_entry(tmp_path: Path,

@@ -229,6 +229,20 @@ def test_a_cache_that_cannot_be_written_never_fails_the_set_up(
     assert f"entry {entry} does not install a working package: could not remove it" in said
     assert "could not keep" in said
 
+    # A cache this user may not even look into (root may, so refused where the code looks).
+    real_exists = Path.exists
+
+    def exists(path: Path) -> bool:
+        if path.is_relative_to(cache):
+            raise PermissionError(errno.EACCES, "Permission denied", str(path))
+        return real_exists(path)
+
+    monkeypatch.setattr(Path, "exists", exists)
+    sixth = install("sixth")
+    assert builds[-1] == sixth
+    assert "could not read the build cache ([Errno 13] Permission denied" in (
+        capsys.readouterr().out)
+
 
 def key_of(source: Path, env: dict[str, str], hook: Path,
            python: Path = Path(sys.executable)) -> str:

@@ -21,7 +21,9 @@ it lacks are installed (tools/sourced_ros.py).
                        interfaces/sar_fleet_interfaces and the plugin tutorial's
                        interfaces/tutorial_interfaces into the venv; build the
                        stand-ins nav2_msgs / tf2_msgs only where step 4 did not provide
-                       the real package and the import fails
+                       the real package and the import fails; each comes from the
+                       per-user build cache (tools/build_cache.py) when built before
+                       with the same inputs, in any venv
     6. project         pip install -e . (console script sar-tree)
     7. .venv-compat    py_trees 2.2.3 (ROS Jazzy's) for the engine's compatibility tests
 
@@ -30,7 +32,8 @@ it succeeded, so a failed or interrupted run leaves the next run able to finish 
 Only the standard library is used here: this runs before any venv exists.
 Environment: ``SAR_VENV`` / ``SAR_COMPAT_VENV`` move the venvs; ``SAR_NO_APT=1`` reports
 missing system tools instead of installing them; ``SAR_ROS_OVERLAY_SRC=DIR`` names the ROS 2
-source tree (``--overlay-src``) and ``SAR_ROS_OVERLAY=off`` skips step 4.
+source tree (``--overlay-src``) and ``SAR_ROS_OVERLAY=off`` skips step 4;
+``SAR_INTERFACE_CACHE=DIR`` moves step 5's build cache.
 """
 
 from __future__ import annotations
@@ -45,7 +48,8 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # setup_base, ros_overlay
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # setup_base, ros_overlay, build_cache
+from build_cache import build_key, entry_path, install_entry, keep
 from ros_overlay import NO_CPP_HOOK, ensure_ros_stack
 from setup_base import (
     ROOT,
@@ -231,32 +235,61 @@ OWN_INTERFACES = ("sar_interfaces", "sar_fleet_interfaces", "tutorial_interfaces
 
 def build_interface_package(venv: Path, source: Path, stamps: Stamps,
                             sourced: SourcedRos | None = None) -> None:
-    """Configure, build and install one ament_cmake interface package into the venv."""
+    """Install one ament_cmake interface package into the venv, from the cache or a build.
+
+    A build (CMake configure, build, install) is kept in the interface build cache; a later
+    venv needing the same build copies it from there. An entry that does not install an
+    importable package is removed and the package built again.
+    """
     key = digest(files_under(source), stamps.data.get("requirements", ""))
     step = f"interface:{source.name}"
     if stamps.done(step, key) and importable(venv, source.name):
         return
+    env = interface_build_env(venv, sourced)
+    prefixes = env["CMAKE_PREFIX_PATH"].split(os.pathsep)  # the venv first
+    options = ["-DBUILD_TESTING=OFF", "-DCMAKE_BUILD_TYPE=Release"]
+    ours = [p.name for p in source.parent.iterdir() if (p / "package.xml").exists()]
+    cache_key = build_key(source, venv_python(venv), env, options=options,
+                          inputs=[NO_CPP_HOOK], exclude=[*ours, PACKAGE])
+    entry = entry_path(source.name, cache_key)
+    if install_entry(entry, prefixes, lambda: importable(venv, source.name)):
+        log(f"{source.name} from the build cache (key {cache_key[:12]})")
+        stamps.mark(step, key)
+        return
     log(f"building interface package {source.name}")
+    started = time.monotonic()
+    installed = cmake_install(venv, source, env, options)
+    if not importable(venv, source.name):
+        raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
+    log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
+    keep(entry, installed, prefixes)
+    stamps.mark(step, key)
+
+
+def cmake_install(venv: Path, source: Path, env: dict[str, str], options: list[str]) -> Path:
+    """Configure, build and install an ament_cmake package into the venv; its install manifest.
+
+    Args:
+        venv: The venv (the install prefix).
+        source: The package's folder.
+        env: The build's environment (``CMAKE_PREFIX_PATH`` lists the venv first).
+        options: CMake options besides the paths.
+    """
     build = venv / ".sar-build" / source.name
     shutil.rmtree(build, ignore_errors=True)  # a failed earlier configure must not linger
-    env = interface_build_env(venv, sourced)
     # The compiles read the build tree and the prefixes (generated code, headers): their
     # common folder is the cache's base, unless only "/" holds them all.
     prefixes = env["CMAKE_PREFIX_PATH"].split(os.pathsep)
     launcher, cache_env = compiler_cache(Path(os.path.commonpath([str(venv), *prefixes])))
-    env.update(cache_env)
-    started = time.monotonic()
+    env = {**env, **cache_env}
     run(["cmake", "-S", source, "-B", build, f"-DPython3_EXECUTABLE={venv_python(venv)}",
-         "-DBUILD_TESTING=OFF", f"-DCMAKE_INSTALL_PREFIX={venv}", "-DCMAKE_BUILD_TYPE=Release",
+         *options, f"-DCMAKE_INSTALL_PREFIX={venv}",
          f"-DCMAKE_PROJECT_INCLUDE={NO_CPP_HOOK}", *launcher],  # C and Python code only
         what=f"configuring {source.name}", env=env)
     run(["cmake", "--build", build, "--parallel", str(os.cpu_count() or 2)],
         what=f"building {source.name}", env=env)
     run(["cmake", "--install", build], what=f"installing {source.name}", env=env)
-    if not importable(venv, source.name):
-        raise SetupError(f"{source.name} was built but `import {source.name}` still fails")
-    log(f"  {source.name} ready in {time.monotonic() - started:.1f} s")
-    stamps.mark(step, key)
+    return build / "install_manifest.txt"
 
 
 def build_interfaces(venv: Path, stamps: Stamps, provided: set[str] = frozenset(),

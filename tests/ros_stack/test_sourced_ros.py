@@ -111,6 +111,7 @@ def run_in(venv: Path, env: dict[str, str], *args: str) -> str:
 def test_setup_uses_the_sourced_ros_and_installs_no_ros_wheels(sourced) -> None:
     print("tier: a sourced ROS 2 Jazzy (this venv standing in for /opt/ros/jazzy)")
     venv, env, log = sourced
+    print(log)
     assert f"using the sourced ROS 2 Jazzy at {env['AMENT_PREFIX_PATH']}" in log
     assert "ros.txt" not in log and "colcon" not in log, log
     assert "stand_ins" not in log and "building interface package nav2_msgs" not in log

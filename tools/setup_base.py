@@ -14,6 +14,8 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+#: The Python package (and ROS package) this project installs.
+PACKAGE = "sar_framework"
 
 
 class SetupError(Exception):

@@ -147,6 +147,14 @@ def test_over_a_sourced_ros_only_the_requirements_it_lacks_are_installed(tmp_pat
 
 # --- step 4: the ROS 2 overlay (tools/ros_overlay.py) -----------------------------------
 
+def load_interface_packages() -> ModuleType:
+    """tools/interface_packages.py, the set-up's interface step, as bootstrap imports it."""
+    load_bootstrap()  # puts tools/ on sys.path
+    import interface_packages
+
+    return interface_packages
+
+
 def load_overlay() -> ModuleType:
     load_bootstrap()  # puts tools/ on sys.path
     import ros_overlay
@@ -245,13 +253,13 @@ def test_a_source_tree_lacking_a_package_is_named(tmp_path: Path) -> None:
 
 def test_stand_ins_are_not_built_where_the_overlay_provides_the_package(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    bootstrap = load_bootstrap()
+    step = load_interface_packages()
     built: list[str] = []
-    monkeypatch.setattr(bootstrap, "build_interface_package",
+    monkeypatch.setattr(step, "build_interface_package",
                         lambda _venv, source, _stamps, _sourced: built.append(source.name))
-    stamps = bootstrap.Stamps(tmp_path)
+    stamps = step.Stamps(tmp_path)
     stamps.data["interface:nav2_msgs"] = "an old stand-in"
-    bootstrap.build_interfaces(tmp_path, stamps, {"nav2_msgs", "tf2_msgs"})
+    step.build_interfaces(tmp_path, stamps, {"nav2_msgs", "tf2_msgs"})
     assert built == ["sar_interfaces", "sar_fleet_interfaces", "tutorial_interfaces"]
     assert "interface:nav2_msgs" not in stamps.data
 

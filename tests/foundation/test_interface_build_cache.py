@@ -18,7 +18,7 @@ import venv as venv_module
 from pathlib import Path
 
 import pytest
-from test_bootstrap import ROOT, demo_interface_package, load_bootstrap, load_module
+from test_bootstrap import ROOT, demo_interface_package, load_interface_packages, load_module
 
 PREFIX = Path(sys.prefix)
 SITE = Path(sysconfig.get_paths()["purelib"])
@@ -35,10 +35,10 @@ def fresh_venv(path: Path, *, sees_this_venv: bool = True) -> Path:
     return path
 
 
-def set_up(bootstrap, venv: Path, source: Path, sourced: bool = True) -> None:
+def set_up(step, venv: Path, source: Path, sourced: bool = True) -> None:
     """Install ``source`` into ``venv`` as the set-up's interface step does."""
-    ros = bootstrap.SourcedRos(prefix=str(PREFIX), python=sys.executable, version="3.11")
-    bootstrap.build_interface_package(venv, source, bootstrap.Stamps(venv),
+    ros = step.SourcedRos(prefix=str(PREFIX), python=sys.executable, version="3.11")
+    step.build_interface_package(venv, source, step.Stamps(venv),
                                       ros if sourced else None)
 
 
@@ -76,10 +76,10 @@ def round_trip(venv: Path) -> subprocess.CompletedProcess[str]:
 @pytest.mark.slow
 def test_a_second_venv_installs_the_first_ones_build_from_the_cache(
         tmp_path: Path, cache: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    bootstrap = load_bootstrap()
+    step = load_interface_packages()
     source = demo_interface_package(tmp_path / "src")
     first = fresh_venv(tmp_path / "first")
-    set_up(bootstrap, first, source)
+    set_up(step, first, source)
     said = capsys.readouterr().out
     assert "building interface package demo_msgs" in said, said
     [entry] = entries(cache)
@@ -88,12 +88,12 @@ def test_a_second_venv_installs_the_first_ones_build_from_the_cache(
     assert any(f.endswith("local_setup.sh") for f in built_naming), built_naming
 
     second = fresh_venv(tmp_path / "second")
-    set_up(bootstrap, second, source)
+    set_up(step, second, source)
     said = capsys.readouterr().out
     assert "demo_msgs from the build cache (key" in said, said
     assert "building" not in said
     assert not (second / ".sar-build" / "demo_msgs").exists(), "cmake ran"
-    assert bootstrap.Stamps(second).data.get("interface:demo_msgs")
+    assert step.Stamps(second).data.get("interface:demo_msgs")
     done = round_trip(second)
     assert done.stdout.strip() == "from the cache", done.stderr
     # Each file that named the first venv names this one instead.
@@ -120,16 +120,16 @@ def fake_install(venv: Path, source: Path, builds: list[Path]) -> Path:
 def faked(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     """The set-up's interface step with CMake's part made up (recorded in ``builds``)."""
     monkeypatch.setenv("SAR_INTERFACE_CACHE", str(tmp_path / "cache"))
-    bootstrap = load_bootstrap()
+    step = load_interface_packages()
     builds: list[Path] = []
-    monkeypatch.setattr(bootstrap, "cmake_install",
+    monkeypatch.setattr(step, "cmake_install",
                         lambda venv, source, env, options: fake_install(venv, source, builds))
     source = demo_interface_package(tmp_path / "src")
 
     def install(name: str) -> Path:
         venv = fresh_venv(tmp_path / name, sees_this_venv=False)
-        set_up(bootstrap, venv, source, sourced=False)
-        assert bootstrap.Stamps(venv).data.get("interface:demo_msgs"), "the step is not done"
+        set_up(step, venv, source, sourced=False)
+        assert step.Stamps(venv).data.get("interface:demo_msgs"), "the step is not done"
         said = subprocess.run([str(venv / "bin" / "python"), "-c",
                                "import demo_msgs; print(demo_msgs.PREFIX)"],
                               capture_output=True, text=True, check=True).stdout

@@ -12,6 +12,10 @@ if TYPE_CHECKING:
 EXIT_CONFIG = 2
 #: Longest wait of one spin: how long a signal may wait to be noticed.
 SPIN_TIMEOUT_S = 0.1
+#: A teardown still running after this long prints every thread's stack to stderr (once,
+#: seen under load: a server that never exited after SIGINT, and one crash in
+#: ``destroy_node``). It only reports; launch's escalation still decides.
+TEARDOWN_REPORT_S = 8.0
 
 
 class ServerConfigError(ValueError):
@@ -19,7 +23,8 @@ class ServerConfigError(ValueError):
 
 
 def serve(make_node: Callable[[], Node], logger_name: str,
-          argv: Sequence[str] | None = None) -> int:
+          argv: Sequence[str] | None = None,
+          teardown_report_s: float = TEARDOWN_REPORT_S) -> int:
     """Initialise rclpy, build the node, spin it until SIGINT and shut down cleanly.
 
     Args:
@@ -27,10 +32,13 @@ def serve(make_node: Callable[[], Node], logger_name: str,
             :class:`ServerConfigError` or ``ValueError`` for a bad configuration.
         logger_name: Logger for a start-up error (the node may not exist yet).
         argv: Command line (``sys.argv`` when None); ROS arguments are honoured.
+        teardown_report_s: Wall seconds after which a teardown still running prints every
+            thread's stack to stderr.
 
     Returns:
         The process exit code: 0 after SIGINT or SIGTERM, 2 for a bad configuration.
     """
+    import faulthandler
     import sys
 
     import rclpy
@@ -60,7 +68,11 @@ def serve(make_node: Callable[[], Node], logger_name: str,
             executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
         executor.shutdown(timeout_sec=0.0)
     finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+        faulthandler.dump_traceback_later(teardown_report_s)
+        try:
+            if node is not None:
+                node.destroy_node()
+            rclpy.try_shutdown()
+        finally:
+            faulthandler.cancel_dump_traceback_later()
     return 0

@@ -38,8 +38,7 @@ def fresh_venv(path: Path, *, sees_this_venv: bool = True) -> Path:
 def set_up(step, venv: Path, source: Path, sourced: bool = True) -> None:
     """Install ``source`` into ``venv`` as the set-up's interface step does."""
     ros = step.SourcedRos(prefix=str(PREFIX), python=sys.executable, version="3.11")
-    step.build_interface_package(venv, source, step.Stamps(venv),
-                                      ros if sourced else None)
+    step.build_interface_package(venv, source, step.Stamps(venv), ros if sourced else None)
 
 
 def entries(cache: Path) -> list[Path]:

@@ -63,7 +63,7 @@ def node_names(expected: set[str], bound_s: float, command: Sequence[str] = NODE
     deadline = time.monotonic() + bound_s
     listed: list[str] = []
     while True:
-        done = attempt(list(command), hang_s)
+        done = attempt(command, hang_s)
         if done is not None:
             assert done.returncode == 0, done.stdout + done.stderr
             listed = done.stdout.split()

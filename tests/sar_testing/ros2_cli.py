@@ -6,7 +6,7 @@ import shutil
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -16,7 +16,7 @@ def ros2_executable() -> str | None:
     return shutil.which("ros2", path=str(Path(sys.executable).parent))
 
 
-def attempt(command: list[str], hang_s: float) -> subprocess.CompletedProcess[str] | None:
+def attempt(command: Sequence[str], hang_s: float) -> subprocess.CompletedProcess[str] | None:
     """Run one ``ros2`` command; None when it hung past ``hang_s`` (it is killed then).
 
     A ``--no-daemon`` command spinning 3 s has been seen, once in many CI runs under load,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -42,8 +42,13 @@ class FleetRun:
     events: list[dict[str, Any]]
     codes: dict[str, int | None]
     outputs: str
-    victim: str | None = None
+    victims: list[str | None] = field(default_factory=list)
     reports: list[dict[str, Any]] | None = None
+
+    @property
+    def victim(self) -> str | None:
+        """The robot the first killer named (None if it never did)."""
+        return self.victims[0] if self.victims else None
 
     def kinds(self, kind: str) -> list[dict[str, Any]]:
         """The events of one kind, in order."""
@@ -69,17 +74,17 @@ def read_events(path: Path) -> list[dict[str, Any]]:
 
 
 def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Sequence[str] = (),
-              kill: Killer | None = None, timeout_s: float = 90.0,
+              kill: Killer | Sequence[Killer] = (), timeout_s: float = 90.0,
               lab: NetworkLab | None = None) -> FleetRun:
-    """Run the fleet mission to its end; ``kill(events)`` may name a runner to SIGKILL.
+    """Run the fleet mission to its end; each killer may name a runner to SIGKILL.
 
     Args:
         tmp: Folder for logs and files.
         sim_params: Extra ``-p`` settings of the simulator (its faults).
         detect_params: Extra ``-p`` settings of every detect server.
-        kill: Called with the events so far and each runner's output while the mission
-            runs; the first robot name it returns has its runner killed with SIGKILL (at
-            most once). The time until the coordinator's ``robot_lost`` event is measured.
+        kill: One killer or several. Each is called with the events so far and each live
+            runner's output while the mission runs, until it names a robot; that runner is
+            killed with SIGKILL. Each kills at most once, and never a robot already killed.
         timeout_s: Outer safety bound of the mission, wall seconds.
         lab: Run the root namespace's processes on its host ``world`` and each robot's on
             the host of its name (hosts of their own), instead of on this machine.
@@ -124,14 +129,16 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
                 "-p", f"base_station.y:={y}", "-p", f"base_station.yaw:={yaw}",
                 "-p", "exit_on_completion:=true", "-p", "tick_rate_hz:=10.0"], f"runner_{name}",
                 name)
+        killers = [kill] if callable(kill) else list(kill)
+        victims: list[str | None] = [None] * len(killers)
         deadline = time.monotonic() + timeout_s
-        victim = None
         while time.monotonic() < deadline:  # outer safety bound
-            if kill is not None and victim is None:
-                victim = kill(read_events(events_file),
-                              {n: r.output for n, r in runners.items()})
-                if victim is not None:
-                    runners[victim].signal(signal.SIGKILL)
+            for index, killer in enumerate(killers):
+                if victims[index] is None:
+                    live = {n: r.output for n, r in runners.items() if n not in victims}
+                    victims[index] = killer(read_events(events_file), live)
+                    if victims[index] is not None:
+                        runners[victims[index]].signal(signal.SIGKILL)
             if all(r.poll() is not None for r in runners.values()):
                 break
             time.sleep(0.05)
@@ -140,7 +147,7 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         for proc in reversed(procs):
             proc.stop()
     outputs = "\n".join(f"--- {p.label}\n{p.output[-4000:]}" for p in procs)
-    return FleetRun(read_events(events_file), codes, outputs, victim,
+    return FleetRun(read_events(events_file), codes, outputs, victims,
                     read_events(tmp / "reports.jsonl"))
 
 

@@ -79,11 +79,16 @@ def assert_each_award_went_to_the_lowest_bid(events: list[dict[str, Any]]) -> No
 
 def test_a_fleet_cut_short_by_the_timeout_says_which_robots_were_still_running(
         tmp_path: Path) -> None:
-    report = tmp_path / "run"
+    # The timeout is the orchestrator's, for any tree: a tree that never ends, and no app's
+    # processes (the search's coordinator, detect and report servers) to start for it.
+    folder = tmp_path / "forever"
+    folder.mkdir()
+    (folder / "forever.yaml").write_text(COUNT_FOREVER, encoding="utf-8")
+    report = folder / "run"
     result = subprocess.run(
-        [sys.executable, "-m", "sar_framework", "run", "trees/fleet_search.yaml",
+        [sys.executable, "-m", "sar_framework", "run", "forever.yaml",
          "--robots", "2", "--timeout", "4", "--report-dir", str(report)],
-        capture_output=True, text=True, timeout=120, cwd=REPO, check=False)
+        capture_output=True, text=True, timeout=120, cwd=folder, check=False)
     out = result.stdout + result.stderr
     assert result.returncode == 1, out
     assert "Traceback" not in out
@@ -110,6 +115,20 @@ root:
     memory: true
     children:
       - Script: {name: CountOnce, code: "laps += 1"}
+"""
+
+COUNT_FOREVER = """\
+format: 1
+name: count_forever
+description: Counts for ever; uses no app.
+blackboard:
+  laps: {type: int, initial: 0, description: laps}
+root:
+  sequence:
+    name: CountForever
+    memory: true
+    children:
+      - success_is_running: {child: {Script: {name: CountAgain, code: "laps += 1"}}}
 """
 
 

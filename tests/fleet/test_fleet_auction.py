@@ -3,7 +3,7 @@
 The test runs the whole fleet (:mod:`fleet_mission`): the simulator, the coordinator, per
 robot a runner of trees/fleet_search.yaml. The verdict comes from the coordinator's events
 file. The fleet's plain mission (every zone searched once, the lowest bids winning,
-survivors reported once) is checked on ``sar-tree run --robots 3`` (test_fleet_run.py).
+survivors reported once) is checked on ``sar-tree run --robots 2`` (test_fleet_run.py).
 Two robots are enough to give a zone back and take it over, so the test runs two.
 """
 

@@ -75,7 +75,8 @@ def read_events(path: Path) -> list[dict[str, Any]]:
 
 def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Sequence[str] = (),
               kill: Killer | Sequence[Killer] = (), timeout_s: float = 90.0,
-              lab: NetworkLab | None = None) -> FleetRun:
+              lab: NetworkLab | None = None, robots: Sequence[str] = tuple(SPAWNS)
+              ) -> FleetRun:
     """Run the fleet mission to its end; each killer may name a runner to SIGKILL.
 
     Args:
@@ -88,13 +89,14 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         timeout_s: Outer safety bound of the mission, wall seconds.
         lab: Run the root namespace's processes on its host ``world`` and each robot's on
             the host of its name (hosts of their own), instead of on this machine.
+        robots: The robots to run, of :data:`SPAWNS` (all three unless a test needs fewer).
     """
     import signal
 
     fleet = tmp / "fleet.yaml"
     fleet.write_text("robots:\n" + "".join(
         f"  - name: {n}\n    pose: {{x: {x}, y: {y}, yaw: {w}}}\n"
-        for n, (x, y, w) in SPAWNS.items()), encoding="utf-8")
+        for n, (x, y, w) in SPAWNS.items() if n in robots), encoding="utf-8")
     events_file = tmp / "events.jsonl"
     params = str(REPO / "config" / "mission_params.yaml")
     tree = str(REPO / "trees" / "fleet_search.yaml")
@@ -118,7 +120,8 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
                              "-p", f"robot_timeout_wall_s:={ROBOT_TIMEOUT_WALL_S}"], "coordinator")
         sim.wait_for_output("ready", timeout=30)
         coordinator.wait_for_output("ready", timeout=30)
-        for name, (x, y, yaw) in SPAWNS.items():
+        for name in robots:
+            x, y, yaw = SPAWNS[name]
             start(["sar_plugins.sar.servers.detect_survivor_server", "--ros-args",
                    "-r", f"__ns:=/{name}", *detect_params], f"detect_{name}", name)
             runners[name] = start([

@@ -1,14 +1,14 @@
 """``sar-tree run --robots N`` / ``--fleet FILE``: bad input refused, the processes described.
 
 No ROS process starts here: the bad paths end before anything starts (exit 2, every
-problem at once, no traceback), and the fleet's process list is checked as data.
+problem at once, no traceback; the command's ``main`` in this process), and the fleet's
+process list is checked as data.
 """
 
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -19,6 +19,7 @@ from sar_plugins.sar.fleet.processes import (
     uses_coordinator,
 )
 
+from sar_framework.cli import main
 from sar_framework.mission.processes import MissionSettings, Robot
 from sar_framework.orchestrate.config import check_config, child_specs
 from sar_framework.orchestrate.options import RunConfig
@@ -29,64 +30,74 @@ from sar_framework.sim.spawn_poses import MAX_ROBOTS, SpawnError, free_places, s
 REPO = Path(__file__).resolve().parents[2]
 TREE = str(REPO / "trees" / "search_and_rescue.yaml")
 PARAMS = str(REPO / "config" / "mission_params.yaml")
+Rejected = Callable[..., str]
+"""``rejected(*args)``: the stderr of ``sar-tree run ARGS``, refused as a usage error."""
 
 
-def _run(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "sar_framework", "run", *args],
-                          capture_output=True, text=True, timeout=60, cwd=REPO, check=False)
+@pytest.fixture
+def rejected(capsys: pytest.CaptureFixture[str]) -> Rejected:
+    """``sar-tree run ARGS`` in this process (the command's own ``main``); its stderr.
 
+    Asserts the usage exit (2), no traceback and that nothing was started.
+    """
 
-def _rejected(*args: str) -> str:
-    result = _run(*args)
-    text = result.stdout + result.stderr
-    assert result.returncode == 2, text
-    assert "Traceback" not in text
-    assert "sar-tree run:" not in result.stdout  # nothing was started
-    return result.stderr
+    def run(*args: str) -> str:
+        code = main(["run", *args])
+        out, err = capsys.readouterr()
+        assert code == 2, out + err
+        assert "Traceback" not in out + err
+        assert "sar-tree run:" not in out  # nothing was started
+        return err
+
+    return run
 
 
 @pytest.mark.parametrize("count", ["0", "-1", str(MAX_ROBOTS + 1)])
-def test_robots_out_of_range_is_refused(count: str, tmp_path: Path) -> None:
-    err = _rejected(TREE, "--robots", count, "--report-dir", str(tmp_path / "r"))
+def test_robots_out_of_range_is_refused(count: str, tmp_path: Path,
+                                        rejected: Rejected) -> None:
+    err = rejected(TREE, "--robots", count, "--report-dir", str(tmp_path / "r"))
     assert f"--robots must be between 1 and {MAX_ROBOTS}, got {count}" in err
     assert not (tmp_path / "r").exists()
 
 
-def test_robots_that_is_not_a_number_is_refused() -> None:
-    err = _rejected(TREE, "--robots", "three")
+def test_robots_that_is_not_a_number_is_refused(rejected: Rejected) -> None:
+    err = rejected(TREE, "--robots", "three")
     assert "--robots: invalid int value: 'three'" in err
 
 
-def test_robots_with_fleet_is_refused(tmp_path: Path) -> None:
+def test_robots_with_fleet_is_refused(tmp_path: Path, rejected: Rejected) -> None:
     fleet = tmp_path / "fleet.yaml"
     fleet.write_text("robots:\n  - name: a\n    pose: {x: 1.0, y: 1.0}\n")
-    err = _rejected(TREE, "--robots", "2", "--fleet", str(fleet))
+    err = rejected(TREE, "--robots", "2", "--fleet", str(fleet))
     assert "--robots and --fleet: give one of them" in err
 
 
-def test_a_fleet_file_error_is_shown_at_its_line_and_column(tmp_path: Path) -> None:
+def test_a_fleet_file_error_is_shown_at_its_line_and_column(tmp_path: Path,
+                                                            rejected: Rejected) -> None:
     fleet = tmp_path / "fleet.yaml"
     fleet.write_text("robots:\n  - name: robot1\n    pose: {x: 1.0, y: 1.0}\n"
                      "  - name: 2robot\n    pose: {x: 1.0, y: oops}\n")
-    err = _rejected(TREE, "--fleet", str(fleet))
+    err = rejected(TREE, "--fleet", str(fleet))
     assert f"{fleet}:4:11: robots[1].name: expected a namespace name" in err
     assert f"{fleet}:5:23: robots[1].pose.y: expected a finite number, got 'oops'" in err
     assert "2 problems in the inputs; nothing was started" in err
 
 
-def test_crowded_spawns_and_a_missing_fleet_file_are_refused(tmp_path: Path) -> None:
+def test_crowded_spawns_and_a_missing_fleet_file_are_refused(tmp_path: Path,
+                                                             rejected: Rejected) -> None:
     fleet = tmp_path / "fleet.yaml"
     fleet.write_text("robots:\n  - name: a\n    pose: {x: 1.0, y: 1.0}\n"
                      "  - name: b\n    pose: {x: 1.2, y: 1.0}\n")
-    err = _rejected(TREE, "--fleet", str(fleet))
+    err = rejected(TREE, "--fleet", str(fleet))
     assert f"{fleet}:4:5: robot 'b' spawns within 0.44 m (two footprints) of robot 'a' " \
         f"({fleet}:2:5)" in err
-    assert "fleet file not found" in _rejected(TREE, "--fleet", str(tmp_path / "none.yaml"))
+    assert "fleet file not found" in rejected(TREE, "--fleet", str(tmp_path / "none.yaml"))
 
 
-def test_what_a_fleet_cannot_do_yet_is_refused_at_once(tmp_path: Path) -> None:
-    err = _rejected(TREE, "--robots", "2", "--record", str(tmp_path / "x.mcap"), "--watch",
-                    "--keep-alive")
+def test_what_a_fleet_cannot_do_yet_is_refused_at_once(tmp_path: Path,
+                                                       rejected: Rejected) -> None:
+    err = rejected(TREE, "--robots", "2", "--record", str(tmp_path / "x.mcap"), "--watch",
+                   "--keep-alive")
     assert "--record follows one robot's topics" in err
     assert "--watch follows one robot's topics" in err
     assert "--keep-alive: not with a fleet yet" in err

@@ -3,9 +3,10 @@
 Three moments: right after the robot won a zone (it holds a claim and has not arrived),
 while it searches its zone (the detect servers answer 1 s late), and right after it
 searched a zone, asking for work between zones. The first two share one run of three
-robots, of which two are killed. The coordinator must report the robot lost (after
-``robot_timeout_wall_s`` of silence; how soon is not checked here), put the zone it held back
-to auction, and every zone must still be searched exactly once.
+robots, of which two are killed; the third runs two robots, one killed. The coordinator
+must report the robot lost (after ``robot_timeout_wall_s`` of silence; how soon is not
+checked here), put the zone it held back to auction, and every zone must still be searched
+exactly once.
 """
 
 from __future__ import annotations
@@ -43,12 +44,16 @@ HOLDS_A_CLAIM = {after_award: True, mid_search: True, between_zones: False}
 
 
 # Two moments share a run (three robots: two killed, one finishes the mission), the third
-# has its own: asking for work between zones must come before every zone is searched.
-@pytest.mark.parametrize("moments", [(after_award, mid_search), (between_zones,)],
-                         ids=["claimed_before_arriving_and_mid_search",
-                              "asking_for_work_between_zones"])
-def test_a_killed_robots_zone_is_taken_over(tmp_path: Path, moments: tuple[Any, ...]) -> None:
-    run = run_fleet(tmp_path, kill=moments, detect_params=["-p", "answer_delay_wall_s:=1.0"])
+# has its own: asking for work between zones must come before every zone is searched (two
+# robots: one killed, one finishes).
+@pytest.mark.parametrize(("moments", "robots"), [
+    ((after_award, mid_search), ("robot1", "robot2", "robot3")),
+    ((between_zones,), ("robot1", "robot2"))],
+    ids=["claimed_before_arriving_and_mid_search", "asking_for_work_between_zones"])
+def test_a_killed_robots_zone_is_taken_over(tmp_path: Path, moments: tuple[Any, ...],
+                                            robots: tuple[str, ...]) -> None:
+    run = run_fleet(tmp_path, kill=moments, detect_params=["-p", "answer_delay_wall_s:=1.0"],
+                    robots=robots)
     searched = run.searched()
     for moment, victim in zip(moments, run.victims, strict=True):
         assert victim is not None, f"the moment {moment.__name__} never came\n{run.outputs}"

@@ -1,4 +1,4 @@
-"""``sar-tree run trees/fleet_search.yaml --robots 3``: the whole fleet from one command.
+"""``sar-tree run trees/fleet_search.yaml --robots 2``: the whole fleet from one command.
 
 Real processes over real DDS (the test's leased domain): one simulator, the base, the zone
 coordinator, and per robot a detect server and a runner in ``/robotN``. The verdicts come
@@ -26,18 +26,18 @@ pytestmark = pytest.mark.ros
 REPO = Path(__file__).resolve().parents[2]
 
 
-def test_three_robots_share_the_zones_and_come_home(tmp_path: Path) -> None:
+def test_two_robots_share_the_zones_and_come_home(tmp_path: Path) -> None:
     report = tmp_path / "run"
     result = subprocess.run(
         [sys.executable, "-m", "sar_framework", "run", "trees/fleet_search.yaml",
-         "--robots", "3", "--speed", "30", "--timeout", "240", "--report-dir", str(report)],
+         "--robots", "2", "--speed", "30", "--timeout", "240", "--report-dir", str(report)],
         capture_output=True, text=True, timeout=300, cwd=REPO, check=False)
     out = result.stdout + result.stderr
     assert result.returncode == 0, out
     assert "Traceback" not in out
     fleet = json.loads((report / "fleet.json").read_text())
     assert fleet["outcome"] == "SUCCESS" and fleet["coordinator"] is True
-    assert sorted(fleet["robots"]) == ["robot1", "robot2", "robot3"]
+    assert sorted(fleet["robots"]) == ["robot1", "robot2"]
     searchers = {zone: z["searched_by"] for zone, z in fleet["zones"].items()}
     assert sorted(searchers) == ["zone_a", "zone_b", "zone_c", "zone_d"]
     assert all(len(by) == 1 for by in searchers.values()), searchers
@@ -79,11 +79,16 @@ def assert_each_award_went_to_the_lowest_bid(events: list[dict[str, Any]]) -> No
 
 def test_a_fleet_cut_short_by_the_timeout_says_which_robots_were_still_running(
         tmp_path: Path) -> None:
-    report = tmp_path / "run"
+    # The timeout is the orchestrator's, for any tree: a tree that never ends, and no app's
+    # processes (the search's coordinator, detect and report servers) to start for it.
+    folder = tmp_path / "forever"
+    folder.mkdir()
+    (folder / "forever.yaml").write_text(COUNT_FOREVER, encoding="utf-8")
+    report = folder / "run"
     result = subprocess.run(
-        [sys.executable, "-m", "sar_framework", "run", "trees/fleet_search.yaml",
+        [sys.executable, "-m", "sar_framework", "run", "forever.yaml",
          "--robots", "2", "--timeout", "4", "--report-dir", str(report)],
-        capture_output=True, text=True, timeout=120, cwd=REPO, check=False)
+        capture_output=True, text=True, timeout=120, cwd=folder, check=False)
     out = result.stdout + result.stderr
     assert result.returncode == 1, out
     assert "Traceback" not in out
@@ -110,6 +115,20 @@ root:
     memory: true
     children:
       - Script: {name: CountOnce, code: "laps += 1"}
+"""
+
+COUNT_FOREVER = """\
+format: 1
+name: count_forever
+description: Counts for ever; uses no app.
+blackboard:
+  laps: {type: int, initial: 0, description: laps}
+root:
+  sequence:
+    name: CountForever
+    memory: true
+    children:
+      - success_is_running: {child: {Script: {name: CountAgain, code: "laps += 1"}}}
 """
 
 

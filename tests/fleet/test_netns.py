@@ -4,7 +4,8 @@ The fleet mission (:mod:`fleet_mission`) with the simulator, the base and the co
 on host ``world`` and each robot's detect server and runner on a host of its own. DDS can
 reach the other hosts only over the lab's bridge, through static peers, so a passing
 mission proves discovery and traffic crossed it (and the bridge's counters show it). Needs
-root and ``ip netns``; the module skips with one line otherwise.
+root and ``ip netns``; the module skips with one line otherwise. Two robots on two hosts
+show it as well as three.
 """
 
 from __future__ import annotations
@@ -12,10 +13,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from fleet_mission import SPAWNS, ZONES, run_fleet
+from fleet_mission import ZONES, run_fleet
 from sar_testing.netns import NetworkLab, machine_namespaces, netns_unavailable
 
 pytestmark = pytest.mark.ros
+
+ROBOTS = ("robot1", "robot2")
 
 
 @pytest.fixture(autouse=True)
@@ -27,11 +30,11 @@ def _needs_netns() -> None:
 
 def test_a_fleet_on_hosts_of_its_own_searches_every_zone_over_the_bridge(
         tmp_path: Path) -> None:
-    with NetworkLab(["world", *SPAWNS]) as lab:
+    with NetworkLab(["world", *ROBOTS]) as lab:
         before = lab.bridge_bytes()
-        run = run_fleet(tmp_path, lab=lab)
+        run = run_fleet(tmp_path, lab=lab, robots=ROBOTS)
         crossed = lab.bridge_bytes() - before
-    assert run.codes == dict.fromkeys(SPAWNS, 0), run.outputs
+    assert run.codes == dict.fromkeys(ROBOTS, 0), run.outputs
     searched = run.searched()
     assert sorted(searched) == sorted(ZONES), run.outputs
     assert all(len(robots) == 1 for robots in searched.values()), searched

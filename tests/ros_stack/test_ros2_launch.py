@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from e2e.helpers import FAST
 from sar_testing import launch_ctrl_c
 from sar_testing.launch_ctrl_c import ROS2, ctrl_c_mid_mission, kill_group
 from sar_testing.temp_dirs import launch_env
@@ -90,10 +91,11 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     Regression: the second launch said '2 survivors already on record ... Repeated report'
     (every launch shared ~/.ros/sar_reports.jsonl), and redirected output carried
     ESC[0m ... ESC[0m\\r on most lines. This checkout's launch file, by path, with no
-    report_file: the default. The first launch runs the reference tree at the default speed
-    with ``record:=``; the second runs the reference mission through Nav2's navigator shape
-    (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path) at ``speed:=40`` (the
-    e2e tests' FAST): the same spec lines and survivors."""
+    report_file: the default. The first launch runs the reference tree with ``record:=``; the
+    second runs the reference mission through Nav2's navigator shape
+    (trees/examples/search_and_rescue_nav2.yaml, ``tree:=`` a path). Both at ``speed:=40``
+    (the e2e tests' FAST: neither is about the speed; the launch argument's default is
+    checked in tests/mission/test_launch.py): the same spec lines and survivors."""
     from mcap.reader import make_reader
 
     record = tmp_path / "mission.mcap"
@@ -102,10 +104,10 @@ def test_two_launches_in_a_row_share_no_survivors_and_no_colour_codes(tmp_path):
     env.pop("RCUTILS_COLORIZED_OUTPUT", None)
     outputs = []
     nav2_shape = REPO / "trees" / "examples" / "search_and_rescue_nav2.yaml"
-    for arguments in ([f"record:={record}"], ["speed:=40", f"tree:={nav2_shape}"]):
+    for arguments in ([f"record:={record}"], [f"tree:={nav2_shape}"]):
         proc = subprocess.Popen(
             [str(ROS2), "launch", str(REPO / "launch" / "search_and_rescue.launch.py"),
-             "nav2:=embedded", *arguments], stdout=subprocess.PIPE,
+             "nav2:=embedded", f"speed:={FAST}", *arguments], stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
         STARTED.append(proc)
         output, _ = proc.communicate(timeout=240)

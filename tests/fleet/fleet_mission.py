@@ -136,10 +136,12 @@ def run_fleet(tmp: Path, *, sim_params: Sequence[str] = (), detect_params: Seque
         victims: list[str | None] = [None] * len(killers)
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:  # outer safety bound
+            if None in victims:  # the events file read once a turn, for every killer
+                events = read_events(events_file)
             for index, killer in enumerate(killers):
                 if victims[index] is None:
                     live = {n: r.output for n, r in runners.items() if n not in victims}
-                    victims[index] = killer(read_events(events_file), live)
+                    victims[index] = killer(events, live)
                     if victims[index] is not None:
                         runners[victims[index]].signal(signal.SIGKILL)
             if all(r.poll() is not None for r in runners.values()):

@@ -11,7 +11,9 @@ On the semantics of BehaviorTree.ROS2's ``RosActionNode`` and Nav2's ``BtActionN
   for a goal that got no result (:class:`~.goal_call.GoalFailure`);
 * a halt cancels the goal in flight, even before its acceptance has arrived;
 * the bounds (``server_timeout_s`` until the server is ready, ``result_timeout_s`` from the
-  sending to the result) count on the node's clock (:class:`~.goal_call.PolledGoal`);
+  sending to the result) count on the node's clock (:class:`~.goal_call.PolledGoal`); a
+  subclass may also bound the acceptance (``ack_timeout_wall_s``, wall seconds) and send a
+  goal not accepted in time again (``ack_resends``) before it fails;
 * the reason of every ending is in ``feedback_message``.
 
 Imports no ROS package at import.
@@ -92,6 +94,7 @@ class ActionLeaf(RosLeaf):
         self.server_timeout_s: float = 10.0
         self.result_timeout_s: float | None = None
         self.ack_timeout_wall_s: float | None = None
+        self.ack_resends: int = 0
         super().__init__(name, **declared)
         self.goal: Any = None
         self.result: Any = None
@@ -177,7 +180,8 @@ class ActionLeaf(RosLeaf):
         self._goal_call = PolledGoal(self.node, self._type, self.action_name,
                                      server_timeout_s=self.server_timeout_s,
                                      result_timeout_s=self.result_timeout_s,
-                                     ack_timeout_wall_s=self.ack_timeout_wall_s)
+                                     ack_timeout_wall_s=self.ack_timeout_wall_s,
+                                     ack_resends=self.ack_resends)
 
     def initialise(self) -> None:
         """Forget the last verdict and goal; start a new goal period."""

@@ -10,7 +10,11 @@ count on the node's clock (ROS time: simulated seconds with ``use_sim_time``):
   included;
 * ``ack_timeout_wall_s`` (None: none) from the sending until the acceptance, in wall
   seconds: the acceptance is a transport round trip, not simulated work (Nav2's
-  ``server_timeout``, which Nav2 spends spinning its executor inside one tick).
+  ``server_timeout``, which Nav2 spends spinning its executor inside one tick). With
+  ``ack_resends`` (0: none), a goal not accepted in time is sent again (a new goal of the
+  same content, which preempts the first should it have arrived after all; the first is
+  cancelled if its acceptance comes late) before the goal fails. A lost request or answer
+  then costs one bound, not the mission.
 
 A bound is judged only for the stage the goal is in: a goal is sent only once its server is
 ready, so the wait for the server never eats into the acceptance. And a tick never fails a
@@ -76,11 +80,13 @@ class PolledGoal:
         result_timeout_s: Seconds from the sending to the result (None: unbounded).
         ack_timeout_wall_s: Wall seconds from the sending to the acceptance (None: only the
             result bound).
+        ack_resends: How many times a goal not accepted within ``ack_timeout_wall_s`` is
+            sent again before it fails.
     """
 
     def __init__(self, node: Node, action_type: Any, action_name: str, *,
                  server_timeout_s: float, result_timeout_s: float | None = None,
-                 ack_timeout_wall_s: float | None = None) -> None:
+                 ack_timeout_wall_s: float | None = None, ack_resends: int = 0) -> None:
         from rclpy.action import ActionClient
 
         self._node = node
@@ -89,7 +95,10 @@ class PolledGoal:
         self.server_timeout_s = server_timeout_s
         self.result_timeout_s = result_timeout_s
         self.ack_timeout_wall_s = ack_timeout_wall_s
+        self.ack_resends = ack_resends
         self._ack_late = SecondLook()  # the acceptance bound
+        self._resends_left = ack_resends
+        self._goal: Any = None
         self._send_future: Any = None
         self._handle: Any = None
         self._result_future: Any = None
@@ -116,6 +125,7 @@ class PolledGoal:
         self.cancel()
         self._feedback = None
         self._started = self._now()
+        self._resends_left = self.ack_resends
 
     def send(self, goal: Any) -> None:
         """Send ``goal`` now (the server must be ready); a goal in flight is replaced.
@@ -123,6 +133,7 @@ class PolledGoal:
         The server sees a new goal: as with Nav2's updated goals, it preempts the old one.
         """
         self._handle = self._result_future = None
+        self._goal = goal
         self._send_future = self._client.send_goal_async(goal,
                                                          feedback_callback=self._on_feedback)
         self._sent = self._now()
@@ -182,9 +193,17 @@ class PolledGoal:
         late = bound is not None and time.monotonic() - self._sent_wall > bound
         if self._ack_late.fails(self._handle is None and late):
             self.cancel()
+            if self._resends_left > 0:
+                self._resends_left -= 1
+                self._node.get_logger().warning(
+                    f"{self.action_name} did not accept the goal within {bound:.3g} s; "
+                    "sending it again")
+                self.send(self._goal)
+                return None
+            sent = f" (sent {self.ack_resends + 1} times)" if self.ack_resends else ""
             return GoalEnd(failure=GoalFailure.SEND_GOAL_TIMEOUT,
                            reason=f"{self.action_name} did not accept the goal within "
-                                  f"{bound:.3g} s")
+                                  f"{bound:.3g} s{sent}")
         if self.result_timeout_s is not None and waited > self.result_timeout_s:
             answered = self._handle is not None
             self.cancel()

@@ -79,8 +79,9 @@ def test_every_wall_duration_says_so_in_its_name_and_exists() -> None:
         if name.startswith("sar-tree run --"):
             continue  # a command-line option, not a parameter
         assert name.endswith("_wall_s"), name
-        service_call = REPO / "sar_framework" / "leaves" / "service_call.py"
-        assert name in names or name in service_call.read_text(), name
+        calls = [REPO / "sar_framework" / "leaves" / f"{call}.py"
+                 for call in ("service_call", "goal_call")]
+        assert name in names or any(name in call.read_text() for call in calls), name
     # and every *_wall_s parameter of a node is listed
     for name in names:
         if name.endswith("_wall_s"):
@@ -117,7 +118,7 @@ def test_parameter_names_quoted_in_the_docs_exist() -> None:
     allowed = {"sim_s", "wall_s", "arrival_sim_s", "arrival_wall_s", "sim_duration_s",
                "wall_duration_s", "sim_start_s", "sim_end_s", "wall_first_tick_s",
                "runner_wall_duration_s", "ticks_per_wall_s", "found_sim_s", "timeout_s",
-               "resend_after_wall_s", "runner_started_s", "nav2_discovered_s",
+               "resend_after_wall_s", "ack_timeout_wall_s", "runner_started_s", "nav2_discovered_s",
                "nav2_active_s", "tree_ready_s", "amcl_seeded_s"}  # status.json's startup
     for doc in DOCS:
         for number, line in enumerate(doc.read_text().splitlines(), 1):

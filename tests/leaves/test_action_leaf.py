@@ -202,6 +202,22 @@ def test_the_acceptance_bound_is_not_judged_on_one_slow_tick_alone(ros) -> None:
     assert tick_until_done(executor, tree, OUTER_S) == Status.SUCCESS, leaf.feedback_message
 
 
+def test_a_goal_not_accepted_in_time_is_sent_once_more_then_fails(ros) -> None:
+    _node, executor, server, trees = ros
+    log = WaitServerLog(accept_delay_wall_s=3.0, outcome="hang")
+    serve_wait(server, "wait_resent", log)
+    leaf = make_leaf("wait_resent")
+    leaf.ack_timeout_wall_s = 0.05
+    leaf.ack_resends = 1
+    assert tick_until_done(executor, trees(leaf), OUTER_S) == Status.FAILURE
+    assert leaf.failures == [GoalFailure.SEND_GOAL_TIMEOUT]
+    assert leaf.feedback_message == (
+        "wait_resent did not accept the goal within 0.05 s (sent 2 times)")
+    assert spin_until(executor, lambda: log.goals == [3, 3] and log.cancels == 2, OUTER_S), (
+        f"awaited the same goal received twice and both late acceptances cancelled; saw "
+        f"goals {log.goals}, {log.cancels} cancel(s)")
+
+
 def test_a_goal_never_accepted_fails_after_the_acceptance_bound(ros) -> None:
     _node, executor, server, trees = ros
     log = WaitServerLog(accept_delay_wall_s=3.0, outcome="hang")

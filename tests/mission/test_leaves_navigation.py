@@ -68,7 +68,8 @@ def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
     leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager())
     tree = make_tree(leaf)
 
-    assert tick_until_done(executor, tree, LEAF_RUN_S) == Status.SUCCESS
+    status = tick_until_done(executor, tree, LEAF_RUN_S)
+    assert status == Status.SUCCESS, f"{leaf.feedback_message}; the server said:\n{mark.text}"
     assert leaf.feedback_message == "Reached zone_a."
     assert goals(mark.text) == [("-3.00", "3.00", "0.000", "1.000", "map", "succeed")]
     err = capfd.readouterr().err
@@ -79,6 +80,28 @@ def test_success_sends_the_zone_pose_and_logs_the_spec_lines(nav: tuple,
     leaf.stop(Status.INVALID)
     spin_until(executor, lambda: False, 0.5)
     assert "cancel requested" not in mark.text
+
+
+def test_a_goal_whose_answer_is_lost_is_sent_once_more(nav: tuple,
+                                                     capfd: pytest.CaptureFixture) -> None:
+    """A goal the server answers only after the next one came (to the leaf, a lost answer)
+    is sent again after the acceptance bound; the late first goal is cancelled, and the zone
+    is announced once."""
+    make_tree, executor, mark = nav
+    leaf = declared_leaf(NavigateToZone, "NavigateToZone", zone_manager=spec_zone_manager(),
+                          behavior_tree="answer-after-next")
+    leaf.ack_timeout_wall_s = 0.2  # the shipped 5 s would only make the test longer
+    tree = make_tree(leaf)
+
+    status = tick_until_done(executor, tree, LEAF_RUN_S)
+    assert status == Status.SUCCESS, f"{leaf.feedback_message}; the server said:\n{mark.text}"
+    assert leaf.feedback_message == "Reached zone_a."
+    sent = ("-3.00", "3.00", "0.000", "1.000", "map", "answer-after-next")
+    assert goals(mark.text) == [sent, sent]
+    assert spin_until(executor, lambda: "goal canceled" in mark.text, LEAF_RUN_S), mark.text
+    err = capfd.readouterr().err
+    assert err.count("--- Zone 1/4: zone_a (-3.00, 3.00) ---") == 1
+    assert "navigate_to_pose did not accept the goal within 0.2 s; sending it again" in err
 
 
 @pytest.mark.parametrize(("behavior_tree", "why", "server_says"), [

@@ -6,7 +6,10 @@ subclasses only say where to go (:meth:`NavigateToTarget.target`) and what reach
 ABORTED / CANCELED; a rejected goal fails), never from the result fields, though
 ``error_msg`` is quoted in a failure message when Nav2 gives one. ``server_timeout_s`` bounds
 the wait for the server, ``navigation_timeout_s`` the goal from its sending to its result
-(the toolkit's ``result_timeout_s``), both on the node's clock.
+(the toolkit's ``result_timeout_s``), both on the node's clock. A goal the server has not
+accepted within :data:`ACCEPTANCE_WALL_S` is sent once more, then the leaf fails: a request or
+answer lost in transport (a server that has not yet matched a new client's reader) costs
+seconds, not the mission.
 """
 
 from __future__ import annotations
@@ -42,6 +45,9 @@ NAVIGATION_PARAMS: tuple[Param, ...] = (
           description="Cancel the goal and fail if it has not finished this many seconds "
                       "after it was sent (ROS time)."),
 )
+
+ACCEPTANCE_WALL_S = 5.0
+"""Wall seconds Nav2 gets to accept a goal (a transport round trip; milliseconds when well)."""
 
 
 @dataclass(frozen=True)
@@ -85,6 +91,8 @@ class NavigateToTarget(ActionLeaf):
     def __init__(self, name: str, **declared: Any) -> None:
         super().__init__(name, **declared)
         self.result_timeout_s = self.navigation_timeout_s
+        self.ack_timeout_wall_s = ACCEPTANCE_WALL_S
+        self.ack_resends = 1
         self.now_target: NavigationTarget | None = None
 
     def target(self) -> NavigationTarget:
@@ -149,7 +157,7 @@ class NavigateToTarget(ActionLeaf):
         if failure == GoalFailure.GOAL_REJECTED:
             reason = f"goal to {label} rejected by {self.action_name}"
         elif failure == GoalFailure.SEND_GOAL_TIMEOUT:
-            reason = f"{self.action_name} did not answer the goal to {label} within {bound:.1f} s"
+            reason = f"goal to {label}: {reason}"
         elif failure == GoalFailure.RESULT_TIMEOUT:
             reason = f"navigation to {label} not finished within {bound:.1f} s; goal cancelled"
         return self.fail(reason)

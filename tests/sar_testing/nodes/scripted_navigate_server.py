@@ -6,7 +6,9 @@ The goal's ``behavior_tree`` field is the script (the leaf passes it through fro
 * ``""`` or ``succeed``: feedback for ``--delay`` seconds, then SUCCEEDED;
 * ``abort``: ABORTED after ``--delay`` seconds with ``error_msg="robot stuck"``;
 * ``reject``: the goal is rejected;
-* ``hang``: accepted, then never finishes by itself (only a cancel ends it).
+* ``hang``: accepted, then never finishes by itself (only a cancel ends it);
+* ``answer-after-next``: accepted only once the next goal has arrived (to the client, an
+  answer lost in transport), then as ``succeed``.
 
 Logs ``ready``, then one line per event: ``goal 1: x=-3.00 y=3.00 qz=0.000 qw=1.000
 frame=map script=succeed``, ``cancel requested``, ``goal canceled``, ``goal succeeded``,
@@ -15,6 +17,7 @@ frame=map script=succeed``, ``cancel requested``, ``goal canceled``, ``goal succ
 
 import argparse
 import itertools
+import threading
 import time
 
 import rclpy
@@ -34,6 +37,8 @@ def main() -> None:
     node = Node("scripted_navigate_server")
     log = node.get_logger()
     counter = itertools.count(1)
+    next_goal = threading.Event()  # set by every goal; awaited by answer-after-next
+    holding = threading.Lock()  # held while an answer-after-next goal waits
 
     def on_goal(goal: NavigateToPose.Goal) -> GoalResponse:
         pose = goal.pose.pose
@@ -41,6 +46,12 @@ def main() -> None:
         log.info(f"goal {next(counter)}: x={pose.position.x:.2f} y={pose.position.y:.2f} "
                  f"qz={pose.orientation.z:.3f} qw={pose.orientation.w:.3f} "
                  f"frame={goal.pose.header.frame_id} script={script}")
+        if script == "answer-after-next" and holding.acquire(blocking=False):
+            next_goal.clear()
+            next_goal.wait(30.0)  # outer safety bound: a client that never resends has failed
+            holding.release()
+            return GoalResponse.ACCEPT
+        next_goal.set()
         return GoalResponse.REJECT if script == "reject" else GoalResponse.ACCEPT
 
     def on_cancel(_handle: object) -> CancelResponse:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
-import ctypes.util
+import functools
 import os
 import signal
 import subprocess
@@ -33,15 +33,19 @@ from pathlib import Path
 from typing import IO
 
 
+@functools.cache
 def _parent_death_signal() -> Callable[[], None] | None:
-    """A ``preexec_fn`` asking Linux to SIGTERM the child when this process dies."""
+    """A ``preexec_fn`` asking Linux to SIGTERM the child when this process dies.
+
+    ``prctl`` is looked up among the symbols Python is already linked with (the C library),
+    once a process: ``ctypes.util.find_library`` would run ``ldconfig`` for every child.
+    """
     if not sys.platform.startswith("linux"):
         return None
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-    except OSError:
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
         return None
-    prctl = libc.prctl
     pr_set_pdeathsig = 1
 
     def preexec() -> None:

@@ -152,11 +152,11 @@ def _blocked_areas(values: dict[str, Any], places: dict[str, tuple[float, float]
                    problems: list[str], name: str = "blocked_areas"
                    ) -> tuple[tuple[float, float, float], ...]:
     """The circles of an area-list fault (``blocked_areas``, ``phantom_obstacles``)."""
-    from sar_framework.sim.faults import FaultConfigError, parse_circle
-
     entries = values.get(name)
     if not isinstance(entries, list):
         return ()
+    from sar_framework.sim.faults import FaultConfigError, parse_circle  # numpy: only if used
+
     areas = []
     for entry in entries:
         if not str(entry).strip():

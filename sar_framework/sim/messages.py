@@ -11,6 +11,7 @@ from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import Pose, PoseStamped, Quaternion, TransformStamped
 from nav_msgs.msg import OccupancyGrid as OccupancyGridMsg
 from nav_msgs.msg import Odometry
+from tf2_msgs.msg import TFMessage
 
 from sar_framework.sim.clock import NS_PER_S, split_ns
 from sar_framework.sim.occupancy import OccupancyGrid
@@ -124,3 +125,54 @@ def occupancy_grid_msg(grid: OccupancyGrid, frame_id: str, stamp_ns: int) -> Occ
     msg.info.origin.orientation.w = 1.0
     msg.data = grid.data.astype("int8").ravel().tolist()
     return msg
+
+
+class StateMessages:
+    """One robot's ``/tf`` and odometry messages, built once and refilled for each state.
+
+    ``publish`` serialises a message before it returns, so the physics loop can refill the
+    same objects for its next update instead of building new ones (tens of times a wall
+    second); what goes out is the same as :func:`transform` and :func:`odometry` build.
+
+    Args:
+        spawn: The ``map -> odom`` transform (the robot's spawn pose).
+        frames: ``(global_frame, odom_frame, base_frame)``.
+    """
+
+    def __init__(self, spawn: Pose2D, frames: tuple[str, str, str]) -> None:
+        global_frame, odom_frame, base_frame = frames
+        origin = Pose2D(0.0, 0.0, 0.0)
+        self._map_odom = transform(global_frame, odom_frame, spawn, 0)
+        self._odom_base = transform(odom_frame, base_frame, origin, 0)
+        self._tf_localized = TFMessage(transforms=[self._map_odom, self._odom_base])
+        self._tf_odom_only = TFMessage(transforms=[self._odom_base])
+        self.odometry = odometry(origin, (0.0, 0.0), (odom_frame, base_frame), 0)
+
+    def fill(self, odom_pose: Pose2D, twist: tuple[float, float], stamp_ns: int, *,
+             localized: bool) -> TFMessage:
+        """Refill the messages for a state; return the TF message to publish.
+
+        Args:
+            odom_pose: The robot in the odometry frame.
+            twist: ``(linear m/s, angular rad/s)`` in the robot's frame.
+            stamp_ns: Simulated time, nanoseconds.
+            localized: Whether ``map -> odom`` goes out too (AMCL has a pose).
+
+        Returns:
+            The TF message (``map -> odom`` first when localised); :attr:`odometry` is
+            refilled too.
+        """
+        sec, nanosec = split_ns(stamp_ns)
+        x, y = float(odom_pose.x), float(odom_pose.y)
+        qz, qw = math.sin(odom_pose.yaw / 2.0), math.cos(odom_pose.yaw / 2.0)
+        for header in (self._map_odom.header, self._odom_base.header, self.odometry.header):
+            header.stamp.sec, header.stamp.nanosec = sec, nanosec
+        moved = self._odom_base.transform
+        moved.translation.x, moved.translation.y = x, y
+        moved.rotation.z, moved.rotation.w = qz, qw
+        pose = self.odometry.pose.pose
+        pose.position.x, pose.position.y = x, y
+        pose.orientation.z, pose.orientation.w = qz, qw
+        speed = self.odometry.twist.twist
+        speed.linear.x, speed.angular.z = float(twist[0]), float(twist[1])
+        return self._tf_localized if localized else self._tf_odom_only

@@ -146,6 +146,10 @@ def _overlap_mask(
 def reachable(passable: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
     """Return the cells 4-connected to ``seed`` through ``passable`` cells (numpy flood fill).
 
+    Each round fills every row run and then every column run of passable cells that holds
+    a reached cell, so a fill takes about as many rounds as the region's paths have turns,
+    not as many as they have cells.
+
     Args:
         passable: Boolean mask of cells that may be crossed.
         seed: ``(row, col)`` to start from (must be in bounds).
@@ -157,16 +161,27 @@ def reachable(passable: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
     if not passable[seed]:
         return reached
     reached[seed] = True
+    row_runs, col_runs = _runs(passable), _runs(passable.T).T
     while True:
-        grown = reached.copy()
-        grown[1:, :] |= reached[:-1, :]
-        grown[:-1, :] |= reached[1:, :]
-        grown[:, 1:] |= reached[:, :-1]
-        grown[:, :-1] |= reached[:, 1:]
-        grown &= passable
+        grown = _fill_runs(_fill_runs(reached, row_runs), col_runs)
         if np.array_equal(grown, reached):
             return reached
         reached = grown
+
+
+def _runs(passable: np.ndarray) -> np.ndarray:
+    """Number each row's runs of consecutive passable cells (1, 2, ...; 0 = not passable)."""
+    starts = passable.copy()
+    starts[:, 1:] &= ~passable[:, :-1]
+    return np.cumsum(starts, axis=None).reshape(passable.shape) * passable
+
+
+def _fill_runs(reached: np.ndarray, runs: np.ndarray) -> np.ndarray:
+    """Every cell of a run (numbered by :func:`_runs`) that holds a reached cell."""
+    hit = np.zeros(int(runs.max()) + 1, dtype=bool)
+    hit[runs[reached]] = True
+    hit[0] = False
+    return hit[runs]
 
 
 def rasterize(

@@ -108,6 +108,8 @@ class RobotStack:
             manager.node.set_parameters([Parameter("autostart", value=s.autostart)])
         self._tf_pub = sim_node.create_publisher(TFMessage, topic_in(name, "/tf"), 100)
         self._odom_pub = sim_node.create_publisher(Odometry, topic_in(name, s.odom_topic), 10)
+        self._state_msgs = messages.StateMessages(
+            spawn, (s.global_frame, s.odom_frame, s.base_frame))
 
     @property
     def nodes(self) -> list[Any]:
@@ -130,14 +132,9 @@ class RobotStack:
 
     def publish_state(self, now_ns: int, state: RobotState) -> None:
         """Publish TF and odometry for ``state``; let AMCL update."""
-        s = self.settings
         odom_pose = messages.relative_pose(self.spawn, state.pose)
         self.amcl.on_motion(now_ns)
-        transforms = [messages.transform(s.odom_frame, s.base_frame, odom_pose, now_ns)]
-        if self.amcl.localized:
-            transforms.insert(0, messages.transform(s.global_frame, s.odom_frame, self.spawn,
-                                                    now_ns))
-        self._tf_pub.publish(TFMessage(transforms=transforms))
-        self._odom_pub.publish(messages.odometry(
-            odom_pose, (state.linear, state.angular), (s.odom_frame, s.base_frame), now_ns
-        ))
+        tf = self._state_msgs.fill(odom_pose, (state.linear, state.angular), now_ns,
+                                   localized=self.amcl.localized)
+        self._tf_pub.publish(tf)
+        self._odom_pub.publish(self._state_msgs.odometry)

@@ -1,6 +1,7 @@
 """Occupancy grid: known cells, map_server file format, loader, inflation, regeneration."""
 
 import math
+from collections import deque
 
 import numpy as np
 import pytest
@@ -21,6 +22,7 @@ from sar_framework.sim.occupancy import (
     load_map,
     obstacle_distance,
     rasterize,
+    reachable,
 )
 
 ZONES = {"zone_a": (-3.0, 3.0), "zone_b": (3.5, 3.0), "zone_c": (4.0, -3.0), "zone_d": (-3.5, -3.0)}
@@ -252,3 +254,22 @@ def test_raw_mode_takes_the_pixel_as_the_occupancy(tmp_path):
     (tmp_path / "m.yaml").write_text(
         "image: m.pgm\nmode: raw\nresolution: 0.1\norigin: [0, 0, 0]\n")
     assert load_map(tmp_path / "m.yaml").data.tolist() == [[0, 42, 100, UNKNOWN]]
+
+
+def test_reachable_is_the_4_connected_region_of_the_seed() -> None:
+    """The run-filling flood fill agrees with a plain breadth-first search on random grids."""
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        height, width = (int(v) for v in rng.integers(1, 30, 2))
+        passable = rng.random((height, width)) < rng.uniform(0.3, 0.8)
+        seed = (int(rng.integers(height)), int(rng.integers(width)))
+        expected = np.zeros_like(passable)
+        queue = deque([seed] if passable[seed] else [])
+        while queue:
+            row, col = queue.popleft()
+            if not (0 <= row < height and 0 <= col < width) or expected[row, col] \
+                    or not passable[row, col]:
+                continue
+            expected[row, col] = True
+            queue.extend([(row + 1, col), (row - 1, col), (row, col + 1), (row, col - 1)])
+        assert np.array_equal(reachable(passable, seed), expected)

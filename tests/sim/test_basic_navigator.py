@@ -97,6 +97,21 @@ def finish(nav: Any) -> tuple[Any, list[Any], Any]:
     return nav.getResult(), feedback, nav.result_future.result().result
 
 
+def set_sim_speed(nav: Any, speed: float) -> None:
+    """Set the simulator's ``speed`` through its parameter service, as ``ros2 param set`` does."""
+    import rclpy
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+
+    client = nav.create_client(SetParameters, "/sar_sim/set_parameters")
+    assert client.wait_for_service(timeout_sec=30.0), "no /sar_sim/set_parameters service"
+    request = SetParameters.Request(parameters=[Parameter("speed", value=speed).to_parameter_msg()])
+    future = client.call_async(request)
+    rclpy.spin_until_future_complete(nav, future, timeout_sec=30.0)  # outer safety bound
+    assert future.done() and future.result().results[0].successful, "speed not set"
+    nav.destroy_client(client)
+
+
 def test_basic_navigator_whole_api(navigator: Any) -> None:
     from nav2_simple_commander.robot_navigator import TaskResult
 
@@ -147,9 +162,15 @@ def test_basic_navigator_whole_api(navigator: Any) -> None:
 
     nav.clearAllCostmaps()  # returns only once both services answered
 
+    # At 20x the drive is over in well under a second of wall time, so a loaded machine could
+    # deliver the cancel after it ended: drive at 1x, and cancel once the goal is running.
+    set_sim_speed(nav, 1.0)
     nav.feedback = None
     assert nav.goToPose(pose(nav, 4.0, -3.0))
-    time.sleep(0.5)
+    deadline = time.monotonic() + 60.0  # outer safety bound (the first feedback: milliseconds)
+    while nav.getFeedback() is None and not nav.isTaskComplete():
+        waited = time.monotonic() < deadline  # outer safety bound
+        assert waited, "no feedback from the goal to cancel"
     nav.cancelTask()
     result, _, _ = finish(nav)
     assert result == TaskResult.CANCELED

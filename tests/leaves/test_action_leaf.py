@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from typing import Any
 
+import pytest
 from py_trees.common import Status
 
 from sar_framework.engine.plugin import Param, leaf
@@ -202,30 +203,23 @@ def test_the_acceptance_bound_is_not_judged_on_one_slow_tick_alone(ros) -> None:
     assert tick_until_done(executor, tree, OUTER_S) == Status.SUCCESS, leaf.feedback_message
 
 
-def test_a_goal_not_accepted_in_time_is_sent_once_more_then_fails(ros) -> None:
+@pytest.mark.parametrize(("resends", "sent"), [(0, ""), (1, " (sent 2 times)")])
+def test_a_goal_never_accepted_fails_after_the_acceptance_bound(ros, resends: int,
+                                                                sent: str) -> None:
+    """With ``ack_resends``, the same goal is sent again before the leaf fails; every late
+    acceptance is cancelled."""
     _node, executor, server, trees = ros
     log = WaitServerLog(accept_delay_wall_s=3.0, outcome="hang")
-    serve_wait(server, "wait_resent", log)
-    leaf = make_leaf("wait_resent")
+    serve_wait(server, f"wait_no_ack_{resends}", log)
+    leaf = make_leaf(f"wait_no_ack_{resends}")
     leaf.ack_timeout_wall_s = 0.05
-    leaf.ack_resends = 1
+    leaf.ack_resends = resends
     assert tick_until_done(executor, trees(leaf), OUTER_S) == Status.FAILURE
     assert leaf.failures == [GoalFailure.SEND_GOAL_TIMEOUT]
     assert leaf.feedback_message == (
-        "wait_resent did not accept the goal within 0.05 s (sent 2 times)")
-    assert spin_until(executor, lambda: log.goals == [3, 3] and log.cancels == 2, OUTER_S), (
-        f"awaited the same goal received twice and both late acceptances cancelled; saw "
+        f"wait_no_ack_{resends} did not accept the goal within 0.05 s{sent}")
+    goals = [3] * (resends + 1)
+    assert spin_until(executor, lambda: log.goals == goals and log.cancels == len(goals),
+                      OUTER_S), (
+        f"awaited {len(goals)} goal(s) received and every late acceptance cancelled; saw "
         f"goals {log.goals}, {log.cancels} cancel(s)")
-
-
-def test_a_goal_never_accepted_fails_after_the_acceptance_bound(ros) -> None:
-    _node, executor, server, trees = ros
-    log = WaitServerLog(accept_delay_wall_s=3.0, outcome="hang")
-    serve_wait(server, "wait_no_ack", log)
-    leaf = make_leaf("wait_no_ack")
-    leaf.ack_timeout_wall_s = 0.05
-    assert tick_until_done(executor, trees(leaf), OUTER_S) == Status.FAILURE
-    assert leaf.failures == [GoalFailure.SEND_GOAL_TIMEOUT]
-    assert leaf.feedback_message == "wait_no_ack did not accept the goal within 0.05 s"
-    assert spin_until(executor, lambda: log.cancels == 1, OUTER_S), (
-        "the goal accepted after the bound was not cancelled")

@@ -46,6 +46,7 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.ros.introspection import enable_service_introspection
+    from sar_framework.ros.teardown import unstuck_teardown
     from sar_framework.stop_signals import stop_on_signals
 
     stop = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers
@@ -70,8 +71,9 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     finally:
         faulthandler.dump_traceback_later(teardown_report_s)
         try:
-            if node is not None:
-                node.destroy_node()
+            with unstuck_teardown():  # Fast DDS's participant teardown can spin for good
+                if node is not None:
+                    node.destroy_node()
             rclpy.try_shutdown()
         finally:
             faulthandler.cancel_dump_traceback_later()

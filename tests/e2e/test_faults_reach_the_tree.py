@@ -4,6 +4,10 @@ A server's death is a service that stops answering: the leaf fails with that rea
 its bound, and a tree written to skip goes on (regression: the supervisor aborted the whole
 run, quoting the server's last log line). The simulator is the clock: its death ends the
 run, naming the process and the signal. Nothing reported is lost, no process is left.
+
+Two kills share one run where their facts stay apart: the report server killed once
+survivor_1 is reported (survivor_2's report fails at zone_c), then the detect server on the
+way to the last zone (zone_d's detection fails).
 """
 
 from __future__ import annotations
@@ -57,24 +61,35 @@ def _pid_of(parent: int, label: str) -> int:
     raise AssertionError(f"no {label} child of {parent}")
 
 
-def _kill_when(tmp_path: Path, label: str, moment: str) -> tuple[int, str, Path, list[int]]:
+def _kill_when(tmp_path: Path, *kills: tuple[str, str]) -> tuple[int, str, Path, list[int]]:
+    """Run the quick skip tree; kill each ``(label, moment)``'s process once it printed moment."""
     report = tmp_path / "report"
     process = sar_tree_run([str(_quick_service_bounds(tmp_path)), "--speed", FAST,
                             "--timeout", "90"], report)
     try:
-        process.wait_for_output(moment, timeout=60)
-        children = child_pids(process.pid)
-        os.kill(_pid_of(process.pid, label), signal.SIGKILL)
+        children = []
+        for label, moment in kills:
+            process.wait_for_output(moment, timeout=60)
+            children = children or child_pids(process.pid)
+            os.kill(_pid_of(process.pid, label), signal.SIGKILL)
         code = process.wait(timeout=90)
     finally:
         process.stop()
     return code, process.output, report, children
 
 
-@pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Report received: survivor_1",
-                                    r"--- Zone 3/4: zone_c"])
-def test_detect_server_killed_the_tree_skips_and_finishes(tmp_path: Path, moment: str) -> None:
-    code, out, report, children = _kill_when(tmp_path, "detect", moment)
+@pytest.fixture(scope="module")
+def report_then_detect_killed(tmp_path_factory: pytest.TempPathFactory
+                              ) -> tuple[int, str, Path, list[int]]:
+    """One run, two faults that do not touch each other's facts: the report server killed
+    once survivor_1 is reported (survivor_2's report at zone_c then fails), the detect
+    server killed on the way to the last zone (its detection then fails)."""
+    return _kill_when(tmp_path_factory.mktemp("two_killed"),
+                      ("report", r"Report received: survivor_1"),
+                      ("detect", r"--- Zone 4/4: zone_d"))
+
+
+def _check_detect_killed(code: int, out: str, report: Path, children: list[int]) -> None:
     assert code == 0, out
     assert "the detect process was killed by SIGKILL mid-mission; the tree goes on" in out
     assert "DetectSurvivor [" in out and "/detect_survivor" in out  # the leaf's reason line
@@ -88,8 +103,19 @@ def test_detect_server_killed_the_tree_skips_and_finishes(tmp_path: Path, moment
     assert wait_gone(children) == []
 
 
-def test_report_server_killed_mid_mission_the_tree_goes_on(tmp_path: Path) -> None:
-    code, out, report, children = _kill_when(tmp_path, "report", r"Report received: survivor_1")
+@pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Report received: survivor_1"])
+def test_detect_server_killed_the_tree_skips_and_finishes(tmp_path: Path, moment: str) -> None:
+    _check_detect_killed(*_kill_when(tmp_path, ("detect", moment)))
+
+
+def test_detect_server_killed_before_the_last_zone_the_tree_skips_and_finishes(
+        report_then_detect_killed: tuple[int, str, Path, list[int]]) -> None:
+    _check_detect_killed(*report_then_detect_killed)
+
+
+def test_report_server_killed_mid_mission_the_tree_goes_on(
+        report_then_detect_killed: tuple[int, str, Path, list[int]]) -> None:
+    code, out, report, children = report_then_detect_killed
     assert code == 0, out
     assert "the report process was killed by SIGKILL mid-mission" in out
     assert "NotifyBase [" in out
@@ -99,7 +125,7 @@ def test_report_server_killed_mid_mission_the_tree_goes_on(tmp_path: Path) -> No
 
 @pytest.mark.parametrize("moment", [r"--- Zone 1/4: zone_a", r"Reached zone_b\."])
 def test_simulator_killed_ends_the_run_naming_it(tmp_path: Path, moment: str) -> None:
-    code, out, report, children = _kill_when(tmp_path, "sim", moment)
+    code, out, report, children = _kill_when(tmp_path, ("sim", moment))
     assert code == 1, out
     assert ("the sim process was killed by SIGKILL mid-mission; simulated time stopped, "
             "so the tree cannot go on") in out

@@ -5,8 +5,9 @@ a ``sitecustomize`` that rewrites each log message before rcutils prints it (rev
 a marker). Nothing that decides anything reads log text, so the exit code, the progress
 lines, ``mission.json`` and the events in the recording are those of an ordinary run.
 
-The ordinary run (a module fixture) also serves the refusing report server's own test: one
-mission fewer (the suite's time budget).
+The ordinary run (a module fixture) also serves the refusing report server's own test and
+the reference tree's check that ``status.json`` and ``tree.svg`` agree with the events
+(``test_views_agree_with_events``): two missions fewer (the suite's time budget).
 """
 
 from __future__ import annotations
@@ -22,6 +23,10 @@ from sar_plugins.sar.events import SarKind
 from sar_framework.events.event import EventKind
 
 from .helpers import DEFAULT_TREE, FAST, no_traceback, read_json, read_jsonl, run_to_end
+from .test_views_agree_with_events import (
+    check_completes_without_a_tip_error,
+    check_views_agree_with_the_events,
+)
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -51,7 +56,16 @@ PROGRESS = re.compile(r"^\[\s*[0-9.]+s\] runner \| (?!WARN: |ERROR: )(.*)$", re.
 @pytest.fixture(scope="module")
 def plain(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     """An ordinary run of the reference tree with a report server that refuses every report."""
-    return _run(tmp_path_factory.mktemp("plain"), "plain", {})
+    return {"tree": DEFAULT_TREE, **_run(tmp_path_factory.mktemp("plain"), "plain", {})}
+
+
+def test_the_reference_tree_completes_without_a_tip_error(plain: dict[str, Any]) -> None:
+    check_completes_without_a_tip_error(plain)
+
+
+def test_the_reference_trees_status_json_and_tree_svg_agree_with_the_events(
+        plain: dict[str, Any]) -> None:
+    check_views_agree_with_the_events(plain)
 
 
 def test_refusing_report_server_the_mission_goes_on_and_says_why(plain: dict[str, Any]) -> None:

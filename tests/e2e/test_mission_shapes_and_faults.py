@@ -97,9 +97,11 @@ def test_missing_detect_server_fails_the_tree_naming_detect_survivor(tmp_path) -
         "    children:\n      - NavigateToZone: {}\n"
         "      - DetectSurvivor: {server_timeout_s: 1.5}\n")
     report = tmp_path / "report"
-    # a tree that runs once: the runner's first terminal root status completes it
+    # a tree that runs once: the runner's first terminal root status completes it; it
+    # reports nothing, so no report server either
     code, out = run_to_end([str(tree), "--speed", FAST, "--no-detect-server",
-                            "--runner-param", "completion:=once", "--timeout", "60"], report)
+                            "--no-report-server", "--runner-param", "completion:=once",
+                            "--timeout", "60"], report)
     assert code == 1, out
     assert "Mission FAILURE" in out
     assert "DetectSurvivor [0.1] failed: /detect_survivor service not available" in out

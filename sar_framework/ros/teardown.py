@@ -66,7 +66,8 @@ def unstuck_teardown(stuck_after_s: float = STUCK_AFTER_S) -> Iterator[None]:
     watchdog = subprocess.Popen(
         [sys.executable, "-I", "-S", "-c", _WATCHDOG, str(os.getpid()),
          str(threading.get_native_id()), str(stuck_after_s)],
-        stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+        stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+        start_new_session=True)  # a Ctrl-C to the process group is not for it
     try:
         yield
     finally:

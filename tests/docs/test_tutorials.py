@@ -93,20 +93,20 @@ def sar_tree() -> Path:
 
 #: A process that has imported what the shown commands import, then runs each command in a
 #: fork of itself: a fresh process per command (its own state, its own exit code, stdout and
-#: stderr into one file), without paying the imports again for each. Protocol: one JSON line
-#: ``[script, argv, out]`` in, one line with the exit code out.
+#: stderr into files), without paying the imports again for each. Protocol: one JSON line
+#: ``[script, argv, out, err]`` in (``err`` may be ``out``), one line with the exit code out.
 FORK_SERVER = """
 import atexit, json, os, runpy, sys, traceback
 import py_trees, jsonschema, yaml
 import sar_framework.cli, sar_framework.engine.api
 sys.stdout.flush()
 for line in sys.stdin:
-    script, argv, out = json.loads(line)
+    script, argv, out, err = json.loads(line)
     pid = os.fork()
     if pid == 0:
         fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
         os.dup2(fd, 1)
-        os.dup2(fd, 2)
+        os.dup2(fd if err == out else os.open(err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC), 2)
         sys.argv = [script, *argv]
         sys.path[0] = os.path.dirname(os.path.abspath(script))
         try:
@@ -158,15 +158,25 @@ def run_shown(shown: Shown, tmp_path: Path,
     else:
         pytest.fail(f"{shown.label}: not a checked command: {shown.command}")
     out = tmp_path / "output.txt"
-    assert server.stdin is not None and server.stdout is not None
-    server.stdin.write(json.dumps([script, args, str(out)]) + "\n")
-    server.stdin.flush()
-    answer = server.stdout.readline()
-    assert answer, f"{shown.label}: the fork server ended (exit {server.wait(timeout=60)})"
+    code = fork_run(server, script, args, out)
     text = out.read_text()
     for real, shown_path in rewrites.items():
         text = text.replace(real, shown_path)
-    return int(answer), text.splitlines()
+    return code, text.splitlines()
+
+
+def fork_run(server: subprocess.Popen[str], script: str, args: list[str], out: Path,
+             err: Path | None = None) -> int:
+    """Run ``script ARGS`` in a fork of the :data:`FORK_SERVER`; its exit code.
+
+    Its stdout goes to ``out``, its stderr to ``err`` (or to ``out`` too).
+    """
+    assert server.stdin is not None and server.stdout is not None
+    server.stdin.write(json.dumps([script, args, str(out), str(err or out)]) + "\n")
+    server.stdin.flush()
+    answer = server.stdout.readline()
+    assert answer, f"{script} {args}: the fork server ended (exit {server.wait(timeout=60)})"
+    return int(answer)
 
 
 def test_there_are_six_to_ten_tutorials_each_with_its_trees() -> None:
@@ -314,11 +324,13 @@ def test_port_leaves_read_and_write_their_entries() -> None:
     ("zome=zone_a", "--set zome=zone_a: the tree declares no entry 'zome'"),
     ("battery=full", "--set battery=full: expected a float, got 'full'"),
 ])
-def test_tick_refuses_a_bad_set(assignment: str, message: str) -> None:
-    done = subprocess.run(
-        [sys.executable, "trees/tutorials/tick.py", "trees/tutorials/09_ports_and_blackboard.yaml",
-         "--set", assignment], cwd=REPO, capture_output=True, text=True, timeout=60, check=False)
-    assert (done.returncode, done.stdout, done.stderr) == (2, "", f"{message}\n")
+def test_tick_refuses_a_bad_set(assignment: str, message: str, tmp_path: Path,
+                                fork_server: subprocess.Popen[str]) -> None:
+    out, err = tmp_path / "stdout.txt", tmp_path / "stderr.txt"
+    code = fork_run(fork_server, "trees/tutorials/tick.py",
+                    ["trees/tutorials/09_ports_and_blackboard.yaml", "--set", assignment],
+                    out, err)
+    assert (code, out.read_text(), err.read_text()) == (2, "", f"{message}\n")
 
 
 def test_tutorial_plugin_imports_without_ros() -> None:

@@ -27,19 +27,17 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from e2e.helpers import DEFAULT_TREE, FAST
-from sar_testing.spin import ros_node
+from e2e.helpers import DEFAULT_TREE
 
 from sar_framework.testing.browser import browser_missing, headless_chromium, start_studio
 from sar_framework.testing.processes import NodeProcess
-from sar_framework.testing.sim_control import set_sim_params
 
 from .page import assert_drawn, state, until, wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow, pytest.mark.browser,
               pytest.mark.skipif(browser_missing() is not None, reason=str(browser_missing()))]
 
-SPEED = "10"  # until the page has followed a zone goal; then FAST
+SPEED = "10"
 NAMES = ["NavigateToZone", "NavigateToBase", "MissionOrReturnToBase"]
 ANCHOR = "- AdvanceZone: {}"
 TYPED = "\n            - Dwel: {name: Linger, duration: 0.5}"
@@ -112,11 +110,6 @@ def test_the_page_follows_the_running_mission(mission: Mission) -> None:
     moved = wait_for(driver, NAMES, moved_and_recoloured, 90,
                      "the robot 1 m on and the zone goal's colour changed")
     assert moved["tick"] > running["tick"]
-    # The rest of the mission at FAST (ros2 param set /sar_sim speed): the hold, not the
-    # speed, keeps the reload mid-mission, and the end needs no slow run.
-    with ros_node("speed_setter") as (node, executor):
-        (sped_up,) = set_sim_params(node, executor, speed=float(FAST))
-    assert sped_up.successful, sped_up.reason
 
 
 def applied(driver: Any, prefix: str) -> str:

@@ -8,15 +8,19 @@ commands that need no ROS may appear in a console block (``sar-tree validate``,
 ``render``, ``plugins``, ``schema`` and ``python trees/tutorials/tick.py``); output of
 commands that start ROS (``sar-tree run``) is shown in ``text`` blocks and is not
 checked. ``render -o`` writes into a temporary directory instead of docs/tutorials/img/.
+Each command runs in a process of its own, forked from one that has imported the libraries
+the commands share (see :data:`FORK_SERVER`).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shlex
 import subprocess
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -80,13 +84,62 @@ def matches(expected: tuple[str, ...], actual: list[str]) -> bool:
     return bool(actual) and actual[0] == head and matches(tuple(rest), actual[1:])
 
 
-def sar_tree() -> list[str]:
-    """How to start ``sar-tree`` with this interpreter's environment."""
+def sar_tree() -> Path:
+    """The ``sar-tree`` script of this interpreter's environment."""
     script = Path(sys.executable).parent / "sar-tree"
-    return [str(script)] if script.exists() else [sys.executable, "-m", "sar_framework"]
+    assert script.exists(), f"no sar-tree script beside {sys.executable}"
+    return script
 
 
-def run_shown(shown: Shown, tmp_path: Path) -> tuple[int, list[str]]:
+#: A process that has imported what the shown commands import, then runs each command in a
+#: fork of itself: a fresh process per command (its own state, its own exit code, stdout and
+#: stderr into files), without paying the imports again for each. Protocol: one JSON line
+#: ``[script, argv, out, err]`` in (``err`` may be ``out``), one line with the exit code out.
+FORK_SERVER = """
+import atexit, json, os, runpy, sys, traceback
+import py_trees, jsonschema, yaml
+import sar_framework.cli, sar_framework.engine.api
+sys.stdout.flush()
+for line in sys.stdin:
+    script, argv, out, err = json.loads(line)
+    pid = os.fork()
+    if pid == 0:
+        fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
+        os.dup2(fd, 1)
+        os.dup2(fd if err == out else os.open(err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC), 2)
+        sys.argv = [script, *argv]
+        sys.path[0] = os.path.dirname(os.path.abspath(script))
+        try:
+            runpy.run_path(script, run_name="__main__")
+            code = 0
+        except SystemExit as end:
+            code = end.code if isinstance(end.code, int) else (end.code is not None)
+            if end.code is not None and not isinstance(end.code, int):
+                print(end.code, file=sys.stderr)
+        except BaseException:
+            traceback.print_exc()
+            code = 1
+        atexit._run_exitfuncs()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(int(code))
+    _, status = os.waitpid(pid, 0)
+    print(os.waitstatus_to_exitcode(status), flush=True)
+"""
+
+
+@pytest.fixture(scope="module")
+def fork_server() -> Iterator[subprocess.Popen[str]]:
+    """The :data:`FORK_SERVER`, started from the repository root as the shell would run."""
+    env = {**os.environ, "COLUMNS": "80", "PYTHONDONTWRITEBYTECODE": "1"}
+    with subprocess.Popen([sys.executable, "-c", FORK_SERVER], cwd=REPO, env=env, text=True,
+                          stdin=subprocess.PIPE, stdout=subprocess.PIPE) as server:
+        yield server
+        server.stdin.close()
+
+
+def run_shown(shown: Shown, tmp_path: Path,
+              server: subprocess.Popen[str]) -> tuple[int, list[str]]:
     """Run one shown command from the repository root; return its code and output lines."""
     argv = shlex.split(shown.command)
     rewrites: dict[str, str] = {}
@@ -99,18 +152,31 @@ def run_shown(shown: Shown, tmp_path: Path) -> tuple[int, list[str]]:
             target = tmp_path / Path(argv[index]).name
             rewrites[str(target)] = argv[index]
             argv[index] = str(target)
-        argv = sar_tree() + argv[1:]
+        script, args = str(sar_tree()), argv[1:]
     elif argv[:2] == ["python", "trees/tutorials/tick.py"]:
-        argv = [sys.executable, *argv[1:]]
+        script, args = argv[1], argv[2:]
     else:
         pytest.fail(f"{shown.label}: not a checked command: {shown.command}")
-    env = {**os.environ, "COLUMNS": "80", "PYTHONDONTWRITEBYTECODE": "1"}
-    done = subprocess.run(argv, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          text=True, timeout=120, env=env, check=False)
-    out = done.stdout
+    out = tmp_path / "output.txt"
+    code = fork_run(server, script, args, out)
+    text = out.read_text()
     for real, shown_path in rewrites.items():
-        out = out.replace(real, shown_path)
-    return done.returncode, out.splitlines()
+        text = text.replace(real, shown_path)
+    return code, text.splitlines()
+
+
+def fork_run(server: subprocess.Popen[str], script: str, args: list[str], out: Path,
+             err: Path | None = None) -> int:
+    """Run ``script ARGS`` in a fork of the :data:`FORK_SERVER`; its exit code.
+
+    Its stdout goes to ``out``, its stderr to ``err`` (or to ``out`` too).
+    """
+    assert server.stdin is not None and server.stdout is not None
+    server.stdin.write(json.dumps([script, args, str(out), str(err or out)]) + "\n")
+    server.stdin.flush()
+    answer = server.stdout.readline()
+    assert answer, f"{script} {args}: the fork server ended (exit {server.wait(timeout=60)})"
+    return int(answer)
 
 
 def test_there_are_six_to_ten_tutorials_each_with_its_trees() -> None:
@@ -146,8 +212,9 @@ def test_every_checked_block_has_commands() -> None:
 
 
 @pytest.mark.parametrize("shown", RUN, ids=[s.label for s in RUN])
-def test_shown_command_prints_the_shown_output(shown: Shown, tmp_path: Path) -> None:
-    code, actual = run_shown(shown, tmp_path)
+def test_shown_command_prints_the_shown_output(shown: Shown, tmp_path: Path,
+                                               fork_server: subprocess.Popen[str]) -> None:
+    code, actual = run_shown(shown, tmp_path, fork_server)
     expected = shown.expected
     position = ALL.index(shown)
     if position + 1 < len(ALL) and ALL[position + 1].command == "echo $?" \
@@ -257,11 +324,13 @@ def test_port_leaves_read_and_write_their_entries() -> None:
     ("zome=zone_a", "--set zome=zone_a: the tree declares no entry 'zome'"),
     ("battery=full", "--set battery=full: expected a float, got 'full'"),
 ])
-def test_tick_refuses_a_bad_set(assignment: str, message: str) -> None:
-    done = subprocess.run(
-        [sys.executable, "trees/tutorials/tick.py", "trees/tutorials/09_ports_and_blackboard.yaml",
-         "--set", assignment], cwd=REPO, capture_output=True, text=True, timeout=60, check=False)
-    assert (done.returncode, done.stdout, done.stderr) == (2, "", f"{message}\n")
+def test_tick_refuses_a_bad_set(assignment: str, message: str, tmp_path: Path,
+                                fork_server: subprocess.Popen[str]) -> None:
+    out, err = tmp_path / "stdout.txt", tmp_path / "stderr.txt"
+    code = fork_run(fork_server, "trees/tutorials/tick.py",
+                    ["trees/tutorials/09_ports_and_blackboard.yaml", "--set", assignment],
+                    out, err)
+    assert (code, out.read_text(), err.read_text()) == (2, "", f"{message}\n")
 
 
 def test_tutorial_plugin_imports_without_ros() -> None:

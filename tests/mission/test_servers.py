@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
+import re
 import signal
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -15,7 +18,7 @@ from sar_plugins.sar.servers.survivors import (
     load_survivors,
 )
 from sar_testing.processes import NodeProcess
-from sar_testing.spin import call_service, spin_until
+from sar_testing.spin import call_service, ros_node, spin_until
 
 REPO = Path(__file__).resolve().parents[2]
 DISCOVERY_S = 15.0
@@ -134,20 +137,46 @@ def test_detect_server_bad_table_exits_2_with_one_message(tmp_path):
     assert "Traceback" not in server.output
 
 
-@pytest.mark.ros
-def test_report_is_on_disk_when_acknowledged_even_after_sigkill(ros, tmp_path):
-    file = tmp_path / "reports.jsonl"
+REPEATED = "Repeated report: survivor_1 .* Acknowledged; already on record"
+
+
+@dataclass(frozen=True)
+class Killed:
+    """A report server that was told survivor_1 twice, then killed (SIGKILL)."""
+
+    file: Path
+    acknowledged: tuple[bool, bool]
+    output: str
+    records: list[dict]  # the file's records right after the kill
+
+
+@pytest.fixture(scope="module")
+def killed(tmp_path_factory: pytest.TempPathFactory) -> Killed:
+    """One report server run for the durability and the restart tests: survivor_1 reported
+    twice (the repeat acknowledged and written once), then SIGKILL, with no chance to flush
+    anything after answering. The restart test starts a second server on its file."""
+    folder = tmp_path_factory.mktemp("killed")
+    file = folder / "reports.jsonl"
     server = NodeProcess([*REPORT, "--ros-args", "-p", f"report_file:={file}"], "report",
-                         log_dir=tmp_path).start()
+                         log_dir=folder).start()
     try:
         server.wait_for_output("ready")
-        assert report(ros, "survivor_1") is True
-        server.send_signal(signal.SIGKILL)  # no chance to flush anything after answering
+        with ros_node("report_client") as ros:
+            acknowledged = (report(ros, "survivor_1"), report(ros, "survivor_1"))
+        with contextlib.suppress(AssertionError):  # the restart test asserts it, by name
+            server.wait_for_output(REPEATED)
+        server.send_signal(signal.SIGKILL)
         server.wait(timeout=10)
     finally:
         server.stop()
-    assert "Report received: survivor_1 at (-2.50, 3.20). Acknowledged." in server.output
-    (record,) = records(file)
+    return Killed(file, acknowledged, server.output, records(file))
+
+
+@pytest.mark.ros
+def test_report_is_on_disk_when_acknowledged_even_after_sigkill(killed: Killed):
+    assert killed.acknowledged[0] is True
+    assert "Report received: survivor_1 at (-2.50, 3.20). Acknowledged." in killed.output
+    (record,) = killed.records
     assert record["survivor_id"] == "survivor_1"
     assert (record["x"], record["y"], record["frame_id"]) == (-2.5, 3.2, "map")
 
@@ -172,21 +201,18 @@ def test_bad_reports_are_refused_with_a_warning(ros, tmp_path):
 
 
 @pytest.mark.ros
-def test_repeated_id_is_acknowledged_but_written_once_across_restarts(ros, tmp_path):
-    file = tmp_path / "reports.jsonl"
-    args = [*REPORT, "--ros-args", "-p", f"report_file:={file}"]
-    with NodeProcess(args, "report1", log_dir=tmp_path) as first:
-        first.wait_for_output("ready")
-        assert report(ros, "survivor_1") is True
-        assert report(ros, "survivor_1") is True
-        first.wait_for_output("Repeated report: survivor_1 .* Acknowledged; already on record")
+def test_repeated_id_is_acknowledged_but_written_once_across_restarts(ros, tmp_path,
+                                                                      killed: Killed):
+    assert killed.acknowledged == (True, True)  # the repeat too, in the first server
+    assert re.search(REPEATED, killed.output), killed.output
+    args = [*REPORT, "--ros-args", "-p", f"report_file:={killed.file}"]
     with NodeProcess(args, "report2", log_dir=tmp_path) as second:
         second.wait_for_output(r"ready: .*\(1 survivors already on record\)")
         assert report(ros, "survivor_1", x=0.5) is True
         second.wait_for_output("differs from the recorded")
         assert report(ros, "survivor_2", x=4.1, y=-2.5) is True
-    assert [r["survivor_id"] for r in records(file)] == ["survivor_1", "survivor_2"]
-    assert records(file)[0]["x"] == -2.5
+    assert [r["survivor_id"] for r in records(killed.file)] == ["survivor_1", "survivor_2"]
+    assert records(killed.file)[0]["x"] == -2.5
 
 
 @pytest.mark.ros

@@ -13,12 +13,11 @@ import sys
 import time
 import uuid
 from collections.abc import Callable, Iterator
-from pathlib import Path
 from typing import Any
 
 import py_trees
 import pytest
-from e2e.helpers import DEFAULT_TREE, REPO, sar_tree_run
+from e2e.helpers import DEFAULT_TREE, REPO
 from sar_testing.spin import call_service, ros_node, spin_until
 
 from sar_framework.sim.params import sim_default
@@ -84,18 +83,6 @@ def test_watch_without_a_mission_says_so(terminal) -> None:
     assert "no mission ticked on /sar_tree/status within 2 s" in final
 
 
-def test_run_watch_draws_the_tree_instead_of_progress_lines(terminal, tmp_path: Path) -> None:
-    report = tmp_path / "report"
-    screen = terminal([*SAR_TREE, "run", str(DEFAULT_TREE), "--speed", "20", "--watch",
-                       "--report-dir", str(report)])
-    final = screen.wait_for(lambda s: "EXIT=" in s, 120)
-    assert "EXIT=0" in final
-    assert "mission over: SUCCESS" in final
-    assert "sar-tree run: Mission SUCCESS" in final
-    assert "runner |" not in final  # no progress lines while the tree is drawn
-    assert (report / "mission.json").is_file()
-
-
 def open_snapshot_stream(node, executor) -> str:
     """Open a stream on whichever tree offers one, as py-trees-tree-watcher does; its topic."""
     from py_trees_ros_interfaces.srv import OpenSnapshotStream
@@ -119,58 +106,72 @@ RUNNING = "* NavigateToZone  navigating to zone_"
 
 @pytest.fixture(scope="module")
 def watched_mission(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    """One mission at speed 10 (the default once a zone goal was drawn), followed by
-    ``sar-tree watch`` in a terminal and, where py_trees_ros is installed, by a listener of
-    the runner's snapshot stream.
+    """One mission, ``sar-tree run --watch`` in a terminal at speed 10 (the simulator's
+    default once a zone goal was drawn), followed by ``sar-tree watch`` in a second terminal
+    and, where py_trees_ros is installed, by a listener of the runner's snapshot stream.
 
     Returns the watch's screen while a zone goal runs (``running``) and at its end
-    (``final``), the mission's exit code and the stream's statuses by tick (``by_tick``).
+    (``final``), the run's own screen at its end (``run_final``), the run's exit code
+    (``code``), its report folder (``report``) and the stream's statuses by tick
+    (``by_tick``).
     """
     snapshots = importlib.util.find_spec("py_trees_ros_interfaces") is not None
+    report = tmp_path_factory.mktemp("watched") / "report"
     screen = Terminal([*SAR_TREE, "watch", "--wait", "60"])
-    seen: dict[str, Any] = {"running": "", "final": "", "by_tick": {}, "snapshots": snapshots}
+    seen: dict[str, Any] = {"running": "", "final": "", "run_final": "", "by_tick": {},
+                            "snapshots": snapshots, "report": report}
+    run: Terminal | None = None
     try:
         screen.wait_for(lambda s: "waiting for a mission on /sar_tree/status" in s, 30)
-        mission = sar_tree_run([str(DEFAULT_TREE), "--speed", "10"],
-                               tmp_path_factory.mktemp("watched") / "report")
-        try:
-            with ros_node("snapshot_listener") as (node, executor):
-                if snapshots:
-                    from py_trees_ros_interfaces.msg import BehaviourTree
+        run = Terminal([*SAR_TREE, "run", str(DEFAULT_TREE), "--speed", "10", "--watch",
+                        "--report-dir", str(report)])
+        with ros_node("snapshot_listener") as (node, executor):
+            if snapshots:
+                from py_trees_ros_interfaces.msg import BehaviourTree
 
-                    by_tick = seen["by_tick"]
-                    node.create_subscription(
-                        BehaviourTree, open_snapshot_stream(node, executor),
-                        lambda m: by_tick.__setitem__(m.statistics.count + 1, sorted(
-                            (SYMBOLS[b.status], b.name) for b in m.behaviours)), 100)
-                calls = itertools.count()
+                by_tick = seen["by_tick"]
+                node.create_subscription(
+                    BehaviourTree, open_snapshot_stream(node, executor),
+                    lambda m: by_tick.__setitem__(m.statistics.count + 1, sorted(
+                        (SYMBOLS[b.status], b.name) for b in m.behaviours)), 100)
+            calls = itertools.count()
 
-                def over() -> bool:  # spin_until asks every 10 ms; the screen is read every 20th
-                    if next(calls) % 20:
-                        return False
-                    text = screen.screen()
-                    if not seen["running"] and RUNNING in text and "ticks/s" in text:
-                        seen["running"] = text
-                    seen["final"] = text
-                    return "EXIT=" in text
+            def over() -> bool:  # spin_until asks every 10 ms; the screen is read every 20th
+                if next(calls) % 20:
+                    return False
+                text = screen.screen()
+                if not seen["running"] and RUNNING in text and "ticks/s" in text:
+                    seen["running"] = text
+                seen["final"] = text
+                return "EXIT=" in text
 
-                # At speed 10 until a zone goal is on the screen, then at the simulator's
-                # default (ros2 param set /sar_sim speed): the rest needs no slow run.
-                spin_until(executor, lambda: over() or bool(seen["running"]), 150.0)
-                if seen["running"]:
-                    (sped_up,) = set_sim_params(node, executor, speed=sim_default("speed"))
-                    assert sped_up.successful, sped_up.reason
-                spin_until(executor, over, 150.0)
-                drawn_tick = re.search(r"search_and_rescue  tick (\d+)", seen["final"])
-                if snapshots and drawn_tick:  # its snapshot may still be on its way
-                    spin_until(executor, lambda: int(drawn_tick.group(1)) in seen["by_tick"],
-                               5.0)
-            seen["code"] = mission.wait(timeout=30)
-        finally:
-            mission.stop()
+            # At speed 10 until a zone goal is on the screen, then at the simulator's
+            # default (ros2 param set /sar_sim speed): the rest needs no slow run.
+            spin_until(executor, lambda: over() or bool(seen["running"]), 150.0)
+            if seen["running"]:
+                (sped_up,) = set_sim_params(node, executor, speed=sim_default("speed"))
+                assert sped_up.successful, sped_up.reason
+            spin_until(executor, over, 150.0)
+            drawn_tick = re.search(r"search_and_rescue  tick (\d+)", seen["final"])
+            if snapshots and drawn_tick:  # its snapshot may still be on its way
+                spin_until(executor, lambda: int(drawn_tick.group(1)) in seen["by_tick"],
+                           5.0)
+        seen["run_final"] = run.wait_for(lambda s: "EXIT=" in s, 60)
+        seen["code"] = int(re.search(r"EXIT=(\d+)", seen["run_final"]).group(1))
     finally:
+        if run is not None:
+            run.close()
         screen.close()
     return seen
+
+
+def test_run_watch_draws_the_tree_instead_of_progress_lines(watched_mission) -> None:
+    final = watched_mission["run_final"]
+    assert "EXIT=0" in final
+    assert "mission over: SUCCESS" in final
+    assert "sar-tree run: Mission SUCCESS" in final
+    assert "runner |" not in final  # no progress lines while the tree is drawn
+    assert (watched_mission["report"] / "mission.json").is_file()
 
 
 def test_watch_follows_a_mission_and_exits_when_it_is_over(watched_mission) -> None:

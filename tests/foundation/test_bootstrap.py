@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 
@@ -101,30 +102,55 @@ def test_python_other_than_311_without_311_explains(monkeypatch: pytest.MonkeyPa
         bootstrap.find_python()
 
 
-def test_unreachable_index_is_explained_and_the_next_run_can_finish(tmp_path: Path) -> None:
-    venv = tmp_path / "venv"
+@dataclass
+class OfflineRun:
+    """The bootstrap run offline over a half-made venv: what it said and left."""
+
+    venv: Path
+    done: subprocess.CompletedProcess[str]
+    stamps: dict[str, str]  # the venv's stamps just after the run
+
+
+@pytest.fixture(scope="module")
+def offline_over_a_broken_venv(tmp_path_factory: pytest.TempPathFactory) -> OfflineRun:
+    """One bootstrap run for two facts: a broken venv is replaced, then pip cannot download.
+
+    Both need a venv made from scratch (most of the run's cost): one is made, not two.
+    """
+    venv = tmp_path_factory.mktemp("offline") / "venv"
+    (venv / "bin").mkdir(parents=True)
+    (venv / "bin" / "python").write_text("#!/bin/sh\nexit 1\n")  # a half-made venv
+    (venv / "bin" / "python").chmod(0o755)
     offline = dict(
         os.environ, SAR_VENV=str(venv), PIP_INDEX_URL="http://127.0.0.1:9/simple",
         PIP_EXTRA_INDEX_URL="", PIP_FIND_LINKS="", PIP_RETRIES="0", PIP_TIMEOUT="2",
         PIP_CONSTRAINT="",
     )
     done = run_bootstrap("--no-compat", env=offline)
-    assert done.returncode == 1
+    stamps_file = venv / ".sar-stamps.json"
+    stamps = json.loads(stamps_file.read_text()) if stamps_file.exists() else {}
+    return OfflineRun(venv, done, stamps)
+
+
+def test_unreachable_index_is_explained_and_the_next_run_can_finish(
+        offline_over_a_broken_venv: OfflineRun) -> None:
+    venv, done = offline_over_a_broken_venv.venv, offline_over_a_broken_venv.done
+    assert done.returncode == 1, done.stdout + done.stderr
     assert "could not download packages from the Python package index" in done.stderr
     assert "Traceback (most recent call last)" not in done.stderr.split("pip install")[0]
     # The venv itself is whole; the failed step is not stamped, so the next run redoes it.
     assert (venv / "bin" / "python").exists()
-    stamps_file = venv / ".sar-stamps.json"
-    stamps = json.loads(stamps_file.read_text()) if stamps_file.exists() else {}
-    assert "requirements" not in stamps
+    assert "requirements" not in offline_over_a_broken_venv.stamps
 
 
-def test_broken_venv_is_replaced(tmp_path: Path) -> None:
+def test_broken_venv_is_replaced(offline_over_a_broken_venv: OfflineRun, tmp_path: Path
+                                 ) -> None:
+    venv, done = offline_over_a_broken_venv.venv, offline_over_a_broken_venv.done
+    assert f"replacing virtual environment {venv}" in done.stdout, done.stdout + done.stderr
+    assert subprocess.run([str(venv / "bin" / "python"), "-c", "pass"],
+                          check=False).returncode == 0
+    # The replacement is a whole venv: the set-up's venv step finishes on it.
     bootstrap = load_bootstrap()
-    venv = tmp_path / "venv"
-    (venv / "bin").mkdir(parents=True)
-    (venv / "bin" / "python").write_text("#!/bin/sh\nexit 1\n")  # a half-made venv
-    (venv / "bin" / "python").chmod(0o755)
     req = tmp_path / "empty.txt"
     req.write_text("# nothing\n")
     stamps = bootstrap.ensure_venv(sys.executable, venv, [req])
@@ -311,18 +337,11 @@ def test_every_executable_a_mission_or_fleet_starts_is_linked_for_ros2_launch(
 
 
 @pytest.mark.slow
-def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -> None:
+def test_overlay_interface_packages_get_c_and_python_code_only(demo_build: DemoBuild) -> None:
     # tools/rosidl_no_cpp.cmake (CMAKE_PROJECT_INCLUDE of the overlay build) drops the C++
     # generators: a demo interface package gets its C typesupports and Python module, and
     # no C++ typesupport library. A package outside the interface group is left alone.
-    prefix = Path(sys.prefix)
-    if not (prefix / "share" / "rosidl_default_generators").is_dir():
-        pytest.skip("no rosidl generators in this venv (a sourced ROS 2 provides them)")
-    source = demo_interface_package(tmp_path)
-    build = tmp_path / "build"
-    env = dict(os.environ, CMAKE_PREFIX_PATH=str(prefix), AMENT_PREFIX_PATH=str(prefix),
-               PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}")
-    cmake_build(source, build, env)
+    build = demo_build.root / "build"
     built = {p.name for p in build.rglob("*.so")}
     assert {"libdemo_msgs__rosidl_generator_c.so", "libdemo_msgs__rosidl_typesupport_c.so",
             "libdemo_msgs__rosidl_typesupport_fastrtps_c.so",
@@ -336,7 +355,8 @@ def test_overlay_interface_packages_get_c_and_python_code_only(tmp_path: Path) -
             "serialize_message as s, deserialize_message as d; "
             "print(d(s(Ping(text='over DDS')), Ping).text)")
     library_path = os.pathsep.join([str(build), os.environ.get("LD_LIBRARY_PATH", "")])
-    env.update(PYTHONPATH=str(build / "rosidl_generator_py"), LD_LIBRARY_PATH=library_path)
+    env = dict(demo_build.env, PYTHONPATH=str(build / "rosidl_generator_py"),
+               LD_LIBRARY_PATH=library_path)
     done = subprocess.run([sys.executable, "-c", code], env=env, text=True,
                           capture_output=True, check=False)
     assert done.stdout.strip() == "over DDS", done.stderr
@@ -413,31 +433,73 @@ def cmake_build(source: Path, build: Path, env: dict[str, str], *options: str) -
         assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
 
 
-def test_a_build_in_another_folder_compiles_from_the_compiler_cache(
-        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    # A fresh clone builds the overlay's generated C again: with ccache (setup_base.
-    # compiler_cache) the second build, at another path, compiles nothing itself.
+def ccache_stats(env: dict[str, str]) -> dict[str, str]:
+    """``ccache --print-stats`` of the cache ``env`` names, as a dict."""
+    stats = subprocess.run(["ccache", "--print-stats"], env=env, text=True,
+                           capture_output=True, check=True).stdout
+    return dict(line.split("\t") for line in stats.splitlines() if "\t" in line)
+
+
+@dataclass
+class DemoBuild:
+    """The demo interface package built once in ``root`` (``root/build``), as the overlay is.
+
+    Attributes:
+        root: The first clone: ``root/demo_msgs`` built in ``root/build``.
+        env: The build's environment, without the compiler cache's entries.
+        ccache: The compiler cache of this module's builds; None without ccache.
+        cache_env: The compiler cache's environment entries the build had.
+        options: The compiler cache's CMake arguments the build had.
+        stats: The cache's statistics just after the build (empty without ccache).
+    """
+
+    root: Path
+    env: dict[str, str]
+    ccache: Path | None
+    cache_env: dict[str, str]
+    options: list[str]
+    stats: dict[str, str]
+
+
+@pytest.fixture(scope="module")
+def demo_build(tmp_path_factory: pytest.TempPathFactory) -> DemoBuild:
+    """One real build for what the build makes and for the compiler cache's first clone."""
     prefix = Path(sys.prefix)
     if not (prefix / "share" / "rosidl_default_generators").is_dir():
         pytest.skip("no rosidl generators in this venv (a sourced ROS 2 provides them)")
-    if shutil.which("ccache") is None:
-        pytest.skip("ccache is not installed (make setup installs it when run as root)")
-    monkeypatch.setenv("CCACHE_DIR", str(tmp_path / "ccache"))  # this test's own cache
-    setup_base = load_module(ROOT / "tools" / "setup_base.py")
+    work = tmp_path_factory.mktemp("demo_build")
+    ccache = work / "ccache" if shutil.which("ccache") else None  # this module's own cache
     env = dict(os.environ, CMAKE_PREFIX_PATH=str(prefix), AMENT_PREFIX_PATH=str(prefix),
                PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}")
-    counts = []
-    for place in ("first_clone", "second_clone"):
-        root = tmp_path / place
+    root = work / "first_clone"
+    setup_base = load_module(ROOT / "tools" / "setup_base.py")
+    with pytest.MonkeyPatch.context() as patch:
+        if ccache is not None:
+            patch.setenv("CCACHE_DIR", str(ccache))
         options, cache_env = setup_base.compiler_cache(root)
-        assert cache_env["CCACHE_DIR"] == str(tmp_path / "ccache")
-        assert cache_env["CCACHE_BASEDIR"] == str(root)
-        cmake_build(demo_interface_package(root), root / "build", dict(env, **cache_env),
-                    *options)
-        stats = subprocess.run(["ccache", "--print-stats"], env=env, text=True,
-                               capture_output=True, check=True).stdout
-        counts.append(dict(line.split("\t") for line in stats.splitlines() if "\t" in line))
-    first, second = counts
+    cmake_build(demo_interface_package(root), root / "build", dict(env, **cache_env), *options)
+    stats = ccache_stats(dict(env, CCACHE_DIR=str(ccache))) if ccache is not None else {}
+    return DemoBuild(root, env, ccache, cache_env, options, stats)
+
+
+def test_a_build_in_another_folder_compiles_from_the_compiler_cache(
+        demo_build: DemoBuild, monkeypatch: pytest.MonkeyPatch) -> None:
+    # A fresh clone builds the overlay's generated C again: with ccache (setup_base.
+    # compiler_cache) the second build, at another path, compiles nothing itself.
+    if demo_build.ccache is None:
+        pytest.skip("ccache is not installed (make setup installs it when run as root)")
+    assert demo_build.options, "the first clone's build did not go through ccache"
+    assert demo_build.cache_env["CCACHE_DIR"] == str(demo_build.ccache)
+    assert demo_build.cache_env["CCACHE_BASEDIR"] == str(demo_build.root)
+    monkeypatch.setenv("CCACHE_DIR", str(demo_build.ccache))  # the first clone's cache
+    setup_base = load_module(ROOT / "tools" / "setup_base.py")
+    root = demo_build.root.parent / "second_clone"
+    options, cache_env = setup_base.compiler_cache(root)
+    assert cache_env["CCACHE_DIR"] == str(demo_build.ccache)
+    assert cache_env["CCACHE_BASEDIR"] == str(root)
+    cmake_build(demo_interface_package(root), root / "build",
+                dict(demo_build.env, **cache_env), *options)
+    first, second = demo_build.stats, ccache_stats(dict(demo_build.env, **cache_env))
     compiled = int(first["cache_miss"])
     assert compiled > 5 and int(first["direct_cache_hit"]) == 0, first
     assert int(second["cache_miss"]) == compiled, "the second build compiled something again"

@@ -86,9 +86,21 @@ def recorded(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[str, 
     return record, read_json(folder / "report" / "mission.json")
 
 
-def test_an_independent_reader_rebuilds_path_zones_and_survivors(recorded) -> None:
-    record, mission = recorded
-    topics = read_with_rosbags(record)
+@pytest.fixture(scope="module")
+def by_rosbags(recorded) -> dict[str, list[tuple[int, Any]]]:
+    """The recording decoded once by ``rosbags`` for the tests that read it."""
+    return read_with_rosbags(recorded[0])
+
+
+@pytest.fixture(scope="module")
+def by_mcap_ros2(recorded) -> dict[str, list[Any]]:
+    """The recording decoded once by ``mcap_ros2`` for the tests that read it."""
+    return read_with_mcap_ros2(recorded[0])
+
+
+def test_an_independent_reader_rebuilds_path_zones_and_survivors(recorded, by_rosbags) -> None:
+    _record, mission = recorded
+    topics = by_rosbags
 
     # the path: /tf, as long as the simulator's own odometer says (within 2 %)
     path = robot_path(topics["/tf"])
@@ -137,17 +149,17 @@ def test_an_independent_reader_rebuilds_path_zones_and_survivors(recorded) -> No
     assert sum(e.response[0].found for e in detections) == 2
 
 
-def test_both_independent_readers_decode_every_message(recorded) -> None:
+def test_both_independent_readers_decode_every_message(recorded, by_rosbags,
+                                                      by_mcap_ros2) -> None:
     record, _mission = recorded
     counts = message_counts(record)
     assert len(counts) == len(RECORDED_TOPICS) + len(APP.recorded_topics)  # the servers
     assert all(counts.values()), counts
-    for topics in (read_with_mcap_ros2(record), read_with_rosbags(record)):
+    for topics in (by_mcap_ros2, by_rosbags):
         assert {topic: len(messages) for topic, messages in topics.items()} == counts
     # the hidden action topic, by both, with its goal ids and the robot's progress
-    feedback = read_with_mcap_ros2(record)["/navigate_to_pose/_action/feedback"]
-    rosbags_feedback = [m for _s, m in read_with_rosbags(record)[
-        "/navigate_to_pose/_action/feedback"]]
+    feedback = by_mcap_ros2["/navigate_to_pose/_action/feedback"]
+    rosbags_feedback = [m for _s, m in by_rosbags["/navigate_to_pose/_action/feedback"]]
     assert [bytes(m.goal_id.uuid) for m in feedback] == \
         [bytes(m.goal_id.uuid) for m in rosbags_feedback]
     assert [m.feedback.distance_remaining for m in feedback] == \
@@ -206,14 +218,14 @@ def test_replay_draws_the_report_from_the_recording_alone(recorded, tmp_path) ->
     assert "MissionOrReturnToBase" in svg and "NavigateToBase" in svg
 
 
-def test_replay_refuses_a_file_that_is_not_a_recording(tmp_path) -> None:
-    import subprocess
-    import sys
+def test_replay_refuses_a_file_that_is_not_a_recording(
+        tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    from sar_framework.cli import main
 
+    # sar-tree replay's main, in this process (no Python started for a refusal)
     bad = tmp_path / "not.mcap"
     bad.write_text("hello")
-    result = subprocess.run([sys.executable, "-m", "sar_framework", "replay", str(bad)],
-                            capture_output=True, text=True, timeout=60, check=False)
-    assert result.returncode == 2
-    assert "not.mcap: cannot read the recording" in result.stderr
-    assert "Traceback" not in result.stderr
+    assert main(["replay", str(bad)]) == 2
+    said = capsys.readouterr()
+    assert "not.mcap: cannot read the recording" in said.err
+    assert "Traceback" not in said.out + said.err

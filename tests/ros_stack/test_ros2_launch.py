@@ -143,10 +143,12 @@ def test_the_fleet_launch_runs_two_robots_to_the_end(tmp_path):
 
     env = launch_env(tmp_path, ROS_LOG_DIR=str(tmp_path / "ros-log"),
                      RCUTILS_COLORIZED_OUTPUT="0", PYTHONUNBUFFERED="1")
+    # At the e2e tests' FAST speed, as the launches above: the test is not about the speed.
     proc = subprocess.Popen(
-        [str(ROS2), "launch", "sar_framework", "fleet.launch.py", "robots:=2", "speed:=30.0",
-         f"report_dir:={tmp_path}"], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT, text=True, env=env, start_new_session=True)
+        [str(ROS2), "launch", "sar_framework", "fleet.launch.py", "robots:=2",
+         f"speed:={FAST}", f"report_dir:={tmp_path}"], stdin=subprocess.DEVNULL,
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+        start_new_session=True)
     STARTED.append(proc)
     output, _ = proc.communicate(timeout=180)  # outer safety bound (~25 s idle)
     assert proc.returncode == 0, output

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 from sar_framework.events.event import EVENT_TOPIC, EVENT_TYPE
 from sar_framework.recording.bag_writer import BagWriter
 from sar_framework.recording.sources import RunSources, collect, media_type
-from sar_framework.ros.teardown import unstuck_teardown
+from sar_framework.ros.teardown import bounded_teardown
 from sar_framework.runner.tree_status import STATUS_TOPIC, STATUS_TYPE
 
 if TYPE_CHECKING:
@@ -262,7 +262,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         if writer is not None:
             writer.close()
             node.get_logger().info(f"wrote {writer.messages} messages to {writer.path}")
-        with unstuck_teardown():  # Fast DDS's participant teardown can spin for good
+        with bounded_teardown():  # Fast DDS's participant teardown can hang
             node.destroy_node()
         rclpy.try_shutdown()
     return 0

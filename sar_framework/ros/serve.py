@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
+from sar_framework.ros.teardown import TEARDOWN_BOUND_S
+
 if TYPE_CHECKING:
     from rclpy.node import Node
 
@@ -12,10 +14,6 @@ if TYPE_CHECKING:
 EXIT_CONFIG = 2
 #: Longest wait of one spin: how long a signal may wait to be noticed.
 SPIN_TIMEOUT_S = 0.1
-#: A teardown still running after this long prints every thread's stack to stderr (once,
-#: seen under load: a server that never exited after SIGINT, and one crash in
-#: ``destroy_node``). It only reports; launch's escalation still decides.
-TEARDOWN_REPORT_S = 8.0
 
 
 class ServerConfigError(ValueError):
@@ -24,7 +22,7 @@ class ServerConfigError(ValueError):
 
 def serve(make_node: Callable[[], Node], logger_name: str,
           argv: Sequence[str] | None = None,
-          teardown_report_s: float = TEARDOWN_REPORT_S) -> int:
+          teardown_bound_s: float = TEARDOWN_BOUND_S) -> int:
     """Initialise rclpy, build the node, spin it until SIGINT and shut down cleanly.
 
     Args:
@@ -32,13 +30,13 @@ def serve(make_node: Callable[[], Node], logger_name: str,
             :class:`ServerConfigError` or ``ValueError`` for a bad configuration.
         logger_name: Logger for a start-up error (the node may not exist yet).
         argv: Command line (``sys.argv`` when None); ROS arguments are honoured.
-        teardown_report_s: Wall seconds after which a teardown still running prints every
-            thread's stack to stderr.
+        teardown_bound_s: Wall seconds after which a teardown still running prints every
+            thread's stack to stderr and ends the process
+            (:func:`~sar_framework.ros.teardown.bounded_teardown`).
 
     Returns:
         The process exit code: 0 after SIGINT or SIGTERM, 2 for a bad configuration.
     """
-    import faulthandler
     import sys
 
     import rclpy
@@ -46,7 +44,7 @@ def serve(make_node: Callable[[], Node], logger_name: str,
     from rclpy.signals import SignalHandlerOptions
 
     from sar_framework.ros.introspection import enable_service_introspection
-    from sar_framework.ros.teardown import unstuck_teardown
+    from sar_framework.ros.teardown import bounded_teardown
     from sar_framework.stop_signals import stop_on_signals
 
     stop = stop_on_signals()  # a flag the spin loop checks, not rclpy's handlers
@@ -69,12 +67,8 @@ def serve(make_node: Callable[[], Node], logger_name: str,
             executor.spin_once(timeout_sec=SPIN_TIMEOUT_S)
         executor.shutdown(timeout_sec=0.0)
     finally:
-        faulthandler.dump_traceback_later(teardown_report_s)
-        try:
-            with unstuck_teardown():  # Fast DDS's participant teardown can spin for good
-                if node is not None:
-                    node.destroy_node()
+        with bounded_teardown(teardown_bound_s):  # Fast DDS's participant teardown can hang
+            if node is not None:
+                node.destroy_node()
             rclpy.try_shutdown()
-        finally:
-            faulthandler.cancel_dump_traceback_later()
     return 0

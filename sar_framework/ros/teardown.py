@@ -1,71 +1,85 @@
-"""Destroy a process's last nodes without Fast DDS's participant teardown spinning for good.
+"""Bound the destruction of a process's last nodes: Fast DDS's participant teardown can hang.
 
-Fast DDS 2.14 (Jazzy's) deletes a participant through ``set_listener(nullptr)``: it
-busy-waits, taking and releasing the participant's mutex in a tight loop, until no discovery
-callback is in flight, while such a callback needs that same mutex to finish
-(eProsima/Fast-DDS#6513). Another participant leaving at the same moment starts such
-callbacks, so when launch stops every process at once, one of them now and then spun inside
-its last ``destroy_node`` until it was killed (seen with gdb: ``rcl_node_fini`` →
-``destroy_participant`` → ``set_listener``).
+Fast DDS 2.14 (Jazzy's) deletes a participant through ``set_listener(nullptr)``, which waits
+in a busy loop for discovery callbacks in flight (eProsima/Fast-DDS#6513); a callback for
+another participant leaving at the same moment can block on a lock the waiting side holds,
+and then neither ever moves. When launch stops every process at once, one of them now and
+then hung in its last ``destroy_node`` until launch killed it (seen with gdb:
+``rcl_node_fini`` → ``destroy_participant`` → ``set_listener``, a discovery thread blocked
+in ``onWriterDiscovery``; lowering the waiting thread's priority did not free it).
 
-The spinning thread holds the GIL, so no Python thread of the process can act. Within
-:func:`unstuck_teardown`, a small watchdog process waits; if the teardown still runs after
-:data:`STUCK_AFTER_S`, it puts every thread of the process on one CPU and the tearing-down
-thread at idle priority (``SCHED_IDLE``). The callback's thread, woken each time the mutex is
-released, then preempts the spinning thread at once, takes the mutex and finishes, and the
-participant goes as usual (its departure announced, its shared memory removed).
+The hung thread is the main thread and holds the GIL, so no Python thread and no Python
+signal handler can act. :func:`bounded_teardown` therefore starts a small watchdog process
+and installs a C-level handler (through ctypes) for :data:`STUCK_SIGNAL`. If the teardown
+still runs after its bound, the watchdog sends that signal to the main thread; the handler
+runs there at once (the thread already holds the GIL), prints every thread's stack and a
+line saying what happened on stderr, and ends the process with exit code 0: the process's
+own work is done, only the middleware's goodbye is cut short. Other participants then drop
+it when its lease runs out.
 """
 
 from __future__ import annotations
 
+import ctypes
+import faulthandler
 import os
+import signal
 import subprocess
 import sys
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 
-#: Wall seconds a teardown may run before the watchdog lets discovery callbacks through
-#: (a teardown takes well under a second, even on a loaded machine).
-STUCK_AFTER_S = 2.0
+#: Wall seconds a teardown may take (it takes well under a second, even on a loaded machine).
+TEARDOWN_BOUND_S = 8.0
+#: The signal the watchdog sends to the tearing-down thread.
+STUCK_SIGNAL = signal.SIGUSR2
 
 _WATCHDOG = """
-import os, sys, time
-pid, tid, after = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
-time.sleep(after)
-try:
-    cpu = min(os.sched_getaffinity(tid))
-    for task in os.listdir(f"/proc/{pid}/task"):
-        try:
-            os.sched_setaffinity(int(task), {cpu})
-        except OSError:
-            pass
-    os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
-except OSError:
-    sys.exit(0)  # the process ended meanwhile
-sys.stderr.write(f"teardown of process {pid} still running after {after} s: "
-                 "its threads now share one CPU, the teardown at idle priority\\n")
+import ctypes, sys, time
+pid, tid, bound, signum = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
+time.sleep(bound)
+ctypes.CDLL(None).tgkill(pid, tid, signum)  # that thread, not any thread of the process
 """
+_HANDLER_TYPE = ctypes.CFUNCTYPE(None, ctypes.c_int)
+_handlers: list[object] = []  # the installed C callbacks, kept alive
+
+
+def _install_exit_handler(bound_s: float) -> None:
+    """Make :data:`STUCK_SIGNAL` report the stacks and end the process with code 0."""
+    message = (f"teardown still running after {bound_s:g} s (Fast DDS's participant "
+               "teardown can hang): the process ends without it\n").encode()
+
+    def on_stuck(_signum: int) -> None:
+        faulthandler.dump_traceback(file=sys.stderr, all_threads=True)
+        os.write(2, message)
+        os._exit(0)
+
+    handler = _HANDLER_TYPE(on_stuck)
+    _handlers.append(handler)
+    libc = ctypes.CDLL(None)
+    libc.signal.restype = ctypes.c_void_p
+    libc.signal.argtypes = (ctypes.c_int, _HANDLER_TYPE)
+    libc.signal(int(STUCK_SIGNAL), handler)
 
 
 @contextmanager
-def unstuck_teardown(stuck_after_s: float = STUCK_AFTER_S) -> Iterator[None]:
-    """Watch the calling thread's teardown; past the bound, let its DDS callbacks through.
+def bounded_teardown(bound_s: float = TEARDOWN_BOUND_S) -> Iterator[None]:
+    """End the process (code 0, stacks on stderr) if the body runs longer than ``bound_s``.
 
-    Use it around the destruction of a process's last nodes (Linux; elsewhere it only runs
-    the body). When the body ends, the watchdog is stopped and, if it acted, the thread's
-    priority and the process's CPUs are as before.
+    Use it in the main thread around the destruction of a process's last nodes (Linux;
+    elsewhere it only runs the body). The watchdog is stopped when the body ends.
 
     Args:
-        stuck_after_s: Wall seconds before the watchdog acts.
+        bound_s: Wall seconds before the process is ended.
     """
-    if not hasattr(os, "sched_setscheduler"):
+    if not hasattr(ctypes.CDLL(None), "tgkill"):
         yield
         return
-    cpus = os.sched_getaffinity(0)
+    _install_exit_handler(bound_s)
     watchdog = subprocess.Popen(
         [sys.executable, "-I", "-S", "-c", _WATCHDOG, str(os.getpid()),
-         str(threading.get_native_id()), str(stuck_after_s)],
+         str(threading.get_native_id()), str(bound_s), str(int(STUCK_SIGNAL))],
         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
         start_new_session=True)  # a Ctrl-C to the process group is not for it
     try:
@@ -73,9 +87,3 @@ def unstuck_teardown(stuck_after_s: float = STUCK_AFTER_S) -> Iterator[None]:
     finally:
         watchdog.kill()
         watchdog.wait()
-        if os.sched_getscheduler(0) == os.SCHED_IDLE:  # the rest of the exit at full speed
-            with suppress(OSError):
-                os.sched_setscheduler(0, os.SCHED_OTHER, os.sched_param(0))
-            for task in os.listdir("/proc/self/task"):
-                with suppress(OSError):
-                    os.sched_setaffinity(int(task), cpus)

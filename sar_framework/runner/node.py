@@ -66,7 +66,7 @@ from sar_framework.mission.params_file import (
     check_params_file,
     params_files_from_args,
 )
-from sar_framework.ros.teardown import unstuck_teardown
+from sar_framework.ros.teardown import bounded_teardown
 from sar_framework.ros.tf_topics import TF_REMAP_ARGS
 from sar_framework.run_clock import run_started
 from sar_framework.runner.mission_runner import EXIT_STOPPED, MissionRunner
@@ -258,7 +258,7 @@ def run(argv: Sequence[str] | None = None) -> int:
             "stopped while waiting for Nav2")
         return EXIT_STOPPED
     finally:
-        with unstuck_teardown():  # Fast DDS's participant teardown can spin for good
+        with bounded_teardown():  # Fast DDS's participant teardown can hang
             if runner is not None and runner.tree.node is not None:
                 runner.shutdown()  # destroys the node
             elif node is not None:

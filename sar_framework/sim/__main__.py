@@ -62,7 +62,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from rclpy.logging import get_logger
     from rclpy.signals import SignalHandlerOptions
 
-    from sar_framework.ros.teardown import unstuck_teardown
+    from sar_framework.ros.teardown import bounded_teardown
     from sar_framework.sim.sim_node import SimConfigError, Simulator
     from sar_framework.stop_signals import stop_on_signals
 
@@ -95,7 +95,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             time.sleep(RESULT_FLUSH_S)
         executor.shutdown(timeout_sec=0.5)
         spinner.join(timeout=0.5)
-        with unstuck_teardown():  # Fast DDS's participant teardown can spin for good
+        with bounded_teardown():  # Fast DDS's participant teardown can hang
             sim.destroy()
         rclpy.try_shutdown()
     return 1 if crashed else 0

@@ -112,6 +112,7 @@ def main() -> int:
     args = parser.parse_args()
     lease = lease_domain_id()
     apply_local_ros_env(lease.domain_id)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))  # the burners stop too
     burners = [subprocess.Popen([sys.executable, "-c", BURN.format(bound=3600)])
                for _ in range(args.burners)]
     rounds = []

@@ -217,7 +217,16 @@ def tree_node_names() -> list[str]:
 
 def test_tree_watcher_dot_graph_shows_our_tree(mission: Mission, tmp_path: Path) -> None:
     # Without xdot the watcher prints the dot source (and writes its files to $TMPDIR).
-    out = tool("py-trees-tree-watcher", "--dot-graph", env={"TMPDIR": str(tmp_path)})
+    # the watcher's node gets 5 s to discover our service ("service not found" after): a
+    # loaded machine can need longer, so it may be run again (outer safety bound: 4 runs)
+    for _ in range(4):
+        done = subprocess.run([str(BIN / "py-trees-tree-watcher"), "--dot-graph"],
+                              capture_output=True, text=True, timeout=TOOL_TIMEOUT_S,
+                              env={**os.environ, "TMPDIR": str(tmp_path)}, check=False)
+        if "service not found" not in done.stdout + done.stderr:
+            break
+    assert done.returncode == 0, done.stdout + done.stderr
+    out = done.stdout
     assert "digraph" in out, out
     dot_nodes = {m[2] for m in re.finditer(r'^("?)(.+?)\1 \[label=', out, re.MULTILINE)}
     assert dot_nodes == set(tree_node_names()), out
@@ -232,13 +241,19 @@ def test_tree_watcher_streams_snapshots_of_our_tree(mission: Mission, tmp_path: 
 
     # Streaming mode runs until Ctrl-C: stopped once every node was in a snapshot (the
     # watcher renders every tick, a core's worth of work), or at the outer safety bound.
-    with NodeProcess([str(BIN / "py-trees-tree-watcher"), "--snapshots", "-s"], "watcher",
-                     log_dir=tmp_path) as watcher:
-        deadline = time.monotonic() + 120.0  # outer safety bound (a few seconds expected)
-        while not seen_all(watcher.output) and watcher.poll() is None \
-                and time.monotonic() < deadline:  # outer safety bound
-            time.sleep(0.1)
-    out = watcher.output
+    # The watcher gives its new node 5 s to discover our snapshot service, then gives up
+    # ("service not found"); on a loaded machine discovery can take longer: start it again.
+    deadline = time.monotonic() + 120.0  # outer safety bound (a few seconds expected)
+    out = ""
+    while time.monotonic() < deadline:  # outer safety bound
+        with NodeProcess([str(BIN / "py-trees-tree-watcher"), "--snapshots", "-s"],
+                         "watcher", log_dir=tmp_path) as watcher:
+            while not seen_all(watcher.output) and watcher.poll() is None \
+                    and time.monotonic() < deadline:  # outer safety bound
+                time.sleep(0.1)
+        out = watcher.output
+        if "service not found" not in out:
+            break
     assert re.search(r"Tick \d+", out), out
     assert "Statistics" in out or "Duration" in out, out
     missing = [name for name in names if name not in out]

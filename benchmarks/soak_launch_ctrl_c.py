@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import collections
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -29,24 +28,8 @@ sys.path.insert(0, str(REPO / "tests"))
 
 from sar_testing.launch_ctrl_c import ROS2, ctrl_c_mid_mission  # noqa: E402
 
+from sar_framework.testing.cpu_load import start_burners, stop_burners  # noqa: E402
 from sar_framework.testing.ros_env import apply_local_ros_env, lease_domain_id  # noqa: E402
-
-BURN = "import time\nend = time.monotonic() + {bound}\nwhile time.monotonic() < end:\n    pass\n"
-
-
-def start_burners(count: int, bound_s: float) -> list[subprocess.Popen[bytes]]:
-    """``count`` processes that each keep one core busy for at most ``bound_s`` seconds."""
-    return [subprocess.Popen([sys.executable, "-c", BURN.format(bound=bound_s)])
-            for _ in range(count)]
-
-
-def stop_burners(burners: list[subprocess.Popen[bytes]]) -> None:
-    """Kill the burners (by their own pids) and reap them."""
-    for burner in burners:
-        if burner.poll() is None:
-            burner.kill()
-    for burner in burners:
-        burner.wait(timeout=10)
 
 
 def main(argv: list[str] | None = None) -> int:

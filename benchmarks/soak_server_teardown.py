@@ -28,6 +28,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
+from sar_framework.testing.cpu_load import start_burners, stop_burners  # noqa: E402
 from sar_framework.testing.ros_env import apply_local_ros_env, lease_domain_id  # noqa: E402
 
 PROBE = """
@@ -62,7 +63,6 @@ def make():
 
 serve(make, sys.argv[1], sys.argv[:1])
 """
-BURN = "import time\nend = time.monotonic() + {bound}\nwhile time.monotonic() < end:\n    pass\n"
 #: Wall seconds between the last server's "ready" and the SIGINT: discovery done, all matched.
 SETTLE_S = 4.0
 
@@ -113,8 +113,7 @@ def main() -> int:
     lease = lease_domain_id()
     apply_local_ros_env(lease.domain_id)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))  # the burners stop too
-    burners = [subprocess.Popen([sys.executable, "-c", BURN.format(bound=3600)])
-               for _ in range(args.burners)]
+    burners = start_burners(args.burners, 3600.0)
     rounds = []
     try:
         for index in range(args.rounds):
@@ -123,8 +122,7 @@ def main() -> int:
             print(f"round {index + 1}: {'clean' if not hung else f'{hung} hung or failed'}, "
                   f"{cut_short} cut short, slowest exit {slowest:.1f} s", flush=True)
     finally:
-        for burner in burners:
-            burner.kill()
+        stop_burners(burners)
         lease.release()
     clean = sum(1 for hung, _, _ in rounds if not hung)
     print("\n| rounds | clean | hung or failed servers | teardowns cut short | slowest exit |")
